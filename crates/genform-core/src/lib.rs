@@ -1,0 +1,26 @@
+//! Core of genform: everything the formalisms, optimizers, scorers and
+//! exporters share.
+//!
+//! - [`scene`]: the resolved geometry every generator produces and every
+//!   exporter and scorer consumes.
+//! - [`graph`]: the generator graph (symbols, parameter specs, child slots).
+//! - [`genome`]: the packed derivation-tree genome and its JSON form.
+//! - [`generator`]: the [`Generator`] trait, limits and prior sampling.
+//! - [`rng`]: counter-derived random streams (splitmix64 → xoshiro256++).
+//! - [`diag`]: the one diagnostics type, with file:line:col rendering.
+//! - [`expr`]: the one compiler for user formulas, to an f64 bytecode.
+
+pub mod diag;
+pub mod expr;
+pub mod generator;
+pub mod genome;
+pub mod graph;
+pub mod rng;
+pub mod scene;
+
+pub use diag::{Diagnostic, Diagnostics, Severity, SourceFile, Span};
+pub use generator::{ExpressError, Generator, LimitKind, Limits, Sampled};
+pub use genome::{Genome, GenomeError};
+pub use graph::{Distribution, GeneratorGraph, ParamSpec, SlotSpec, SymbolId, SymbolSpec};
+pub use rng::Rng;
+pub use scene::{Instance, Mesh, MeshId, Primitive, Scene, TagId};

@@ -1,0 +1,383 @@
+//! The Scene: resolved output with no grammar concepts left.
+//!
+//! Generators write a [`Scene`]; exporters and scorers read only a Scene.
+//! Geometry is `f32` (what GPUs, glTF and voxelizers use); generators do
+//! their own scope arithmetic in `f64` and convert when they emit.
+//!
+//! Today a Scene holds instanced primitives and meshes (shape grammars),
+//! polylines and polygons (turtles). Later formalisms add their own kinds
+//! (half-edge surfaces, block sets, 2D graphs) as new fields here.
+
+use glam::{Affine3A, Vec3};
+use std::sync::Arc;
+
+/// Index into [`Scene::tags`].
+pub type TagId = u32;
+/// Index into [`Scene::meshes`].
+pub type MeshId = u32;
+
+/// A unit-sized shape, placed by an instance transform.
+///
+/// Every built-in primitive fits the cube `[-0.5, 0.5]³`; axial ones run
+/// along local +y, with the base at y = −0.5.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Primitive {
+    /// The cube `[-0.5, 0.5]³`.
+    Box,
+    /// A frustum along y: bottom radius 0.5, top radius `0.5 * top`.
+    /// `top = 1` is a cylinder, `top = 0` a cone.
+    Frustum {
+        /// Top radius relative to the bottom radius.
+        top: f32,
+    },
+    /// The sphere of radius 0.5.
+    Sphere,
+    /// A box whose top face (y = +0.5) is scaled by `top` in x and z
+    /// (a square frustum; `top = 0` is a pyramid).
+    TaperedBox {
+        /// Top face size relative to the bottom face.
+        top: f32,
+    },
+    /// A mesh asset from [`Scene::meshes`], used as is (not normalized).
+    Mesh(MeshId),
+}
+
+/// One placed primitive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Unit primitive → world. May include a reflection (negative determinant).
+    pub transform: Affine3A,
+    /// What is placed.
+    pub primitive: Primitive,
+    /// Semantic tag (by default the symbol that emitted it).
+    pub tag: TagId,
+}
+
+/// A triangle mesh (an asset or a tessellated primitive).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Display name (file stem for assets).
+    pub name: String,
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Counter-clockwise triangles seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Mesh {
+    /// Axis-aligned bounds, `None` when empty.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        bounds_of(self.positions.iter().copied())
+    }
+}
+
+/// An open or closed line through points (turtle strokes).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Polyline {
+    /// The points, in order.
+    pub points: Vec<Vec3>,
+    /// Stroke width in scene units.
+    pub width: f32,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// A planar polygon (turtle `{ … }` regions).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Polygon {
+    /// Boundary points, in order.
+    pub points: Vec<Vec3>,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// Resolved geometry.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Instanced primitives, in emission order.
+    pub instances: Vec<Instance>,
+    /// Mesh assets referenced by [`Primitive::Mesh`].
+    pub meshes: Vec<Arc<Mesh>>,
+    /// Interned tag names.
+    pub tags: Vec<String>,
+    /// Turtle strokes.
+    pub polylines: Vec<Polyline>,
+    /// Turtle polygons.
+    pub polygons: Vec<Polygon>,
+}
+
+/// How finely curved primitives are tessellated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tessellation {
+    /// Segments around a frustum.
+    pub radial: u32,
+    /// Rings of a sphere (pole to pole).
+    pub rings: u32,
+}
+
+impl Default for Tessellation {
+    fn default() -> Self {
+        Tessellation { radial: 24, rings: 12 }
+    }
+}
+
+impl Scene {
+    /// An empty scene.
+    pub fn new() -> Self {
+        Scene::default()
+    }
+
+    /// Empties the scene, keeping allocations for reuse.
+    pub fn clear(&mut self) {
+        self.instances.clear();
+        self.meshes.clear();
+        self.tags.clear();
+        self.polylines.clear();
+        self.polygons.clear();
+    }
+
+    /// The id of tag `name`, interning it on first use.
+    pub fn tag(&mut self, name: &str) -> TagId {
+        if let Some(i) = self.tags.iter().position(|t| t == name) {
+            return i as TagId;
+        }
+        self.tags.push(name.to_string());
+        (self.tags.len() - 1) as TagId
+    }
+
+    /// The id of a mesh asset, adding it on first use (by pointer identity).
+    pub fn mesh(&mut self, mesh: &Arc<Mesh>) -> MeshId {
+        if let Some(i) = self.meshes.iter().position(|m| Arc::ptr_eq(m, mesh)) {
+            return i as MeshId;
+        }
+        self.meshes.push(mesh.clone());
+        (self.meshes.len() - 1) as MeshId
+    }
+
+    /// Whether nothing was emitted.
+    pub fn is_empty(&self) -> bool {
+        self.instances.is_empty() && self.polylines.is_empty() && self.polygons.is_empty()
+    }
+
+    /// Calls `f(triangle, tag)` for every triangle of every instance and
+    /// polygon, in world space and counter-clockwise seen from outside
+    /// (triangles of reflected instances are re-ordered to stay so).
+    pub fn for_each_triangle(&self, tess: Tessellation, mut f: impl FnMut([Vec3; 3], TagId)) {
+        let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
+        for inst in &self.instances {
+            let mesh: &Mesh = match inst.primitive {
+                Primitive::Mesh(id) => &self.meshes[id as usize],
+                p => {
+                    let i = match cache.iter().position(|(q, _)| *q == p) {
+                        Some(i) => i,
+                        None => {
+                            cache.push((p, unit_mesh(p, tess)));
+                            cache.len() - 1
+                        }
+                    };
+                    &cache[i].1
+                }
+            };
+            let flip = inst.transform.matrix3.determinant() < 0.0;
+            for t in &mesh.triangles {
+                let [a, b, c] = t.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]));
+                f(if flip { [a, c, b] } else { [a, b, c] }, inst.tag);
+            }
+        }
+        for poly in &self.polygons {
+            for t in triangulate_fan(&poly.points) {
+                f(t, poly.tag);
+            }
+        }
+    }
+
+    /// Number of triangles [`Scene::for_each_triangle`] yields.
+    pub fn triangle_count(&self, tess: Tessellation) -> usize {
+        let mut n = 0;
+        self.for_each_triangle(tess, |_, _| n += 1);
+        n
+    }
+
+    /// Axis-aligned bounds of all geometry, `None` when empty.
+    pub fn bounds(&self, tess: Tessellation) -> Option<(Vec3, Vec3)> {
+        let mut pts = Vec::new();
+        self.for_each_triangle(tess, |t, _| pts.extend_from_slice(&t));
+        for l in &self.polylines {
+            pts.extend_from_slice(&l.points);
+        }
+        bounds_of(pts.into_iter())
+    }
+}
+
+fn bounds_of(mut it: impl Iterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
+    let first = it.next()?;
+    Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
+}
+
+/// Fan triangulation of a (convex or star-shaped) polygon.
+fn triangulate_fan(points: &[Vec3]) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+    (1..points.len().saturating_sub(1)).map(move |i| [points[0], points[i], points[i + 1]])
+}
+
+/// The triangle mesh of a built-in primitive in its unit frame.
+/// [`Primitive::Mesh`] gives an empty mesh (assets live in the Scene).
+pub fn unit_mesh(p: Primitive, tess: Tessellation) -> Mesh {
+    match p {
+        Primitive::Box => tapered_box(1.0, "box"),
+        Primitive::TaperedBox { top } => tapered_box(top, "tapered_box"),
+        Primitive::Frustum { top } => frustum(top, tess.radial.max(3)),
+        Primitive::Sphere => sphere(tess.rings.max(2), tess.radial.max(3)),
+        Primitive::Mesh(_) => Mesh::default(),
+    }
+}
+
+fn tapered_box(top: f32, name: &str) -> Mesh {
+    let t = 0.5 * top.max(0.0);
+    let positions = vec![
+        Vec3::new(-0.5, -0.5, -0.5),
+        Vec3::new(0.5, -0.5, -0.5),
+        Vec3::new(0.5, -0.5, 0.5),
+        Vec3::new(-0.5, -0.5, 0.5),
+        Vec3::new(-t, 0.5, -t),
+        Vec3::new(t, 0.5, -t),
+        Vec3::new(t, 0.5, t),
+        Vec3::new(-t, 0.5, t),
+    ];
+    // Quads as (a, b, c, d) counter-clockwise seen from outside.
+    let quads = [
+        [0, 1, 2, 3], // bottom (−y)
+        [4, 7, 6, 5], // top (+y)
+        [0, 4, 5, 1], // −z
+        [1, 5, 6, 2], // +x
+        [2, 6, 7, 3], // +z
+        [3, 7, 4, 0], // −x
+    ];
+    let mut triangles = Vec::with_capacity(12);
+    for [a, b, c, d] in quads {
+        triangles.push([a, b, c]);
+        triangles.push([a, c, d]);
+    }
+    if top <= 0.0 {
+        // Degenerate top face: drop its zero-area triangles.
+        triangles.retain(|t| !t.iter().all(|&i| i >= 4));
+    }
+    Mesh { name: name.to_string(), positions, triangles }
+}
+
+fn frustum(top: f32, n: u32) -> Mesh {
+    let rt = 0.5 * top.max(0.0);
+    let mut positions = Vec::with_capacity(2 * n as usize + 2);
+    for i in 0..n {
+        let a = std::f32::consts::TAU * i as f32 / n as f32;
+        let (s, c) = a.sin_cos();
+        positions.push(Vec3::new(0.5 * c, -0.5, 0.5 * s));
+        positions.push(Vec3::new(rt * c, 0.5, rt * s));
+    }
+    let bottom_c = positions.len() as u32;
+    positions.push(Vec3::new(0.0, -0.5, 0.0));
+    let top_c = positions.len() as u32;
+    positions.push(Vec3::new(0.0, 0.5, 0.0));
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let (b0, t0, b1, t1) = (2 * i, 2 * i + 1, 2 * j, 2 * j + 1);
+        triangles.push([b0, t0, t1]);
+        if rt > 0.0 {
+            triangles.push([b0, t1, b1]);
+            triangles.push([top_c, t1, t0]);
+        } else {
+            triangles.pop();
+            triangles.push([b0, t0, b1]);
+        }
+        triangles.push([bottom_c, b0, b1]);
+    }
+    Mesh { name: "frustum".into(), positions, triangles }
+}
+
+fn sphere(rings: u32, n: u32) -> Mesh {
+    let mut positions = vec![Vec3::new(0.0, -0.5, 0.0)];
+    for r in 1..rings {
+        let phi = std::f32::consts::PI * r as f32 / rings as f32;
+        let (y, rad) = (-0.5 * phi.cos(), 0.5 * phi.sin());
+        for i in 0..n {
+            let a = std::f32::consts::TAU * i as f32 / n as f32;
+            positions.push(Vec3::new(rad * a.cos(), y, rad * a.sin()));
+        }
+    }
+    let north = positions.len() as u32;
+    positions.push(Vec3::new(0.0, 0.5, 0.0));
+    let ring = |r: u32, i: u32| 1 + (r - 1) * n + (i % n);
+    let mut triangles = Vec::new();
+    for i in 0..n {
+        triangles.push([0, ring(1, i), ring(1, i + 1)]);
+        triangles.push([north, ring(rings - 1, i + 1), ring(rings - 1, i)]);
+    }
+    for r in 1..rings - 1 {
+        for i in 0..n {
+            let (a, b, c, d) = (ring(r, i), ring(r, i + 1), ring(r + 1, i + 1), ring(r + 1, i));
+            triangles.push([a, d, c]);
+            triangles.push([a, c, b]);
+        }
+    }
+    Mesh { name: "sphere".into(), positions, triangles }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Signed volume via the divergence theorem; positive iff outward winding.
+    fn volume(m: &Mesh) -> f32 {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn unit_primitives_are_closed_and_outward() {
+        let tess = Tessellation::default();
+        let cases = [
+            (Primitive::Box, 1.0),
+            (Primitive::TaperedBox { top: 0.0 }, 1.0 / 3.0),
+            (Primitive::Frustum { top: 1.0 }, std::f32::consts::PI * 0.25),
+            (Primitive::Frustum { top: 0.0 }, std::f32::consts::PI * 0.25 / 3.0),
+            (Primitive::Sphere, std::f32::consts::PI / 6.0),
+        ];
+        for (p, exact) in cases {
+            let v = volume(&unit_mesh(p, tess));
+            assert!(v > 0.0, "{p:?} winding");
+            assert!((v - exact).abs() / exact < 0.06, "{p:?}: {v} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn reflected_instances_keep_outward_winding() {
+        let mut s = Scene::new();
+        let tag = s.tag("x");
+        s.instances.push(Instance {
+            transform: Affine3A::from_scale(Vec3::new(-2.0, 1.0, 1.0)),
+            primitive: Primitive::Box,
+            tag,
+        });
+        let mut v = 0.0;
+        s.for_each_triangle(Tessellation::default(), |[a, b, c], _| v += a.dot(b.cross(c)) / 6.0);
+        assert!((v - 2.0).abs() < 1e-5, "{v}");
+        assert_eq!(s.bounds(Tessellation::default()).unwrap().0, Vec3::new(-1.0, -0.5, -0.5));
+    }
+
+    #[test]
+    fn tags_and_meshes_are_interned() {
+        let mut s = Scene::new();
+        assert_eq!(s.tag("a"), 0);
+        assert_eq!(s.tag("b"), 1);
+        assert_eq!(s.tag("a"), 0);
+        let m = Arc::new(Mesh::default());
+        assert_eq!(s.mesh(&m), 0);
+        assert_eq!(s.mesh(&m), 0);
+        assert_eq!(s.mesh(&Arc::new(Mesh::default())), 1);
+    }
+}

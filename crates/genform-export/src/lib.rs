@@ -1,0 +1,1 @@
+//! Writers for genform Scenes.

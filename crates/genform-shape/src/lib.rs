@@ -1,0 +1,1 @@
+//! CGA-like shape grammars (`.sg`) compiled to a genform generator graph.
