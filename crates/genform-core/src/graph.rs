@@ -124,9 +124,7 @@ impl Distribution {
         match self {
             Distribution::Uniform { min, max } => v >= *min && v <= *max,
             Distribution::Normal { min, max, .. } => v >= *min && v <= *max,
-            Distribution::Choice { values, weights } => {
-                values.iter().zip(weights).any(|(x, w)| *x == v && *w > 0.0)
-            }
+            Distribution::Choice { values, weights } => values.iter().zip(weights).any(|(x, w)| *x == v && *w > 0.0),
             Distribution::IntRange { min, max } => v.fract() == 0.0 && v >= *min as f64 && v <= *max as f64,
         }
     }
@@ -349,10 +347,7 @@ impl GeneratorGraph {
 
     /// Every edge of the graph as `(parent symbol, slot index)`.
     pub fn edges(&self) -> impl Iterator<Item = (SymbolId, usize)> + '_ {
-        self.symbols
-            .iter()
-            .enumerate()
-            .flat_map(|(i, s)| (0..s.slots.len()).map(move |j| (i as SymbolId, j)))
+        self.symbols.iter().enumerate().flat_map(|(i, s)| (0..s.slots.len()).map(move |j| (i as SymbolId, j)))
     }
 }
 
@@ -375,7 +370,10 @@ pub(crate) mod tests {
                 SymbolSpec {
                     name: "A".into(),
                     params: vec![
-                        ParamSpec { name: "size".into(), components: vec![Distribution::Uniform { min: 0.5, max: 1.5 }; 3] },
+                        ParamSpec {
+                            name: "size".into(),
+                            components: vec![Distribution::Uniform { min: 0.5, max: 1.5 }; 3],
+                        },
                         ParamSpec { name: "k".into(), components: vec![Distribution::IntRange { min: 1, max: 3 }] },
                     ],
                     slots: vec![

@@ -126,27 +126,36 @@ impl Genome {
     pub fn from_file(file: &GenomeFile, graph: &GeneratorGraph) -> Result<Genome, GenomeError> {
         let err = |i: usize, msg: String| GenomeError::Json(format!("gene {i}: {msg}"));
         if file.format != FORMAT {
-            return Err(GenomeError::Json(format!("not a genome file: format is `{}`, expected `{FORMAT}`", file.format)));
+            return Err(GenomeError::Json(format!(
+                "not a genome file: format is `{}`, expected `{FORMAT}`",
+                file.format
+            )));
         }
         if file.version != VERSION {
-            return Err(GenomeError::Json(format!("unsupported genome version {} (this genform reads {VERSION})", file.version)));
+            return Err(GenomeError::Json(format!(
+                "unsupported genome version {} (this genform reads {VERSION})",
+                file.version
+            )));
         }
         let mut g = Genome::new();
         let mut pos_of: Vec<GenePos> = Vec::with_capacity(file.genes.len());
         let mut values = Vec::new();
         for (i, jg) in file.genes.iter().enumerate() {
-            let sym = graph
-                .symbol_id(&jg.symbol)
-                .ok_or_else(|| err(i, format!("unknown symbol `{}`", jg.symbol)))?;
+            let sym = graph.symbol_id(&jg.symbol).ok_or_else(|| err(i, format!("unknown symbol `{}`", jg.symbol)))?;
             let spec = graph.symbol(sym);
             values.clear();
             for p in &spec.params {
                 match jg.params.get(&p.name) {
-                    None => return Err(err(i, format!("`{}` lacks parameter `{}`", spec.name, p.name))),
+                    None => {
+                        return Err(err(i, format!("`{}` lacks parameter `{}`", spec.name, p.name)));
+                    }
                     Some(JsonValue::Scalar(v)) if p.dim() == 1 => values.push(*v),
                     Some(JsonValue::Vector(v)) if v.len() == p.dim() => values.extend_from_slice(v),
                     Some(_) => {
-                        return Err(err(i, format!("parameter `{}` of `{}` needs {} value(s)", p.name, spec.name, p.dim())));
+                        return Err(err(
+                            i,
+                            format!("parameter `{}` of `{}` needs {} value(s)", p.name, spec.name, p.dim()),
+                        ));
                     }
                 }
             }
@@ -172,15 +181,21 @@ impl Genome {
                         .ok_or_else(|| err(i, format!("`{}` has no slot `{slot}`", pspec.name)))?;
                     let sspec = &pspec.slots[s];
                     if sspec.target != sym {
-                        return Err(err(i, format!(
-                            "slot `{}.{slot}` holds `{}`, not `{}`",
-                            pspec.name,
-                            graph.symbol(sspec.target).name,
-                            spec.name
-                        )));
+                        return Err(err(
+                            i,
+                            format!(
+                                "slot `{}.{slot}` holds `{}`, not `{}`",
+                                pspec.name,
+                                graph.symbol(sspec.target).name,
+                                spec.name
+                            ),
+                        ));
                     }
                     if jg.index >= sspec.max_count {
-                        return Err(err(i, format!("slot `{}.{slot}` has only {} link(s)", pspec.name, sspec.max_count)));
+                        return Err(err(
+                            i,
+                            format!("slot `{}.{slot}` has only {} link(s)", pspec.name, sspec.max_count),
+                        ));
                     }
                     let link = pspec.link_offset(s) + jg.index as usize;
                     if let Link::Child(_) = g.gene(parent).link(link) {
@@ -208,7 +223,8 @@ impl Genome {
 
     /// Parses JSON text and builds a validated genome.
     pub fn from_json(text: &str, graph: &GeneratorGraph) -> Result<Genome, GenomeError> {
-        let file: GenomeFile = serde_json::from_str(text).map_err(|e| GenomeError::Json(format!("invalid genome JSON: {e}")))?;
+        let file: GenomeFile =
+            serde_json::from_str(text).map_err(|e| GenomeError::Json(format!("invalid genome JSON: {e}")))?;
         Genome::from_file(&file, graph)
     }
 }

@@ -321,7 +321,13 @@ impl Genome {
         }
     }
 
-    fn push_gene(&mut self, symbol: SymbolId, params: &[f64], links: usize, parent: Option<(GenePos, usize)>) -> GenePos {
+    fn push_gene(
+        &mut self,
+        symbol: SymbolId,
+        params: &[f64],
+        links: usize,
+        parent: Option<(GenePos, usize)>,
+    ) -> GenePos {
         let pos = self.words.len();
         assert!(pos < u32::MAX as usize / 2, "genome too large");
         self.words.push(header(symbol, params.len(), links));
@@ -360,11 +366,7 @@ impl Genome {
         let mut old_pos: Vec<u32> = Vec::new();
         let mut new_pos: Vec<u32> = Vec::new();
         let lookup = |old_pos: &[u32], new_pos: &[u32], q: u32| -> u32 {
-            if (q as usize) < start {
-                q
-            } else {
-                new_pos[old_pos.binary_search(&q).expect("parent precedes child")]
-            }
+            if (q as usize) < start { q } else { new_pos[old_pos.binary_search(&q).expect("parent precedes child")] }
         };
         let mut read = start;
         let mut write = start;
@@ -430,10 +432,9 @@ impl Genome {
                 true
             } else {
                 match g.parent() {
-                    Some((q, _)) if q.0 as usize >= start => old_pos
-                        .binary_search(&q.0)
-                        .map(|i| new_pos[i] != u32::MAX)
-                        .unwrap_or(false),
+                    Some((q, _)) if q.0 as usize >= start => {
+                        old_pos.binary_search(&q.0).map(|i| new_pos[i] != u32::MAX).unwrap_or(false)
+                    }
                     _ => false,
                 }
             };
@@ -501,7 +502,11 @@ impl Genome {
             p += size;
         }
         if positions.len() != self.len() {
-            return Err(GenomeError::Corrupt(format!("gene count {} but {} genes stored", self.len(), positions.len())));
+            return Err(GenomeError::Corrupt(format!(
+                "gene count {} but {} genes stored",
+                self.len(),
+                positions.len()
+            )));
         }
         for (ordinal, &p) in positions.iter().enumerate() {
             let g = self.gene(GenePos(p));
@@ -522,8 +527,7 @@ impl Genome {
                 for (c, dist) in param.components.iter().enumerate() {
                     let v = g.param(k);
                     if !dist.contains(v) {
-                        let name =
-                            if param.dim() > 1 { format!("{}[{c}]", param.name) } else { param.name.clone() };
+                        let name = if param.dim() > 1 { format!("{}[{c}]", param.name) } else { param.name.clone() };
                         return Err(GenomeError::ParamOutOfRange {
                             gene: ordinal,
                             symbol: spec.name.clone(),
@@ -544,8 +548,12 @@ impl Genome {
                         });
                     }
                 }
-                None => return Err(GenomeError::Corrupt(format!("gene {ordinal} has no parent"))),
-                Some(_) if ordinal == 0 => return Err(GenomeError::Corrupt("the root has a parent".into())),
+                None => {
+                    return Err(GenomeError::Corrupt(format!("gene {ordinal} has no parent")));
+                }
+                Some(_) if ordinal == 0 => {
+                    return Err(GenomeError::Corrupt("the root has a parent".into()));
+                }
                 Some((q, link)) => {
                     if positions.binary_search(&q.0).is_err() || q.0 >= p {
                         return Err(GenomeError::Corrupt(format!("gene {ordinal} has a bad parent offset")));
@@ -572,8 +580,7 @@ impl Genome {
             }
             for (i, l) in g.links().enumerate() {
                 if let Link::Child(c) = l {
-                    let ok = positions.binary_search(&c.0).is_ok()
-                        && self.gene(c).parent() == Some((GenePos(p), i));
+                    let ok = positions.binary_search(&c.0).is_ok() && self.gene(c).parent() == Some((GenePos(p), i));
                     if !ok {
                         return Err(GenomeError::Corrupt(format!("gene {ordinal} link {i} is dangling")));
                     }

@@ -118,7 +118,10 @@ fn json_rejects_bad_files_with_reasons() {
             r#"{"format":"genform-genome","version":1,"generator":"t","genes":[{"symbol":"S"},{"symbol":"A","parent":0,"slot":"a","params":{"size":[1,1,1],"k":7}}]}"#,
             "outside int(1, 3)",
         ),
-        (r#"{"format":"genform-genome","version":1,"generator":"t","genes":[{"symbol":"A","params":{"size":[1,1,1],"k":1}}]}"#, "starts with `S`"),
+        (
+            r#"{"format":"genform-genome","version":1,"generator":"t","genes":[{"symbol":"A","params":{"size":[1,1,1],"k":1}}]}"#,
+            "starts with `S`",
+        ),
     ];
     for (text, want) in cases {
         let e = Genome::from_json(text, &graph).unwrap_err().to_string();

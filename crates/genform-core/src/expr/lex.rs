@@ -1,0 +1,148 @@
+//! Tokens of the expression language.
+
+use crate::diag::Span;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Tok<'a> {
+    Num(f64),
+    Ident(&'a str),
+    LParen,
+    RParen,
+    Comma,
+    Question,
+    Colon,
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Percent,
+    Caret,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    EqEq,
+    Ne,
+    AndAnd,
+    OrOr,
+    Bang,
+    /// Anything the expression language does not use; ends an expression.
+    Other,
+    Eof,
+}
+
+pub(crate) struct Lexer<'a> {
+    src: &'a str,
+    pos: usize,
+}
+
+impl<'a> Lexer<'a> {
+    pub(crate) fn new(src: &'a str) -> Self {
+        Lexer { src, pos: 0 }
+    }
+
+    fn skip_trivia(&mut self) {
+        let b = self.src.as_bytes();
+        loop {
+            while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
+                self.pos += 1;
+            }
+            if b[self.pos..].starts_with(b"//") {
+                while self.pos < b.len() && b[self.pos] != b'\n' {
+                    self.pos += 1;
+                }
+            } else if b[self.pos..].starts_with(b"/*") {
+                match self.src[self.pos + 2..].find("*/") {
+                    Some(i) => self.pos += i + 4,
+                    None => self.pos = b.len(),
+                }
+            } else {
+                return;
+            }
+        }
+    }
+
+    /// The next token and its span; does not consume `Other`/`Eof` past themselves.
+    pub(crate) fn next(&mut self) -> (Tok<'a>, Span) {
+        self.skip_trivia();
+        let b = self.src.as_bytes();
+        let start = self.pos;
+        if start >= b.len() {
+            return (Tok::Eof, Span::new(start, start));
+        }
+        let c = b[start];
+        let two = |s: &[u8]| b[start..].starts_with(s);
+        let (tok, len) = if c.is_ascii_digit() || (c == b'.' && b.get(start + 1).is_some_and(u8::is_ascii_digit)) {
+            let mut end = start;
+            while end < b.len() && (b[end].is_ascii_digit() || b[end] == b'.') {
+                end += 1;
+            }
+            if end < b.len() && (b[end] == b'e' || b[end] == b'E') {
+                let mut e = end + 1;
+                if e < b.len() && (b[e] == b'+' || b[e] == b'-') {
+                    e += 1;
+                }
+                if e < b.len() && b[e].is_ascii_digit() {
+                    while e < b.len() && b[e].is_ascii_digit() {
+                        e += 1;
+                    }
+                    end = e;
+                }
+            }
+            match self.src[start..end].parse::<f64>() {
+                Ok(v) => (Tok::Num(v), end - start),
+                Err(_) => (Tok::Other, end - start),
+            }
+        } else if c.is_ascii_alphabetic() || c == b'_' {
+            let mut end = start;
+            loop {
+                while end < b.len() && (b[end].is_ascii_alphanumeric() || b[end] == b'_') {
+                    end += 1;
+                }
+                // Dotted names: `size.x`, `scope.sx`.
+                if end + 1 < b.len() && b[end] == b'.' && (b[end + 1].is_ascii_alphabetic() || b[end + 1] == b'_') {
+                    end += 1;
+                } else {
+                    break;
+                }
+            }
+            (Tok::Ident(&self.src[start..end]), end - start)
+        } else if two(b"&&") {
+            (Tok::AndAnd, 2)
+        } else if two(b"||") {
+            (Tok::OrOr, 2)
+        } else if two(b"<=") {
+            (Tok::Le, 2)
+        } else if two(b">=") {
+            (Tok::Ge, 2)
+        } else if two(b"==") {
+            (Tok::EqEq, 2)
+        } else if two(b"!=") {
+            (Tok::Ne, 2)
+        } else if two(b"**") {
+            (Tok::Caret, 2)
+        } else {
+            let t = match c {
+                b'(' => Tok::LParen,
+                b')' => Tok::RParen,
+                b',' => Tok::Comma,
+                b'?' => Tok::Question,
+                b':' => Tok::Colon,
+                b'+' => Tok::Plus,
+                b'-' => Tok::Minus,
+                b'*' => Tok::Star,
+                b'/' => Tok::Slash,
+                b'%' => Tok::Percent,
+                b'^' => Tok::Caret,
+                b'<' => Tok::Lt,
+                b'>' => Tok::Gt,
+                b'!' => Tok::Bang,
+                _ => Tok::Other,
+            };
+            let len = self.src[start..].chars().next().map_or(1, char::len_utf8);
+            (t, len)
+        };
+        self.pos = start + len;
+        (tok, Span::new(start, start + len))
+    }
+}

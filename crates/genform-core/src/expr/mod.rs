@@ -1,0 +1,75 @@
+//! The one compiler for user formulas.
+//!
+//! Every formalism's formulas (shape-grammar sizes and conditions, L-system
+//! parameters, box-split constraints, graph-grammar attributes) go through
+//! here: [`parse_prefix`] reads one expression from the start of a text (so a
+//! host language can embed expressions and continue after them),
+//! [`compile`] resolves names against a [`Scope`] to indices, folds
+//! constants and emits a small stack bytecode, and [`Program::eval`] runs it
+//! on an `&[f64]` environment without allocating.
+//!
+//! Values are `f64`; comparisons and logic yield 1 or 0, and any non-zero,
+//! non-NaN value is true. `&&`/`and`, `||`/`or` short-circuit.
+
+mod compile;
+mod lex;
+mod parse;
+
+pub use compile::{Program, compile};
+pub use parse::{Ast, parse, parse_prefix};
+
+/// Names visible to an expression, mapped to indices of the `env` slice
+/// passed to [`Program::eval`].
+pub trait Scope {
+    /// The env index of variable `name` (names may contain dots, e.g.
+    /// `size.x`; a call `f(x)` of a non-builtin function `f` with one bare
+    /// identifier argument is looked up as the variable `"f(x)"`).
+    fn variable(&self, name: &str) -> Option<u32>;
+    /// Known names, for "did you mean" hints.
+    fn names(&self) -> Vec<String> {
+        Vec::new()
+    }
+}
+
+/// A scope from a list of names: name `i` is env index `i`.
+#[derive(Clone, Copy, Debug)]
+pub struct Names<'a>(pub &'a [&'a str]);
+
+impl Scope for Names<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.0.iter().position(|n| *n == name).map(|i| i as u32)
+    }
+    fn names(&self) -> Vec<String> {
+        self.0.iter().map(|s| s.to_string()).collect()
+    }
+}
+
+/// The closest of `candidates` to `name` by edit distance, if close enough
+/// to be a plausible typo.
+pub fn did_you_mean<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let mut best: Option<(usize, &str)> = None;
+    for c in candidates {
+        let d = edit_distance(name, c);
+        let limit = (name.chars().count().max(c.chars().count()) / 3).max(1);
+        if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
+            best = Some((d, c));
+        }
+    }
+    best.map(|(_, c)| c)
+}
+
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != *cb)).min(prev[j + 1] + 1).min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests;
