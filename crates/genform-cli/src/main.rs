@@ -1,1 +1,22 @@
-fn main() {}
+//! `genform`: the command-line front end. Parses arguments, loads grammars,
+//! runs generators and writes files; the libraries do no process I/O.
+
+mod args;
+mod commands;
+mod grammar;
+mod output;
+
+use clap::Parser;
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    match commands::run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // Grammar diagnostics are already rendered in full by `{e}`.
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,79 @@
+//! Raw command-line arguments (clap). Validation into settings happens in
+//! `commands`, so parsing stays declarative.
+
+use clap::{Args, Parser, Subcommand};
+use std::path::PathBuf;
+
+/// Grammar-based procedural modeling and evolutionary control.
+#[derive(Debug, Parser)]
+#[command(name = "genform", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The verbs. The formalism is chosen by the grammar file's extension.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Draw a model from the grammar's prior and write it.
+    Sample(SampleArgs),
+    /// Replay a saved genome and write the model it describes.
+    Derive(DeriveArgs),
+    /// Show the generator graph: symbols, parameters, slots and limits.
+    Info(InfoArgs),
+}
+
+/// Overrides of the grammar's derivation limits.
+#[derive(Debug, Args, Clone, Default)]
+pub struct LimitArgs {
+    /// Most genes (rule applications) in a derivation.
+    #[arg(long, value_name = "N")]
+    pub max_genes: Option<usize>,
+    /// Deepest derivation.
+    #[arg(long, value_name = "N")]
+    pub max_depth: Option<usize>,
+    /// Most primitives in the model.
+    #[arg(long, value_name = "N")]
+    pub max_primitives: Option<usize>,
+}
+
+/// Arguments of `genform sample`.
+#[derive(Debug, Args)]
+pub struct SampleArgs {
+    /// Grammar file (.sg).
+    pub file: PathBuf,
+    /// Random seed; the same seed gives the same model.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Output file; the format follows the extension (.glb .obj .ply .stl .png).
+    #[arg(long, short)]
+    pub out: Option<PathBuf>,
+    /// Also save the derivation tree (genome) as JSON, for `genform derive`.
+    #[arg(long, value_name = "G.json")]
+    pub genome_out: Option<PathBuf>,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// Arguments of `genform derive`.
+#[derive(Debug, Args)]
+pub struct DeriveArgs {
+    /// Grammar file (.sg).
+    pub file: PathBuf,
+    /// Genome JSON written by `sample --genome-out` or an optimizer.
+    #[arg(long, value_name = "G.json")]
+    pub genome: PathBuf,
+    /// Output file; the format follows the extension (.glb .obj .ply .stl .png).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// Arguments of `genform info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Grammar file (.sg).
+    pub file: PathBuf,
+}

@@ -1,0 +1,154 @@
+//! End-to-end tests: run the real `genform` binary in a temporary folder and
+//! print everything it said when an expectation fails.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+fn example(name: &str) -> PathBuf {
+    root().join("examples/shape").join(name)
+}
+
+struct Run {
+    out: Output,
+}
+
+impl Run {
+    fn stdout(&self) -> String {
+        String::from_utf8_lossy(&self.out.stdout).into_owned()
+    }
+    fn stderr(&self) -> String {
+        String::from_utf8_lossy(&self.out.stderr).into_owned()
+    }
+    fn ok(self) -> Self {
+        assert!(self.out.status.success(), "genform failed\nstdout:\n{}\nstderr:\n{}", self.stdout(), self.stderr());
+        self
+    }
+    fn fails(self) -> Self {
+        assert!(!self.out.status.success(), "genform should have failed\nstdout:\n{}\nstderr:\n{}", self.stdout(), self.stderr());
+        self
+    }
+}
+
+fn genform(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_genform")).current_dir(dir).args(args).output().unwrap();
+    Run { out }
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn spaceship_glb_is_deterministic_and_well_formed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "7", "--out", "a.glb"]).ok();
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "7", "--out", "b.glb"]).ok();
+    let a = std::fs::read(tmp.path().join("a.glb")).unwrap();
+    let b = std::fs::read(tmp.path().join("b.glb")).unwrap();
+    assert_eq!(a, b, "same seed must give the same bytes");
+    assert_eq!(&a[0..4], b"glTF");
+    assert_eq!(u32::from_le_bytes(a[4..8].try_into().unwrap()), 2);
+    assert_eq!(u32::from_le_bytes(a[8..12].try_into().unwrap()) as usize, a.len());
+}
+
+#[test]
+fn spaceship_obj_has_one_box_per_part() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "7", "--out", "ship.obj", "--genome-out", "g.json"]).ok();
+    let genome: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(tmp.path().join("g.json")).unwrap()).unwrap();
+    let count = |sym: &str| genome["genes"].as_array().unwrap().iter().filter(|g| g["symbol"] == sym).count();
+    // Body, top and top segments emit one box each; a wing gene emits a mirrored pair.
+    let expected = count("B") + count("T") + count("t") + 2 * (count("W") + count("w"));
+    assert!(count("B") >= 1);
+    let obj = std::fs::read_to_string(tmp.path().join("ship.obj")).unwrap();
+    let objects = obj.lines().filter(|l| l.starts_with("o ") || l.starts_with("g ")).count();
+    assert_eq!(objects, expected, "one OBJ object per emitted box");
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 8 * expected);
+}
+
+#[test]
+fn derive_replays_a_saved_genome_byte_for_byte() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (grammar, seed) in [("spaceship.sg", "3"), ("city_grid.sg", "5"), ("tree_v2.sg", "2")] {
+        let g = example(grammar);
+        genform(tmp.path(), &["sample", s(&g), "--seed", seed, "--out", "a.obj", "--genome-out", "g.json"]).ok();
+        genform(tmp.path(), &["derive", s(&g), "--genome", "g.json", "--out", "b.obj"]).ok();
+        let a = std::fs::read(tmp.path().join("a.obj")).unwrap();
+        let b = std::fs::read(tmp.path().join("b.obj")).unwrap();
+        assert_eq!(a, b, "{grammar}: derive must reproduce sample");
+    }
+}
+
+#[test]
+fn every_example_samples_into_every_format() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut n = 0;
+    for entry in std::fs::read_dir(root().join("examples/shape")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().and_then(|e| e.to_str()) != Some("sg") {
+            continue;
+        }
+        n += 1;
+        for ext in ["glb", "obj", "ply", "stl", "png"] {
+            let out = format!("m.{ext}");
+            genform(tmp.path(), &["sample", s(&path), "--seed", "11", "--out", &out]).ok();
+            assert!(std::fs::metadata(tmp.path().join(&out)).unwrap().len() > 0, "{} → {out}", path.display());
+        }
+    }
+    assert!(n >= 7, "expected the seven shipped shape grammars, found {n}");
+}
+
+#[test]
+fn info_lists_symbols_parameters_and_slots() {
+    let tmp = tempfile::tempdir().unwrap();
+    let r = genform(tmp.path(), &["info", s(&example("spaceship.sg"))]).ok();
+    let out = r.stdout();
+    for want in ["start `S`", "param", "uniform(0.6, 1.5)", "slot", "→ W", "limits: genes"] {
+        assert!(out.contains(want), "missing {want:?} in:\n{out}");
+    }
+}
+
+#[test]
+fn grammar_errors_name_file_line_and_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("bad.sg"), "axiom S;\nS {\n  boxx;\n  param a: uniform(2, 1);\n}\n").unwrap();
+    let r = genform(tmp.path(), &["sample", "bad.sg", "--out", "x.glb"]).fails();
+    let err = r.stderr();
+    assert!(err.contains("bad.sg:3:3"), "{err}");
+    assert!(err.contains("bad.sg:4:"), "every error is reported: {err}");
+    assert!(!tmp.path().join("x.glb").exists());
+}
+
+#[test]
+fn a_genome_that_does_not_fit_is_rejected_with_a_reason() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "1", "--genome-out", "g.json"]).ok();
+    let text = std::fs::read_to_string(tmp.path().join("g.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let body = v["genes"].as_array_mut().unwrap().iter_mut().find(|g| g["symbol"] == "B").unwrap();
+    body["params"]["size"][0] = serde_json::json!(99.0);
+    std::fs::write(tmp.path().join("bad.json"), serde_json::to_string(&v).unwrap()).unwrap();
+    let r = genform(tmp.path(), &["derive", s(&ship), "--genome", "bad.json", "--out", "x.obj"]).fails();
+    assert!(r.stderr().contains("outside uniform(0.6, 1.5)"), "{}", r.stderr());
+}
+
+#[test]
+fn unknown_output_format_is_a_clear_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let r = genform(tmp.path(), &["sample", s(&example("spaceship.sg")), "--out", "x.dae"]).fails();
+    assert!(r.stderr().contains("use one of the extensions"), "{}", r.stderr());
+}
+
+#[test]
+fn runaway_growth_stops_at_the_gene_limit_with_a_message() {
+    let tmp = tempfile::tempdir().unwrap();
+    let r = genform(tmp.path(), &["sample", s(&example("city_filling.sg")), "--max-genes", "5", "--seed", "2"]).ok();
+    assert!(r.stderr().contains("gene limit (5)"), "{}", r.stderr());
+}
