@@ -1,1 +1,374 @@
 //! Writers for genform Scenes.
+//!
+//! Every writer turns a [`Scene`] into the bytes of one file; this crate does
+//! no file I/O. The formats:
+//!
+//! - [`Format::Obj`]: Wavefront OBJ text, one object per instance
+//!   ([`write_obj`]).
+//! - [`Format::Glb`]: binary glTF 2.0, one mesh per distinct primitive and one
+//!   node per instance ([`write_glb`]).
+//! - [`Format::Ply`]: binary little-endian PLY triangle soup ([`write_ply`]).
+//! - [`Format::Stl`]: binary STL ([`write_stl`]).
+//! - [`Format::Png`]: a software-rendered preview image ([`render_png`]).
+//!
+//! All output is deterministic: the same scene gives the same bytes.
+//! [`export`] checks the scene first (missing mesh assets, non-finite
+//! coordinates, nothing to write) and reports an [`ExportError`]; the
+//! `write_*` functions trust their input.
+
+#![warn(missing_docs)]
+
+mod glb;
+mod obj;
+mod palette;
+mod ply;
+mod render;
+mod shapes;
+mod stl;
+
+use genform_core::scene::{Primitive, Scene, Tessellation};
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+pub use glb::write_glb;
+pub use obj::write_obj;
+pub use palette::tag_color;
+pub use ply::write_ply;
+pub use render::{Camera, RenderOptions, render_png, render_rgb};
+pub use stl::write_stl;
+
+/// The largest image side [`export`] accepts for [`Format::Png`].
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
+/// An output file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// Wavefront OBJ text (`.obj`).
+    Obj,
+    /// Binary glTF 2.0 (`.glb`).
+    Glb,
+    /// Binary little-endian PLY (`.ply`).
+    Ply,
+    /// Binary STL (`.stl`).
+    Stl,
+    /// A rendered preview image (`.png`).
+    Png,
+}
+
+impl Format {
+    /// Every format, in the order of [`Format::extensions`].
+    pub const ALL: [Format; 5] = [Format::Obj, Format::Glb, Format::Ply, Format::Stl, Format::Png];
+
+    /// The format a file name asks for, from its extension (case-insensitive);
+    /// `None` when the extension is missing or unknown.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        path.extension()?.to_str()?.parse().ok()
+    }
+
+    /// The known extensions, lowercase and without the dot.
+    pub fn extensions() -> &'static [&'static str] {
+        &["obj", "glb", "ply", "stl", "png"]
+    }
+
+    /// This format's extension, lowercase and without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Glb => "glb",
+            Format::Ply => "ply",
+            Format::Stl => "stl",
+            Format::Png => "png",
+        }
+    }
+
+    /// Whether this format holds geometry (all but [`Format::Png`]).
+    pub fn is_geometry(self) -> bool {
+        self != Format::Png
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Format::Obj => "OBJ",
+            Format::Glb => "GLB",
+            Format::Ply => "PLY",
+            Format::Stl => "STL",
+            Format::Png => "PNG",
+        })
+    }
+}
+
+impl FromStr for Format {
+    type Err = ExportError;
+
+    /// Parses an extension (`"glb"`, `".GLB"`, …).
+    fn from_str(s: &str) -> Result<Format, ExportError> {
+        let e = s.strip_prefix('.').unwrap_or(s);
+        Format::ALL
+            .into_iter()
+            .find(|f| f.extension().eq_ignore_ascii_case(e))
+            .ok_or_else(|| ExportError::UnknownFormat(s.to_string()))
+    }
+}
+
+/// Settings for [`export`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ExportOptions {
+    /// How finely curved primitives are tessellated (all formats).
+    pub tessellation: Tessellation,
+    /// Image settings for [`Format::Png`].
+    pub render: RenderOptions,
+}
+
+/// Why a scene could not be exported.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+pub enum ExportError {
+    /// The extension or format name is not one of [`Format::extensions`].
+    #[error("unknown output format `{0}`; known: {ext}", ext = Format::extensions().join(", "))]
+    UnknownFormat(String),
+    /// A geometry format was asked for and the scene has nothing it can hold.
+    #[error("the scene is empty: there is no geometry to write as {0}")]
+    EmptyScene(Format),
+    /// An instance refers to a mesh asset the scene does not have, or an
+    /// asset has a triangle with a vertex index out of range.
+    #[error("instance {instance} refers to mesh asset {mesh}, which is missing or malformed")]
+    BadMesh {
+        /// Index into [`Scene::instances`].
+        instance: usize,
+        /// The mesh id it refers to.
+        mesh: u32,
+    },
+    /// Some coordinate is NaN or infinite (a degenerate transform upstream).
+    #[error("the scene has non-finite coordinates (NaN or infinity) in {0}")]
+    NonFinite(String),
+    /// The image size is zero or larger than [`MAX_IMAGE_SIDE`].
+    #[error("cannot render a {width}×{height} image (each side must be 1..={max})", max = MAX_IMAGE_SIDE)]
+    ImageSize {
+        /// The requested width.
+        width: u32,
+        /// The requested height.
+        height: u32,
+    },
+}
+
+/// Writes `scene` as `format` and returns the file's bytes.
+///
+/// Checks the scene first: every [`Primitive::Mesh`] must name a valid asset
+/// (all formats), geometry formats need at least one triangle (OBJ and GLB
+/// also accept polylines alone) and finite coordinates, and PNG needs a
+/// size within [`MAX_IMAGE_SIDE`]. An empty scene renders as a blank image.
+pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec<u8>, ExportError> {
+    check_meshes(scene)?;
+    let tess = opts.tessellation;
+    if format.is_geometry() {
+        check_geometry(scene, format, tess)?;
+    }
+    Ok(match format {
+        Format::Obj => write_obj(scene, tess).into_bytes(),
+        Format::Glb => write_glb(scene, tess),
+        Format::Ply => write_ply(scene, tess),
+        Format::Stl => write_stl(scene, tess),
+        Format::Png => {
+            let (w, h) = (opts.render.width, opts.render.height);
+            if !(1..=MAX_IMAGE_SIDE).contains(&w) || !(1..=MAX_IMAGE_SIDE).contains(&h) {
+                return Err(ExportError::ImageSize { width: w, height: h });
+            }
+            render::render_png_with(scene, &opts.render, tess)
+        }
+    })
+}
+
+/// Every mesh reference resolves and every asset triangle is in range.
+fn check_meshes(scene: &Scene) -> Result<(), ExportError> {
+    for (i, inst) in scene.instances.iter().enumerate() {
+        if let Primitive::Mesh(id) = inst.primitive {
+            let ok = scene.meshes.get(id as usize).is_some_and(|m| {
+                let n = m.positions.len();
+                m.triangles.iter().all(|t| t.iter().all(|&v| (v as usize) < n))
+            });
+            if !ok {
+                return Err(ExportError::BadMesh { instance: i, mesh: id });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Finite coordinates and something to write.
+fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(), ExportError> {
+    let (mut triangles, mut finite) = (0usize, true);
+    scene.for_each_triangle(tess, |t, _| {
+        triangles += 1;
+        finite &= t.iter().all(|p| p.is_finite());
+    });
+    if !finite {
+        return Err(ExportError::NonFinite("a triangle".into()));
+    }
+    let lines = matches!(format, Format::Obj | Format::Glb);
+    let mut drawable_lines = false;
+    if lines {
+        for l in &scene.polylines {
+            if !l.points.iter().all(|p| p.is_finite()) {
+                return Err(ExportError::NonFinite("a polyline".into()));
+            }
+            drawable_lines |= l.points.len() >= 2;
+        }
+    }
+    if triangles == 0 && !drawable_lines {
+        return Err(ExportError::EmptyScene(format));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+pub(crate) mod test_scenes {
+    use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene};
+    use glam::{Affine3A, Quat, Vec3};
+
+    /// `n` unit boxes in a row along x, tagged `hull`.
+    pub fn boxes(n: usize) -> Scene {
+        let mut s = Scene::new();
+        let tag = s.tag("hull");
+        for i in 0..n {
+            s.instances.push(Instance {
+                transform: Affine3A::from_translation(Vec3::new(2.0 * i as f32, 0.0, 0.0)),
+                primitive: Primitive::Box,
+                tag,
+            });
+        }
+        s
+    }
+
+    /// A bit of everything: rotated, scaled, reflected and degenerate
+    /// instances of every primitive, a mesh asset, a polygon and a polyline.
+    pub fn mixed() -> Scene {
+        let mut s = Scene::new();
+        let (a, b, c) = (s.tag("wall"), s.tag("roof tile"), s.tag("trunk"));
+        let mesh = std::sync::Arc::new(
+            genform_core::Mesh::from_obj(
+                "tet",
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+            )
+            .unwrap(),
+        );
+        let m = s.mesh(&mesh);
+        let prims = [
+            Primitive::Box,
+            Primitive::Sphere,
+            Primitive::Frustum { top: 1.0 },
+            Primitive::Frustum { top: 0.0 },
+            Primitive::TaperedBox { top: 0.0 },
+            Primitive::TaperedBox { top: 0.5 },
+            Primitive::Mesh(m),
+        ];
+        for (i, p) in prims.into_iter().enumerate() {
+            let x = 3.0 * i as f32;
+            let rot = Quat::from_euler(glam::EulerRot::YXZ, 0.3 * i as f32, 0.2, -0.1 * i as f32);
+            s.instances.push(Instance {
+                transform: Affine3A::from_scale_rotation_translation(
+                    Vec3::new(1.0 + 0.1 * i as f32, 2.0, 0.5),
+                    rot,
+                    Vec3::new(x, 0.0, 0.0),
+                ),
+                primitive: p,
+                tag: [a, b, c][i % 3],
+            });
+            // The same primitive reflected.
+            s.instances.push(Instance {
+                transform: Affine3A::from_scale_rotation_translation(
+                    Vec3::new(-1.0, 1.0, 1.5),
+                    rot,
+                    Vec3::new(x, 4.0, 0.0),
+                ),
+                primitive: p,
+                tag: a,
+            });
+        }
+        // Singular (a flattened box) and sheared instances.
+        s.instances.push(Instance {
+            transform: Affine3A::from_scale(Vec3::new(2.0, 0.0, 2.0)) * Affine3A::from_translation(Vec3::Y * -8.0),
+            primitive: Primitive::Box,
+            tag: b,
+        });
+        s.instances.push(Instance {
+            transform: Affine3A::from_cols_array(&[1.0, 0.0, 0.0, 0.7, 1.0, 0.0, 0.0, 0.0, 1.0, -4.0, 0.0, 0.0]),
+            primitive: Primitive::Box,
+            tag: c,
+        });
+        s.polygons.push(Polygon {
+            points: vec![
+                Vec3::new(0.0, -2.0, 0.0),
+                Vec3::new(4.0, -2.0, 0.0),
+                Vec3::new(4.0, -2.0, 3.0),
+                Vec3::new(0.0, -2.0, 3.0),
+            ],
+            tag: b,
+        });
+        s.polylines.push(Polyline {
+            points: vec![Vec3::new(0.0, 6.0, 0.0), Vec3::new(2.0, 7.0, 0.0), Vec3::new(4.0, 6.0, 1.0)],
+            width: 0.1,
+            tag: c,
+        });
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use genform_core::scene::Instance;
+
+    #[test]
+    fn formats_from_paths() {
+        assert_eq!(Format::from_path(Path::new("out/ship.GLB")), Some(Format::Glb));
+        assert_eq!(Format::from_path(Path::new("a.b.obj")), Some(Format::Obj));
+        assert_eq!(Format::from_path(Path::new("x.png")), Some(Format::Png));
+        assert_eq!(Format::from_path(Path::new("x.gltf")), None);
+        assert_eq!(Format::from_path(Path::new("noext")), None);
+        for (f, e) in Format::ALL.iter().zip(Format::extensions()) {
+            assert_eq!(f.extension(), *e);
+            assert_eq!(e.parse::<Format>().unwrap(), *f);
+        }
+        let err = "fbx".parse::<Format>().unwrap_err();
+        assert!(err.to_string().contains("obj, glb, ply, stl, png"), "{err}");
+    }
+
+    #[test]
+    fn export_checks_the_scene() {
+        let opts = ExportOptions::default();
+        let empty = Scene::new();
+        for f in [Format::Obj, Format::Glb, Format::Ply, Format::Stl] {
+            assert_eq!(export(&empty, f, &opts), Err(ExportError::EmptyScene(f)));
+        }
+        assert!(!export(&empty, Format::Png, &opts).unwrap().is_empty());
+
+        let mut s = test_scenes::boxes(1);
+        s.instances.push(Instance { primitive: Primitive::Mesh(3), ..s.instances[0] });
+        assert_eq!(export(&s, Format::Stl, &opts), Err(ExportError::BadMesh { instance: 1, mesh: 3 }));
+
+        let mut s = test_scenes::boxes(2);
+        s.instances[1].transform.translation.x = f32::NAN;
+        assert!(matches!(export(&s, Format::Obj, &opts), Err(ExportError::NonFinite(_))));
+
+        let s = test_scenes::boxes(1);
+        let mut o = opts;
+        o.render.width = 0;
+        assert_eq!(export(&s, Format::Png, &o), Err(ExportError::ImageSize { width: 0, height: 600 }));
+    }
+
+    #[test]
+    fn every_format_exports_deterministically() {
+        let s = test_scenes::mixed();
+        let mut opts = ExportOptions::default();
+        opts.render.width = 160;
+        opts.render.height = 120;
+        for f in Format::ALL {
+            let a = export(&s, f, &opts).unwrap();
+            let b = export(&s.clone(), f, &opts).unwrap();
+            assert!(!a.is_empty());
+            assert!(a == b, "{f} output differs between runs");
+        }
+    }
+}

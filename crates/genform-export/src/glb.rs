@@ -1,0 +1,523 @@
+//! Binary glTF 2.0 (GLB).
+
+use crate::palette::{srgb_to_linear, tag_color};
+use crate::shapes::{Shapes, tag_name};
+use crate::stl::face_normal;
+use genform_core::scene::{Scene, TagId, Tessellation};
+use glam::{Affine3A, DMat4, Mat4, Vec3};
+use serde_json::{Map, Value, json};
+use std::collections::{BTreeMap, HashMap};
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_SHORT: u32 = 5123;
+const UNSIGNED_INT: u32 = 5125;
+const MODE_LINES: u32 = 1;
+
+/// Writes `scene` as binary glTF 2.0 (a `.glb` file).
+///
+/// - One set of vertex data per distinct primitive (box, each frustum or
+///   tapered-box parameter, sphere, each mesh asset), flat shaded: `POSITION`
+///   (with exact `min`/`max`), `NORMAL` and `u16`/`u32` indices, in the unit
+///   frame. Degenerate triangles are dropped.
+/// - One glTF mesh per (primitive, tag) pair in use, sharing that data, with
+///   the tag's material.
+/// - One node per instance, named `<tag>_<index>`, with the instance
+///   transform as its `matrix` (omitted when identity; reflections are
+///   allowed). glTF requires node matrices that decompose into
+///   translation–rotation–scale, so instances whose transform is singular
+///   (a zero scale) or sheared are instead baked into the world-space mesh
+///   `baked`; instances with non-finite transforms are skipped.
+/// - Polygons go into the world-space mesh `polygons` (double-sided
+///   materials); polylines into the mesh `polylines` as `LINES` primitives
+///   (stroke widths are not kept).
+/// - One material per tag: base color from [`crate::tag_color`] (converted to
+///   linear), metallic 0, roughness 0.8.
+///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset (see [`crate::export`],
+/// which checks).
+pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
+    let shapes = Shapes::new(scene, tess);
+    let mut doc = Doc::default();
+    // Per shape: not built yet / built but empty / (position, normal, index) accessors.
+    let mut shape_data: Vec<Option<Option<[usize; 3]>>> = vec![None; shapes.meshes.len()];
+    let mut mesh_of: HashMap<(u32, TagId), usize> = HashMap::new();
+    let mut baked: BTreeMap<TagId, Vec<[Vec3; 3]>> = BTreeMap::new();
+
+    for (i, inst) in scene.instances.iter().enumerate() {
+        match placement(&inst.transform) {
+            Placement::Skip => continue,
+            Placement::Bake => {
+                let mesh = shapes.of(i);
+                let flip = inst.transform.matrix3.determinant() < 0.0;
+                let tris = baked.entry(inst.tag).or_default();
+                for t in &mesh.triangles {
+                    let [a, b, c] = t.map(|v| inst.transform.transform_point3(mesh.positions[v as usize]));
+                    tris.push(if flip { [a, c, b] } else { [a, b, c] });
+                }
+            }
+            Placement::Node(matrix) => {
+                let s = shapes.of_instance[i];
+                let data = *shape_data[s as usize].get_or_insert_with(|| {
+                    let m = &shapes.meshes[s as usize];
+                    let tris = m.triangles.iter().map(|t| t.map(|v| m.positions[v as usize]));
+                    doc.flat_geometry(tris)
+                });
+                let Some([pos, nrm, idx]) = data else { continue };
+                let mesh = match mesh_of.get(&(s, inst.tag)) {
+                    Some(&m) => m,
+                    None => {
+                        let material = doc.material(scene, inst.tag, false);
+                        let name = format!("{}.{}", shapes.meshes[s as usize].name, tag_name(scene, inst.tag));
+                        let prim = json!({
+                            "attributes": {"POSITION": pos, "NORMAL": nrm},
+                            "indices": idx,
+                            "material": material,
+                        });
+                        doc.meshes.push(json!({"name": name, "primitives": [prim]}));
+                        mesh_of.insert((s, inst.tag), doc.meshes.len() - 1);
+                        doc.meshes.len() - 1
+                    }
+                };
+                let mut node = Map::new();
+                node.insert("name".into(), format!("{}_{i}", tag_name(scene, inst.tag)).into());
+                node.insert("mesh".into(), mesh.into());
+                if matrix != Mat4::IDENTITY {
+                    node.insert("matrix".into(), floats(&matrix.to_cols_array()));
+                }
+                doc.nodes.push(Value::Object(node));
+            }
+        }
+    }
+
+    doc.world_mesh(scene, "baked", &baked, false);
+    let mut polygons: BTreeMap<TagId, Vec<[Vec3; 3]>> = BTreeMap::new();
+    for poly in &scene.polygons {
+        if poly.points.iter().all(|p| p.is_finite()) {
+            let tris = polygons.entry(poly.tag).or_default();
+            tris.extend(
+                (1..poly.points.len().saturating_sub(1)).map(|k| [poly.points[0], poly.points[k], poly.points[k + 1]]),
+            );
+        }
+    }
+    doc.world_mesh(scene, "polygons", &polygons, true);
+    doc.polylines(scene);
+    doc.finish()
+}
+
+/// What to do with an instance transform.
+enum Placement {
+    /// A node with this matrix.
+    Node(Mat4),
+    /// Not expressible as a glTF node matrix: bake into world space.
+    Bake,
+    /// Not finite: leave out.
+    Skip,
+}
+
+/// Decides how an instance goes into glTF: a node if its matrix is finite,
+/// clearly invertible and decomposes into translation, rotation and
+/// (possibly negative) scale, i.e. its columns are orthogonal up to a
+/// relative 1e-4.
+///
+/// The validator compares a matrix with its own TRS recomposition to an
+/// absolute tolerance, so even float noise fails for large scales: the
+/// matrix written is the exact recomposition (columns re-orthogonalized in
+/// `f64`), which moves no vertex by more than 1e-4 of the instance size.
+fn placement(t: &Affine3A) -> Placement {
+    if !Mat4::from(*t).is_finite() {
+        return Placement::Skip;
+    }
+    let c = [t.matrix3.x_axis, t.matrix3.y_axis, t.matrix3.z_axis].map(|c| c.as_dvec3());
+    let s = c.map(|c| c.length());
+    if s[0] * s[1] * s[2] < 1e-24 || s.iter().any(|&l| l < 1e-12 * s[0].max(s[1]).max(s[2])) {
+        return Placement::Bake;
+    }
+    for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+        if c[i].dot(c[j]).abs() > 1e-4 * s[i] * s[j] {
+            return Placement::Bake;
+        }
+    }
+    let u0 = c[0] / s[0];
+    let u1 = (c[1] - c[1].dot(u0) * u0).normalize();
+    let u2 = u0.cross(u1);
+    let u2 = if u2.dot(c[2]) < 0.0 { -u2 } else { u2 };
+    let m = DMat4::from_cols(
+        (u0 * s[0]).extend(0.0),
+        (u1 * s[1]).extend(0.0),
+        (u2 * s[2]).extend(0.0),
+        t.translation.as_dvec3().extend(1.0),
+    );
+    Placement::Node(m.as_mat4())
+}
+
+/// The glTF document being built and its binary chunk.
+#[derive(Default)]
+struct Doc {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+    meshes: Vec<Value>,
+    nodes: Vec<Value>,
+    materials: Vec<Value>,
+    material_of: HashMap<(TagId, bool), usize>,
+}
+
+impl Doc {
+    /// Appends `bytes` as a new bufferView (4-byte aligned) and returns its index.
+    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        self.views.push(json!({
+            "buffer": 0,
+            "byteOffset": self.bin.len(),
+            "byteLength": bytes.len(),
+            "target": target,
+        }));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A `VEC3` float accessor over `data` (non-empty); with `min`/`max` when
+    /// `bounds`.
+    fn vec3(&mut self, data: &[Vec3], bounds: bool) -> usize {
+        let mut bytes = Vec::with_capacity(data.len() * 12);
+        for v in data {
+            for c in v.to_array() {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+        let view = self.view(&bytes, ARRAY_BUFFER);
+        let mut acc = json!({"bufferView": view, "componentType": FLOAT, "count": data.len(), "type": "VEC3"});
+        if bounds {
+            let (lo, hi) = data.iter().fold((data[0], data[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+            acc["min"] = floats(&lo.to_array());
+            acc["max"] = floats(&hi.to_array());
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
+    /// A `SCALAR` index accessor, `u16` when every index fits below the
+    /// `u16` primitive-restart value, else `u32`.
+    fn indices(&mut self, idx: &[u32], vertex_count: usize) -> usize {
+        let (bytes, ty) = if vertex_count < usize::from(u16::MAX) {
+            (idx.iter().flat_map(|&i| (i as u16).to_le_bytes()).collect::<Vec<u8>>(), UNSIGNED_SHORT)
+        } else {
+            (idx.iter().flat_map(|&i| i.to_le_bytes()).collect(), UNSIGNED_INT)
+        };
+        let view = self.view(&bytes, ELEMENT_ARRAY_BUFFER);
+        self.accessors.push(json!({"bufferView": view, "componentType": ty, "count": idx.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    /// Flat-shaded vertex data for triangles: vertices shared only between
+    /// triangles with the same position and normal; degenerate triangles
+    /// dropped. `None` when nothing is left.
+    fn flat_geometry(&mut self, tris: impl Iterator<Item = [Vec3; 3]>) -> Option<[usize; 3]> {
+        let (mut pos, mut nrm, mut idx) = (Vec::new(), Vec::new(), Vec::new());
+        let mut weld: HashMap<([u32; 3], [u32; 3]), u32> = HashMap::new();
+        for t in tris {
+            let n = face_normal(t);
+            if n == Vec3::ZERO || !t.iter().all(|p| p.is_finite()) {
+                continue;
+            }
+            for p in t {
+                let key = (p.to_array().map(f32::to_bits), n.to_array().map(f32::to_bits));
+                let v = *weld.entry(key).or_insert_with(|| {
+                    pos.push(p);
+                    nrm.push(n);
+                    (pos.len() - 1) as u32
+                });
+                idx.push(v);
+            }
+        }
+        if idx.is_empty() {
+            return None;
+        }
+        Some([self.vec3(&pos, true), self.vec3(&nrm, false), self.indices(&idx, pos.len())])
+    }
+
+    /// The material index of `tag` (double-sided or not), added on first use.
+    fn material(&mut self, scene: &Scene, tag: TagId, double_sided: bool) -> usize {
+        if let Some(&m) = self.material_of.get(&(tag, double_sided)) {
+            return m;
+        }
+        let name = scene.tags.get(tag as usize).cloned().unwrap_or_else(|| format!("tag{tag}"));
+        let rgb = tag_color(&name).map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0);
+        let mut mat = json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.8,
+            },
+        });
+        if double_sided {
+            mat["doubleSided"] = true.into();
+            mat["name"] = format!("{name} (double-sided)").into();
+        }
+        self.materials.push(mat);
+        self.material_of.insert((tag, double_sided), self.materials.len() - 1);
+        self.materials.len() - 1
+    }
+
+    /// A node and mesh of world-space triangles, one primitive per tag.
+    fn world_mesh(&mut self, scene: &Scene, name: &str, tris: &BTreeMap<TagId, Vec<[Vec3; 3]>>, double_sided: bool) {
+        let mut prims = Vec::new();
+        for (&tag, t) in tris {
+            if let Some([pos, nrm, idx]) = self.flat_geometry(t.iter().copied()) {
+                let material = self.material(scene, tag, double_sided);
+                prims.push(json!({
+                    "attributes": {"POSITION": pos, "NORMAL": nrm},
+                    "indices": idx,
+                    "material": material,
+                }));
+            }
+        }
+        self.named_mesh_node(name, prims);
+    }
+
+    /// The polylines as one mesh of `LINES` primitives, one per tag.
+    fn polylines(&mut self, scene: &Scene) {
+        let mut segs: BTreeMap<TagId, Vec<Vec3>> = BTreeMap::new();
+        for l in &scene.polylines {
+            if l.points.len() >= 2 && l.points.iter().all(|p| p.is_finite()) {
+                segs.entry(l.tag).or_default().extend(l.points.windows(2).flatten());
+            }
+        }
+        let mut prims = Vec::new();
+        for (tag, pts) in segs {
+            let pos = self.vec3(&pts, true);
+            let material = self.material(scene, tag, false);
+            prims.push(json!({"attributes": {"POSITION": pos}, "mode": MODE_LINES, "material": material}));
+        }
+        self.named_mesh_node("polylines", prims);
+    }
+
+    fn named_mesh_node(&mut self, name: &str, prims: Vec<Value>) {
+        if prims.is_empty() {
+            return;
+        }
+        self.meshes.push(json!({"name": name, "primitives": prims}));
+        self.nodes.push(json!({"name": name, "mesh": self.meshes.len() - 1}));
+    }
+
+    /// The GLB container: header, JSON chunk (space padded), BIN chunk
+    /// (zero padded, left out when empty).
+    fn finish(mut self) -> Vec<u8> {
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        let mut root = Map::new();
+        root.insert("asset".into(), json!({"version": "2.0", "generator": "genform"}));
+        let mut put = |key: &str, items: Vec<Value>| {
+            if !items.is_empty() {
+                root.insert(key.into(), Value::Array(items));
+            }
+        };
+        let node_ids: Vec<Value> = (0..self.nodes.len()).map(Value::from).collect();
+        let scene = if node_ids.is_empty() { json!({}) } else { json!({"nodes": node_ids}) };
+        put("scenes", vec![scene]);
+        put("nodes", self.nodes);
+        put("meshes", self.meshes);
+        put("materials", self.materials);
+        put("accessors", self.accessors);
+        put("bufferViews", self.views);
+        if !self.bin.is_empty() {
+            put("buffers", vec![json!({"byteLength": self.bin.len()})]);
+        }
+        root.insert("scene".into(), 0.into());
+        let mut json = serde_json::to_vec(&Value::Object(root)).expect("JSON values always serialize");
+        json.resize(json.len().next_multiple_of(4), b' ');
+
+        let bin_chunk = if self.bin.is_empty() { 0 } else { 8 + self.bin.len() };
+        let total = 12 + 8 + json.len() + bin_chunk;
+        let mut out = Vec::with_capacity(total);
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        if !self.bin.is_empty() {
+            out.extend_from_slice(&(self.bin.len() as u32).to_le_bytes());
+            out.extend_from_slice(b"BIN\0");
+            out.extend_from_slice(&self.bin);
+        }
+        out
+    }
+}
+
+/// `f32`s as JSON numbers holding their exact values (so `min`/`max` match
+/// the binary data bit for bit).
+fn floats(v: &[f32]) -> Value {
+    Value::Array(v.iter().map(|&x| Value::from(f64::from(x))).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_scenes;
+
+    /// A parsed GLB: its JSON and its binary chunk.
+    fn parse(glb: &[u8]) -> (Value, Vec<u8>) {
+        let u32_at = |o: usize| u32::from_le_bytes(glb[o..o + 4].try_into().unwrap()) as usize;
+        assert_eq!(&glb[..4], b"glTF");
+        assert_eq!(u32_at(4), 2);
+        assert_eq!(u32_at(8), glb.len());
+        let json_len = u32_at(12);
+        assert_eq!(&glb[16..20], b"JSON");
+        assert_eq!(json_len % 4, 0);
+        let json: Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+        let rest = &glb[20 + json_len..];
+        if rest.is_empty() {
+            assert!(json.get("buffers").is_none());
+            return (json, Vec::new());
+        }
+        let bin_len = u32::from_le_bytes(rest[..4].try_into().unwrap()) as usize;
+        assert_eq!(&rest[4..8], b"BIN\0");
+        assert_eq!(bin_len % 4, 0);
+        assert_eq!(rest.len(), 8 + bin_len);
+        assert_eq!(json["buffers"][0]["byteLength"], bin_len);
+        (json, rest[8..].to_vec())
+    }
+
+    /// The `f32` vectors an accessor holds.
+    fn read_vec3(json: &Value, bin: &[u8], acc: usize) -> Vec<Vec3> {
+        let a = &json["accessors"][acc];
+        let view = &json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+        assert_eq!(a["componentType"], FLOAT);
+        assert_eq!(view["target"], ARRAY_BUFFER);
+        let off = view["byteOffset"].as_u64().unwrap() as usize;
+        let count = a["count"].as_u64().unwrap() as usize;
+        assert_eq!(view["byteLength"].as_u64().unwrap() as usize, count * 12);
+        (0..count)
+            .map(|i| {
+                let f = |k: usize| f32::from_le_bytes(bin[off + 12 * i + 4 * k..][..4].try_into().unwrap());
+                Vec3::new(f(0), f(1), f(2))
+            })
+            .collect()
+    }
+
+    fn as_vec3(v: &Value) -> Vec3 {
+        let f = |i: usize| v[i].as_f64().unwrap() as f32;
+        Vec3::new(f(0), f(1), f(2))
+    }
+
+    /// Checks every accessor against its data; returns the number of
+    /// triangles drawn per mesh.
+    fn check_accessors(json: &Value, bin: &[u8]) {
+        for mesh in json["meshes"].as_array().unwrap() {
+            for prim in mesh["primitives"].as_array().unwrap() {
+                let pa = prim["attributes"]["POSITION"].as_u64().unwrap() as usize;
+                let pos = read_vec3(json, bin, pa);
+                let (lo, hi) = pos.iter().fold((pos[0], pos[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+                assert_eq!(as_vec3(&json["accessors"][pa]["min"]), lo);
+                assert_eq!(as_vec3(&json["accessors"][pa]["max"]), hi);
+                if let Some(na) = prim["attributes"].get("NORMAL") {
+                    let nrm = read_vec3(json, bin, na.as_u64().unwrap() as usize);
+                    assert_eq!(nrm.len(), pos.len());
+                    assert!(nrm.iter().all(|n| (n.length() - 1.0).abs() < 1e-5));
+                }
+                if let Some(ia) = prim.get("indices") {
+                    let a = &json["accessors"][ia.as_u64().unwrap() as usize];
+                    let view = &json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize];
+                    assert_eq!(view["target"], ELEMENT_ARRAY_BUFFER);
+                    let off = view["byteOffset"].as_u64().unwrap() as usize;
+                    assert_eq!(off % 4, 0);
+                    let count = a["count"].as_u64().unwrap() as usize;
+                    assert_eq!(count % 3, 0);
+                    let wide = a["componentType"] == UNSIGNED_INT;
+                    for k in 0..count {
+                        let i = if wide {
+                            u32::from_le_bytes(bin[off + 4 * k..][..4].try_into().unwrap()) as usize
+                        } else {
+                            u16::from_le_bytes(bin[off + 2 * k..][..2].try_into().unwrap()) as usize
+                        };
+                        assert!(i < pos.len());
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn boxes_make_one_mesh_and_a_node_each() {
+        let s = test_scenes::boxes(5);
+        let glb = write_glb(&s, Tessellation::default());
+        let (json, bin) = parse(&glb);
+        assert_eq!(json["asset"]["version"], "2.0");
+        assert_eq!(json["asset"]["generator"], "genform");
+        assert_eq!(json["nodes"].as_array().unwrap().len(), 5);
+        assert_eq!(json["scenes"][0]["nodes"].as_array().unwrap().len(), 5);
+        assert_eq!(json["meshes"].as_array().unwrap().len(), 1);
+        assert_eq!(json["materials"].as_array().unwrap().len(), 1);
+        assert_eq!(json["materials"][0]["pbrMetallicRoughness"]["roughnessFactor"], 0.8);
+        check_accessors(&json, &bin);
+        // Flat shading: 6 faces × 4 corners, 12 triangles.
+        let pos = json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize;
+        assert_eq!(json["accessors"][pos]["count"], 24);
+        assert_eq!(as_vec3(&json["accessors"][pos]["min"]), Vec3::splat(-0.5));
+        let idx = json["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+        assert_eq!(json["accessors"][idx]["count"], 36);
+        assert_eq!(json["accessors"][idx]["componentType"], UNSIGNED_SHORT);
+        // The first box sits at the origin, so its node has no matrix.
+        assert!(json["nodes"][0].get("matrix").is_none());
+        assert_eq!(json["nodes"][2]["matrix"][12], 4.0);
+        assert_eq!(json["nodes"][2]["name"], "hull_2");
+    }
+
+    #[test]
+    fn mixed_scene_structure() {
+        let s = test_scenes::mixed();
+        let glb = write_glb(&s, Tessellation::default());
+        let (json, bin) = parse(&glb);
+        check_accessors(&json, &bin);
+        let names: Vec<&str> = json["nodes"].as_array().unwrap().iter().map(|n| n["name"].as_str().unwrap()).collect();
+        // 14 instance nodes (flattened and sheared boxes are baked), then the
+        // world-space meshes.
+        assert_eq!(names.len(), 14 + 3, "{names:?}");
+        assert_eq!(&names[14..], ["baked", "polygons", "polylines"]);
+        assert!(names[..14].iter().all(|n| n.contains('_')));
+        // One vertex set per distinct primitive: 7 shapes × 3 accessors, plus
+        // baked (2 tags), polygons (1 tag) and polylines (1 tag).
+        assert_eq!(json["accessors"].as_array().unwrap().len(), 7 * 3 + 2 * 3 + 3 + 1);
+        let lines = json["meshes"].as_array().unwrap().last().unwrap();
+        assert_eq!(lines["primitives"][0]["mode"], MODE_LINES);
+        let mats = json["materials"].as_array().unwrap();
+        assert!(mats.iter().any(|m| m["doubleSided"] == true));
+        // Reflected instances keep their negative-determinant matrix.
+        let m = &json["nodes"][1]["matrix"];
+        let m = Mat4::from_cols_array(&std::array::from_fn(|i| m[i].as_f64().unwrap() as f32));
+        assert!(m.determinant() < 0.0);
+    }
+
+    #[test]
+    fn empty_scene_is_a_valid_empty_document() {
+        let (json, bin) = parse(&write_glb(&Scene::new(), Tessellation::default()));
+        assert!(bin.is_empty());
+        assert!(json.get("nodes").is_none() && json.get("meshes").is_none());
+        assert_eq!(json["scene"], 0);
+    }
+
+    #[test]
+    fn large_meshes_use_u32_indices() {
+        let tess = Tessellation { radial: 400, rings: 200 };
+        let mut s = Scene::new();
+        s.instances.push(genform_core::Instance {
+            transform: Affine3A::IDENTITY,
+            primitive: genform_core::Primitive::Sphere,
+            tag: 0,
+        });
+        let (json, bin) = parse(&write_glb(&s, tess));
+        check_accessors(&json, &bin);
+        assert_eq!(json["accessors"][2]["componentType"], UNSIGNED_INT);
+    }
+
+    #[test]
+    fn output_is_deterministic() {
+        let s = test_scenes::mixed();
+        assert_eq!(write_glb(&s, Tessellation::default()), write_glb(&s.clone(), Tessellation::default()));
+    }
+}

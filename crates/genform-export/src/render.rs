@@ -1,0 +1,678 @@
+//! A small software rasterizer for PNG previews.
+
+use crate::palette::{linear_to_srgb, srgb_to_linear, tag_color};
+use crate::shapes::Shapes;
+use genform_core::scene::{Primitive, Scene, Tessellation};
+use glam::{Vec2, Vec3};
+use std::sync::OnceLock;
+
+/// An orbit camera looking at a point.
+///
+/// The eye sits at
+/// `look_at + radius * (cos θ cos φ, sin θ, cos θ sin φ)`, with `+y` up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Vertical field of view, in degrees.
+    pub fov_deg: f32,
+    /// Azimuth φ around the y axis, in radians (0 = on the +x side).
+    pub phi: f32,
+    /// Elevation θ above the xz plane, in radians.
+    pub theta: f32,
+    /// Distance from `look_at` to the eye.
+    pub radius: f32,
+    /// The point the camera looks at (the image center).
+    pub look_at: Vec3,
+}
+
+impl Default for Camera {
+    /// A 3/4 view of the unit cube around the origin.
+    fn default() -> Self {
+        Camera::fit((Vec3::splat(-0.5), Vec3::splat(0.5)))
+    }
+}
+
+impl Camera {
+    /// Default vertical field of view of [`Camera::fit`], in degrees.
+    pub const FIT_FOV_DEG: f32 = 35.0;
+
+    /// A pleasant 3/4 view (from the front right, a little above) of the
+    /// box `bounds = (min, max)`, close enough that the box fills most of a
+    /// square image.
+    pub fn fit(bounds: (Vec3, Vec3)) -> Camera {
+        Camera::fit_aspect(bounds, 1.0)
+    }
+
+    /// Like [`Camera::fit`] for an image `aspect = width / height`: the whole
+    /// box stays in view horizontally too.
+    pub fn fit_aspect(bounds: (Vec3, Vec3), aspect: f32) -> Camera {
+        let (mut lo, mut hi) = bounds;
+        if !(lo.is_finite() && hi.is_finite()) || lo.cmpgt(hi).any() {
+            (lo, hi) = (Vec3::splat(-0.5), Vec3::splat(0.5));
+        }
+        let center = (lo + hi) * 0.5;
+        let mut half = (hi - lo) * 0.5;
+        let size = half.max_element();
+        // Flat boxes get a little thickness, empty ones a unit size.
+        half = half.max(Vec3::splat(if size > 0.0 { size * 1e-3 } else { 0.5 }));
+        let mut cam = Camera {
+            fov_deg: Self::FIT_FOV_DEG,
+            phi: 50f32.to_radians(),
+            theta: 25f32.to_radians(),
+            radius: 1.0,
+            look_at: center,
+        };
+        let corners = (0..8).map(|k| {
+            center
+                + Vec3::new(
+                    if k & 1 == 0 { -half.x } else { half.x },
+                    if k & 2 == 0 { -half.y } else { half.y },
+                    if k & 4 == 0 { -half.z } else { half.z },
+                )
+        });
+        cam.radius = cam.fit_distance(aspect, corners).max(half.length() * 1.05);
+        cam
+    }
+
+    /// The least distance from `look_at` (along the current view direction)
+    /// at which every point projects inside an image of `aspect`, with a
+    /// small margin.
+    fn fit_distance(&self, aspect: f32, points: impl IntoIterator<Item = Vec3>) -> f32 {
+        let (right, up, fwd) = self.basis();
+        let tan_y = (self.fov_deg.clamp(1.0, 170.0).to_radians() * 0.5).tan() / 1.08;
+        let tan_x = tan_y * aspect.clamp(0.05, 20.0);
+        let mut d: f32 = 0.0;
+        for p in points {
+            let q = p - self.look_at;
+            let (x, y, z) = (q.dot(right), q.dot(up), q.dot(fwd));
+            d = d.max(x.abs() / tan_x - z).max(y.abs() / tan_y - z);
+        }
+        d
+    }
+
+    /// Tightens an auto-fitted view to the actual points: re-centers the
+    /// image on their projected extent and moves as close as they allow.
+    fn refine(&mut self, aspect: f32, pts: &[Vec3]) {
+        if pts.is_empty() {
+            return;
+        }
+        let floor = self.radius * 1e-3;
+        for _ in 0..2 {
+            let (right, up, fwd) = self.basis();
+            let eye = self.eye();
+            let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+            for &p in pts {
+                let q = p - eye;
+                let z = q.dot(fwd).max(floor);
+                let s = Vec2::new(q.dot(right) / z, q.dot(up) / z);
+                (lo, hi) = (lo.min(s), hi.max(s));
+            }
+            let mid = (lo + hi) * 0.5;
+            if mid.is_finite() {
+                self.look_at += self.radius * (mid.x * right + mid.y * up);
+            }
+            let d = self.fit_distance(aspect, pts.iter().copied());
+            if d.is_finite() && d > floor {
+                self.radius = d;
+            }
+        }
+    }
+
+    /// The eye position.
+    pub fn eye(&self) -> Vec3 {
+        let (st, ct) = self.theta.sin_cos();
+        let (sp, cp) = self.phi.sin_cos();
+        self.look_at + self.radius * Vec3::new(ct * cp, st, ct * sp)
+    }
+
+    /// Right, up and forward unit vectors of the view.
+    fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let (st, ct) = self.theta.sin_cos();
+        let (sp, cp) = self.phi.sin_cos();
+        let fwd = -Vec3::new(ct * cp, st, ct * sp).normalize_or(Vec3::NEG_Z);
+        let world_up = if fwd.y.abs() > 0.999 { Vec3::new(-cp, 0.0, -sp) * fwd.y.signum() } else { Vec3::Y };
+        let right = fwd.cross(world_up).normalize_or(Vec3::X);
+        let up = right.cross(fwd);
+        (right, up, fwd)
+    }
+}
+
+/// Settings for [`render_png`] and [`render_rgb`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The view; `None` fits a [`Camera::fit_aspect`] view to the scene bounds.
+    pub camera: Option<Camera>,
+    /// Background color, 8-bit sRGB.
+    pub background: [u8; 3],
+}
+
+impl Default for RenderOptions {
+    /// 800×600, auto-fitted camera, light grey background.
+    fn default() -> Self {
+        RenderOptions { width: 800, height: 600, camera: None, background: [236, 238, 241] }
+    }
+}
+
+/// Renders `scene` to an RGB image and returns `(pixels, width, height)`,
+/// pixels row by row from the top, 3 bytes each.
+///
+/// Perspective view, z-buffer, flat Lambert shading (a key light from the
+/// upper left of the view, a weaker fill light and ambient), each tag in its
+/// [`crate::tag_color`], 2×2 supersampling (for images up to 4 megapixels).
+/// Built-in primitives are closed, so their back faces are culled; mesh
+/// assets and polygons are two-sided, lit from whichever side faces the
+/// camera. Polylines are drawn as lines of their stroke width (at least one
+/// pixel). With no camera given, the view is a [`Camera::fit_aspect`] 3/4
+/// view tightened to the actual geometry. Instances are
+/// tessellated with [`Tessellation::default`]. An empty scene gives a plain
+/// background. The size is clamped to `1..=`[`crate::MAX_IMAGE_SIDE`].
+///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset (see [`crate::export`],
+/// which checks).
+pub fn render_rgb(scene: &Scene, opts: &RenderOptions) -> (Vec<u8>, u32, u32) {
+    render_rgb_with(scene, opts, Tessellation::default())
+}
+
+/// [`render_rgb`], encoded as PNG (8-bit RGB).
+///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset (see [`crate::export`],
+/// which checks).
+pub fn render_png(scene: &Scene, opts: &RenderOptions) -> Vec<u8> {
+    render_png_with(scene, opts, Tessellation::default())
+}
+
+pub(crate) fn render_png_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> Vec<u8> {
+    let (rgb, w, h) = render_rgb_with(scene, opts, tess);
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    let mut writer = enc.write_header().expect("valid PNG header for a non-empty image");
+    writer.write_image_data(&rgb).expect("writing to memory cannot fail");
+    writer.finish().expect("writing to memory cannot fail");
+    out
+}
+
+pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> (Vec<u8>, u32, u32) {
+    let w = opts.width.clamp(1, crate::MAX_IMAGE_SIDE);
+    let h = opts.height.clamp(1, crate::MAX_IMAGE_SIDE);
+    let ss = if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 };
+    let mut r = Raster::new(w as usize * ss, h as usize * ss, pack(opts.background));
+    if !scene.is_empty() {
+        draw_scene(&mut r, scene, opts.camera, tess, ss);
+    }
+    (r.downsample(ss, w as usize, h as usize), w, h)
+}
+
+/// Draws instances, polygons and polylines into `r` (`ss` samples per pixel
+/// side).
+fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tessellation, ss: usize) {
+    let shapes = Shapes::new(scene, tess);
+    let camera = camera.unwrap_or_else(|| {
+        let aspect = r.w as f32 / r.h as f32;
+        let mut pts = Vec::new();
+        finite_points(scene, &shapes, |p| pts.push(p));
+        let b = pts
+            .iter()
+            .fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
+        let mut cam = Camera::fit_aspect(b.unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5))), aspect);
+        cam.refine(aspect, &pts);
+        cam
+    });
+    let view = View::new(&camera, r.w, r.h);
+    let colors: Vec<[f32; 3]> = scene.tags.iter().map(|t| tag_color(t).map(srgb_to_linear)).collect();
+    let color_of = |tag: u32| colors.get(tag as usize).copied().unwrap_or([0.5; 3]);
+
+    // Per instance: vertices to world and camera space once, then its
+    // triangles. Built-in primitives are closed, so their back faces are
+    // culled; mesh assets and polygons may be open and are two-sided.
+    let mut verts: Vec<Vertex> = Vec::new();
+    for (i, inst) in scene.instances.iter().enumerate() {
+        let mesh = shapes.of(i);
+        verts.clear();
+        verts.extend(mesh.positions.iter().map(|&p| view.vertex(inst.transform.transform_point3(p))));
+        if verts.iter().all(|v| v.cam.z < view.near) {
+            continue;
+        }
+        let flip = inst.transform.matrix3.determinant() < 0.0;
+        let closed = !matches!(inst.primitive, Primitive::Mesh(_));
+        let color = color_of(inst.tag);
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|v| &verts[v as usize]);
+            let (b, c) = if flip { (c, b) } else { (b, c) };
+            view.draw(r, [a, b, c], color, closed);
+        }
+    }
+    for poly in &scene.polygons {
+        let color = color_of(poly.tag);
+        verts.clear();
+        verts.extend(poly.points.iter().map(|&p| view.vertex(p)));
+        for k in 1..verts.len().saturating_sub(1) {
+            view.draw(r, [&verts[0], &verts[k], &verts[k + 1]], color, false);
+        }
+    }
+    let min_half_width = 0.5 * ss as f32;
+    for line in &scene.polylines {
+        let c = shade(color_of(line.tag), 0.8);
+        for seg in line.points.windows(2) {
+            if seg.iter().all(|p| p.is_finite()) {
+                r.segment(&view, [seg[0], seg[1]], line.width.max(0.0), min_half_width, c);
+            }
+        }
+    }
+}
+
+/// Calls `f` with every finite instance vertex (of meshes with triangles),
+/// polygon point and polyline point.
+fn finite_points(scene: &Scene, shapes: &Shapes, mut f: impl FnMut(Vec3)) {
+    let mut add = |p: Vec3| {
+        if p.is_finite() {
+            f(p);
+        }
+    };
+    for (i, inst) in scene.instances.iter().enumerate() {
+        let mesh = shapes.of(i);
+        if !mesh.triangles.is_empty() {
+            mesh.positions.iter().for_each(|&p| add(inst.transform.transform_point3(p)));
+        }
+    }
+    scene.polygons.iter().filter(|p| p.points.len() >= 3).flat_map(|p| p.points.iter().copied()).for_each(&mut add);
+    scene.polylines.iter().flat_map(|l| l.points.iter().copied()).for_each(add);
+}
+
+fn pack([r, g, b]: [u8; 3]) -> u32 {
+    u32::from(r) << 16 | u32::from(g) << 8 | u32::from(b)
+}
+
+/// A linear color times a light intensity, packed as sRGB.
+fn shade(c: [f32; 3], light: f32) -> u32 {
+    // Linear → sRGB through a table (12-bit linear input).
+    static LUT: OnceLock<Vec<u8>> = OnceLock::new();
+    let lut = LUT.get_or_init(|| (0..=4096).map(|i| linear_to_srgb(i as f32 / 4096.0)).collect());
+    pack(c.map(|x| lut[(x * light * 4096.0).round().clamp(0.0, 4096.0) as usize]))
+}
+
+/// The camera frame and projection at sample resolution.
+struct View {
+    eye: Vec3,
+    right: Vec3,
+    up: Vec3,
+    fwd: Vec3,
+    /// Focal length in samples.
+    focal: f32,
+    center: Vec2,
+    near: f32,
+    /// Unit vector toward the key light.
+    key: Vec3,
+    /// Unit vector toward the fill light.
+    fill: Vec3,
+}
+
+impl View {
+    fn new(cam: &Camera, w: usize, h: usize) -> View {
+        let (right, up, fwd) = cam.basis();
+        let fov = cam.fov_deg.clamp(1.0, 170.0).to_radians();
+        View {
+            eye: cam.eye(),
+            right,
+            up,
+            fwd,
+            focal: 0.5 * h as f32 / (0.5 * fov).tan(),
+            center: Vec2::new(0.5 * w as f32, 0.5 * h as f32),
+            near: (cam.radius.abs() * 1e-4).max(1e-6),
+            key: (-0.45 * right + 0.75 * up - 0.5 * fwd).normalize(),
+            fill: (0.6 * right - 0.2 * up - 0.75 * fwd).normalize(),
+        }
+    }
+
+    /// World → camera space (`z` = depth in front of the eye).
+    fn to_camera(&self, p: Vec3) -> Vec3 {
+        let d = p - self.eye;
+        Vec3::new(d.dot(self.right), d.dot(self.up), d.dot(self.fwd))
+    }
+
+    /// A world-space point with its camera-space and screen positions.
+    fn vertex(&self, world: Vec3) -> Vertex {
+        let cam = self.to_camera(world);
+        let screen = if cam.z >= self.near { self.project(cam) } else { Vec3::ZERO };
+        Vertex { world, cam, screen }
+    }
+
+    /// Shades and rasterizes one counter-clockwise triangle: flat Lambert
+    /// from the key and fill lights plus ambient. A `closed` surface's back
+    /// faces are culled; otherwise the side facing the eye is lit.
+    fn draw(&self, r: &mut Raster, [a, b, c]: [&Vertex; 3], color: [f32; 3], closed: bool) {
+        let n = (b.world - a.world).cross(c.world - a.world);
+        let facing = n.dot(self.eye - a.world);
+        // Also rejects NaN.
+        if !(facing > 0.0 || (!closed && facing < 0.0)) {
+            return;
+        }
+        let n = n.normalize_or_zero() * facing.signum();
+        let light = 0.28 + 0.72 * n.dot(self.key).max(0.0) + 0.18 * n.dot(self.fill).max(0.0);
+        let c32 = shade(color, light);
+        if a.cam.z >= self.near && b.cam.z >= self.near && c.cam.z >= self.near {
+            r.triangle([a.screen, b.screen, c.screen], c32, 1.0);
+        } else {
+            let (pts, k) = clip_near([a.cam, b.cam, c.cam], self.near);
+            for i in 1..k.saturating_sub(1) {
+                r.triangle([pts[0], pts[i], pts[i + 1]].map(|p| self.project(p)), c32, 1.0);
+            }
+        }
+    }
+
+    /// Camera space (in front of the near plane) → sample coordinates and
+    /// inverse depth.
+    fn project(&self, c: Vec3) -> Vec3 {
+        let iz = 1.0 / c.z;
+        Vec3::new(self.center.x + c.x * iz * self.focal, self.center.y - c.y * iz * self.focal, iz)
+    }
+}
+
+/// `x.floor()` as an integer, without a libm call (saturating; NaN is 0).
+fn floor_i64(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) > x { i - 1 } else { i }
+}
+
+/// `x.ceil()` as an integer, without a libm call (saturating; NaN is 0).
+fn ceil_i64(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) < x { i + 1 } else { i }
+}
+
+/// A vertex in world, camera and (when in front of the near plane) screen
+/// space: sample x, sample y, inverse depth.
+struct Vertex {
+    world: Vec3,
+    cam: Vec3,
+    screen: Vec3,
+}
+
+/// Clips a camera-space triangle to `z >= near`: up to 4 points.
+fn clip_near(t: [Vec3; 3], near: f32) -> ([Vec3; 4], usize) {
+    let mut out = [Vec3::ZERO; 4];
+    let mut k = 0;
+    for i in 0..3 {
+        let (a, b) = (t[i], t[(i + 1) % 3]);
+        let (ina, inb) = (a.z >= near, b.z >= near);
+        if ina {
+            out[k] = a;
+            k += 1;
+        }
+        if ina != inb {
+            let s = (near - a.z) / (b.z - a.z);
+            out[k] = a.lerp(b, s);
+            out[k].z = near;
+            k += 1;
+        }
+    }
+    (out, k)
+}
+
+/// One buffer of samples: the inverse depth's bits in the high half, the
+/// packed color in the low half. Inverse depths are non-negative, so their
+/// bits order like the values and a depth test is an integer `max`.
+struct Raster {
+    w: usize,
+    h: usize,
+    samples: Vec<u64>,
+}
+
+impl Raster {
+    fn new(w: usize, h: usize, background: u32) -> Raster {
+        Raster { w, h, samples: vec![u64::from(background); w * h] }
+    }
+
+    /// Fills a triangle given as (sample x, sample y, inverse depth) per
+    /// vertex, either winding. Samples sit at pixel centers; an edge passing
+    /// exactly through one covers it. `bias` scales the inverse depth
+    /// (above 1 pulls toward the eye).
+    fn triangle(&mut self, v: [Vec3; 3], color: u32, bias: f32) {
+        let [a, mut b, mut c] = v;
+        let edge = |p: Vec3, q: Vec3, x: f32, y: f32| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
+        let mut area = edge(a, b, c.x, c.y);
+        if !area.is_finite() || area == 0.0 {
+            return;
+        }
+        if area < 0.0 {
+            std::mem::swap(&mut b, &mut c);
+            area = -area;
+        }
+        let min = a.min(b).min(c);
+        let max = a.max(b).max(c);
+        let x0 = (min.x - 0.5).ceil().max(0.0);
+        let y0 = (min.y - 0.5).ceil().max(0.0);
+        let x1 = (max.x - 0.5).floor().min(self.w as f32 - 1.0);
+        let y1 = (max.y - 0.5).floor().min(self.h as f32 - 1.0);
+        if x0 > x1 || y0 > y1 {
+            return;
+        }
+        let (x0, y0, x1, y1) = (x0 as usize, y0 as usize, x1 as usize, y1 as usize);
+        // Edge functions at the first sample of the row and their steps;
+        // e[0] weighs a. Inverse depth is affine in the edge functions.
+        let (px, py) = (x0 as f32 + 0.5, y0 as f32 + 0.5);
+        let mut row = [edge(b, c, px, py), edge(c, a, px, py), edge(a, b, px, py)];
+        let dx = [b.y - c.y, c.y - a.y, a.y - b.y];
+        let dy = [c.x - b.x, a.x - c.x, b.x - a.x];
+        let z = [a.z, b.z, c.z].map(|z| z * bias / area);
+        let z_dx = dx[0] * z[0] + dx[1] * z[1] + dx[2] * z[2];
+        let inv_dx = dx.map(|d| if d == 0.0 { 0.0 } else { 1.0 / d });
+        let span = (x1 - x0) as i64;
+        for y in y0..=y1 {
+            // The run of samples inside all three edges, as offsets from x0.
+            let (mut lo, mut hi) = (0i64, span);
+            for k in 0..3 {
+                if dx[k] > 0.0 {
+                    lo = lo.max(ceil_i64(-row[k] * inv_dx[k]));
+                } else if dx[k] < 0.0 {
+                    hi = hi.min(floor_i64(-row[k] * inv_dx[k]));
+                } else if row[k] < 0.0 {
+                    hi = -1;
+                }
+            }
+            if lo <= hi {
+                let (lo, hi) = (x0 + lo as usize, x0 + hi as usize);
+                let line = y * self.w;
+                let iz0 = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + (lo - x0) as f32 * z_dx;
+                let color = u64::from(color);
+                // Branch-free depth test (visibility flips are unpredictable).
+                for (i, s) in self.samples[line + lo..=line + hi].iter_mut().enumerate() {
+                    let iz = (iz0 + i as f32 * z_dx).max(0.0);
+                    *s = (*s).max(u64::from(iz.to_bits()) << 32 | color);
+                }
+            }
+            for k in 0..3 {
+                row[k] += dy[k];
+            }
+        }
+    }
+
+    /// Draws a world-space line segment as a screen-space quad of the
+    /// projected stroke width (at least `2 * min_half` samples), with square
+    /// caps and a little depth bias so lines on surfaces show.
+    fn segment(&mut self, view: &View, [p, q]: [Vec3; 2], width: f32, min_half: f32, color: u32) {
+        let (mut a, mut b) = (view.to_camera(p), view.to_camera(q));
+        if a.z < view.near && b.z < view.near {
+            return;
+        }
+        if a.z < view.near {
+            a = b.lerp(a, (b.z - view.near) / (b.z - a.z));
+            a.z = view.near;
+        } else if b.z < view.near {
+            b = a.lerp(b, (a.z - view.near) / (a.z - b.z));
+            b.z = view.near;
+        }
+        let (sa, sb) = (view.project(a), view.project(b));
+        let dir = (sb - sa).truncate();
+        let len = dir.length();
+        if !len.is_finite() {
+            return;
+        }
+        let dir = if len > 1e-6 { dir / len } else { Vec2::X };
+        let normal = dir.perp();
+        let half = |s: Vec3| (0.5 * width * view.focal * s.z).max(min_half);
+        let (ha, hb) = (half(sa), half(sb));
+        let corner = |s: Vec3, h: f32, side: f32, cap: f32| {
+            let xy = s.truncate() + normal * (side * h) + dir * (cap * h);
+            Vec3::new(xy.x, xy.y, s.z)
+        };
+        let quad = [
+            corner(sa, ha, -1.0, -1.0),
+            corner(sb, hb, -1.0, 1.0),
+            corner(sb, hb, 1.0, 1.0),
+            corner(sa, ha, 1.0, -1.0),
+        ];
+        self.triangle([quad[0], quad[1], quad[2]], color, 1.002);
+        self.triangle([quad[0], quad[2], quad[3]], color, 1.002);
+    }
+
+    /// Box-filters `ss × ss` samples into each of `w × h` RGB pixels.
+    fn downsample(&self, ss: usize, w: usize, h: usize) -> Vec<u8> {
+        let mut out = Vec::with_capacity(w * h * 3);
+        if ss == 1 {
+            out.extend(self.samples.iter().flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8]));
+            return out;
+        }
+        debug_assert_eq!(ss, 2);
+        let rows = || self.samples.chunks_exact(self.w);
+        for (top, bottom) in rows().step_by(2).zip(rows().skip(1).step_by(2)) {
+            for (t, b) in top.chunks_exact(2).zip(bottom.chunks_exact(2)) {
+                let (t, b) = ([t[0] as u32, t[1] as u32], [b[0] as u32, b[1] as u32]);
+                // Red and blue summed side by side in one word (no overlap:
+                // each sum is at most 1020), green on its own.
+                let rb = (t[0] & 0xFF00FF) + (t[1] & 0xFF00FF) + (b[0] & 0xFF00FF) + (b[1] & 0xFF00FF);
+                let g = (t[0] & 0xFF00) + (t[1] & 0xFF00) + (b[0] & 0xFF00) + (b[1] & 0xFF00);
+                out.extend([((rb >> 16) + 2) >> 2, ((g >> 8) + 2) >> 2, ((rb & 0xFFFF) + 2) >> 2].map(|v| v as u8));
+            }
+        }
+        debug_assert_eq!(out.len(), w * h * 3);
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_scenes;
+
+    fn pixel(rgb: &[u8], w: u32, x: u32, y: u32) -> [u8; 3] {
+        let i = 3 * (y * w + x) as usize;
+        [rgb[i], rgb[i + 1], rgb[i + 2]]
+    }
+
+    #[test]
+    fn a_box_fills_the_middle() {
+        let s = test_scenes::boxes(1);
+        let opts = RenderOptions { width: 200, height: 150, ..Default::default() };
+        let png_bytes = render_png(&s, &opts);
+        let decoder = png::Decoder::new(std::io::Cursor::new(&png_bytes));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height, info.color_type), (200, 150, png::ColorType::Rgb));
+        let rgb = &buf[..info.buffer_size()];
+        let bg = opts.background;
+        assert_ne!(pixel(rgb, 200, 100, 75), bg);
+        for (x, y) in [(0, 0), (199, 0), (0, 149), (199, 149)] {
+            assert_eq!(pixel(rgb, 200, x, y), bg);
+        }
+        // Three faces are visible, each lit differently.
+        let (raw, _, _) = render_rgb(&s, &opts);
+        assert_eq!(raw, rgb);
+        let mut shades: Vec<[u8; 3]> = raw.chunks(3).map(|c| [c[0], c[1], c[2]]).filter(|&c| c != bg).collect();
+        shades.sort();
+        shades.dedup();
+        assert!(shades.len() >= 3);
+    }
+
+    #[test]
+    fn empty_scene_is_background() {
+        let opts = RenderOptions { width: 8, height: 4, background: [1, 2, 3], camera: None };
+        let (rgb, w, h) = render_rgb(&Scene::new(), &opts);
+        assert_eq!((w, h), (8, 4));
+        assert!(rgb.chunks(3).all(|c| c == [1, 2, 3]));
+    }
+
+    #[test]
+    fn explicit_camera_and_clipping() {
+        let s = test_scenes::boxes(1);
+        // Looking away from the box: nothing drawn.
+        let away = Camera {
+            fov_deg: 40.0,
+            phi: std::f32::consts::PI,
+            theta: 0.0,
+            radius: 3.0,
+            look_at: Vec3::new(6.0, 0.0, 0.0),
+        };
+        let opts = RenderOptions { width: 64, height: 48, camera: Some(away), ..Default::default() };
+        let (rgb, _, _) = render_rgb(&s, &opts);
+        assert!(rgb.chunks(3).all(|c| c == opts.background));
+        // The eye inside a (closed) box sees only back faces: culled.
+        let inside = Camera { fov_deg: 60.0, phi: 0.3, theta: 0.2, radius: 0.1, look_at: Vec3::ZERO };
+        let (rgb, _, _) = render_rgb(&s, &RenderOptions { camera: Some(inside), ..opts });
+        assert!(rgb.chunks(3).all(|c| c == opts.background));
+        // A ground polygon reaching behind the eye is clipped at the near
+        // plane: it fills the lower half of the view, the sky stays empty.
+        let mut s = Scene::new();
+        let tag = s.tag("ground");
+        let big = 1000.0;
+        s.polygons.push(genform_core::scene::Polygon {
+            points: vec![
+                Vec3::new(-big, 0.0, -big),
+                Vec3::new(big, 0.0, -big),
+                Vec3::new(big, 0.0, big),
+                Vec3::new(-big, 0.0, big),
+            ],
+            tag,
+        });
+        let low = Camera { fov_deg: 50.0, phi: 0.0, theta: 0.0, radius: 5.0, look_at: Vec3::new(0.0, 1.0, 0.0) };
+        let (rgb, w, h) = render_rgb(&s, &RenderOptions { camera: Some(low), ..opts });
+        assert_eq!(pixel(&rgb, w, w / 2, h / 4), opts.background);
+        assert_eq!(pixel(&rgb, w, 0, h - 1), pixel(&rgb, w, w - 1, h - 1));
+        assert_ne!(pixel(&rgb, w, 0, h - 1), opts.background);
+    }
+
+    #[test]
+    fn polylines_are_drawn() {
+        let mut s = Scene::new();
+        let tag = s.tag("stroke");
+        s.polylines.push(genform_core::scene::Polyline {
+            points: vec![Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)],
+            width: 0.0,
+            tag,
+        });
+        let opts = RenderOptions { width: 100, height: 100, ..Default::default() };
+        let (rgb, _, _) = render_rgb(&s, &opts);
+        assert_ne!(pixel(&rgb, 100, 50, 50), opts.background);
+        assert_eq!(pixel(&rgb, 100, 50, 10), opts.background);
+    }
+
+    #[test]
+    fn fit_frames_the_bounds() {
+        let cam = Camera::fit((Vec3::new(-2.0, 0.0, -1.0), Vec3::new(2.0, 3.0, 1.0)));
+        assert_eq!(cam.look_at, Vec3::new(0.0, 1.5, 0.0));
+        assert!(cam.radius > 2.5 && cam.radius < 20.0, "{cam:?}");
+        let eye = cam.eye();
+        assert!(eye.x > 0.0 && eye.y > 1.5 && eye.z > 0.0);
+        assert!(((eye - cam.look_at).length() - cam.radius).abs() < 1e-4);
+        // Degenerate bounds still give a usable camera.
+        let p = Camera::fit((Vec3::ONE, Vec3::ONE));
+        assert!(p.radius > 0.0 && p.radius.is_finite());
+    }
+
+    #[test]
+    fn rendering_is_deterministic_and_fast_enough() {
+        let s = test_scenes::mixed();
+        let opts = RenderOptions::default();
+        assert_eq!(render_png(&s, &opts), render_png(&s, &opts));
+    }
+}
