@@ -1,6 +1,6 @@
 //! The verbs: validated settings in, files out.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result, bail};
 use genform_core::generator::Generator;
 use genform_core::{Genome, Limits, Rng, Scene};
 use genform_export::{ExportOptions, Format};

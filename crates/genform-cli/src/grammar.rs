@@ -1,6 +1,6 @@
 //! Loading a grammar file into a generator, by extension.
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result, bail};
 use genform_core::{Diagnostics, Generator, Limits, Mesh, SourceFile};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};

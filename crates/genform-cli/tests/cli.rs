@@ -28,7 +28,12 @@ impl Run {
         self
     }
     fn fails(self) -> Self {
-        assert!(!self.out.status.success(), "genform should have failed\nstdout:\n{}\nstderr:\n{}", self.stdout(), self.stderr());
+        assert!(
+            !self.out.status.success(),
+            "genform should have failed\nstdout:\n{}\nstderr:\n{}",
+            self.stdout(),
+            self.stderr()
+        );
         self
     }
 }
@@ -61,11 +66,12 @@ fn spaceship_obj_has_one_box_per_part() {
     let tmp = tempfile::tempdir().unwrap();
     let ship = example("spaceship.sg");
     genform(tmp.path(), &["sample", s(&ship), "--seed", "7", "--out", "ship.obj", "--genome-out", "g.json"]).ok();
-    let genome: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(tmp.path().join("g.json")).unwrap()).unwrap();
+    let genome: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("g.json")).unwrap()).unwrap();
     let count = |sym: &str| genome["genes"].as_array().unwrap().iter().filter(|g| g["symbol"] == sym).count();
     // Body, top and top segments emit one box each; a wing gene emits a mirrored pair.
-    let expected = count("B") + count("T") + count("t") + 2 * (count("W") + count("w"));
-    assert!(count("B") >= 1);
+    let expected = count("Body") + count("Top") + count("TopSegment") + 2 * (count("Wing") + count("WingSegment"));
+    assert!(count("Body") >= 1);
     let obj = std::fs::read_to_string(tmp.path().join("ship.obj")).unwrap();
     let objects = obj.lines().filter(|l| l.starts_with("o ") || l.starts_with("g ")).count();
     assert_eq!(objects, expected, "one OBJ object per emitted box");
@@ -109,7 +115,7 @@ fn info_lists_symbols_parameters_and_slots() {
     let tmp = tempfile::tempdir().unwrap();
     let r = genform(tmp.path(), &["info", s(&example("spaceship.sg"))]).ok();
     let out = r.stdout();
-    for want in ["start `S`", "param", "uniform(0.6, 1.5)", "slot", "→ W", "limits: genes"] {
+    for want in ["start `S`", "param", "uniform(0.6, 1.5)", "slot", "→ Wing", "limits: genes"] {
         assert!(out.contains(want), "missing {want:?} in:\n{out}");
     }
 }
@@ -132,7 +138,7 @@ fn a_genome_that_does_not_fit_is_rejected_with_a_reason() {
     genform(tmp.path(), &["sample", s(&ship), "--seed", "1", "--genome-out", "g.json"]).ok();
     let text = std::fs::read_to_string(tmp.path().join("g.json")).unwrap();
     let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let body = v["genes"].as_array_mut().unwrap().iter_mut().find(|g| g["symbol"] == "B").unwrap();
+    let body = v["genes"].as_array_mut().unwrap().iter_mut().find(|g| g["symbol"] == "Body").unwrap();
     body["params"]["size"][0] = serde_json::json!(99.0);
     std::fs::write(tmp.path().join("bad.json"), serde_json::to_string(&v).unwrap()).unwrap();
     let r = genform(tmp.path(), &["derive", s(&ship), "--genome", "bad.json", "--out", "x.obj"]).fails();

@@ -421,7 +421,8 @@ mod tests {
 
     #[test]
     fn obj_reader_handles_polygons_and_reports_bad_lines() {
-        let m = Mesh::from_obj("q", "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1 -1/1\n").unwrap();
+        let m =
+            Mesh::from_obj("q", "# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1 -1/1\n").unwrap();
         assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3]]);
         assert!(Mesh::from_obj("q", "v 0 0\n").unwrap_err().contains("line 1"));
         assert!(Mesh::from_obj("q", "v 0 0 0\nf 1 2 3\n").unwrap_err().contains("missing vertex"));

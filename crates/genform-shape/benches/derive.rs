@@ -1,9 +1,9 @@
 //! Spaceship derivation + Scene build throughput at fixed genome lengths,
 //! and GLB/OBJ write throughput of the resulting scenes.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use genform_core::genome::Link;
-use genform_core::{Generator, Genome, GeneratorGraph, Limits, Rng, Scene, SourceFile};
+use genform_core::{Generator, GeneratorGraph, Genome, Limits, Rng, Scene, SourceFile};
 use std::hint::black_box;
 
 fn spaceship() -> genform_shape::ShapeGrammar {

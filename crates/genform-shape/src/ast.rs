@@ -1,0 +1,204 @@
+//! Syntax tree of a `.sg` file, as written (before templates are expanded
+//! and names resolved).
+
+use genform_core::Span;
+use genform_core::expr::Ast;
+
+/// An embedded expression with where it starts in the file (its own spans
+/// are relative to that offset).
+#[derive(Clone, Debug)]
+pub(crate) struct ExprSrc {
+    pub ast: Ast,
+    /// Byte offset of the expression text in the file.
+    pub offset: usize,
+    /// The name, when the expression is one bare identifier (axes, mesh
+    /// names and vector parameters are written that way).
+    pub bare: Option<String>,
+}
+
+impl ExprSrc {
+    /// The expression's span in the file.
+    pub fn span(&self) -> Span {
+        self.ast.span.shift(self.offset)
+    }
+}
+
+/// A distribution argument: one expression (broadcast to every component)
+/// or a vector literal `[a, b, c]` with one expression per component.
+#[derive(Clone, Debug)]
+pub(crate) enum Value {
+    Scalar(ExprSrc),
+    Vector(Vec<ExprSrc>, Span),
+}
+
+impl Value {
+    pub fn span(&self) -> Span {
+        match self {
+            Value::Scalar(e) => e.span(),
+            Value::Vector(_, s) => *s,
+        }
+    }
+}
+
+/// A reference to a rule, with a template index when it has one:
+/// `Wing` or `Body<i + 1>`.
+#[derive(Clone, Debug)]
+pub(crate) struct SymRef {
+    pub name: String,
+    pub span: Span,
+    pub index: Option<ExprSrc>,
+}
+
+/// `param name: type dist(args) in [lo, hi];`
+#[derive(Clone, Debug)]
+pub(crate) struct ParamDecl {
+    pub name: String,
+    pub span: Span,
+    /// Declared dimension (`vec2` = 2, `vec3` = 3), `None` when omitted.
+    pub dim: Option<usize>,
+    pub dist: String,
+    pub dist_span: Span,
+    pub args: Vec<DistArg>,
+    /// Call span (for arity errors).
+    pub args_span: Span,
+    /// `in [lo, hi]` bounds (normal only).
+    pub bounds: Option<(Value, Value)>,
+}
+
+/// One argument of a distribution: a value, or `value: weight` in `choice`.
+#[derive(Clone, Debug)]
+pub(crate) struct DistArg {
+    pub value: Value,
+    pub weight: Option<ExprSrc>,
+}
+
+/// `slot name: Target p prob x count;`
+#[derive(Clone, Debug)]
+pub(crate) struct SlotDecl {
+    pub name: String,
+    pub span: Span,
+    pub target: SymRef,
+    pub prob: Option<ExprSrc>,
+    pub count: Option<ExprSrc>,
+}
+
+/// An argument of an operation or invocation.
+#[derive(Clone, Debug)]
+pub(crate) enum Arg {
+    Expr(ExprSrc),
+    Str(String, Span),
+}
+
+impl Arg {
+    pub fn span(&self) -> Span {
+        match self {
+            Arg::Expr(e) => e.span(),
+            Arg::Str(_, s) => *s,
+        }
+    }
+}
+
+/// One piece of a `split`: `2: A` or `1r: { ... }`.
+#[derive(Clone, Debug)]
+pub(crate) struct Piece {
+    pub size: ExprSrc,
+    pub relative: bool,
+    pub body: Vec<Stmt>,
+}
+
+/// A statement of a rule body.
+#[derive(Clone, Debug)]
+pub(crate) enum Stmt {
+    Param(ParamDecl),
+    Slot(SlotDecl),
+    Let {
+        name: String,
+        span: Span,
+        value: ExprSrc,
+    },
+    If {
+        cond: ExprSrc,
+        then: Vec<Stmt>,
+        els: Vec<Stmt>,
+    },
+    Alt {
+        span: Span,
+        arms: Vec<(ExprSrc, Vec<Stmt>)>,
+    },
+    Mirror {
+        axis: Axis,
+        body: Vec<Stmt>,
+    },
+    Split {
+        axis: Axis,
+        pieces: Vec<Piece>,
+    },
+    Repeat {
+        axis: Axis,
+        tile: ExprSrc,
+        body: Vec<Stmt>,
+    },
+    /// `[ ... ]`: the scope is saved before and restored after.
+    Scoped(Vec<Stmt>),
+    /// An operation (`translate(...)`, `box`, …) or an invocation (`Wing`,
+    /// `next(x)`, `Body<i + 1>`); told apart when names are resolved.
+    Call {
+        target: SymRef,
+        args: Option<Vec<Arg>>,
+    },
+}
+
+/// A local axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Axis {
+    X,
+    Y,
+    Z,
+}
+
+impl Axis {
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+}
+
+/// `<i: 0..8>` of a template rule (end exclusive).
+#[derive(Clone, Debug)]
+pub(crate) struct Template {
+    pub var: String,
+    pub var_span: Span,
+    pub lo: Bound,
+    pub hi: Bound,
+}
+
+/// A template bound: an integer literal or a `const` name.
+#[derive(Clone, Debug)]
+pub(crate) enum Bound {
+    Int(f64, Span),
+    Const(String, Span),
+}
+
+/// A rule: `Name<i: 0..8>(a, b) { ... }`.
+#[derive(Clone, Debug)]
+pub(crate) struct Rule {
+    pub name: String,
+    pub span: Span,
+    pub template: Option<Template>,
+    pub args: Vec<(String, Span)>,
+    pub body: Vec<Stmt>,
+}
+
+/// A top-level item.
+#[derive(Clone, Debug)]
+pub(crate) enum Item {
+    Grammar(String, Span),
+    Axiom(SymRef),
+    Limits(Vec<(String, Span, ExprSrc)>),
+    Const(String, Span, ExprSrc),
+    Mesh(String, Span, String, Span),
+    Rule(Rule),
+}

@@ -1,0 +1,537 @@
+//! Compiles one symbol (a rule, or one instance of a template rule): its
+//! parameters and slots for the generator graph, and its body into flat
+//! operations.
+//!
+//! This module holds the shared state, expressions and statements;
+//! [`decl`] the declarations (parameters, slots, implicit slots, `alt`
+//! parameters) and [`ops`] the operations and invocations.
+
+mod decl;
+mod ops;
+
+use crate::ast::*;
+use crate::program::*;
+use genform_core::expr::{Program, Scope, did_you_mean};
+use genform_core::{Diagnostic, Distribution, ParamSpec, SlotSpec, Span, SymbolSpec};
+use std::cell::RefCell;
+use std::sync::Arc;
+
+/// Operations (statement names with a built-in meaning).
+pub(crate) const OPS: &[&str] = &[
+    "translate",
+    "rotate",
+    "size",
+    "scale",
+    "tag",
+    "box",
+    "cylinder",
+    "cone",
+    "sphere",
+    "frustum",
+    "taper_box",
+    "mesh",
+];
+/// Statement keywords.
+pub(crate) const KEYWORDS: &[&str] = &["param", "slot", "let", "if", "else", "alt", "mirror", "split", "repeat"];
+/// Names that the expression language already gives a value.
+const EXPR_CONSTANTS: &[&str] = &["pi", "PI", "tau", "e", "true", "false"];
+/// Distributions a `param` may use.
+const DISTRIBUTIONS: &[&str] = &["uniform", "normal", "int", "choice"];
+/// Most links one slot may declare.
+const MAX_SLOT_COUNT: f64 = 65_535.0;
+
+/// A source rule as the compiler sees it.
+pub(crate) struct RuleInfo {
+    pub name: String,
+    /// `[lo, hi)` of a template rule.
+    pub range: Option<(i64, i64)>,
+    /// Symbol id of the first instance.
+    pub first: u32,
+    pub n_args: usize,
+    pub arg_names: Vec<String>,
+}
+
+/// What every symbol compilation shares.
+pub(crate) struct Globals {
+    pub consts: Vec<(String, f64)>,
+    pub rules: Vec<RuleInfo>,
+    pub meshes: Vec<(String, Arc<genform_core::Mesh>)>,
+    pub tags: Vec<String>,
+    /// `0` compiled once, standing in for expressions that failed.
+    pub zero: Program,
+}
+
+impl Globals {
+    pub fn rule(&self, name: &str) -> Option<usize> {
+        self.rules.iter().position(|r| r.name == name)
+    }
+
+    pub fn intern_tag(&mut self, name: &str) -> u32 {
+        if let Some(i) = self.tags.iter().position(|t| t == name) {
+            return i as u32;
+        }
+        self.tags.push(name.to_string());
+        (self.tags.len() - 1) as u32
+    }
+}
+
+/// Name of a template instance.
+pub(crate) fn instance_name(rule: &str, index: i64) -> String {
+    format!("{rule}<{index}>")
+}
+
+/// Names known at compile time: constants and the template index.
+pub(crate) struct ConstScope<'a> {
+    pub consts: &'a [(String, f64)],
+    pub template: Option<(&'a str, f64)>,
+}
+
+impl Scope for ConstScope<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        if let Some((t, _)) = self.template
+            && t == name
+        {
+            return Some(self.consts.len() as u32);
+        }
+        self.consts.iter().rposition(|(n, _)| n == name).map(|i| i as u32)
+    }
+    fn names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.consts.iter().map(|(n, _)| n.clone()).collect();
+        v.extend(self.template.map(|(t, _)| t.to_string()));
+        v
+    }
+}
+
+/// Evaluates an expression that must be known when the grammar is compiled.
+pub(crate) fn eval_const(e: &ExprSrc, scope: &ConstScope<'_>, what: &str, errors: &mut Vec<Diagnostic>) -> Option<f64> {
+    let prog = match genform_core::expr::compile(&e.ast, scope) {
+        Ok(p) => p,
+        Err(ds) => {
+            for d in ds {
+                let unknown = d.message.starts_with("unknown name");
+                let mut d = d.shifted(e.offset);
+                if unknown {
+                    d = d.with_hint(format!(
+                        "{what} must be known when the grammar is compiled: use numbers, `const`s and the template index"
+                    ));
+                }
+                errors.push(d);
+            }
+            return None;
+        }
+    };
+    if prog.uses_rng() {
+        errors.push(random_error(e.span()));
+        return None;
+    }
+    let mut env: Vec<f64> = scope.consts.iter().map(|(_, v)| *v).collect();
+    env.push(scope.template.map_or(0.0, |(_, v)| v));
+    let v = prog.eval(&env);
+    if !v.is_finite() {
+        errors.push(Diagnostic::error(e.span(), format!("{what} is not a finite number (it is {v})")));
+        return None;
+    }
+    Some(v)
+}
+
+fn random_error(span: Span) -> Diagnostic {
+    Diagnostic::error(span, "random functions are not allowed in shape grammars")
+        .with_hint("randomness comes from `param`s, which are the genes optimizers choose")
+}
+
+/// Why a name cannot be declared by the user, if it cannot.
+pub(crate) fn reserved(name: &str) -> Option<&'static str> {
+    if BUILTINS.contains(&name) {
+        Some("a built-in variable")
+    } else if EXPR_CONSTANTS.contains(&name) {
+        Some("a built-in constant")
+    } else {
+        None
+    }
+}
+
+/// A slot of the symbol being compiled, including dropped ones.
+struct LocalSlot {
+    name: String,
+    /// Index in the graph's slot list; `None` when dropped.
+    graph: Option<u32>,
+    has_env: u32,
+    /// Source rule of the target (for argument checks).
+    rule: usize,
+    /// Implicit slots count their invocation sites.
+    implicit: bool,
+}
+
+/// How a call statement resolved.
+#[derive(Clone, Copy)]
+enum CallKind {
+    Op,
+    Slot(usize),
+    /// Already reported.
+    Bad,
+}
+
+struct BodyScope<'s> {
+    names: &'s [(String, u32)],
+    lets: &'s [(String, u32)],
+    slots: &'s [LocalSlot],
+    bad_has: RefCell<Vec<String>>,
+}
+
+impl Scope for BodyScope<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        if let Some((_, i)) = self.lets.iter().rev().find(|(n, _)| n == name) {
+            return Some(*i);
+        }
+        if let Some((_, i)) = self.names.iter().rev().find(|(n, _)| n == name) {
+            return Some(*i);
+        }
+        if let Some(inner) = name.strip_prefix("has(").and_then(|s| s.strip_suffix(')')) {
+            if let Some(s) = self.slots.iter().find(|s| s.name == inner) {
+                return Some(s.has_env);
+            }
+            // Reported by the caller with a better message than "unknown function".
+            self.bad_has.borrow_mut().push(inner.to_string());
+            return Some(0);
+        }
+        None
+    }
+    fn names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.lets.iter().chain(self.names).map(|(n, _)| n.clone()).collect();
+        v.extend(self.slots.iter().map(|s| format!("has({})", s.name)));
+        v
+    }
+}
+
+/// The state of compiling one symbol: a rule, or one instance (`index`) of a template rule.
+pub(crate) struct SymbolCx<'a> {
+    g: &'a mut Globals,
+    rule: &'a Rule,
+    sym_name: String,
+    index: Option<i64>,
+    errors: &'a mut Vec<Diagnostic>,
+    names: Vec<(String, u32)>,
+    lets: Vec<(String, u32)>,
+    env_init: Vec<f64>,
+    params: Vec<ParamSpec>,
+    /// Env index of each `alt`'s hidden parameter, in source order.
+    alt_envs: Vec<u32>,
+    alt_next: usize,
+    slots: Vec<LocalSlot>,
+    graph_slots: Vec<SlotSpec>,
+    calls: Vec<(u32, CallKind)>,
+    code: Vec<Op>,
+    exprs: Vec<Expr>,
+    tables: Vec<Vec<u32>>,
+    pieces: Vec<(u32, bool)>,
+    emits: bool,
+}
+
+impl<'a> SymbolCx<'a> {
+    pub(crate) fn new(g: &'a mut Globals, rule: &'a Rule, index: Option<i64>, errors: &'a mut Vec<Diagnostic>) -> Self {
+        let sym_name = match index {
+            Some(i) => instance_name(&rule.name, i),
+            None => rule.name.clone(),
+        };
+        SymbolCx {
+            g,
+            rule,
+            sym_name,
+            index,
+            errors,
+            names: Vec::new(),
+            lets: Vec::new(),
+            env_init: Vec::new(),
+            params: Vec::new(),
+            alt_envs: Vec::new(),
+            alt_next: 0,
+            slots: Vec::new(),
+            graph_slots: Vec::new(),
+            calls: Vec::new(),
+            code: Vec::new(),
+            exprs: Vec::new(),
+            tables: Vec::new(),
+            pieces: Vec::new(),
+            emits: false,
+        }
+    }
+
+    fn err(&mut self, span: Span, msg: impl Into<String>) {
+        self.errors.push(Diagnostic::error(span, msg));
+    }
+
+    fn new_env(&mut self, name: Option<&str>, init: f64) -> u32 {
+        let i = self.env_init.len() as u32;
+        self.env_init.push(init);
+        if let Some(n) = name {
+            self.names.push((n.to_string(), i));
+        }
+        i
+    }
+
+    fn eval_const(&mut self, e: &ExprSrc, what: &str) -> Option<f64> {
+        let template = match (&self.rule.template, self.index) {
+            (Some(t), Some(i)) => Some((t.var.as_str(), i as f64)),
+            _ => None,
+        };
+        let scope = ConstScope { consts: &self.g.consts, template };
+        eval_const(e, &scope, what, self.errors)
+    }
+
+    /// Checks that a user name can be declared here.
+    fn declare_ok(&mut self, name: &str, span: Span, what: &str) -> bool {
+        if let Some(why) = reserved(name) {
+            self.err(span, format!("`{name}` is {why} and cannot name a {what}"));
+            return false;
+        }
+        if self.names.iter().any(|(n, _)| n == name || n.strip_prefix(name).is_some_and(|r| r.starts_with('.'))) {
+            let d = Diagnostic::error(span, format!("`{name}` is defined twice in rule `{}`", self.rule.name))
+                .with_hint("parameters, arguments, constants and the template index share one namespace");
+            self.errors.push(d);
+            return false;
+        }
+        true
+    }
+
+    /// Compiles the symbol. Returns its graph node and code.
+    pub(crate) fn compile(mut self) -> (SymbolSpec, RuleCode) {
+        // Built-ins, constants, the template index and the arguments.
+        for b in BUILTINS {
+            self.new_env(Some(b), 0.0);
+        }
+        let consts = self.g.consts.clone();
+        for (n, v) in &consts {
+            self.new_env(Some(n), *v);
+        }
+        if let (Some(t), Some(i)) = (&self.rule.template, self.index)
+            && self.declare_ok(&t.var, t.var_span, "template index")
+        {
+            self.new_env(Some(&t.var), i as f64);
+        }
+        let arg_base = self.env_init.len() as u32;
+        for (a, span) in &self.rule.args {
+            if self.declare_ok(a, *span, "argument") {
+                self.new_env(Some(a), 0.0);
+            } else {
+                self.new_env(None, 0.0);
+            }
+        }
+        let n_args = self.rule.args.len() as u32;
+
+        // Declarations: parameters and slots at the top level, then the
+        // hidden `alt` parameters and implicit slots found anywhere.
+        let param_base = self.env_init.len() as u32;
+        let body = &self.rule.body;
+        for s in body {
+            if let Stmt::Param(p) = s {
+                self.param(p);
+            }
+        }
+        for s in body {
+            if let Stmt::Slot(sd) = s {
+                self.slot(sd);
+            }
+        }
+        self.prepass(body, true);
+        for i in 0..self.slots.len() {
+            self.slots[i].has_env = self.new_env(None, 0.0);
+        }
+
+        // The body.
+        self.stmts(body);
+
+        let slots_code: Vec<SlotCode> = {
+            let mut link = 0u32;
+            self.graph_slots
+                .iter()
+                .map(|s| {
+                    let c = SlotCode { link, max: s.max_count, target: s.target, prob: s.prob };
+                    link = link.saturating_add(s.max_count);
+                    c
+                })
+                .collect()
+        };
+        let tag = self.g.intern_tag(&self.rule.name);
+        let spec = SymbolSpec {
+            name: self.sym_name.clone(),
+            params: std::mem::take(&mut self.params),
+            slots: std::mem::take(&mut self.graph_slots),
+            emits_geometry: self.emits,
+        };
+        let code = RuleCode {
+            code: self.code,
+            exprs: self.exprs,
+            tables: self.tables,
+            pieces: self.pieces,
+            env_init: self.env_init,
+            arg_base,
+            n_args,
+            param_base,
+            slots: slots_code,
+            tag,
+        };
+        (spec, code)
+    }
+
+    // ---- expressions --------------------------------------------------
+
+    fn expr(&mut self, e: &ExprSrc) -> u32 {
+        let scope =
+            BodyScope { names: &self.names, lets: &self.lets, slots: &self.slots, bad_has: RefCell::new(vec![]) };
+        let res = genform_core::expr::compile(&e.ast, &scope);
+        let bad = scope.bad_has.into_inner();
+        let mut prog = self.g.zero.clone();
+        for b in bad {
+            let mut d = Diagnostic::error(e.span(), format!("`has({b})`: rule `{}` has no slot `{b}`", self.rule.name));
+            d = match did_you_mean(&b, self.slots.iter().map(|s| s.name.as_str())) {
+                Some(s) => d.with_hint(format!("did you mean `has({s})`?")),
+                None => d.with_hint("`has` takes a slot of this rule: a declared `slot` or an invoked rule"),
+            };
+            self.errors.push(d);
+        }
+        match res {
+            Ok(p) if p.uses_rng() => self.errors.push(random_error(e.span())),
+            Ok(p) => prog = p,
+            Err(ds) => self.errors.extend(ds.into_iter().map(|d| d.shifted(e.offset))),
+        }
+        let mut has: Vec<(u32, u32)> = Vec::new();
+        for i in prog.loads() {
+            if let Some(s) = self.slots.iter().find(|s| s.has_env == i && s.graph.is_some()) {
+                let pair = (i, s.graph.unwrap_or_default());
+                if !has.contains(&pair) {
+                    has.push(pair);
+                }
+            }
+        }
+        self.exprs.push(Expr { prog, has, span: e.span() });
+        (self.exprs.len() - 1) as u32
+    }
+
+    /// An expression for a parameter component (`size.x`), or 0.
+    fn component_expr(&mut self, name: &str, span: Span) -> u32 {
+        let prog = genform_core::expr::parse(name)
+            .ok()
+            .and_then(|ast| {
+                let idx = self.names.iter().rev().find(|(n, _)| n == name).map(|(_, i)| *i)?;
+                genform_core::expr::compile(&ast, &IndexScope { name, idx }).ok()
+            })
+            .unwrap_or_else(|| self.g.zero.clone());
+        self.exprs.push(Expr { prog, has: Vec::new(), span });
+        (self.exprs.len() - 1) as u32
+    }
+
+    // ---- statements ---------------------------------------------------
+
+    fn stmts(&mut self, body: &[Stmt]) {
+        let saved = self.lets.len();
+        for s in body {
+            self.stmt(s);
+        }
+        self.lets.truncate(saved);
+    }
+
+    fn here(&self) -> u32 {
+        self.code.len() as u32
+    }
+
+    fn stmt(&mut self, s: &Stmt) {
+        match s {
+            Stmt::Param(_) | Stmt::Slot(_) => {}
+            Stmt::Let { name, span, value } => {
+                let e = self.expr(value);
+                if let Some(why) = reserved(name) {
+                    self.err(*span, format!("`{name}` is {why} and cannot be redefined with `let`"));
+                }
+                let idx = self.new_env(None, 0.0);
+                self.lets.push((name.clone(), idx));
+                self.code.push(Op::Let(idx, e));
+            }
+            Stmt::If { cond, then, els } => {
+                let c = self.expr(cond);
+                let j = self.code.len();
+                self.code.push(Op::JumpUnless(c, 0));
+                self.stmts(then);
+                if els.is_empty() {
+                    self.code[j] = Op::JumpUnless(c, self.here());
+                } else {
+                    let j2 = self.code.len();
+                    self.code.push(Op::Jump(0));
+                    self.code[j] = Op::JumpUnless(c, self.here());
+                    self.stmts(els);
+                    self.code[j2] = Op::Jump(self.here());
+                }
+            }
+            Stmt::Alt { arms, .. } => {
+                let env = self.alt_envs.get(self.alt_next).copied().unwrap_or(0);
+                self.alt_next += 1;
+                let t = self.tables.len();
+                self.tables.push(Vec::new());
+                self.code.push(Op::Alt { env, table: t as u32 });
+                let mut ends = Vec::new();
+                for (_, arm) in arms {
+                    let start = self.here();
+                    self.tables[t].push(start);
+                    self.stmts(arm);
+                    ends.push(self.code.len());
+                    self.code.push(Op::Jump(0));
+                }
+                let end = self.here();
+                for j in ends {
+                    self.code[j] = Op::Jump(end);
+                }
+            }
+            Stmt::Mirror { axis, body } => {
+                self.code.push(Op::MirrorBegin(axis.index() as u8));
+                let start = self.here();
+                self.stmts(body);
+                self.code.push(Op::MirrorEnd(start));
+            }
+            Stmt::Split { axis, pieces } => {
+                let first = self.pieces.len() as u32;
+                for p in pieces {
+                    let e = self.expr(&p.size);
+                    self.pieces.push((e, p.relative));
+                }
+                self.code.push(Op::SplitBegin { axis: axis.index() as u8, first, n: pieces.len() as u32 });
+                for (k, p) in pieces.iter().enumerate() {
+                    self.code.push(Op::Piece(k as u32));
+                    self.stmts(&p.body);
+                    self.code.push(Op::Pop);
+                }
+                self.code.push(Op::SplitEnd);
+            }
+            Stmt::Repeat { axis, tile, body } => {
+                let t = self.expr(tile);
+                self.code.push(Op::RepeatBegin { axis: axis.index() as u8, tile: t });
+                let start = self.here();
+                self.stmts(body);
+                self.code.push(Op::RepeatNext(start));
+            }
+            Stmt::Scoped(body) => {
+                self.code.push(Op::Push);
+                self.stmts(body);
+                self.code.push(Op::Pop);
+            }
+            Stmt::Call { target, args, .. } => {
+                let kind = self.calls.iter().find(|(s, _)| *s == target.span.start).map(|(_, k)| *k);
+                match kind {
+                    Some(CallKind::Op) => self.op(target, args.as_deref()),
+                    Some(CallKind::Slot(i)) => self.invoke(i, target, args.as_deref()),
+                    Some(CallKind::Bad) | None => {}
+                }
+            }
+        }
+    }
+}
+
+/// A scope with exactly one name.
+struct IndexScope<'a> {
+    name: &'a str,
+    idx: u32,
+}
+
+impl Scope for IndexScope<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        (name == self.name).then_some(self.idx)
+    }
+}

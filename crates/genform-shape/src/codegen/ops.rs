@@ -1,0 +1,206 @@
+//! Operations (`translate`, `box`, …) and invocations of slots.
+
+use super::*;
+
+impl SymbolCx<'_> {
+    /// The single bare-name argument, if that is what `args` is.
+    fn bare(args: &[Arg]) -> Option<&str> {
+        match args {
+            [Arg::Expr(e)] => e.bare.as_deref(),
+            _ => None,
+        }
+    }
+
+    fn arity(&mut self, name: &str, span: Span, form: &str, found: usize) {
+        let d = Diagnostic::error(span, format!("wrong number of arguments for `{name}`: found {found}"))
+            .with_hint(format!("write `{form}`"));
+        self.errors.push(d);
+    }
+
+    fn expr_args(&mut self, name: &str, args: &[Arg]) -> Option<Vec<u32>> {
+        let mut out = Vec::new();
+        for a in args {
+            match a {
+                Arg::Expr(e) => out.push(self.expr(e)),
+                Arg::Str(_, span) => {
+                    self.err(*span, format!("`{name}` takes numbers, not a string"));
+                    return None;
+                }
+            }
+        }
+        Some(out)
+    }
+
+    pub(super) fn op(&mut self, target: &SymRef, args: Option<&[Arg]>) {
+        let name = target.name.as_str();
+        let span = target.span;
+        let args = args.unwrap_or(&[]);
+        match name {
+            "translate" | "size" | "scale" => {
+                let form = format!("{name}(x, y, z)");
+                let first = self.exprs.len() as u32;
+                if args.len() == 3 {
+                    if self.expr_args(name, args).is_none() {
+                        return;
+                    }
+                } else if args.len() == 1 {
+                    let comps: Vec<String> = match Self::bare(args) {
+                        Some(b) => ["x", "y", "z"]
+                            .iter()
+                            .map(|a| format!("{b}.{a}"))
+                            .filter(|c| self.names.iter().any(|(n, _)| n == c))
+                            .collect(),
+                        None => Vec::new(),
+                    };
+                    if comps.len() == 3 {
+                        let aspan = args[0].span();
+                        for c in &comps {
+                            self.component_expr(c, aspan);
+                        }
+                    } else if !comps.is_empty() {
+                        let d = Diagnostic::error(
+                            args[0].span(),
+                            format!("`{name}` needs three values, this vector has {}", comps.len()),
+                        )
+                        .with_hint(format!("write `{form}`"));
+                        self.errors.push(d);
+                        return;
+                    } else if name == "translate" {
+                        self.arity(name, span, &form, 1);
+                        return;
+                    } else {
+                        let Some(e) = self.expr_args(name, args) else { return };
+                        let copy = self.exprs[e[0] as usize].clone();
+                        self.exprs.push(copy.clone());
+                        self.exprs.push(copy);
+                    }
+                } else {
+                    let form = if name == "translate" { form } else { format!("{form}` or `{name}(s)") };
+                    self.arity(name, span, &form, args.len());
+                    return;
+                }
+                self.code.push(match name {
+                    "translate" => Op::Translate(first),
+                    "size" => Op::Size(first),
+                    _ => Op::Scale(first),
+                });
+            }
+            "rotate" => {
+                if args.len() != 2 {
+                    self.arity(name, span, "rotate(x|y|z, degrees)", args.len());
+                    return;
+                }
+                let axis = match &args[0] {
+                    Arg::Expr(e) => match e.bare.as_deref() {
+                        Some("x") => 0,
+                        Some("y") => 1,
+                        Some("z") => 2,
+                        _ => 3,
+                    },
+                    Arg::Str(..) => 3,
+                };
+                if axis == 3 {
+                    let d = Diagnostic::error(
+                        args[0].span(),
+                        "expected an axis `x`, `y` or `z` as the first argument of `rotate`",
+                    )
+                    .with_hint("write `rotate(y, 90)`; angles are in degrees");
+                    self.errors.push(d);
+                    return;
+                }
+                let Some(e) = self.expr_args(name, &args[1..]) else { return };
+                self.code.push(Op::Rotate(axis, e[0]));
+            }
+            "tag" => match args {
+                [Arg::Str(s, _)] => {
+                    let t = self.g.intern_tag(s);
+                    self.code.push(Op::Tag(t));
+                }
+                _ => {
+                    let at = args.first().map_or(span, Arg::span);
+                    let d = Diagnostic::error(at, "`tag` takes one quoted name").with_hint("write `tag(\"roof\")`");
+                    self.errors.push(d);
+                }
+            },
+            "box" | "cylinder" | "cone" | "sphere" => {
+                if !args.is_empty() {
+                    self.arity(name, span, &format!("{name};"), args.len());
+                    return;
+                }
+                self.emits = true;
+                self.code.push(Op::Emit(match name {
+                    "box" => Prim::Box,
+                    "cylinder" => Prim::Cylinder,
+                    "cone" => Prim::Cone,
+                    _ => Prim::Sphere,
+                }));
+            }
+            "frustum" | "taper_box" => {
+                if args.len() != 1 {
+                    self.arity(name, span, &format!("{name}(top_ratio)"), args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                self.emits = true;
+                self.code.push(Op::Emit(if name == "frustum" { Prim::Frustum(e[0]) } else { Prim::Taper(e[0]) }));
+            }
+            "mesh" => {
+                let Some(m) = Self::bare(args).map(str::to_string) else {
+                    self.arity(name, span, "mesh(name)", args.len());
+                    return;
+                };
+                match self.g.meshes.iter().position(|(n, _)| *n == m) {
+                    Some(i) => {
+                        self.emits = true;
+                        self.code.push(Op::Emit(Prim::Mesh(i as u32)));
+                    }
+                    None => {
+                        let mut d = Diagnostic::error(args[0].span(), format!("unknown mesh `{m}`"));
+                        d = match did_you_mean(&m, self.g.meshes.iter().map(|(n, _)| n.as_str())) {
+                            Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                            None => {
+                                d.with_hint(format!("declare it at the top of the file: `mesh {m} = \"{m}.obj\";`"))
+                            }
+                        };
+                        self.errors.push(d);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+
+    pub(super) fn invoke(&mut self, local: usize, target: &SymRef, args: Option<&[Arg]>) {
+        let args = args.unwrap_or(&[]);
+        let slot = &self.slots[local];
+        let (graph, rule) = (slot.graph, slot.rule);
+        let info = &self.g.rules[rule];
+        if args.len() != info.n_args && (graph.is_some() || slot.implicit) {
+            let want = info.n_args;
+            let form = format!("{}({})", target.name, info.arg_names.join(", "));
+            let d = Diagnostic::error(
+                target.span,
+                format!(
+                    "wrong number of arguments for `{}`: rule `{}` takes {want}, found {}",
+                    target.name,
+                    info.name,
+                    args.len()
+                ),
+            )
+            .with_hint(if want == 0 {
+                format!("write `{};`", target.name)
+            } else {
+                format!("write `{form}`")
+            });
+            self.errors.push(d);
+            return;
+        }
+        let first = self.exprs.len() as u32;
+        if self.expr_args(&target.name, args).is_none() {
+            return;
+        }
+        if let Some(g) = graph {
+            self.code.push(Op::Invoke { slot: g, args: first, nargs: args.len() as u32 });
+        }
+    }
+}

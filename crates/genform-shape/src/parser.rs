@@ -1,0 +1,714 @@
+//! Recursive-descent parser for `.sg` files.
+//!
+//! Every syntax error is collected; after one the parser skips to the end
+//! of the statement (or item) and goes on, so one run reports them all.
+//! Nesting is bounded by [`MAX_NESTING`] so hostile input cannot overflow
+//! the stack. Expressions are parsed by `genform_core::expr::parse_prefix`.
+
+use crate::ast::*;
+use crate::lexer::{Lexer, Tok, Token};
+use genform_core::expr::parse_prefix;
+use genform_core::{Diagnostic, Span};
+
+/// Deepest nesting of blocks accepted.
+pub(crate) const MAX_NESTING: usize = 256;
+
+/// Words with a fixed meaning at the start of a top-level item.
+const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh"];
+
+/// Marker for "an error was recorded; recover".
+struct Fail;
+type PResult<T> = Result<T, Fail>;
+
+pub(crate) struct Parser<'a> {
+    src: &'a str,
+    lex: Lexer<'a>,
+    tok: Token,
+    /// End of the last consumed token (where a missing `;` belongs).
+    prev_end: usize,
+    errors: Vec<Diagnostic>,
+    depth: usize,
+    /// Set after the nesting limit was hit: the rest of the file is skipped.
+    aborted: bool,
+}
+
+/// Parses a whole file into items and the syntax errors found.
+pub(crate) fn parse_file(src: &str) -> (Vec<Item>, Vec<Diagnostic>) {
+    let mut p = Parser::new(src);
+    let mut items = Vec::new();
+    while p.tok.kind != Tok::Eof && !p.aborted {
+        match p.item() {
+            Ok(it) => items.push(it),
+            Err(Fail) => p.recover(true),
+        }
+    }
+    if let Some(span) = p.lex.unterminated_comment {
+        p.errors.push(Diagnostic::error(span, "this block comment is never closed").with_hint("close it with `*/`"));
+    }
+    (items, p.errors)
+}
+
+fn is_ident(s: &str) -> bool {
+    let mut c = s.chars();
+    c.next().is_some_and(|c| c.is_ascii_alphabetic() || c == '_') && c.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+impl<'a> Parser<'a> {
+    fn new(src: &'a str) -> Self {
+        let mut lex = Lexer::new(src);
+        let tok = lex.next_token();
+        Parser { src, lex, tok, prev_end: 0, errors: Vec::new(), depth: 0, aborted: false }
+    }
+
+    fn bump(&mut self) -> Token {
+        let next = self.lex.next_token();
+        self.prev_end = self.tok.span.end as usize;
+        std::mem::replace(&mut self.tok, next)
+    }
+
+    fn seek(&mut self, pos: usize) {
+        self.prev_end = pos;
+        self.lex.seek(pos);
+        self.tok = self.lex.next_token();
+    }
+
+    fn is(&self, t: &Tok) -> bool {
+        &self.tok.kind == t
+    }
+
+    fn is_word(&self, w: &str) -> bool {
+        matches!(&self.tok.kind, Tok::Ident(s) if s == w)
+    }
+
+    fn eat(&mut self, t: &Tok) -> bool {
+        if self.is(t) {
+            self.bump();
+            true
+        } else {
+            false
+        }
+    }
+
+    fn error(&mut self, d: Diagnostic) -> Fail {
+        self.errors.push(d);
+        Fail
+    }
+
+    fn expected(&mut self, what: &str, context: &str) -> Fail {
+        // A missing `;` at the end of a line belongs to that line.
+        let newline = self.src.get(self.prev_end..self.tok.span.start as usize).is_some_and(|gap| gap.contains('\n'));
+        let span = if what == "`;`" && newline { Span::new(self.prev_end, self.prev_end) } else { self.tok.span };
+        let d = Diagnostic::error(span, format!("expected {what} {context}, found {}", self.tok.kind.describe()));
+        let d = match (&self.tok.kind, what) {
+            (Tok::RBrace | Tok::Ident(_) | Tok::Eof, "`;`") => d.with_hint("every statement ends with `;`"),
+            _ => d,
+        };
+        self.error(d)
+    }
+
+    fn expect(&mut self, t: Tok, context: &str) -> PResult<Span> {
+        if self.is(&t) {
+            return Ok(self.bump().span);
+        }
+        Err(self.expected(&format!("`{}`", t.text()), context))
+    }
+
+    fn ident(&mut self, what: &str, context: &str) -> PResult<(String, Span)> {
+        if let Tok::Ident(s) = &self.tok.kind {
+            let s = s.clone();
+            let span = self.bump().span;
+            return Ok((s, span));
+        }
+        Err(self.expected(what, context))
+    }
+
+    /// Skips to the end of the broken statement: past the next `;` or the
+    /// next complete `{ ... }` at this nesting level, or up to (not past) the
+    /// `}`/`]` that closes the enclosing block (past it at the top level).
+    fn recover(&mut self, top: bool) {
+        let mut depth = 0usize;
+        loop {
+            match self.tok.kind {
+                Tok::Eof => return,
+                Tok::Semi if depth == 0 => {
+                    self.bump();
+                    return;
+                }
+                Tok::LBrace | Tok::LBracket => depth += 1,
+                Tok::RBrace | Tok::RBracket => {
+                    if depth == 0 {
+                        if top {
+                            self.bump();
+                        }
+                        return;
+                    }
+                    depth -= 1;
+                    // A broken block statement ends with its block.
+                    if depth == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+
+    /// Parses one embedded expression at the current token.
+    fn expr(&mut self) -> PResult<ExprSrc> {
+        let start = self.tok.span.start as usize;
+        match parse_prefix(&self.src[start..]) {
+            Ok((ast, n)) => {
+                let text = self.src[start..start + n].trim();
+                let bare = is_ident(text).then(|| text.to_string());
+                self.seek(start + n);
+                Ok(ExprSrc { ast, offset: start, bare })
+            }
+            Err(d) => Err(self.error(d.shifted(start))),
+        }
+    }
+
+    /// `[a, b, c]` or one expression.
+    fn value(&mut self) -> PResult<Value> {
+        if self.is(&Tok::LBracket) {
+            let open = self.bump().span;
+            let mut items = Vec::new();
+            loop {
+                items.push(self.expr()?);
+                if !self.eat(&Tok::Comma) {
+                    break;
+                }
+            }
+            let close = self.expect(Tok::RBracket, "to close the vector")?;
+            return Ok(Value::Vector(items, open.to(close)));
+        }
+        Ok(Value::Scalar(self.expr()?))
+    }
+
+    fn item(&mut self) -> PResult<Item> {
+        let Tok::Ident(word) = self.tok.kind.clone() else {
+            return Err(self.error(
+                Diagnostic::error(
+                    self.tok.span,
+                    format!("expected a rule or a header item, found {}", self.tok.kind.describe()),
+                )
+                .with_hint(
+                    "a file holds `grammar`, `axiom`, `limits`, `const` and `mesh` items and rules `Name { ... }`",
+                ),
+            ));
+        };
+        match word.as_str() {
+            "grammar" => {
+                self.bump();
+                let name = match &self.tok.kind {
+                    Tok::Str(s) => s.clone(),
+                    _ => return Err(self.expected("a quoted name", "after `grammar`")),
+                };
+                let span = self.bump().span;
+                self.expect(Tok::Semi, "after the grammar name")?;
+                Ok(Item::Grammar(name, span))
+            }
+            "axiom" => {
+                self.bump();
+                let r = self.symref("after `axiom`")?;
+                self.expect(Tok::Semi, "after the axiom")?;
+                Ok(Item::Axiom(r))
+            }
+            "limits" => {
+                self.bump();
+                let mut out = Vec::new();
+                loop {
+                    let (k, span) = self.ident("a limit name (`genes`, `depth` or `primitives`)", "in `limits`")?;
+                    self.expect(Tok::Eq, &format!("after `{k}`"))?;
+                    let v = self.expr()?;
+                    out.push((k, span, v));
+                    if !self.eat(&Tok::Comma) {
+                        break;
+                    }
+                }
+                self.expect(Tok::Semi, "after the limits")?;
+                Ok(Item::Limits(out))
+            }
+            "const" => {
+                self.bump();
+                let (name, span) = self.ident("a name", "after `const`")?;
+                self.expect(Tok::Eq, &format!("after `const {name}`"))?;
+                let v = self.expr()?;
+                self.expect(Tok::Semi, "after the constant")?;
+                Ok(Item::Const(name, span, v))
+            }
+            "mesh" => {
+                self.bump();
+                let (name, span) = self.ident("a name", "after `mesh`")?;
+                self.expect(Tok::Eq, &format!("after `mesh {name}`"))?;
+                let path = match &self.tok.kind {
+                    Tok::Str(s) => s.clone(),
+                    _ => return Err(self.expected("a quoted file path", &format!("for mesh `{name}`"))),
+                };
+                let pspan = self.bump().span;
+                self.expect(Tok::Semi, "after the mesh path")?;
+                Ok(Item::Mesh(name, span, path, pspan))
+            }
+            _ => self.rule().map(Item::Rule),
+        }
+    }
+
+    fn rule(&mut self) -> PResult<Rule> {
+        let (name, span) = self.ident("a rule name", "")?;
+        let mut template = None;
+        if self.eat(&Tok::Lt) {
+            let (var, var_span) = self.ident("an index name", "in the template parameters, as in `Body<i: 0..8>`")?;
+            self.expect(Tok::Colon, "after the template index name")?;
+            let lo = self.bound()?;
+            self.expect(Tok::DotDot, "between the bounds of the template range")?;
+            let hi = self.bound()?;
+            self.expect(Tok::Gt, "to close the template parameters")?;
+            template = Some(Template { var, var_span, lo, hi });
+        }
+        let mut args = Vec::new();
+        if self.eat(&Tok::LParen) {
+            if !self.is(&Tok::RParen) {
+                loop {
+                    args.push(self.ident("an argument name", &format!("in the arguments of `{name}`"))?);
+                    if !self.eat(&Tok::Comma) {
+                        break;
+                    }
+                }
+            }
+            self.expect(Tok::RParen, "to close the argument names")?;
+        }
+        if !self.is(&Tok::LBrace) {
+            let f = self.expected("`{`", &format!("to start the body of rule `{name}`"));
+            if name == "rule"
+                && let Some(d) = self.errors.last_mut()
+            {
+                d.hints.push("rules are written `Name { ... }`, without a keyword".into());
+            }
+            return Err(f);
+        }
+        let body = self.block()?;
+        Ok(Rule { name, span, template, args, body })
+    }
+
+    fn bound(&mut self) -> PResult<Bound> {
+        let neg = self.is(&Tok::Minus).then(|| self.bump().span);
+        match self.tok.kind.clone() {
+            Tok::Num(v) => {
+                let s = self.bump().span;
+                Ok(Bound::Int(if neg.is_some() { -v } else { v }, neg.unwrap_or(s).to(s)))
+            }
+            Tok::Ident(c) if neg.is_none() => {
+                let s = self.bump().span;
+                Ok(Bound::Const(c, s))
+            }
+            _ => Err(self.expected("an integer or a `const` name", "as a template bound")),
+        }
+    }
+
+    /// `Name` or `Name<index>`. The index is an expression up to the first
+    /// `>` outside parentheses (so comparisons inside it need parentheses).
+    fn symref(&mut self, context: &str) -> PResult<SymRef> {
+        let (name, span) = self.ident("a rule name", context)?;
+        if !self.is(&Tok::Lt) {
+            return Ok(SymRef { name, span, index: None });
+        }
+        let open = self.tok.span;
+        let start = open.end as usize;
+        let bytes = self.src.as_bytes();
+        let mut depth = 0i32;
+        let mut end = None;
+        for (i, &b) in bytes.iter().enumerate().skip(start) {
+            match b {
+                b'(' => depth += 1,
+                b')' => depth -= 1,
+                b'>' if depth <= 0 => {
+                    end = Some(i);
+                    break;
+                }
+                b';' | b'{' | b'}' | b'\n' => break,
+                _ => {}
+            }
+        }
+        let Some(end) = end else {
+            return Err(self.error(
+                Diagnostic::error(open, format!("expected `>` to close the template index of `{name}`"))
+                    .with_hint("write the index on one line, like `Body<i + 1>`; put comparisons in parentheses"),
+            ));
+        };
+        let (ast, n) = match parse_prefix(&self.src[start..end]) {
+            Ok(r) => r,
+            Err(d) => return Err(self.error(d.shifted(start))),
+        };
+        if !self.src[start + n..end].trim().is_empty() {
+            let at = start + n + (self.src[start + n..end].len() - self.src[start + n..end].trim_start().len());
+            return Err(self.error(Diagnostic::error(
+                Span::new(at, end),
+                format!("unexpected text in the template index of `{name}`"),
+            )));
+        }
+        let index = ExprSrc { ast, offset: start, bare: None };
+        self.seek(end + 1);
+        Ok(SymRef { name, span: span.to(Span::new(end, end + 1)), index: Some(index) })
+    }
+
+    /// `{ stmt* }`
+    fn block(&mut self) -> PResult<Vec<Stmt>> {
+        self.expect(Tok::LBrace, "to start a block")?;
+        let body = self.stmts(Tok::RBrace)?;
+        self.expect(Tok::RBrace, "to close the block")?;
+        Ok(body)
+    }
+
+    /// Statements up to (not including) `close`.
+    fn stmts(&mut self, close: Tok) -> PResult<Vec<Stmt>> {
+        self.depth += 1;
+        if self.depth > MAX_NESTING {
+            let d = Diagnostic::error(self.tok.span, "blocks are nested too deeply")
+                .with_hint(format!("at most {MAX_NESTING} levels of nesting are allowed"));
+            self.errors.push(d);
+            self.aborted = true;
+            let end = self.src.len();
+            self.seek(end);
+            return Err(Fail);
+        }
+        let mut out = Vec::new();
+        while !self.is(&close) && !self.is(&Tok::Eof) && !self.aborted {
+            match self.stmt() {
+                Ok(s) => out.push(s),
+                Err(Fail) => {
+                    if self.aborted {
+                        break;
+                    }
+                    self.recover(false);
+                    // A stray closer of the other kind would stop recovery forever.
+                    if (self.is(&Tok::RBrace) || self.is(&Tok::RBracket)) && !self.is(&close) {
+                        self.bump();
+                    }
+                }
+            }
+        }
+        self.depth -= 1;
+        if self.aborted {
+            return Err(Fail);
+        }
+        Ok(out)
+    }
+
+    fn axis(&mut self, context: &str) -> PResult<Axis> {
+        let a = match &self.tok.kind {
+            Tok::Ident(s) if s == "x" => Axis::X,
+            Tok::Ident(s) if s == "y" => Axis::Y,
+            Tok::Ident(s) if s == "z" => Axis::Z,
+            _ => return Err(self.expected("an axis `x`, `y` or `z`", context)),
+        };
+        self.bump();
+        Ok(a)
+    }
+
+    fn stmt(&mut self) -> PResult<Stmt> {
+        let word = match &self.tok.kind {
+            Tok::Ident(s) => s.clone(),
+            Tok::LBracket => {
+                self.bump();
+                let body = self.stmts(Tok::RBracket)?;
+                self.expect(Tok::RBracket, "to close the `[` scope")?;
+                return Ok(Stmt::Scoped(body));
+            }
+            _ => {
+                return Err(self.error(
+                    Diagnostic::error(
+                        self.tok.span,
+                        format!("expected a statement, found {}", self.tok.kind.describe()),
+                    )
+                    .with_hint(
+                        "statements are operations like `box;`, invocations like `Wing;`, declarations and blocks",
+                    ),
+                ));
+            }
+        };
+        match word.as_str() {
+            "param" => self.param().map(Stmt::Param),
+            "slot" => self.slot().map(Stmt::Slot),
+            "let" => {
+                self.bump();
+                let (name, span) = self.ident("a name", "after `let`")?;
+                self.expect(Tok::Eq, &format!("after `let {name}`"))?;
+                let value = self.expr()?;
+                self.expect(Tok::Semi, "after the `let` value")?;
+                Ok(Stmt::Let { name, span, value })
+            }
+            "if" => self.if_stmt(),
+            "alt" => {
+                let span = self.bump().span;
+                self.expect(Tok::LBrace, "after `alt`")?;
+                let mut arms = Vec::new();
+                while !self.is(&Tok::RBrace) && !self.is(&Tok::Eof) {
+                    let w = self.expr()?;
+                    self.expect(Tok::Colon, "after the weight of an alternative")?;
+                    let body = self.nested_block()?;
+                    arms.push((w, body));
+                }
+                self.expect(Tok::RBrace, "to close `alt`")?;
+                if arms.is_empty() {
+                    return Err(self.error(
+                        Diagnostic::error(span, "`alt` needs at least one alternative")
+                            .with_hint("write `alt { 2: { ... } 1: { ... } }`"),
+                    ));
+                }
+                Ok(Stmt::Alt { span, arms })
+            }
+            "mirror" => {
+                self.bump();
+                self.expect(Tok::LParen, "after `mirror`")?;
+                let axis = self.axis("in `mirror`")?;
+                self.expect(Tok::RParen, "after the mirror axis")?;
+                let body = self.nested_block()?;
+                Ok(Stmt::Mirror { axis, body })
+            }
+            "repeat" => {
+                self.bump();
+                self.expect(Tok::LParen, "after `repeat`")?;
+                let axis = self.axis("in `repeat`")?;
+                self.expect(Tok::Comma, "after the repeat axis")?;
+                let tile = self.expr()?;
+                self.expect(Tok::RParen, "after the tile size")?;
+                let body = self.nested_block()?;
+                Ok(Stmt::Repeat { axis, tile, body })
+            }
+            "split" => self.split(),
+            _ => {
+                let (target, args) = self.call("as a statement")?;
+                self.expect(Tok::Semi, "after the statement")?;
+                Ok(Stmt::Call { target, args })
+            }
+        }
+    }
+
+    /// A block that counts towards the nesting limit.
+    fn nested_block(&mut self) -> PResult<Vec<Stmt>> {
+        self.expect(Tok::LBrace, "to start a block")?;
+        let body = self.stmts(Tok::RBrace)?;
+        self.expect(Tok::RBrace, "to close the block")?;
+        Ok(body)
+    }
+
+    fn if_stmt(&mut self) -> PResult<Stmt> {
+        self.bump();
+        let cond = self.expr()?;
+        let then = self.nested_block()?;
+        let els = if self.is_word("else") {
+            self.bump();
+            if self.is_word("if") {
+                self.depth += 1;
+                let r = if self.depth > MAX_NESTING {
+                    Err(self.expected("a block", "(too many `else if`)"))
+                } else {
+                    self.if_stmt()
+                };
+                self.depth -= 1;
+                vec![r?]
+            } else {
+                self.nested_block()?
+            }
+        } else {
+            Vec::new()
+        };
+        Ok(Stmt::If { cond, then, els })
+    }
+
+    fn call(&mut self, context: &str) -> PResult<(SymRef, Option<Vec<Arg>>)> {
+        let target = self.symref(context)?;
+        let args = if self.is(&Tok::LParen) {
+            self.bump();
+            let mut args = Vec::new();
+            if !self.is(&Tok::RParen) {
+                loop {
+                    if let Tok::Str(s) = &self.tok.kind {
+                        let s = s.clone();
+                        args.push(Arg::Str(s, self.bump().span));
+                    } else {
+                        args.push(Arg::Expr(self.expr()?));
+                    }
+                    if !self.eat(&Tok::Comma) {
+                        break;
+                    }
+                }
+            }
+            self.expect(Tok::RParen, &format!("to close the arguments of `{}`", target.name))?;
+            Some(args)
+        } else {
+            None
+        };
+        Ok((target, args))
+    }
+
+    fn split(&mut self) -> PResult<Stmt> {
+        self.bump();
+        self.expect(Tok::LParen, "after `split`")?;
+        let axis = self.axis("in `split`")?;
+        self.expect(Tok::RParen, "after the split axis")?;
+        self.expect(Tok::LBrace, "to start the pieces of `split`")?;
+        let mut pieces = Vec::new();
+        loop {
+            let size = self.expr()?;
+            let relative = self.is_word("r");
+            if relative {
+                self.bump();
+            }
+            self.expect(Tok::Colon, "after the size of a split piece (`2: A` or `1r: A`)")?;
+            let body = if self.is(&Tok::LBrace) {
+                self.nested_block()?
+            } else {
+                let (target, args) = self.call("as a split piece")?;
+                // `1r: A;` reads naturally too.
+                self.eat(&Tok::Semi);
+                vec![Stmt::Call { target, args }]
+            };
+            pieces.push(Piece { size, relative, body });
+            if !self.eat(&Tok::Pipe) {
+                break;
+            }
+        }
+        self.expect(Tok::RBrace, "to close `split` (pieces are separated by `|`)")?;
+        Ok(Stmt::Split { axis, pieces })
+    }
+
+    fn param(&mut self) -> PResult<ParamDecl> {
+        self.bump();
+        let (name, span) = self.ident("a parameter name", "after `param`")?;
+        self.expect(Tok::Colon, &format!("after `param {name}`"))?;
+        let mut dim = None;
+        if let Tok::Ident(t) = &self.tok.kind {
+            dim = match t.as_str() {
+                "vec2" => Some(2),
+                "vec3" => Some(3),
+                "scalar" | "float" => Some(1),
+                _ => None,
+            };
+            if dim.is_some() {
+                self.bump();
+            }
+        }
+        let (dist, dist_span) = self.ident("a distribution (`uniform`, `normal`, `int` or `choice`)", "")?;
+        let open = self.expect(Tok::LParen, &format!("after `{dist}`"))?;
+        let mut args = Vec::new();
+        if !self.is(&Tok::RParen) {
+            loop {
+                let value = self.value()?;
+                let weight = if self.eat(&Tok::Colon) { Some(self.expr()?) } else { None };
+                args.push(DistArg { value, weight });
+                if !self.eat(&Tok::Comma) {
+                    break;
+                }
+            }
+        }
+        let close = self.expect(Tok::RParen, &format!("to close the arguments of `{dist}`"))?;
+        let mut bounds = None;
+        if self.is_word("in") {
+            self.bump();
+            self.expect(Tok::LBracket, "after `in`")?;
+            let lo = self.value()?;
+            self.expect(Tok::Comma, "between the bounds")?;
+            let hi = self.value()?;
+            self.expect(Tok::RBracket, "to close the bounds")?;
+            bounds = Some((lo, hi));
+        }
+        self.expect(Tok::Semi, "after the parameter")?;
+        Ok(ParamDecl { name, span, dim, dist, dist_span, args, args_span: dist_span.to(open).to(close), bounds })
+    }
+
+    fn slot(&mut self) -> PResult<SlotDecl> {
+        self.bump();
+        let (name, span) = self.ident("a slot name", "after `slot`")?;
+        self.expect(Tok::Colon, &format!("after `slot {name}`"))?;
+        let target = self.symref("as the slot's target")?;
+        let mut prob = None;
+        let mut count = None;
+        if self.is_word("p") {
+            self.bump();
+            prob = Some(self.expr()?);
+        }
+        if self.is_word("x") {
+            self.bump();
+            count = Some(self.expr()?);
+        }
+        if !self.is(&Tok::Semi) {
+            return Err(self.expected("`p <probability>`, `x <count>` or `;`", "after the slot target"));
+        }
+        self.bump();
+        Ok(SlotDecl { name, span, target, prob, count })
+    }
+}
+
+/// Whether `name` starts a header item (such names cannot name rules).
+pub(crate) fn is_header_word(name: &str) -> bool {
+    HEADER_WORDS.contains(&name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ok(src: &str) -> Vec<Item> {
+        let (items, errs) = parse_file(src);
+        assert!(errs.is_empty(), "{src}: {errs:?}");
+        items
+    }
+
+    fn errs(src: &str) -> Vec<String> {
+        parse_file(src).1.into_iter().map(|d| d.message).collect()
+    }
+
+    #[test]
+    fn parses_every_statement_kind() {
+        let items = ok(r#"
+            grammar "g"; axiom S; limits genes = 10, depth = 3; const k = 2; mesh leaf = "a.obj";
+            S { Body<0>(1, 2); }
+            Body<i: 0..k>(a, b) {
+                param size: vec3 uniform([0.3, 0.1, 0.3], [0.8, 0.2, 0.8]);
+                param n: normal(0, 1) in [-1, 1];
+                param c: choice(1: 2, 3: 1);
+                slot next: Body<i + 1> p exp(-0.4 * i) x 2;
+                let v = size.x * a;
+                if (has(next) && v > 1) { box; } else if v < 0 { cone; } else { sphere; }
+                alt { 2: { cylinder; } 1: { frustum(0.5); } }
+                mirror(x) { translate(sx / 2, 0, 0); next(a, b); }
+                split(z) { 2: box | 1r: next(1, 2) | 1r: { tag("x"); box; } }
+                repeat(x, 2.2) { [ rotate(y, 90); scale(0.5); box; ] }
+                mesh(leaf);
+            }
+        "#);
+        assert_eq!(items.len(), 7);
+        let Item::Rule(r) = &items[6] else { panic!() };
+        assert_eq!(r.body.len(), 11);
+        assert!(r.template.is_some());
+        assert_eq!(r.args.len(), 2);
+    }
+
+    #[test]
+    fn collects_every_syntax_error() {
+        let e = errs("A { box box; translate(1, 2; }\nB { cone }\nC { sphere; }");
+        assert_eq!(e.len(), 3, "{e:?}");
+        assert!(e[0].contains("expected `;`"), "{e:?}");
+        assert!(e[1].contains("expected `)`"), "{e:?}");
+    }
+
+    #[test]
+    fn nesting_is_bounded() {
+        let src = format!("A {{ {} }}", "[".repeat(10_000));
+        let e = errs(&src);
+        assert!(e.iter().any(|m| m.contains("nested too deeply")), "{e:?}");
+        let src = format!("A {{ {} }}", "if 1 { ".repeat(10_000));
+        assert!(errs(&src).iter().any(|m| m.contains("nested too deeply")));
+    }
+
+    #[test]
+    fn template_index_stops_at_the_closing_angle() {
+        let items = ok("A { B<(1 > 0) + 2>; }");
+        let Item::Rule(r) = &items[0] else { panic!() };
+        let Stmt::Call { target, .. } = &r.body[0] else { panic!() };
+        assert!(target.index.is_some());
+        assert!(errs("A { B<1; }")[0].contains("expected `>`"));
+    }
+}

@@ -1,0 +1,129 @@
+//! The compiled form of a rule: a flat list of operations per symbol.
+//!
+//! Bodies are flattened (jumps instead of nested blocks) so the interpreter
+//! keeps all its state in explicit stacks and never recurses on the Rust
+//! stack, however deep a derivation goes.
+
+use genform_core::Span;
+use genform_core::expr::Program;
+
+/// A compiled expression with the slots whose `has(slot)` it reads.
+#[derive(Clone, Debug)]
+pub(crate) struct Expr {
+    pub prog: Program,
+    /// `(env index, local slot)` pairs to fill before evaluating.
+    pub has: Vec<(u32, u32)>,
+    /// Where it is written (for runtime error messages).
+    pub span: Span,
+}
+
+/// A primitive to emit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Prim {
+    Box,
+    Cylinder,
+    Cone,
+    Sphere,
+    /// Top-radius ratio expression.
+    Frustum(u32),
+    /// Top-face ratio expression.
+    Taper(u32),
+    /// Index into the grammar's meshes.
+    Mesh(u32),
+}
+
+/// One operation. Expression operands are indices into [`RuleCode::exprs`];
+/// vector operands use three consecutive expressions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Op {
+    /// Saves the scope (`[`).
+    Push,
+    /// Restores the last saved scope (`]`).
+    Pop,
+    Translate(u32),
+    Rotate(u8, u32),
+    Size(u32),
+    Scale(u32),
+    Tag(u32),
+    /// Stores an expression's value in an env slot.
+    Let(u32, u32),
+    Emit(Prim),
+    /// Runs the child in the slot's next link: `args` consecutive expressions from `args`.
+    Invoke {
+        slot: u32,
+        args: u32,
+        nargs: u32,
+    },
+    /// Jumps to the target when the expression is false.
+    JumpUnless(u32, u32),
+    Jump(u32),
+    /// Jumps to `tables[table][gene value]` (a weighted alternative).
+    Alt {
+        env: u32,
+        table: u32,
+    },
+    /// Saves the scope and slot counters; the body follows.
+    MirrorBegin(u8),
+    /// After the first pass: restores, reflects and jumps back to the body
+    /// start; after the second: restores the scope and goes on.
+    MirrorEnd(u32),
+    /// Computes `n` pieces from `pieces[first..first + n]`.
+    SplitBegin {
+        axis: u8,
+        first: u32,
+        n: u32,
+    },
+    /// Saves the scope and enters piece `k` (its body ends with `Pop`).
+    Piece(u32),
+    SplitEnd,
+    /// Computes the tile count and enters the first tile.
+    RepeatBegin {
+        axis: u8,
+        tile: u32,
+    },
+    /// Leaves the tile; enters the next one (jumping to the body) or ends.
+    RepeatNext(u32),
+}
+
+/// What the interpreter needs about one slot of the symbol.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SlotCode {
+    /// First link of the slot in the gene.
+    pub link: u32,
+    /// Links of the slot.
+    pub max: u32,
+    /// Child symbol.
+    pub target: u32,
+    /// Expression probability (sampling).
+    pub prob: f64,
+}
+
+/// A compiled symbol (one rule, or one instance of a template rule).
+#[derive(Clone, Debug)]
+pub(crate) struct RuleCode {
+    pub code: Vec<Op>,
+    pub exprs: Vec<Expr>,
+    /// Jump tables of `alt`s.
+    pub tables: Vec<Vec<u32>>,
+    /// `(size expression, relative)` of split pieces.
+    pub pieces: Vec<(u32, bool)>,
+    /// Initial env: built-ins, constants and the template index filled in.
+    pub env_init: Vec<f64>,
+    /// Env index of the first inherited argument.
+    pub arg_base: u32,
+    pub n_args: u32,
+    /// Env index of the first gene parameter value.
+    pub param_base: u32,
+    /// Slots in graph order.
+    pub slots: Vec<SlotCode>,
+    /// Tag of emissions until `tag(...)` changes it.
+    pub tag: u32,
+}
+
+/// Env indices of the built-in variables (the same in every rule).
+pub(crate) const ENV_SX: usize = 0;
+pub(crate) const ENV_DEPTH: usize = 3;
+pub(crate) const ENV_INDEX: usize = 4;
+pub(crate) const ENV_COUNT: usize = 5;
+/// Names of the built-in variables, in env order.
+pub(crate) const BUILTINS: [&str; 6] = ["sx", "sy", "sz", "depth", "index", "count"];
