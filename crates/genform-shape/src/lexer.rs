@@ -101,27 +101,11 @@ impl<'a> Lexer<'a> {
     }
 
     fn skip_trivia(&mut self) {
-        let b = self.src.as_bytes();
-        loop {
-            while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
-                self.pos += 1;
-            }
-            if b[self.pos..].starts_with(b"//") {
-                while self.pos < b.len() && b[self.pos] != b'\n' {
-                    self.pos += 1;
-                }
-            } else if b[self.pos..].starts_with(b"/*") {
-                match self.src[self.pos + 2..].find("*/") {
-                    Some(i) => self.pos += i + 4,
-                    None => {
-                        self.unterminated_comment.get_or_insert(Span::new(self.pos, self.pos + 2));
-                        self.pos = b.len();
-                    }
-                }
-            } else {
-                return;
-            }
+        let (pos, unterminated) = genform_core::expr::skip_trivia(self.src, self.pos);
+        if let Some(start) = unterminated {
+            self.unterminated_comment.get_or_insert(Span::new(start, start + 2));
         }
+        self.pos = pos;
     }
 
     /// The next token.

@@ -31,6 +31,31 @@ pub(crate) enum Tok<'a> {
     Eof,
 }
 
+/// Skips whitespace, `//` line comments and `/* */` block comments from
+/// byte `pos`. Returns the position of the next token and, for a block
+/// comment that never ends, where it started. Shared by every front end that
+/// embeds expressions, so comments mean the same everywhere.
+pub fn skip_trivia(src: &str, mut pos: usize) -> (usize, Option<usize>) {
+    let b = src.as_bytes();
+    loop {
+        while pos < b.len() && b[pos].is_ascii_whitespace() {
+            pos += 1;
+        }
+        if b[pos..].starts_with(b"//") {
+            while pos < b.len() && b[pos] != b'\n' {
+                pos += 1;
+            }
+        } else if b[pos..].starts_with(b"/*") {
+            match src[pos + 2..].find("*/") {
+                Some(i) => pos += i + 4,
+                None => return (b.len(), Some(pos)),
+            }
+        } else {
+            return (pos, None);
+        }
+    }
+}
+
 pub(crate) struct Lexer<'a> {
     src: &'a str,
     pos: usize,
@@ -42,24 +67,7 @@ impl<'a> Lexer<'a> {
     }
 
     fn skip_trivia(&mut self) {
-        let b = self.src.as_bytes();
-        loop {
-            while self.pos < b.len() && b[self.pos].is_ascii_whitespace() {
-                self.pos += 1;
-            }
-            if b[self.pos..].starts_with(b"//") {
-                while self.pos < b.len() && b[self.pos] != b'\n' {
-                    self.pos += 1;
-                }
-            } else if b[self.pos..].starts_with(b"/*") {
-                match self.src[self.pos + 2..].find("*/") {
-                    Some(i) => self.pos += i + 4,
-                    None => self.pos = b.len(),
-                }
-            } else {
-                return;
-            }
-        }
+        self.pos = skip_trivia(self.src, self.pos).0;
     }
 
     /// The next token and its span; does not consume `Other`/`Eof` past themselves.

@@ -16,6 +16,7 @@ mod lex;
 mod parse;
 
 pub use compile::{Program, compile};
+pub use lex::skip_trivia;
 pub use parse::{Ast, parse, parse_prefix};
 
 /// Names visible to an expression, mapped to indices of the `env` slice
