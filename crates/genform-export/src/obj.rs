@@ -41,35 +41,30 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
         }
         next += mesh.positions.len();
     }
-    for (k, poly) in scene.polygons.iter().enumerate() {
-        if poly.points.len() < 3 {
-            continue;
-        }
-        let _ = writeln!(out, "o {}_polygon{k}", tag_name(scene, poly.tag));
-        for &p in &poly.points {
+    // Polygons become one n-sided face (`f`), polylines one line element (`l`).
+    let runs = scene
+        .polygons
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.points.len() >= 3)
+        .map(|(k, p)| ('f', "polygon", k, p.tag, &p.points));
+    let lines = scene
+        .polylines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.points.len() >= 2)
+        .map(|(k, l)| ('l', "polyline", k, l.tag, &l.points));
+    for (element, kind, k, tag, points) in runs.chain(lines) {
+        let _ = writeln!(out, "o {}_{kind}{k}", tag_name(scene, tag));
+        for &p in points {
             vertex(&mut out, p);
         }
-        out.push('f');
-        for v in next..next + poly.points.len() {
+        out.push(element);
+        for v in next..next + points.len() {
             let _ = write!(out, " {v}");
         }
         out.push('\n');
-        next += poly.points.len();
-    }
-    for (k, line) in scene.polylines.iter().enumerate() {
-        if line.points.len() < 2 {
-            continue;
-        }
-        let _ = writeln!(out, "o {}_polyline{k}", tag_name(scene, line.tag));
-        for &p in &line.points {
-            vertex(&mut out, p);
-        }
-        out.push('l');
-        for v in next..next + line.points.len() {
-            let _ = write!(out, " {v}");
-        }
-        out.push('\n');
-        next += line.points.len();
+        next += points.len();
     }
     out
 }

@@ -123,6 +123,30 @@ pub struct Genome {
     genes: u32,
 }
 
+/// New positions of genes stored at or after `start`, indexed by old word
+/// offset, so the sweeps of `cut` and `graft` stay O(words).
+struct Remap {
+    start: usize,
+    to: Vec<u32>,
+}
+
+impl Remap {
+    fn new(start: usize, end: usize) -> Self {
+        Remap { start, to: vec![u32::MAX; end.saturating_sub(start)] }
+    }
+
+    fn set(&mut self, old: usize, new: usize) {
+        self.to[old - self.start] = new as u32;
+    }
+
+    /// Where the gene formerly at `old` went; `None` if it was dropped, not
+    /// yet reached, or lies before `start`.
+    fn get(&self, old: usize) -> Option<usize> {
+        let i = old.checked_sub(self.start)?;
+        self.to.get(i).filter(|&&v| v != u32::MAX).map(|&v| v as usize)
+    }
+}
+
 /// A read-only view of one gene.
 #[derive(Clone, Copy)]
 pub struct GeneRef<'a> {
@@ -361,13 +385,7 @@ impl Genome {
             let w = self.link_word(parent, link);
             self.words[w] = 0;
         }
-        // new_pos[i] for the i-th gene at or after `start` (u32::MAX = removed),
-        // keyed by old word position through a parallel list.
-        let mut old_pos: Vec<u32> = Vec::new();
-        let mut new_pos: Vec<u32> = Vec::new();
-        let lookup = |old_pos: &[u32], new_pos: &[u32], q: u32| -> u32 {
-            if (q as usize) < start { q } else { new_pos[old_pos.binary_search(&q).expect("parent precedes child")] }
-        };
+        let mut moved = Remap::new(start, self.words.len());
         let mut read = start;
         let mut write = start;
         let mut removed = 0;
@@ -376,15 +394,14 @@ impl Genome {
             let size = g.size();
             let parent = g.parent();
             let dead = read == start
-                || parent.is_some_and(|(q, _)| q.0 as usize >= start && lookup(&old_pos, &new_pos, q.0) == u32::MAX);
-            old_pos.push(read as u32);
+                || parent.is_some_and(|(q, _)| q.0 as usize >= start && moved.get(q.0 as usize).is_none());
             if dead {
-                new_pos.push(u32::MAX);
                 removed += 1;
             } else {
-                new_pos.push(write as u32);
+                moved.set(read, write);
                 if let Some((q, link)) = parent {
-                    let nq = lookup(&old_pos, &new_pos, q.0);
+                    let q = q.0 as usize;
+                    let nq = if q < start { q } else { moved.get(q).expect("kept parent was moved") };
                     self.words[read + 1] = (write as u64 - nq as u64) | (link as u64) << 32;
                 }
                 self.words.copy_within(read..read + size, write);
@@ -422,32 +439,22 @@ impl Genome {
         assert!(self.words[w] == 0 || self.words[w] == CLOSED, "link already holds a child");
         let first = self.words.len();
         let start = pos.0 as usize;
-        let mut old_pos: Vec<u32> = Vec::new();
-        let mut new_pos: Vec<u32> = Vec::new();
+        let mut copied = Remap::new(start, src.words.len());
         let mut read = start;
         while read < src.words.len() {
             let g = src.gene(GenePos(read as u32));
             let size = g.size();
-            let member = if read == start {
-                true
-            } else {
-                match g.parent() {
-                    Some((q, _)) if q.0 as usize >= start => {
-                        old_pos.binary_search(&q.0).map(|i| new_pos[i] != u32::MAX).unwrap_or(false)
-                    }
-                    _ => false,
-                }
-            };
-            old_pos.push(read as u32);
+            let member =
+                if read == start { true } else { g.parent().is_some_and(|(q, _)| copied.get(q.0 as usize).is_some()) };
             if member {
                 let write = self.words.len();
-                new_pos.push(write as u32);
+                copied.set(read, write);
                 self.words.extend_from_slice(&src.words[read..read + size]);
                 let (nq, l) = if read == start {
                     (parent.0 as usize, link)
                 } else {
                     let (q, l) = g.parent().expect("member has a parent");
-                    (new_pos[old_pos.binary_search(&q.0).expect("parent seen")] as usize, l)
+                    (copied.get(q.0 as usize).expect("parent copied first"), l)
                 };
                 self.words[write + 1] = (write - nq) as u64 | (l as u64) << 32;
                 // Child links are rebuilt below; keep CLOSED markers.
@@ -458,8 +465,6 @@ impl Genome {
                     }
                 }
                 self.genes += 1;
-            } else {
-                new_pos.push(u32::MAX);
             }
             read += size;
         }
