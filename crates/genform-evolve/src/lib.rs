@@ -1,0 +1,2 @@
+//! Optimizers over genform genomes.
+#![warn(missing_docs)]
