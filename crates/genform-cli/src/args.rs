@@ -22,6 +22,8 @@ pub enum Command {
     Derive(DeriveArgs),
     /// Show the generator graph: symbols, parameters, slots and limits.
     Info(InfoArgs),
+    /// Steer a grammar towards the targets of a scene config (TOML) by evolution.
+    Evolve(EvolveArgs),
 }
 
 /// Overrides of the grammar's derivation limits.
@@ -36,6 +38,17 @@ pub struct LimitArgs {
     /// Most primitives in the model.
     #[arg(long, value_name = "N")]
     pub max_primitives: Option<usize>,
+}
+
+impl LimitArgs {
+    /// The overrides these flags set.
+    pub fn overrides(&self) -> genform_cli::grammar::LimitOverrides {
+        genform_cli::grammar::LimitOverrides {
+            max_genes: self.max_genes,
+            max_depth: self.max_depth,
+            max_primitives: self.max_primitives,
+        }
+    }
 }
 
 /// Arguments of `genform sample`.
@@ -76,4 +89,46 @@ pub struct DeriveArgs {
 pub struct InfoArgs {
     /// Grammar file (.sg).
     pub file: PathBuf,
+}
+
+/// The search algorithm of `genform evolve`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Algorithm {
+    /// The ShapeGenetics genetic algorithm.
+    Ga,
+    /// Random search: fresh random individuals, keep the best (a baseline).
+    Random,
+}
+
+/// Arguments of `genform evolve`.
+#[derive(Debug, Args)]
+pub struct EvolveArgs {
+    /// Scene config (.toml): grammar, targets, fitness and optimizer settings.
+    pub scene: PathBuf,
+    /// Random seed; the same seed gives the same results at any thread count.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Stop after N generations (overrides the scene's [run]).
+    #[arg(long, value_name = "N")]
+    pub generations: Option<usize>,
+    /// Stop after this much wall-clock time, e.g. 30s, 5m, 1h.
+    #[arg(long, value_name = "TIME")]
+    pub budget: Option<String>,
+    /// Stop after N objective evaluations.
+    #[arg(long, value_name = "N")]
+    pub evaluations: Option<u64>,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Output folder for the best model, genome, statistics and plots.
+    #[arg(long, short, default_value = "evolve-out")]
+    pub out: PathBuf,
+    /// Search algorithm.
+    #[arg(long, value_enum, default_value_t = Algorithm::Ga)]
+    pub algorithm: Algorithm,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }

@@ -7,8 +7,8 @@ use genform_export::{ExportOptions, Format};
 use std::path::Path;
 
 use crate::args::{Cli, Command, DeriveArgs, InfoArgs, SampleArgs};
-use crate::grammar::{self, Loaded};
-use crate::output::write_atomic;
+use genform_cli::grammar::{self, Loaded};
+use genform_cli::output::write_atomic;
 
 /// Stream id of `sample` (so other verbs' streams never coincide with it).
 const SAMPLE_STREAM: u64 = 0x5A4D_504C;
@@ -19,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sample(a) => sample(a),
         Command::Derive(a) => derive(a),
         Command::Info(a) => info(a),
+        Command::Evolve(a) => crate::evolve::evolve(a),
     }
 }
 
@@ -60,7 +61,7 @@ fn sample(a: SampleArgs) -> Result<()> {
         output_format(out)?;
     }
     let Loaded { generator, name, limits } = grammar::load(&a.file)?;
-    let limits = grammar::limits(limits, &a.limits);
+    let limits = a.limits.overrides().apply(limits);
     let mut rng = Rng::stream(a.seed, &[SAMPLE_STREAM]);
     let sampled = generator.sample(&mut rng, &limits).context("cannot sample")?;
     if let Some(kind) = sampled.truncated {
@@ -86,7 +87,7 @@ fn sample(a: SampleArgs) -> Result<()> {
 fn derive(a: DeriveArgs) -> Result<()> {
     output_format(&a.out)?;
     let Loaded { generator, name, limits } = grammar::load(&a.file)?;
-    let limits = grammar::limits(limits, &a.limits);
+    let limits = a.limits.overrides().apply(limits);
     let text = std::fs::read_to_string(&a.genome).with_context(|| format!("cannot read {}", a.genome.display()))?;
     let genome = Genome::from_json(&text, generator.graph())
         .with_context(|| format!("{} does not fit grammar `{name}`", a.genome.display()))?;

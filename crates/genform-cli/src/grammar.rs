@@ -5,8 +5,6 @@ use genform_core::{Diagnostics, Generator, Limits, Mesh, SourceFile};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-use crate::args::LimitArgs;
-
 /// A compiled grammar of any formalism.
 pub struct Loaded {
     /// The generator.
@@ -64,11 +62,34 @@ pub fn load(path: &Path) -> Result<Loaded> {
     }
 }
 
-/// The grammar's limits with command-line overrides applied.
-pub fn limits(base: Limits, args: &LimitArgs) -> Limits {
-    Limits {
-        max_genes: args.max_genes.unwrap_or(base.max_genes),
-        max_depth: args.max_depth.unwrap_or(base.max_depth),
-        max_primitives: args.max_primitives.unwrap_or(base.max_primitives),
+/// Limits given on the command line or in a scene config, each replacing
+/// the grammar's own when set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LimitOverrides {
+    /// Most genes.
+    pub max_genes: Option<usize>,
+    /// Deepest gene.
+    pub max_depth: Option<usize>,
+    /// Most primitives.
+    pub max_primitives: Option<usize>,
+}
+
+impl LimitOverrides {
+    /// `base` with the set overrides applied.
+    pub fn apply(&self, base: Limits) -> Limits {
+        Limits {
+            max_genes: self.max_genes.unwrap_or(base.max_genes),
+            max_depth: self.max_depth.unwrap_or(base.max_depth),
+            max_primitives: self.max_primitives.unwrap_or(base.max_primitives),
+        }
+    }
+
+    /// `self` where set, `other` elsewhere.
+    pub fn or(self, other: LimitOverrides) -> LimitOverrides {
+        LimitOverrides {
+            max_genes: self.max_genes.or(other.max_genes),
+            max_depth: self.max_depth.or(other.max_depth),
+            max_primitives: self.max_primitives.or(other.max_primitives),
+        }
     }
 }

@@ -3,8 +3,7 @@
 
 mod args;
 mod commands;
-mod grammar;
-mod output;
+mod evolve;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -3,6 +3,8 @@
 //!
 //! - [`scene`]: the resolved geometry every generator produces and every
 //!   exporter and scorer consumes.
+//! - [`camera`]: the orbit camera and its world → pixel projection, shared by
+//!   the preview renderer and the image scorers.
 //! - [`graph`]: the generator graph (symbols, parameter specs, child slots).
 //! - [`genome`]: the packed derivation-tree genome and its JSON form.
 //! - [`generator`]: the [`Generator`] trait, limits and prior sampling.
@@ -10,6 +12,7 @@
 //! - [`diag`]: the one diagnostics type, with file:line:col rendering.
 //! - [`expr`]: the one compiler for user formulas, to an f64 bytecode.
 
+pub mod camera;
 pub mod diag;
 pub mod expr;
 pub mod generator;

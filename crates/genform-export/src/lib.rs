@@ -19,8 +19,10 @@
 #![warn(missing_docs)]
 
 mod glb;
+pub mod import;
 mod obj;
 mod palette;
+pub mod plot;
 mod ply;
 mod render;
 mod shapes;
@@ -32,6 +34,7 @@ use std::path::Path;
 use std::str::FromStr;
 
 pub use glb::write_glb;
+pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFormat, read_mesh};
 pub use obj::write_obj;
 pub use palette::tag_color;
 pub use ply::write_ply;

@@ -6,133 +6,47 @@ use genform_core::scene::{Primitive, Scene, Tessellation};
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 
-/// An orbit camera looking at a point.
-///
-/// The eye sits at
-/// `look_at + radius * (cos θ cos φ, sin θ, cos θ sin φ)`, with `+y` up.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// Vertical field of view, in degrees.
-    pub fov_deg: f32,
-    /// Azimuth φ around the y axis, in radians (0 = on the +x side).
-    pub phi: f32,
-    /// Elevation θ above the xz plane, in radians.
-    pub theta: f32,
-    /// Distance from `look_at` to the eye.
-    pub radius: f32,
-    /// The point the camera looks at (the image center).
-    pub look_at: Vec3,
+pub use genform_core::camera::Camera;
+
+/// The preview's right-handed view frame `(right, up, forward)`, with the
+/// world's `+y` as up. It matches [`Camera::axes`] mirrored left-right
+/// (`right` is negated) for |θ| < 90°: previews show models as a physical
+/// camera would, while scorers use the reference renderer's mirrored frame.
+fn preview_basis(cam: &Camera) -> (Vec3, Vec3, Vec3) {
+    let (st, ct) = cam.theta.sin_cos();
+    let (sp, cp) = cam.phi.sin_cos();
+    let fwd = -Vec3::new(ct * cp, st, ct * sp).normalize_or(Vec3::NEG_Z);
+    let world_up = if fwd.y.abs() > 0.999 { Vec3::new(-cp, 0.0, -sp) * fwd.y.signum() } else { Vec3::Y };
+    let right = fwd.cross(world_up).normalize_or(Vec3::X);
+    let up = right.cross(fwd);
+    (right, up, fwd)
 }
 
-impl Default for Camera {
-    /// A 3/4 view of the unit cube around the origin.
-    fn default() -> Self {
-        Camera::fit((Vec3::splat(-0.5), Vec3::splat(0.5)))
+/// Tightens an auto-fitted view to the actual points: re-centers the image
+/// on their projected extent and moves as close as they allow.
+fn refine(cam: &mut Camera, aspect: f32, pts: &[Vec3]) {
+    if pts.is_empty() {
+        return;
     }
-}
-
-impl Camera {
-    /// Default vertical field of view of [`Camera::fit`], in degrees.
-    pub const FIT_FOV_DEG: f32 = 35.0;
-
-    /// A pleasant 3/4 view (from the front right, a little above) of the
-    /// box `bounds = (min, max)`, close enough that the box fills most of a
-    /// square image.
-    pub fn fit(bounds: (Vec3, Vec3)) -> Camera {
-        Camera::fit_aspect(bounds, 1.0)
-    }
-
-    /// Like [`Camera::fit`] for an image `aspect = width / height`: the whole
-    /// box stays in view horizontally too.
-    pub fn fit_aspect(bounds: (Vec3, Vec3), aspect: f32) -> Camera {
-        let (mut lo, mut hi) = bounds;
-        if !(lo.is_finite() && hi.is_finite()) || lo.cmpgt(hi).any() {
-            (lo, hi) = (Vec3::splat(-0.5), Vec3::splat(0.5));
+    let floor = cam.radius * 1e-3;
+    for _ in 0..2 {
+        let (right, up, fwd) = preview_basis(cam);
+        let eye = cam.eye();
+        let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
+        for &p in pts {
+            let q = p - eye;
+            let z = q.dot(fwd).max(floor);
+            let s = Vec2::new(q.dot(right) / z, q.dot(up) / z);
+            (lo, hi) = (lo.min(s), hi.max(s));
         }
-        let center = (lo + hi) * 0.5;
-        let mut half = (hi - lo) * 0.5;
-        let size = half.max_element();
-        // Flat boxes get a little thickness, empty ones a unit size.
-        half = half.max(Vec3::splat(if size > 0.0 { size * 1e-3 } else { 0.5 }));
-        let mut cam = Camera {
-            fov_deg: Self::FIT_FOV_DEG,
-            phi: 50f32.to_radians(),
-            theta: 25f32.to_radians(),
-            radius: 1.0,
-            look_at: center,
-        };
-        let corners = (0..8).map(|k| {
-            center
-                + Vec3::new(
-                    if k & 1 == 0 { -half.x } else { half.x },
-                    if k & 2 == 0 { -half.y } else { half.y },
-                    if k & 4 == 0 { -half.z } else { half.z },
-                )
-        });
-        cam.radius = cam.fit_distance(aspect, corners).max(half.length() * 1.05);
-        cam
-    }
-
-    /// The least distance from `look_at` (along the current view direction)
-    /// at which every point projects inside an image of `aspect`, with a
-    /// small margin.
-    fn fit_distance(&self, aspect: f32, points: impl IntoIterator<Item = Vec3>) -> f32 {
-        let (right, up, fwd) = self.basis();
-        let tan_y = (self.fov_deg.clamp(1.0, 170.0).to_radians() * 0.5).tan() / 1.08;
-        let tan_x = tan_y * aspect.clamp(0.05, 20.0);
-        let mut d: f32 = 0.0;
-        for p in points {
-            let q = p - self.look_at;
-            let (x, y, z) = (q.dot(right), q.dot(up), q.dot(fwd));
-            d = d.max(x.abs() / tan_x - z).max(y.abs() / tan_y - z);
+        let mid = (lo + hi) * 0.5;
+        if mid.is_finite() {
+            cam.look_at += cam.radius * (mid.x * right + mid.y * up);
         }
-        d
-    }
-
-    /// Tightens an auto-fitted view to the actual points: re-centers the
-    /// image on their projected extent and moves as close as they allow.
-    fn refine(&mut self, aspect: f32, pts: &[Vec3]) {
-        if pts.is_empty() {
-            return;
+        let d = cam.fit_distance(aspect, pts.iter().copied());
+        if d.is_finite() && d > floor {
+            cam.radius = d;
         }
-        let floor = self.radius * 1e-3;
-        for _ in 0..2 {
-            let (right, up, fwd) = self.basis();
-            let eye = self.eye();
-            let (mut lo, mut hi) = (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY));
-            for &p in pts {
-                let q = p - eye;
-                let z = q.dot(fwd).max(floor);
-                let s = Vec2::new(q.dot(right) / z, q.dot(up) / z);
-                (lo, hi) = (lo.min(s), hi.max(s));
-            }
-            let mid = (lo + hi) * 0.5;
-            if mid.is_finite() {
-                self.look_at += self.radius * (mid.x * right + mid.y * up);
-            }
-            let d = self.fit_distance(aspect, pts.iter().copied());
-            if d.is_finite() && d > floor {
-                self.radius = d;
-            }
-        }
-    }
-
-    /// The eye position.
-    pub fn eye(&self) -> Vec3 {
-        let (st, ct) = self.theta.sin_cos();
-        let (sp, cp) = self.phi.sin_cos();
-        self.look_at + self.radius * Vec3::new(ct * cp, st, ct * sp)
-    }
-
-    /// Right, up and forward unit vectors of the view.
-    fn basis(&self) -> (Vec3, Vec3, Vec3) {
-        let (st, ct) = self.theta.sin_cos();
-        let (sp, cp) = self.phi.sin_cos();
-        let fwd = -Vec3::new(ct * cp, st, ct * sp).normalize_or(Vec3::NEG_Z);
-        let world_up = if fwd.y.abs() > 0.999 { Vec3::new(-cp, 0.0, -sp) * fwd.y.signum() } else { Vec3::Y };
-        let right = fwd.cross(world_up).normalize_or(Vec3::X);
-        let up = right.cross(fwd);
-        (right, up, fwd)
     }
 }
 
@@ -224,7 +138,7 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
             .iter()
             .fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
         let mut cam = Camera::fit_aspect(b.unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5))), aspect);
-        cam.refine(aspect, &pts);
+        refine(&mut cam, aspect, &pts);
         cam
     });
     let view = View::new(&camera, r.w, r.h);
@@ -318,7 +232,7 @@ struct View {
 
 impl View {
     fn new(cam: &Camera, w: usize, h: usize) -> View {
-        let (right, up, fwd) = cam.basis();
+        let (right, up, fwd) = preview_basis(cam);
         let fov = cam.fov_deg.clamp(1.0, 170.0).to_radians();
         View {
             eye: cam.eye(),

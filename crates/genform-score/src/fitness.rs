@@ -96,7 +96,15 @@ pub struct Fitness {
 impl Default for Fitness {
     /// The spaceship experiment's constants (reference §1.9).
     fn default() -> Self {
-        Fitness { form: Form::Paper, good: 2.0, bad: 15.0, overlap: 1.0, length: 0.1, length_from: 4.0, length_to: 100.0 }
+        Fitness {
+            form: Form::Paper,
+            good: 2.0,
+            bad: 15.0,
+            overlap: 1.0,
+            length: 0.1,
+            length_from: 4.0,
+            length_to: 100.0,
+        }
     }
 }
 
@@ -174,7 +182,14 @@ mod tests {
     #[test]
     fn separate_overlap_and_image_forms() {
         let c = Counts { good: 30.0, bad: 30.0, overlap: 12.0, outside: 0.0, target: 60.0 };
-        let sep = Fitness { form: Form::SeparateOverlap, good: 1.0, bad: 1.0, overlap: 1.0, length: 0.0, ..Fitness::default() };
+        let sep = Fitness {
+            form: Form::SeparateOverlap,
+            good: 1.0,
+            bad: 1.0,
+            overlap: 1.0,
+            length: 0.0,
+            ..Fitness::default()
+        };
         // S(0,60,30)=0.5; S(0,180,30)=S(t=1/6); S(0,60,12)=S(t=0.2)
         let st = |t: f64| t * t * t * (t * (6.0 * t - 15.0) + 10.0);
         assert!(close(sep.eval(&c, 1), 0.5 - st(1.0 / 6.0) - st(0.2)));

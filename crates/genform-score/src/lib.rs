@@ -5,5 +5,22 @@
 #![warn(missing_docs)]
 
 pub mod fitness;
+pub mod image;
+
+mod bits;
+pub mod error;
+pub mod grid;
+pub mod target;
+pub mod volume;
+pub mod voxel_set;
+pub mod voxelize;
 
 pub use fitness::{Counts, Fitness, Form, smootherstep};
+
+pub use error::ScoreError;
+pub use grid::{Grid, MAX_VOXELS};
+pub use image::{Coverage, ImageError, ImageScorer, ImageScratch, ImageTarget, PngMode};
+pub use target::TargetReport;
+pub use volume::{VolumeScorer, VolumeTarget};
+pub use voxel_set::VoxelSet;
+pub use voxelize::{VolumeScratch, Voxelized};

@@ -198,7 +198,8 @@ pub(crate) fn compile(
     }
 
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
-    let grammar = ShapeGrammar { name, graph, rules: codes, meshes, tags: g.tags, limits, file: file.clone() };
+    let check = crate::genome_check::GenomeCheck::new(&graph);
+    let grammar = ShapeGrammar { name, graph, rules: codes, meshes, tags: g.tags, limits, file: file.clone(), check };
     Ok((grammar, finish(file, Vec::new(), warnings)))
 }
 

@@ -24,11 +24,16 @@
 mod ast;
 mod codegen;
 mod compile;
+mod express;
+mod fast_expr;
+mod genome_check;
 mod interp;
 mod lexer;
 mod parser;
 mod program;
 mod sample;
+mod scope;
+mod scratch;
 
 use genform_core::{
     Diagnostics, ExpressError, Generator, GeneratorGraph, Genome, Limits, Mesh, Rng, Sampled, Scene, SourceFile,
@@ -64,6 +69,8 @@ pub struct ShapeGrammar {
     tags: Vec<String>,
     limits: Limits,
     file: SourceFile,
+    /// Tables for the fast genome check of `express`, built from `graph`.
+    check: genome_check::GenomeCheck,
 }
 
 impl ShapeGrammar {
@@ -84,7 +91,7 @@ impl Generator for ShapeGrammar {
     }
 
     fn express(&self, genome: &Genome, limits: &Limits, scene: &mut Scene) -> Result<(), ExpressError> {
-        interp::express(self, genome, limits, scene)
+        express::express(self, genome, limits, scene)
     }
 
     /// Execution-driven: runs the grammar and decides each link the first

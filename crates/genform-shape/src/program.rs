@@ -4,6 +4,7 @@
 //! keeps all its state in explicit stacks and never recurses on the Rust
 //! stack, however deep a derivation goes.
 
+use crate::fast_expr::Fast;
 use genform_core::Span;
 use genform_core::expr::Program;
 
@@ -11,10 +12,25 @@ use genform_core::expr::Program;
 #[derive(Clone, Debug)]
 pub(crate) struct Expr {
     pub prog: Program,
+    /// How the interpreter evaluates it: directly, or by running `prog`.
+    pub fast: Fast,
+    /// Whether the program is run and reads the scope size (`sx`, `sy`,
+    /// `sz`), which the interpreter then copies into the env first.
+    pub needs_size: bool,
     /// `(env index, local slot)` pairs to fill before evaluating.
     pub has: Vec<(u32, u32)>,
     /// Where it is written (for runtime error messages).
     pub span: Span,
+}
+
+impl Expr {
+    /// Wraps a compiled program, classifying it for the interpreter.
+    pub fn new(prog: Program, has: Vec<(u32, u32)>, span: Span) -> Expr {
+        let fast = if has.is_empty() { Fast::of(&prog) } else { Fast::Run };
+        let size = ENV_SX as u32..ENV_SX as u32 + 3;
+        let needs_size = matches!(fast, Fast::Run) && prog.loads().any(|i| size.contains(&i));
+        Expr { prog, fast, needs_size, has, span }
+    }
 }
 
 /// A primitive to emit.
@@ -103,6 +119,8 @@ pub(crate) struct SlotCode {
 pub(crate) struct RuleCode {
     pub code: Vec<Op>,
     pub exprs: Vec<Expr>,
+    /// `exprs[i].fast`, densely packed for the interpreter's hot path.
+    pub fast: Vec<Fast>,
     /// Jump tables of `alt`s.
     pub tables: Vec<Vec<u32>>,
     /// `(size expression, relative)` of split pieces.

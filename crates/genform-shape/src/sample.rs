@@ -9,8 +9,9 @@
 //! second pass of a `mirror`) keeps its first decision.
 
 use crate::ShapeGrammar;
-use crate::interp::{Interp, Mode, Stop};
+use crate::interp::{self, Mode, Stop};
 use crate::program::SlotCode;
+use crate::scratch::with_scratch;
 use genform_core::genome::{GenePos, Link};
 use genform_core::{ExpressError, Genome, LimitKind, Limits, Primitive, Rng, Sampled};
 use glam::Affine3A;
@@ -102,15 +103,13 @@ pub(crate) fn sample(g: &ShapeGrammar, rng: &mut Rng, limits: &Limits) -> Result
     if limits.max_genes == 0 {
         mode.truncated = Some(LimitKind::Genes);
     }
-    let mut it = Interp::new(g, limits, mode);
-    let res = it.run();
-    let mut mode = it.mode;
+    let (res, mut mode) = with_scratch(|scratch| interp::run(g, limits, mode, &mut scratch.stacks));
     match res {
         Ok(()) => {}
         Err(Stop::Truncate(kind)) => {
             mode.truncated.get_or_insert(kind);
         }
-        Err(Stop::Error(e)) => return Err(e),
+        Err(Stop::Error(e)) => return Err(*e),
     }
     Ok(Sampled { genome: mode.genome, truncated: mode.truncated })
 }

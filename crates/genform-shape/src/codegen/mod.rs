@@ -360,6 +360,7 @@ impl<'a> SymbolCx<'a> {
         };
         let code = RuleCode {
             code: self.code,
+            fast: self.exprs.iter().map(|e| e.fast).collect(),
             exprs: self.exprs,
             tables: self.tables,
             pieces: self.pieces,
@@ -403,7 +404,7 @@ impl<'a> SymbolCx<'a> {
                 }
             }
         }
-        self.exprs.push(Expr { prog, has, span: e.span() });
+        self.exprs.push(Expr::new(prog, has, e.span()));
         (self.exprs.len() - 1) as u32
     }
 
@@ -416,7 +417,7 @@ impl<'a> SymbolCx<'a> {
                 genform_core::expr::compile(&ast, &IndexScope { name, idx }).ok()
             })
             .unwrap_or_else(|| self.g.zero.clone());
-        self.exprs.push(Expr { prog, has: Vec::new(), span });
+        self.exprs.push(Expr::new(prog, Vec::new(), span));
         (self.exprs.len() - 1) as u32
     }
 

@@ -1,0 +1,166 @@
+//! Run reports of `genform evolve`: the per-generation statistics table,
+//! the fitness plot and the gallery of the best individuals.
+
+use genform_core::Scene;
+use genform_export::plot::{Chart, Series, Tile, charts_svg, encode_png_rgb, gallery_rgb};
+use genform_export::{Camera, RenderOptions};
+use std::fmt::Write as _;
+
+/// One generation's line of `stats.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// Generation number (0 = the initial population).
+    pub generation: usize,
+    /// Evaluations so far.
+    pub evaluations: u64,
+    /// Wall-clock seconds since the start (not deterministic).
+    pub seconds: f64,
+    /// Best fitness of the population.
+    pub max: f64,
+    /// Mean fitness over valid individuals.
+    pub avg: f64,
+    /// Worst valid fitness.
+    pub min: f64,
+    /// Individuals that could not be expressed.
+    pub invalid: usize,
+    /// Seconds spent evaluating this generation (not deterministic).
+    pub eval_seconds: f64,
+    /// Seconds spent reproducing this generation (not deterministic).
+    pub reproduction_seconds: f64,
+    /// Crossover retries used this generation.
+    pub crossover_retries: u64,
+    /// Shortest genome.
+    pub len_min: usize,
+    /// Mean genome length.
+    pub len_avg: f64,
+    /// Longest genome.
+    pub len_max: usize,
+}
+
+/// Column names of `stats.csv`, in order.
+pub const CSV_HEADER: &str = "generation,evaluations,seconds,max_fitness,avg_fitness,min_fitness,invalid,eval_seconds,reproduction_seconds,crossover_retries,min_length,avg_length,max_length";
+
+/// A float in CSV: shortest round-trip form, so identical runs give
+/// identical text.
+fn num(v: f64) -> String {
+    if v.is_finite() { format!("{v}") } else { String::new() }
+}
+
+/// The whole `stats.csv` text.
+pub fn stats_csv(rows: &[Row]) -> String {
+    let mut s = String::from(CSV_HEADER);
+    s.push('\n');
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{:.3},{},{},{},{},{:.6},{:.6},{},{},{},{}",
+            r.generation,
+            r.evaluations,
+            r.seconds,
+            num(r.max),
+            num(r.avg),
+            num(r.min),
+            r.invalid,
+            r.eval_seconds,
+            r.reproduction_seconds,
+            r.crossover_retries,
+            r.len_min,
+            num(r.len_avg),
+            r.len_max
+        );
+    }
+    s
+}
+
+/// `fitness.svg`: max/avg/min fitness over generations and over seconds.
+pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
+    let series = |x: &dyn Fn(&Row) -> f64| {
+        [
+            ("max", "#d62728", (|r: &Row| r.max) as fn(&Row) -> f64),
+            ("avg", "#2ca02c", |r| r.avg),
+            ("min", "#1f77b4", |r| r.min),
+        ]
+        .into_iter()
+        .map(|(name, color, y)| Series {
+            name: name.into(),
+            color: color.into(),
+            points: rows.iter().map(|r| (x(r), y(r))).collect(),
+        })
+        .collect::<Vec<_>>()
+    };
+    charts_svg(&[
+        Chart {
+            title: format!("{title}: fitness by generation"),
+            x_label: "generation".into(),
+            y_label: "fitness".into(),
+            series: series(&|r| r.generation as f64),
+        },
+        Chart {
+            title: "fitness by time".into(),
+            x_label: "seconds".into(),
+            y_label: "fitness".into(),
+            series: series(&|r| r.seconds),
+        },
+    ])
+}
+
+/// `gallery.png`: the given scenes in a 4-column grid of 256×256 previews,
+/// each captioned with its rank and fitness.
+pub fn gallery_png(scenes: &[(Scene, f64)], camera: Option<Camera>) -> Vec<u8> {
+    let tiles: Vec<Tile> = scenes
+        .iter()
+        .enumerate()
+        .map(|(i, (scene, fitness))| {
+            let opts = RenderOptions { width: 256, height: 256, camera, ..RenderOptions::default() };
+            let (rgb, width, height) = genform_export::render_rgb(scene, &opts);
+            Tile { rgb, width, height, caption: format!("#{} {:.4}", i + 1, fitness) }
+        })
+        .collect();
+    let (rgb, w, h) = gallery_rgb(&tiles, 4);
+    encode_png_rgb(&rgb, w, h)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(g: usize, max: f64) -> Row {
+        Row {
+            generation: g,
+            evaluations: 10 * g as u64,
+            seconds: 0.5 * g as f64,
+            max,
+            avg: max - 1.0,
+            min: max - 2.0,
+            invalid: 0,
+            eval_seconds: 0.1,
+            reproduction_seconds: 0.01,
+            crossover_retries: 2,
+            len_min: 4,
+            len_avg: 10.5,
+            len_max: 20,
+        }
+    }
+
+    #[test]
+    fn csv_has_header_and_one_line_per_generation() {
+        let csv = stats_csv(&[row(0, -3.5), row(1, 0.1)]);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(lines.len(), 3);
+        assert_eq!(lines[0], CSV_HEADER);
+        assert_eq!(lines[0].split(',').count(), lines[2].split(',').count());
+        assert!(lines[2].starts_with("1,10,0.500,0.1,-0.9,-1.9,0,"));
+    }
+
+    #[test]
+    fn non_finite_fitness_is_an_empty_cell() {
+        let csv = stats_csv(&[row(0, f64::NEG_INFINITY)]);
+        assert!(csv.lines().nth(1).unwrap().contains(",,"));
+    }
+
+    #[test]
+    fn plot_has_two_panels() {
+        let svg = fitness_svg("ship", &[row(0, -1.0), row(1, 0.5)]);
+        assert_eq!(svg.matches("<polyline").count(), 6);
+    }
+}

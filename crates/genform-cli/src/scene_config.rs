@@ -1,0 +1,351 @@
+//! Scene configs: the TOML files `genform evolve` reads (a grammar, the
+//! targets to steer it towards, the fitness constants and the optimizer's
+//! settings). Parsing is declarative (serde, unknown keys rejected);
+//! [`SceneConfig::load`] then resolves paths against the file's folder and
+//! checks values, so every mistake is reported with the file name and the
+//! key that is wrong.
+
+use anyhow::{Context, Result, bail};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+/// The whole file, as written.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneConfig {
+    /// Grammar file, relative to the config.
+    pub grammar: PathBuf,
+    /// A one-line description, shown in `run.json` and the plots.
+    #[serde(default)]
+    pub description: String,
+    /// The voxel target, if any.
+    #[serde(default)]
+    pub volume: Option<VolumeConfig>,
+    /// Image targets (any number, each with its camera).
+    #[serde(default)]
+    pub image: Vec<ImageConfig>,
+    /// Fitness constants.
+    #[serde(default)]
+    pub fitness: FitnessConfig,
+    /// Genetic-algorithm settings (see `genform_evolve::GaConfig`).
+    #[serde(default)]
+    pub ga: genform_evolve::GaConfig,
+    /// When to stop (command-line flags override it).
+    #[serde(default)]
+    pub run: RunConfig,
+    /// Derivation limits overriding the grammar's own.
+    #[serde(default)]
+    pub limits: LimitsConfig,
+}
+
+/// `[volume]`: a voxel grid and the volumes to fill or avoid.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VolumeConfig {
+    /// Grid corner with the smallest coordinates.
+    pub min: [f32; 3],
+    /// Grid corner with the largest coordinates.
+    pub max: [f32; 3],
+    /// Voxels along x, y and z.
+    pub voxels: [u32; 3],
+    /// The target volumes (at least one).
+    pub target: Vec<VolumeTargetConfig>,
+}
+
+/// `[[volume.target]]`: one volume, from a mesh or a grammar with a fixed genome.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VolumeTargetConfig {
+    /// A mesh file (.obj, .stl, .glb), voxelized robustly.
+    #[serde(default)]
+    pub mesh: Option<PathBuf>,
+    /// A grammar whose fixed genome (`genome`) makes the target.
+    #[serde(default)]
+    pub grammar: Option<PathBuf>,
+    /// The genome for `grammar` (JSON, as `genform sample --genome-out` writes).
+    #[serde(default)]
+    pub genome: Option<PathBuf>,
+    /// Weight of each covered target voxel (w_i; negative = stay out).
+    #[serde(default = "one")]
+    pub fill: f64,
+    /// Weight of each model voxel outside this target (w̃_i).
+    #[serde(default = "one")]
+    pub avoid: f64,
+}
+
+/// `[[image]]`: a silhouette target seen through a camera.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageConfig {
+    /// Target picture: a PNG (dark = target) or a PFM float weight image.
+    pub target: PathBuf,
+    /// How a PNG is read: "dark" (dark = target, rest = avoid) or "signed"
+    /// (grey 128 = don't care, white = +1, black = −1).
+    #[serde(default = "dark")]
+    pub mode: String,
+    /// Rendering width in pixels (must match the target).
+    #[serde(default = "width")]
+    pub width: u32,
+    /// Rendering height in pixels (must match the target).
+    #[serde(default = "height")]
+    pub height: u32,
+    /// The orbit camera.
+    pub camera: CameraConfig,
+}
+
+/// An orbit camera: eye = look_at + radius·(cosθ cosφ, sinθ, cosθ sinφ).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraConfig {
+    /// Vertical field of view in degrees.
+    #[serde(default = "fov")]
+    pub fov: f32,
+    /// Azimuth in radians.
+    pub phi: f32,
+    /// Elevation in radians.
+    pub theta: f32,
+    /// Distance from the look-at point.
+    pub radius: f32,
+    /// The point at the image centre.
+    pub look_at: [f32; 3],
+}
+
+/// `[fitness]`: the constants of the fitness formula.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FitnessConfig {
+    /// "paper", "separate-overlap", "image" or "linear".
+    #[serde(default)]
+    pub form: Option<String>,
+    /// Weight of covered target (α).
+    #[serde(default = "two")]
+    pub good: f64,
+    /// Weight of covered non-target (β).
+    #[serde(default = "fifteen")]
+    pub bad: f64,
+    /// Weight of self-overlap.
+    #[serde(default = "one")]
+    pub overlap: f64,
+    /// Weight of the genome-length penalty (γ).
+    #[serde(default = "tenth")]
+    pub length: f64,
+    /// Lengths over which the penalty rises from 0 to full; defaults to
+    /// the GA's length bounds.
+    #[serde(default)]
+    pub length_range: Option<[f64; 2]>,
+}
+
+impl Default for FitnessConfig {
+    fn default() -> Self {
+        FitnessConfig { form: None, good: 2.0, bad: 15.0, overlap: 1.0, length: 0.1, length_range: None }
+    }
+}
+
+/// `[run]`: stopping rules.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunConfig {
+    /// Stop after this many generations.
+    #[serde(default)]
+    pub generations: Option<usize>,
+    /// Stop after this wall-clock time, e.g. "30s", "2m", "1h".
+    #[serde(default)]
+    pub budget: Option<String>,
+    /// Stop after this many evaluations.
+    #[serde(default)]
+    pub evaluations: Option<u64>,
+}
+
+/// `[limits]`: derivation limits overriding the grammar's.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitsConfig {
+    /// Most genes.
+    #[serde(default)]
+    pub genes: Option<usize>,
+    /// Deepest gene.
+    #[serde(default)]
+    pub depth: Option<usize>,
+    /// Most primitives.
+    #[serde(default)]
+    pub primitives: Option<usize>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+fn two() -> f64 {
+    2.0
+}
+fn fifteen() -> f64 {
+    15.0
+}
+fn tenth() -> f64 {
+    0.1
+}
+fn fov() -> f32 {
+    60.0
+}
+fn width() -> u32 {
+    800
+}
+fn height() -> u32 {
+    600
+}
+fn dark() -> String {
+    "dark".into()
+}
+
+/// A loaded config with every path resolved against its folder.
+#[derive(Clone, Debug)]
+pub struct LoadedScene {
+    /// The config file.
+    pub path: PathBuf,
+    /// Its contents (paths absolute or relative to the working folder).
+    pub config: SceneConfig,
+}
+
+impl SceneConfig {
+    /// Reads, parses and checks the config at `path`.
+    pub fn load(path: &Path) -> Result<LoadedScene> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
+        let mut config: SceneConfig = toml::from_str(&text).map_err(|e| {
+            let at = e
+                .span()
+                .map(|s| {
+                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
+                    let col = s.start - text[..s.start.min(text.len())].rfind('\n').map_or(0, |i| i + 1) + 1;
+                    format!(":{line}:{col}")
+                })
+                .unwrap_or_default();
+            anyhow::anyhow!("{}{at}: {}", path.display(), e.message())
+        })?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        config.resolve(base);
+        config.check().with_context(|| format!("in scene {}", path.display()))?;
+        Ok(LoadedScene { path: path.to_path_buf(), config })
+    }
+
+    fn resolve(&mut self, base: &Path) {
+        let fix = |p: &mut PathBuf| *p = base.join(&*p);
+        fix(&mut self.grammar);
+        if let Some(v) = &mut self.volume {
+            for t in &mut v.target {
+                for p in [&mut t.mesh, &mut t.grammar, &mut t.genome].into_iter().flatten() {
+                    fix(p);
+                }
+            }
+        }
+        for i in &mut self.image {
+            fix(&mut i.target);
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        if self.volume.is_none() && self.image.is_empty() {
+            bail!("no target: add a [volume] section or an [[image]] section");
+        }
+        if let Some(v) = &self.volume {
+            if v.target.is_empty() {
+                bail!("[volume] needs at least one [[volume.target]]");
+            }
+            for (i, t) in v.target.iter().enumerate() {
+                match (&t.mesh, &t.grammar, &t.genome) {
+                    (Some(_), None, None) | (None, Some(_), Some(_)) => {}
+                    _ => bail!(
+                        "[[volume.target]] #{}: give either `mesh = \"file.obj\"` or both `grammar` and `genome`",
+                        i + 1
+                    ),
+                }
+                if !t.fill.is_finite() || !t.avoid.is_finite() {
+                    bail!("[[volume.target]] #{}: `fill` and `avoid` must be finite numbers", i + 1);
+                }
+            }
+        }
+        for (i, img) in self.image.iter().enumerate() {
+            if genform_score::PngMode::from_name(&img.mode).is_none() {
+                bail!("[[image]] #{}: mode `{}` is unknown; use \"dark\" or \"signed\"", i + 1, img.mode);
+            }
+        }
+        if let Some(form) = &self.fitness.form
+            && genform_score::Form::from_name(form).is_none()
+        {
+            let names: Vec<&str> = genform_score::Form::NAMES.iter().map(|(n, _)| *n).collect();
+            bail!("[fitness] form `{form}` is unknown; use one of: {}", names.join(", "));
+        }
+        for (k, v) in [
+            ("good", self.fitness.good),
+            ("bad", self.fitness.bad),
+            ("overlap", self.fitness.overlap),
+            ("length", self.fitness.length),
+        ] {
+            if !v.is_finite() {
+                bail!("[fitness] `{k}` must be a finite number");
+            }
+        }
+        if let Some(b) = &self.run.budget {
+            parse_duration(b).with_context(|| "[run] budget")?;
+        }
+        self.ga.validate().map_err(|e| anyhow::anyhow!("[ga]: {e}"))?;
+        Ok(())
+    }
+
+    /// The fitness function: the configured form, or "image" for image-only
+    /// scenes and "paper" otherwise; the length range defaults to the GA's
+    /// length bounds.
+    pub fn fitness(&self) -> genform_score::Fitness {
+        let f = &self.fitness;
+        let form = f.form.as_deref().and_then(genform_score::Form::from_name).unwrap_or(if self.volume.is_none() {
+            genform_score::Form::Image
+        } else {
+            genform_score::Form::Paper
+        });
+        let [from, to] = f.length_range.unwrap_or([self.ga.min_length as f64, self.ga.max_length as f64]);
+        genform_score::Fitness {
+            form,
+            good: f.good,
+            bad: f.bad,
+            overlap: f.overlap,
+            length: f.length,
+            length_from: from,
+            length_to: to,
+        }
+    }
+}
+
+/// Parses "30s", "2m", "1.5h", "500ms" or a bare number of seconds.
+pub fn parse_duration(s: &str) -> Result<Duration> {
+    let s = s.trim();
+    let split = s.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(s.len());
+    let (num, unit) = s.split_at(split);
+    let v: f64 = num.trim().parse().with_context(|| format!("`{s}` is not a duration such as 30s, 5m or 1h"))?;
+    let secs = match unit.trim() {
+        "" | "s" | "sec" => v,
+        "ms" => v / 1000.0,
+        "m" | "min" => v * 60.0,
+        "h" => v * 3600.0,
+        u => bail!("unknown time unit `{u}` in `{s}`; use ms, s, m or h"),
+    };
+    if !(secs.is_finite() && secs > 0.0 && secs < 1e9) {
+        bail!("duration `{s}` must be positive");
+    }
+    Ok(Duration::from_secs_f64(secs))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations() {
+        assert_eq!(parse_duration("30s").unwrap(), Duration::from_secs(30));
+        assert_eq!(parse_duration("2m").unwrap(), Duration::from_secs(120));
+        assert_eq!(parse_duration("1.5h").unwrap(), Duration::from_secs(5400));
+        assert_eq!(parse_duration("250ms").unwrap(), Duration::from_millis(250));
+        assert_eq!(parse_duration("12").unwrap(), Duration::from_secs(12));
+        assert!(parse_duration("-3s").is_err());
+        assert!(parse_duration("3 fortnights").is_err());
+        assert!(parse_duration("fast").is_err());
+    }
+}

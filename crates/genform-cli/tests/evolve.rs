@@ -1,0 +1,184 @@
+//! End-to-end tests of `genform evolve`: the real binary on small versions
+//! of the shipped scenes, in a temporary folder.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+fn show(out: &Output) -> String {
+    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr))
+}
+
+fn genform(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_genform")).current_dir(dir).args(args).output().unwrap()
+}
+
+fn ok(dir: &Path, args: &[&str]) -> Output {
+    let out = genform(dir, args);
+    assert!(out.status.success(), "genform {args:?} failed\n{}", show(&out));
+    out
+}
+
+/// A shipped scene shrunk for tests: smaller grid, population and run.
+fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let src = root().join("examples/scenes").join(name);
+    let mut text = std::fs::read_to_string(&src).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name} has no `{from}`");
+        text = text.replace(from, to);
+    }
+    // Paths in the scene are relative to its folder: point them back there.
+    let scenes = root().join("examples/scenes");
+    text = text.replace("\"../shape/", &format!("\"{}/../shape/", scenes.display()));
+    text = text.replace("\"targets/", &format!("\"{}/targets/", scenes.display()));
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn ship(dir: &Path) -> PathBuf {
+    small_scene(
+        dir,
+        "spaceship_volume.toml",
+        &[
+            ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
+            ("population = 150", "population = 24"),
+            ("elitism = 30", "elitism = 4"),
+            ("initial_length = [50, 50]", "initial_length = [10, 30]"),
+            ("generations = 130", "generations = 6"),
+        ],
+    )
+}
+
+fn fitness_columns(csv: &str) -> Vec<String> {
+    // generation, evaluations, then max/avg/min fitness, invalid, and the
+    // lengths: everything but the timing columns.
+    csv.lines()
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            [&c[0..2], &c[3..7], &c[9..]].concat().join(",")
+        })
+        .collect()
+}
+
+#[test]
+fn evolve_writes_every_result_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    ok(tmp.path(), &["evolve", scene.to_str().unwrap(), "--seed", "3", "--out", "run", "--quiet"]);
+    let run = tmp.path().join("run");
+    for f in
+        ["best.glb", "best.obj", "best.png", "best-genome.json", "stats.csv", "fitness.svg", "gallery.png", "run.json"]
+    {
+        let meta = std::fs::metadata(run.join(f)).unwrap_or_else(|_| panic!("{f} missing"));
+        assert!(meta.len() > 0, "{f} is empty");
+    }
+    let csv = std::fs::read_to_string(run.join("stats.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 7, "header + generations 0..=6:\n{csv}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+    assert_eq!(json["generations"], 6);
+    assert_eq!(json["stopped_by"], "generations");
+    assert_eq!(json["seed"], 3);
+    let best = json["best_fitness"].as_f64().unwrap();
+    let last_max: f64 = csv.lines().last().unwrap().split(',').nth(3).unwrap().parse().unwrap();
+    assert_eq!(best, last_max, "with elitism the last generation holds the best individual");
+    // The saved genome replays into the saved model.
+    let ship_sg = root().join("examples/shape/spaceship.sg");
+    ok(tmp.path(), &["derive", ship_sg.to_str().unwrap(), "--genome", "run/best-genome.json", "--out", "replay.obj"]);
+    assert_eq!(std::fs::read(run.join("best.obj")).unwrap(), std::fs::read(tmp.path().join("replay.obj")).unwrap());
+}
+
+#[test]
+fn same_seed_same_results_at_any_thread_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let s = scene.to_str().unwrap();
+    ok(tmp.path(), &["evolve", s, "--seed", "9", "--threads", "1", "--out", "one", "-q"]);
+    ok(tmp.path(), &["evolve", s, "--seed", "9", "--threads", "3", "--out", "three", "-q"]);
+    ok(tmp.path(), &["evolve", s, "--seed", "10", "--threads", "3", "--out", "other", "-q"]);
+    let read = |d: &str, f: &str| std::fs::read_to_string(tmp.path().join(d).join(f)).unwrap();
+    assert_eq!(fitness_columns(&read("one", "stats.csv")), fitness_columns(&read("three", "stats.csv")));
+    assert_eq!(read("one", "best-genome.json"), read("three", "best-genome.json"));
+    assert_ne!(read("one", "best-genome.json"), read("other", "best-genome.json"), "the seed matters");
+}
+
+#[test]
+fn image_scenes_write_a_silhouette() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = small_scene(
+        tmp.path(),
+        "city_skyline.toml",
+        &[
+            ("population = 100", "population = 12"),
+            ("elitism = 30", "elitism = 2"),
+            ("generations = 100", "generations = 2"),
+        ],
+    );
+    ok(tmp.path(), &["evolve", scene.to_str().unwrap(), "--out", "run", "-q"]);
+    assert!(tmp.path().join("run/best-silhouette.png").exists());
+}
+
+#[test]
+fn random_search_runs_on_the_same_scene() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    ok(
+        tmp.path(),
+        &["evolve", scene.to_str().unwrap(), "--algorithm", "random", "--evaluations", "60", "--out", "r", "-q"],
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("r/run.json")).unwrap()).unwrap();
+    assert_eq!(json["algorithm"], "random");
+    assert!(json["evaluations"].as_u64().unwrap() >= 60);
+}
+
+#[test]
+fn config_mistakes_name_the_file_and_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("population = 150", "populaton = 150")]);
+    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("spaceship_volume.toml:") && err.contains("populaton"), "{err}");
+
+    let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("elitism = 30", "elitism = 150")]);
+    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("elitism"), "{err}");
+
+    let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("targets/spaceship_target.obj", "targets/nope.obj")]);
+    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("nope.obj"), "{err}");
+}
+
+#[test]
+fn ctrl_c_ends_the_run_and_writes_the_results() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let child = Command::new(env!("CARGO_BIN_EXE_genform"))
+        .current_dir(tmp.path())
+        .args(["evolve", scene.to_str().unwrap(), "--budget", "10m", "--out", "run", "-q"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the run has started generating (the first checkpoint is
+    // not guaranteed, so just give it time to load and run a generation).
+    std::thread::sleep(Duration::from_millis(1500));
+    let started = Instant::now();
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "Ctrl-C should end the run cleanly\n{}", show(&out));
+    assert!(started.elapsed() < Duration::from_secs(30), "the run must stop soon after Ctrl-C");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("run/run.json")).unwrap()).unwrap();
+    assert_eq!(json["stopped_by"], "interrupted");
+    assert!(tmp.path().join("run/best-genome.json").exists());
+}

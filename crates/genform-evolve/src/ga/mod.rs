@@ -1,0 +1,208 @@
+//! The ShapeGenetics genetic algorithm (paper §3.1, reference §1.3).
+//!
+//! Generation loop: sort best first; copy the `elitism` best with their
+//! cached fitness (the reference re-evaluated them every generation); fill
+//! the rest pair by pair, each pair from its own random stream
+//! `(seed, PAIR_STREAM, generation, pair)`: select two parents; with
+//! probability `mutation_rate` mutate a copy of each, otherwise cross them
+//! over; keep children within the length bounds, retrying with new parents
+//! up to five times and then copying the parents. Evaluate only the new
+//! children. Pairs and evaluations run on the current rayon pool and are
+//! collected in index order, so a seed gives the same populations and
+//! statistics at any thread count.
+
+mod reproduce;
+#[cfg(test)]
+mod tests;
+
+use crate::config::{ConfigError, GaConfig};
+use crate::evaluate::{Child, evaluate};
+use crate::objective::Objective;
+use crate::operators::initial;
+use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
+use crate::selection::Selector;
+use crate::stats::{GenerationStats, ReproductionCounts};
+use genform_core::{GeneratorGraph, Limits, Rng};
+use rayon::prelude::*;
+use reproduce::{Context, PairOutput, reproduce_pair};
+use std::time::{Duration, Instant};
+
+/// Stream id of the initial individuals: `(seed, INIT_STREAM, index)`.
+pub const INIT_STREAM: u64 = 0x4741_494e_4954; // "GAINIT"
+/// Stream id of reproduction: `(seed, PAIR_STREAM, generation, pair)`.
+pub const PAIR_STREAM: u64 = 0x4741_5041_4952; // "GAPAIR"
+
+/// The genetic algorithm over one generator graph.
+#[derive(Clone, Debug)]
+pub struct Ga {
+    graph: GeneratorGraph,
+    /// The caller's limits with `max_genes` below `max_length`, so growth
+    /// never produces a child the length bound would drop.
+    limits: Limits,
+    config: GaConfig,
+    seed: u64,
+    population: Vec<Individual>,
+    generation: usize,
+    evaluations: u64,
+    best: Option<Individual>,
+}
+
+impl Ga {
+    /// A GA with no population yet (see [`Ga::initialize`]). The graph must
+    /// pass [`GeneratorGraph::check`] (compiled grammars do).
+    pub fn new(graph: &GeneratorGraph, limits: &Limits, config: GaConfig, seed: u64) -> Result<Self, ConfigError> {
+        config.validate()?;
+        let limits = Limits { max_genes: limits.max_genes.min(config.max_length - 1), ..*limits };
+        Ok(Ga {
+            graph: graph.clone(),
+            limits,
+            config,
+            seed,
+            population: Vec::new(),
+            generation: 0,
+            evaluations: 0,
+            best: None,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &GaConfig {
+        &self.config
+    }
+
+    /// The limits operators work under (`max_genes` capped below `max_length`).
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    /// The current population, best first.
+    pub fn population(&self) -> &[Individual] {
+        &self.population
+    }
+
+    /// The best valid individual seen so far (with elitism, the population's first).
+    pub fn best(&self) -> Option<&Individual> {
+        self.best.as_ref()
+    }
+
+    /// Index of the current generation (0 = the initial one).
+    pub fn generation(&self) -> usize {
+        self.generation
+    }
+
+    /// Objective evaluations so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+
+    /// Builds and evaluates generation 0 (discarding any population):
+    /// individual `i` is [`initial`] from stream `(seed, INIT_STREAM, i)`.
+    pub fn initialize<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        let start = Instant::now();
+        let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
+        let mut children: Vec<Child> = (0..self.config.population)
+            .into_par_iter()
+            .map(|i| Child {
+                genome: initial(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64])),
+                fitness: None,
+            })
+            .collect();
+        let reproduction_time = start.elapsed();
+        let (evaluations, eval_time) = evaluate(objective, &mut children);
+        self.population.clear();
+        self.generation = 0;
+        self.evaluations = 0;
+        self.best = None;
+        self.finish(children, evaluations, eval_time, reproduction_time, ReproductionCounts::default())
+    }
+
+    /// Makes the next generation; initializes first if there is no population.
+    pub fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        if self.population.is_empty() {
+            return self.initialize(objective);
+        }
+        let start = Instant::now();
+        let generation = self.generation + 1;
+        let fitness: Vec<f64> = self.population.iter().map(|i| i.fitness).collect();
+        let ctx = Context {
+            graph: &self.graph,
+            limits: &self.limits,
+            bounds: self.config.length_bounds(),
+            config: &self.config,
+            population: &self.population,
+            selectors: [
+                Selector::new(self.config.selection.first, &fitness),
+                Selector::new(self.config.selection.second, &fitness),
+            ],
+        };
+        let wanted = self.config.population - self.config.elitism;
+        let seed = self.seed;
+        let outputs: Vec<PairOutput> = (0..wanted.div_ceil(2))
+            .into_par_iter()
+            .map(|pair| {
+                let mut rng = Rng::stream(seed, &[PAIR_STREAM, generation as u64, pair as u64]);
+                reproduce_pair(&ctx, (wanted - 2 * pair).min(2), &mut rng)
+            })
+            .collect();
+        let mut counts = ReproductionCounts::default();
+        let mut children = Vec::with_capacity(wanted);
+        for out in outputs {
+            counts += out.counts;
+            children.extend(out.children);
+        }
+        let reproduction_time = start.elapsed();
+        let (evaluations, eval_time) = evaluate(objective, &mut children);
+        self.population.truncate(self.config.elitism);
+        self.generation = generation;
+        self.finish(children, evaluations, eval_time, reproduction_time, counts)
+    }
+
+    /// Appends the evaluated children, sorts and summarizes.
+    fn finish(
+        &mut self,
+        children: Vec<Child>,
+        evaluations: u64,
+        eval_time: Duration,
+        reproduction_time: Duration,
+        reproduction: ReproductionCounts,
+    ) -> GenerationStats {
+        self.population.extend(
+            children
+                .into_iter()
+                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
+        );
+        sort_population(&mut self.population);
+        update_best(&mut self.best, &self.population);
+        self.evaluations += evaluations;
+        GenerationStats {
+            evaluations,
+            total_evaluations: self.evaluations,
+            eval_time,
+            reproduction_time,
+            reproduction,
+            ..GenerationStats::of_population(self.generation, &self.population)
+        }
+    }
+}
+
+impl Optimizer for Ga {
+    fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        Ga::step(self, objective)
+    }
+
+    fn population(&self) -> &[Individual] {
+        Ga::population(self)
+    }
+
+    fn best(&self) -> Option<&Individual> {
+        Ga::best(self)
+    }
+
+    fn generation(&self) -> usize {
+        Ga::generation(self)
+    }
+
+    fn evaluations(&self) -> u64 {
+        Ga::evaluations(self)
+    }
+}

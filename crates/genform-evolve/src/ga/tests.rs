@@ -1,0 +1,178 @@
+use super::*;
+use crate::config::SelectionPair;
+use crate::fixtures::{ShipToy, ship};
+use crate::objective::FnObjective;
+use crate::random::RandomSearch;
+use crate::selection::Selection;
+use crate::{RandomConfig, operators::MutationMix};
+use genform_core::Genome;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+const LIMITS: Limits = Limits { max_genes: 10_000, max_depth: 50, max_primitives: 1000 };
+
+fn small() -> GaConfig {
+    GaConfig {
+        population: 30,
+        elitism: 6,
+        initial_length: [10, 30],
+        min_length: 4,
+        max_length: 60,
+        ..GaConfig::default()
+    }
+}
+
+fn ga(config: GaConfig, seed: u64) -> Ga {
+    Ga::new(&ship(), &LIMITS, config, seed).unwrap()
+}
+
+/// Population fingerprint: genomes and fitness bit patterns.
+fn snapshot(ga: &Ga) -> Vec<(Genome, u64)> {
+    ga.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect()
+}
+
+fn fitness_columns(s: &GenerationStats) -> [u64; 6] {
+    [s.max.to_bits(), s.avg.to_bits(), s.min.to_bits(), s.len_avg.to_bits(), s.evaluations, s.invalid as u64]
+}
+
+#[test]
+fn best_fitness_never_drops_with_elitism() {
+    let objective = ShipToy { target: 17 };
+    let mut ga = ga(GaConfig { elitism: 1, ..small() }, 3);
+    let mut last = f64::NEG_INFINITY;
+    for g in 0..25 {
+        let stats = ga.step(&objective);
+        assert_eq!(stats.generation, g);
+        assert!(stats.max >= last, "generation {g}: {} < {last}", stats.max);
+        assert_eq!(ga.best().unwrap().fitness, stats.max);
+        last = stats.max;
+    }
+    assert!(last > ga.population()[29].fitness, "the search makes progress and keeps diversity");
+}
+
+#[test]
+fn same_seed_same_result_at_any_thread_count() {
+    let objective = ShipToy { target: 17 };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut ga = ga(small(), 11);
+            let stats: Vec<_> = (0..6).map(|_| fitness_columns(&ga.step(&objective))).collect();
+            (snapshot(&ga), stats)
+        })
+    };
+    let (pop1, stats1) = run(1);
+    let (pop3, stats3) = run(3);
+    assert_eq!(stats1, stats3);
+    assert!(pop1 == pop3, "populations differ between 1 and 3 threads");
+    let mut other = ga(small(), 12);
+    for _ in 0..6 {
+        other.step(&objective);
+    }
+    assert!(snapshot(&other) != pop1, "another seed gives another population");
+}
+
+#[test]
+fn elites_are_not_re_evaluated() {
+    let calls = AtomicU64::new(0);
+    let objective = FnObjective(|g: &Genome| {
+        calls.fetch_add(1, Ordering::Relaxed);
+        g.len() as f64
+    });
+    let mut ga = ga(small(), 5);
+    let first = ga.step(&objective);
+    assert_eq!(first.evaluations, 30);
+    for _ in 0..5 {
+        let s = ga.step(&objective);
+        // Elites and unchanged parent copies keep their cached fitness.
+        assert_eq!(s.evaluations + s.reproduction.copies, 24);
+        assert_eq!(s.total_evaluations, ga.evaluations());
+    }
+    assert_eq!(calls.load(Ordering::Relaxed), ga.evaluations());
+}
+
+#[test]
+fn children_stay_within_the_length_bounds() {
+    let config = GaConfig { min_length: 8, max_length: 25, initial_length: [8, 20], ..small() };
+    let mut ga = ga(config, 9);
+    let objective = FnObjective(|g: &Genome| g.len() as f64); // pushes towards the upper bound
+    let mut stats = Vec::new();
+    for _ in 0..10 {
+        stats.push(ga.step(&objective));
+        assert!(ga.population().iter().all(|i| (8..25).contains(&i.genome.len())));
+        ga.population().iter().for_each(|i| i.genome.validate(&ship()).unwrap());
+    }
+    let last = stats.last().unwrap();
+    assert_eq!(last.len_max, 24);
+    assert!(stats.iter().map(|s| s.reproduction.crossovers).sum::<u64>() > 0);
+    assert!(stats.iter().map(|s| s.reproduction.mutations.grow + s.reproduction.mutations.cut).sum::<u64>() > 0);
+}
+
+#[test]
+fn invalid_individuals_sort_last_and_stay_out_of_statistics() {
+    // Odd lengths cannot be "expressed".
+    let objective = FnObjective(|g: &Genome| if g.len() % 2 == 1 { f64::NAN } else { -(g.len() as f64) });
+    let mut ga = ga(small(), 2);
+    for _ in 0..5 {
+        let s = ga.step(&objective);
+        let pop = ga.population();
+        let valid = pop.iter().filter(|i| i.is_valid()).count();
+        assert_eq!(s.invalid, pop.len() - valid);
+        assert!(pop[..valid].iter().all(|i| i.is_valid()) && pop[valid..].iter().all(|i| !i.is_valid()));
+        assert!(s.max.is_finite() && s.min.is_finite() && s.avg.is_finite());
+        assert!(ga.best().unwrap().is_valid());
+    }
+    let all_invalid = FnObjective(|_: &Genome| f64::NEG_INFINITY);
+    let mut ga2 = super::Ga::new(&ship(), &LIMITS, small(), 1).unwrap();
+    for _ in 0..3 {
+        let s = ga2.step(&all_invalid);
+        assert_eq!(s.invalid, 30);
+        assert!(s.max.is_nan());
+    }
+    assert!(ga2.best().is_none());
+}
+
+#[test]
+fn ga_beats_random_search_at_equal_evaluations() {
+    let objective = ShipToy { target: 25 };
+    let config = GaConfig { population: 40, elitism: 8, initial_length: [15, 35], ..GaConfig::default() };
+    let (mut ga_wins, runs) = (0, 4);
+    for seed in 0..runs {
+        let mut ga = Ga::new(&ship(), &LIMITS, config.clone(), seed).unwrap();
+        while ga.evaluations() < 1000 {
+            ga.step(&objective);
+        }
+        let mut rs = RandomSearch::new(&ship(), &LIMITS, RandomConfig::like(&config), seed).unwrap();
+        while rs.evaluations() < ga.evaluations() {
+            rs.step(&objective);
+        }
+        let (g, r) = (ga.best().unwrap().fitness, crate::Optimizer::best(&rs).unwrap().fitness);
+        if g > r {
+            ga_wins += 1;
+        }
+    }
+    assert_eq!(ga_wins, runs, "the GA must beat random search in every run");
+}
+
+#[test]
+fn selection_and_mix_settings_are_used() {
+    // Pure alter never changes lengths or structure.
+    let config = GaConfig {
+        mutation_rate: 1.0,
+        mutation: MutationMix { alter: 1.0, grow: 0.0, cut: 0.0 },
+        selection: SelectionPair { first: Selection::Random, second: Selection::Random },
+        ..small()
+    };
+    let mut ga = ga(config, 4);
+    let objective = ShipToy { target: 17 };
+    let lens = |ga: &Ga| {
+        let mut v: Vec<usize> = ga.population().iter().map(|i| i.genome.len()).collect();
+        v.sort();
+        v
+    };
+    ga.step(&objective);
+    let initial = lens(&ga);
+    let s = ga.step(&objective);
+    assert_eq!(s.reproduction.mutations.alter, 24);
+    assert_eq!(s.reproduction.crossovers, 0);
+    assert!(lens(&ga).iter().all(|n| initial.contains(n)));
+}

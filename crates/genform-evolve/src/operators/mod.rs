@@ -1,0 +1,164 @@
+//! Genetic operators on packed derivation-tree genomes (paper §3.1.2–3.1.3).
+//!
+//! Every operator knows only the [`GeneratorGraph`]: which symbols exist,
+//! their parameter distributions and their child slots (target, probability,
+//! max count). Operators keep genomes valid for the graph and within
+//! [`Limits`]; callers that need tighter length bounds pass limits with a
+//! smaller `max_genes` and check [`LengthBounds`] on the result.
+//!
+//! Slot probabilities steer the operators (the reference ignored them, §1.2):
+//! - **mandatory closure**: a gene grown by any operator also gets children in
+//!   every link of its `p = 1` slots, recursively ([`grow_mandatory`]), so
+//!   e.g. `S → Body` is always present. The closure stops at `max_genes` and
+//!   `max_depth`, leaving such links empty (as prior sampling truncates);
+//!   [`grow`] may fill them later.
+//! - [`grow`] picks an empty link with probability ∝ its slot probability
+//!   (never a `p = 0` slot's).
+//! - [`cut`] picks a non-root gene with probability ∝ 1 − p of its slot, so a
+//!   gene in a `p = 1` slot is never cut.
+//! - [`alter`] redraws the parameters of a uniformly chosen gene.
+//! - [`crossover`] exchanges subtrees hanging on the same graph edge.
+//!
+//! Choices the reference made with its exclusive-upper-bound integer draws
+//! (never the last candidate) are uniform here.
+
+mod crossover;
+mod mutate;
+#[cfg(test)]
+mod tests;
+
+pub use crossover::{Crossed, CrossoverOutcome, crossover};
+pub use mutate::{CutOutcome, GrowOutcome, MutationKind, MutationMix, alter, cut, grow, mutate};
+
+use genform_core::genome::{GenePos, Link};
+use genform_core::graph::SymbolId;
+use genform_core::{GeneratorGraph, Genome, Limits, Rng};
+use serde::{Deserialize, Serialize};
+
+/// Lengths (gene counts) a kept genome must have: `min ≤ len < max`, as the
+/// reference's `min_length`/`max_length`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LengthBounds {
+    /// Smallest allowed length.
+    pub min: usize,
+    /// Smallest length no longer allowed.
+    pub max: usize,
+}
+
+impl LengthBounds {
+    /// No bound beyond a non-empty genome.
+    pub const ANY: LengthBounds = LengthBounds { min: 1, max: usize::MAX };
+
+    /// Whether a genome of `len` genes is allowed.
+    pub fn contains(&self, len: usize) -> bool {
+        self.min <= len && len < self.max
+    }
+}
+
+/// Where a subtree hangs: a gene and the index of one of its links.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Connection {
+    /// The parent gene.
+    pub parent: GenePos,
+    /// Index of the parent's link.
+    pub link: usize,
+}
+
+/// Depth of every gene, indexed by word position (genes are stored after
+/// their parents, so one forward pass fills it).
+pub(crate) struct Depths(Vec<u32>);
+
+impl Depths {
+    pub(crate) fn of(genome: &Genome) -> Self {
+        let mut d = vec![0u32; genome.word_len()];
+        for g in genome.iter() {
+            if let Some((q, _)) = g.parent() {
+                d[g.pos.0 as usize] = d[q.0 as usize] + 1;
+            }
+        }
+        Depths(d)
+    }
+
+    pub(crate) fn get(&self, pos: GenePos) -> usize {
+        self.0[pos.0 as usize] as usize
+    }
+}
+
+/// Appends a child of `symbol` with freshly drawn parameters under
+/// `parent`'s `link`; `params` is a reusable buffer.
+fn grow_one(
+    genome: &mut Genome,
+    graph: &GeneratorGraph,
+    at: Connection,
+    symbol: SymbolId,
+    rng: &mut Rng,
+    params: &mut Vec<f64>,
+) -> GenePos {
+    params.clear();
+    graph.draw_params(symbol, rng, params);
+    genome.grow(at.parent, at.link, symbol, params, graph.symbol(symbol).link_len())
+}
+
+/// Grows children into every empty link of the `p = 1` slots of the gene at
+/// `pos` (at depth `depth`), and of those children, recursively; returns the
+/// number of genes added. Links that would pass `max_genes` or `max_depth`
+/// stay empty.
+pub fn grow_mandatory(
+    genome: &mut Genome,
+    pos: GenePos,
+    depth: usize,
+    graph: &GeneratorGraph,
+    limits: &Limits,
+    rng: &mut Rng,
+) -> usize {
+    let mut params = Vec::new();
+    grow_mandatory_with(genome, pos, depth, graph, limits, rng, &mut params)
+}
+
+fn grow_mandatory_with(
+    genome: &mut Genome,
+    pos: GenePos,
+    depth: usize,
+    graph: &GeneratorGraph,
+    limits: &Limits,
+    rng: &mut Rng,
+    params: &mut Vec<f64>,
+) -> usize {
+    let mut added = 0;
+    let mut stack = vec![(pos, depth)];
+    while let Some((p, d)) = stack.pop() {
+        let spec = graph.symbol(genome.gene(p).symbol());
+        let mut link = 0;
+        for slot in &spec.slots {
+            for _ in 0..slot.max_count {
+                let free = genome.gene(p).link(link) == Link::Empty;
+                if slot.prob >= 1.0 && free && d < limits.max_depth && genome.len() < limits.max_genes {
+                    let child = grow_one(genome, graph, Connection { parent: p, link }, slot.target, rng, params);
+                    added += 1;
+                    stack.push((child, d + 1));
+                }
+                link += 1;
+            }
+        }
+    }
+    added
+}
+
+/// A fresh individual: the root with drawn parameters and its mandatory
+/// closure, then [`grow`] until the length reaches a target drawn uniformly
+/// from `length = [a, b]` (the reference's `initial_genome_length`), or no
+/// link can grow within `limits`. The closure may overshoot the target.
+pub fn initial(graph: &GeneratorGraph, limits: &Limits, length: [usize; 2], rng: &mut Rng) -> Genome {
+    let mut params = Vec::new();
+    graph.draw_params(graph.root, rng, &mut params);
+    let mut genome = Genome::with_root(graph, graph.root, &params);
+    grow_mandatory_with(&mut genome, GenePos(0), 0, graph, limits, rng, &mut params);
+    let [a, b] = length;
+    let target = rng.int_inclusive(a as i64, b.max(a) as i64) as usize;
+    while genome.len() < target {
+        if grow(&mut genome, graph, limits, rng).is_none() {
+            break;
+        }
+    }
+    genome
+}

@@ -1,0 +1,68 @@
+//! What every optimizer shares: individuals and the [`Optimizer`] trait.
+
+use crate::objective::Objective;
+use crate::selection::rank;
+use crate::stats::GenerationStats;
+use genform_core::Genome;
+
+/// A genome with its cached fitness.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Individual {
+    /// The genome.
+    pub genome: Genome,
+    /// Its fitness; non-finite means invalid (see [`Objective`]).
+    pub fitness: f64,
+}
+
+impl Individual {
+    /// Whether the fitness is finite.
+    pub fn is_valid(&self) -> bool {
+        self.fitness.is_finite()
+    }
+}
+
+/// Sorts best first, stably: ties (and all invalid individuals) keep their
+/// order, so the result depends only on the input order.
+pub fn sort_population(population: &mut [Individual]) {
+    population.sort_by(|a, b| rank(a.fitness, b.fitness));
+}
+
+/// A population-based search driven one generation at a time (GA, random
+/// search; MH, SMC and SOSMC follow the same shape).
+///
+/// The generic [`Optimizer::step`] is left out of the vtable, so drivers can
+/// hand `&dyn Optimizer` to callbacks that only read the state.
+pub trait Optimizer {
+    /// Runs one generation; the first call builds and evaluates generation 0.
+    fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats
+    where
+        Self: Sized;
+
+    /// The current population, best first.
+    fn population(&self) -> &[Individual];
+
+    /// The best valid individual seen so far; `None` before the first
+    /// generation or while none was valid.
+    fn best(&self) -> Option<&Individual>;
+
+    /// Index of the current generation (0 = the initial one).
+    fn generation(&self) -> usize;
+
+    /// Objective evaluations so far.
+    fn evaluations(&self) -> u64;
+
+    /// Whether generation 0 exists.
+    fn is_initialized(&self) -> bool {
+        !self.population().is_empty()
+    }
+}
+
+/// Replaces `best` with the first valid individual of a sorted population
+/// when it is better.
+pub(crate) fn update_best(best: &mut Option<Individual>, sorted: &[Individual]) {
+    if let Some(top) = sorted.first().filter(|i| i.is_valid())
+        && best.as_ref().is_none_or(|b| top.fitness > b.fitness)
+    {
+        *best = Some(top.clone());
+    }
+}

@@ -1,0 +1,134 @@
+//! Per-generation statistics (the reference's CSV columns and more).
+
+use crate::operators::MutationKind;
+use crate::optimizer::Individual;
+use serde::Serialize;
+use std::time::Duration;
+
+/// Accepted children made by each mutation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MutationCounts {
+    /// By alter (parameters redrawn).
+    pub alter: u64,
+    /// By grow.
+    pub grow: u64,
+    /// By cut.
+    pub cut: u64,
+}
+
+impl MutationCounts {
+    /// Counts one child made by `kind`.
+    pub fn add(&mut self, kind: MutationKind) {
+        match kind {
+            MutationKind::Alter => self.alter += 1,
+            MutationKind::Grow => self.grow += 1,
+            MutationKind::Cut => self.cut += 1,
+        }
+    }
+}
+
+/// How the children of one generation were made; all zero for optimizers
+/// without these operators.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct ReproductionCounts {
+    /// Successful crossovers (each makes two children).
+    pub crossovers: u64,
+    /// Failed crossover tries (the reference's "crossover retries").
+    pub crossover_retries: u64,
+    /// Crossovers that failed every try.
+    pub crossover_failures: u64,
+    /// Children made by mutation, per kind.
+    pub mutations: MutationCounts,
+    /// Mutated children dropped for leaving the length bounds.
+    pub rejected: u64,
+    /// Parents copied unchanged because reproduction kept failing.
+    pub copies: u64,
+}
+
+impl std::ops::AddAssign for ReproductionCounts {
+    fn add_assign(&mut self, o: Self) {
+        self.crossovers += o.crossovers;
+        self.crossover_retries += o.crossover_retries;
+        self.crossover_failures += o.crossover_failures;
+        self.mutations.alter += o.mutations.alter;
+        self.mutations.grow += o.mutations.grow;
+        self.mutations.cut += o.mutations.cut;
+        self.rejected += o.rejected;
+        self.copies += o.copies;
+    }
+}
+
+/// One generation, summarized. Every value except the two durations is a
+/// pure function of (seed, configuration, objective): floats are reduced in
+/// population order.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GenerationStats {
+    /// Generation index (0 = the initial population).
+    pub generation: usize,
+    /// Best valid fitness in the population; NaN when none is valid.
+    pub max: f64,
+    /// Mean valid fitness; NaN when none is valid.
+    pub avg: f64,
+    /// Worst valid fitness; NaN when none is valid.
+    pub min: f64,
+    /// Individuals with a non-finite fitness.
+    pub invalid: usize,
+    /// Objective evaluations made in this generation.
+    pub evaluations: u64,
+    /// Objective evaluations so far.
+    pub total_evaluations: u64,
+    /// Wall time spent evaluating.
+    pub eval_time: Duration,
+    /// Wall time spent making children (or fresh individuals).
+    pub reproduction_time: Duration,
+    /// How children were made.
+    pub reproduction: ReproductionCounts,
+    /// Shortest genome (genes).
+    pub len_min: usize,
+    /// Mean genome length.
+    pub len_avg: f64,
+    /// Longest genome.
+    pub len_max: usize,
+    /// Length of the population's best individual.
+    pub best_len: usize,
+}
+
+impl GenerationStats {
+    /// Fitness and length statistics of a population sorted best first; the
+    /// counters and durations are left zero for the caller.
+    pub fn of_population(generation: usize, population: &[Individual]) -> Self {
+        let mut valid = 0usize;
+        let (mut sum, mut max, mut min) = (0.0, f64::NEG_INFINITY, f64::INFINITY);
+        let (mut len_sum, mut len_min, mut len_max) = (0usize, usize::MAX, 0usize);
+        for ind in population {
+            if ind.is_valid() {
+                valid += 1;
+                sum += ind.fitness;
+                max = max.max(ind.fitness);
+                min = min.min(ind.fitness);
+            }
+            let len = ind.genome.len();
+            len_sum += len;
+            len_min = len_min.min(len);
+            len_max = len_max.max(len);
+        }
+        let n = population.len();
+        let (max, avg, min) = if valid > 0 { (max, sum / valid as f64, min) } else { (f64::NAN, f64::NAN, f64::NAN) };
+        GenerationStats {
+            generation,
+            max,
+            avg,
+            min,
+            invalid: n - valid,
+            evaluations: 0,
+            total_evaluations: 0,
+            eval_time: Duration::ZERO,
+            reproduction_time: Duration::ZERO,
+            reproduction: ReproductionCounts::default(),
+            len_min: if n == 0 { 0 } else { len_min },
+            len_avg: if n == 0 { 0.0 } else { len_sum as f64 / n as f64 },
+            len_max,
+            best_len: population.first().map_or(0, |i| i.genome.len()),
+        }
+    }
+}

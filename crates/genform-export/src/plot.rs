@@ -1,0 +1,321 @@
+//! Run reports: line charts as SVG text and picture galleries as PNG.
+
+use std::fmt::Write as _;
+
+/// One line of a chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// CSS colour, e.g. `#1f77b4`.
+    pub color: String,
+    /// (x, y) points in drawing order; non-finite points are skipped.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// One panel: axes with labels and any number of series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chart {
+    /// Title above the panel.
+    pub title: String,
+    /// Label of the horizontal axis.
+    pub x_label: String,
+    /// Label of the vertical axis.
+    pub y_label: String,
+    /// The lines.
+    pub series: Vec<Series>,
+}
+
+const PANEL_W: f64 = 480.0;
+const PANEL_H: f64 = 320.0;
+const MARGIN_L: f64 = 62.0;
+const MARGIN_R: f64 = 16.0;
+const MARGIN_T: f64 = 30.0;
+const MARGIN_B: f64 = 44.0;
+
+/// Draws `charts` side by side into one standalone SVG document.
+pub fn charts_svg(charts: &[Chart]) -> String {
+    let width = PANEL_W * charts.len().max(1) as f64;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{PANEL_H}" viewBox="0 0 {width} {PANEL_H}" font-family="sans-serif" font-size="11">"#
+    );
+    let _ = writeln!(s, r#"<rect width="{width}" height="{PANEL_H}" fill="white"/>"#);
+    for (i, c) in charts.iter().enumerate() {
+        panel(&mut s, c, PANEL_W * i as f64);
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+fn escape(t: &str) -> String {
+    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// Axis range covering `values`, padded when flat.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) =
+        values.filter(|v| v.is_finite()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    if hi - lo < 1e-12 {
+        let pad = if lo.abs() > 1e-12 { lo.abs() * 0.1 } else { 1.0 };
+        return (lo - pad, hi + pad);
+    }
+    (lo, hi)
+}
+
+/// About five round tick values in `[lo, hi]`.
+fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let raw = (hi - lo) / 5.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    (first..=last).take(50).map(|k| k as f64 * step).collect()
+}
+
+fn label(v: f64) -> String {
+    let t = format!("{v:.6}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" { "0".into() } else { t.to_string() }
+}
+
+fn panel(s: &mut String, c: &Chart, x0: f64) {
+    let (xl, xh) = range(c.series.iter().flat_map(|se| se.points.iter().map(|p| p.0)));
+    let (yl, yh) = range(c.series.iter().flat_map(|se| se.points.iter().map(|p| p.1)));
+    let (pw, ph) = (PANEL_W - MARGIN_L - MARGIN_R, PANEL_H - MARGIN_T - MARGIN_B);
+    let px = |x: f64| x0 + MARGIN_L + (x - xl) / (xh - xl) * pw;
+    let py = |y: f64| MARGIN_T + (1.0 - (y - yl) / (yh - yl)) * ph;
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="18" font-size="13" font-weight="bold">{}</text>"#,
+        x0 + MARGIN_L,
+        escape(&c.title)
+    );
+    let _ = writeln!(
+        s,
+        r##"<rect x="{}" y="{MARGIN_T}" width="{pw}" height="{ph}" fill="none" stroke="#888"/>"##,
+        x0 + MARGIN_L
+    );
+    for t in ticks(xl, xh) {
+        let x = px(t);
+        let _ = writeln!(
+            s,
+            r##"<line x1="{x:.1}" y1="{MARGIN_T}" x2="{x:.1}" y2="{:.1}" stroke="#eee"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
+            MARGIN_T + ph,
+            MARGIN_T + ph + 14.0,
+            label(t)
+        );
+    }
+    for t in ticks(yl, yh) {
+        let y = py(t);
+        let _ = writeln!(
+            s,
+            r##"<line x1="{:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="#eee"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
+            x0 + MARGIN_L,
+            x0 + MARGIN_L + pw,
+            x0 + MARGIN_L - 4.0,
+            y + 4.0,
+            label(t)
+        );
+    }
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+        x0 + MARGIN_L + pw / 2.0,
+        PANEL_H - 8.0,
+        escape(&c.x_label)
+    );
+    let _ = writeln!(
+        s,
+        r#"<text transform="translate({:.1} {:.1}) rotate(-90)" text-anchor="middle">{}</text>"#,
+        x0 + 14.0,
+        MARGIN_T + ph / 2.0,
+        escape(&c.y_label)
+    );
+    for (i, se) in c.series.iter().enumerate() {
+        let pts: Vec<String> = se
+            .points
+            .iter()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+            .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
+            .collect();
+        if !pts.is_empty() {
+            let _ = writeln!(
+                s,
+                r#"<polyline fill="none" stroke="{}" stroke-width="1.5" points="{}"/>"#,
+                escape(&se.color),
+                pts.join(" ")
+            );
+        }
+        let ly = MARGIN_T + 12.0 + 14.0 * i as f64;
+        let lx = x0 + MARGIN_L + pw - 90.0;
+        let _ = writeln!(
+            s,
+            r#"<line x1="{lx:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{}" stroke-width="2"/><text x="{:.1}" y="{ly:.1}">{}</text>"#,
+            ly - 4.0,
+            lx + 16.0,
+            ly - 4.0,
+            escape(&se.color),
+            lx + 20.0,
+            escape(&se.name)
+        );
+    }
+}
+
+/// Encodes 8-bit RGB pixels (rows from the top) as PNG.
+pub fn encode_png_rgb(rgb: &[u8], width: u32, height: u32) -> Vec<u8> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    let mut writer = enc.write_header().expect("valid PNG header for a non-empty image");
+    writer.write_image_data(rgb).expect("writing to memory cannot fail");
+    writer.finish().expect("writing to memory cannot fail");
+    out
+}
+
+/// An RGB picture: pixels row by row from the top.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tile {
+    /// 3 bytes per pixel.
+    pub rgb: Vec<u8>,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// A caption drawn in the top-left corner (digits, letters, `.`, `-`, `#`, space).
+    pub caption: String,
+}
+
+/// Lays `tiles` out in a grid of `columns` with a 4-pixel white gutter and
+/// returns the RGB picture `(pixels, width, height)`. Tiles of different
+/// sizes are placed in cells of the largest size.
+pub fn gallery_rgb(tiles: &[Tile], columns: usize) -> (Vec<u8>, u32, u32) {
+    const GUTTER: usize = 4;
+    let cols = columns.clamp(1, tiles.len().max(1));
+    let rows = tiles.len().div_ceil(cols).max(1);
+    let cw = tiles.iter().map(|t| t.width as usize).max().unwrap_or(1);
+    let ch = tiles.iter().map(|t| t.height as usize).max().unwrap_or(1);
+    let (w, h) = (cols * cw + (cols + 1) * GUTTER, rows * ch + (rows + 1) * GUTTER);
+    let mut img = vec![255u8; w * h * 3];
+    for (i, t) in tiles.iter().enumerate() {
+        let (ox, oy) = (GUTTER + (i % cols) * (cw + GUTTER), GUTTER + (i / cols) * (ch + GUTTER));
+        for y in 0..t.height as usize {
+            let src = &t.rgb[y * t.width as usize * 3..(y + 1) * t.width as usize * 3];
+            let at = ((oy + y) * w + ox) * 3;
+            img[at..at + src.len()].copy_from_slice(src);
+        }
+        draw_text(&mut img, w, ox + 4, oy + 4, &t.caption);
+    }
+    (img, w as u32, h as u32)
+}
+
+/// 3×5 bitmap glyphs, one row per nibble (bit 2 = left column).
+fn glyph(c: char) -> Option<[u8; 5]> {
+    Some(match c.to_ascii_uppercase() {
+        '0' => [7, 5, 5, 5, 7],
+        '1' => [2, 6, 2, 2, 7],
+        '2' => [7, 1, 7, 4, 7],
+        '3' => [7, 1, 3, 1, 7],
+        '4' => [5, 5, 7, 1, 1],
+        '5' => [7, 4, 7, 1, 7],
+        '6' => [7, 4, 7, 5, 7],
+        '7' => [7, 1, 1, 2, 2],
+        '8' => [7, 5, 7, 5, 7],
+        '9' => [7, 5, 7, 1, 7],
+        '.' => [0, 0, 0, 0, 2],
+        '-' => [0, 0, 7, 0, 0],
+        '#' => [5, 7, 5, 7, 5],
+        ' ' => [0; 5],
+        _ => return None,
+    })
+}
+
+/// Draws `text` at 2× scale in dark grey on a white box.
+fn draw_text(img: &mut [u8], width: usize, x: usize, y: usize, text: &str) {
+    const S: usize = 2;
+    let glyphs: Vec<[u8; 5]> = text.chars().filter_map(glyph).collect();
+    if glyphs.is_empty() {
+        return;
+    }
+    let height = img.len() / 3 / width;
+    let mut put = |px: usize, py: usize, v: u8| {
+        if px < width && py < height {
+            img[(py * width + px) * 3..][..3].fill(v);
+        }
+    };
+    let box_w = glyphs.len() * 4 * S + S;
+    for dy in 0..5 * S + 2 * S {
+        for dx in 0..box_w {
+            put(x + dx, y + dy, 255);
+        }
+    }
+    for (i, g) in glyphs.iter().enumerate() {
+        for (row, bits) in g.iter().enumerate() {
+            for col in 0..3 {
+                if bits & (4 >> col) != 0 {
+                    for sy in 0..S {
+                        for sx in 0..S {
+                            put(x + S + (i * 4 + col) * S + sx, y + S + row * S + sy, 40);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_are_round_and_inside() {
+        assert_eq!(ticks(0.0, 10.0), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        let t = ticks(-3.52, 0.41);
+        assert!(t.iter().all(|v| (-3.52..=0.41).contains(v)));
+        assert_eq!(t, vec![-3.0, -2.0, -1.0, 0.0]);
+    }
+
+    #[test]
+    fn chart_has_a_polyline_per_series_and_escapes_text() {
+        let c = Chart {
+            title: "fitness <gen>".into(),
+            x_label: "generation".into(),
+            y_label: "fitness".into(),
+            series: vec![
+                Series { name: "max".into(), color: "#d62728".into(), points: vec![(0.0, -3.5), (1.0, 0.4)] },
+                Series { name: "min".into(), color: "#1f77b4".into(), points: vec![(0.0, f64::NEG_INFINITY)] },
+            ],
+        };
+        let svg = charts_svg(&[c.clone(), c]);
+        assert_eq!(svg.matches("<polyline").count(), 2, "the all-non-finite series draws nothing");
+        assert!(svg.contains("fitness &lt;gen&gt;"));
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    }
+
+    #[test]
+    fn gallery_places_tiles_in_a_grid() {
+        let tile = |v: u8| Tile { rgb: vec![v; 10 * 6 * 3], width: 10, height: 6, caption: String::new() };
+        let (img, w, h) = gallery_rgb(&[tile(0), tile(100), tile(200)], 2);
+        assert_eq!((w, h), (2 * 10 + 3 * 4, 2 * 6 + 3 * 4));
+        let px = |x: usize, y: usize| img[(y * w as usize + x) * 3];
+        assert_eq!(px(4, 4), 0);
+        assert_eq!(px(4 + 10 + 4, 4), 100);
+        assert_eq!(px(4, 4 + 6 + 4), 200);
+        assert_eq!(px(4 + 10 + 4, 4 + 6 + 4), 255, "the empty cell stays white");
+        assert_eq!(px(0, 0), 255);
+    }
+
+    #[test]
+    fn captions_draw_dark_pixels() {
+        let t = Tile { rgb: vec![128; 40 * 20 * 3], width: 40, height: 20, caption: "#1 0.5".into() };
+        let (img, _, _) = gallery_rgb(&[t], 1);
+        assert!(img.chunks(3).any(|p| p[0] == 40));
+    }
+}

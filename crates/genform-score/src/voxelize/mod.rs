@@ -1,0 +1,143 @@
+//! Voxelizing a Scene: which lattice voxel centres each instance holds.
+//!
+//! Semantics (shared by the fast voxelizer here and the per-voxel
+//! [`oracle`], which agree bit for bit):
+//!
+//! - A solid primitive holds a voxel when the voxel centre, mapped to the
+//!   unit frame by the inverse instance transform, passes the primitive's
+//!   half-open point test. Singular or non-finite transforms hold nothing.
+//! - A mesh instance holds a voxel of its lattice bounding box when a ray
+//!   from the centre along the row axis crosses its world-space triangles
+//!   an odd number of times (crossings exactly at the centre do not count;
+//!   lines through edges and vertices follow the tie rule of `crossing`).
+//! - A voxel held by two or more instances is an *overlap* voxel; one
+//!   instance never overlaps itself.
+//! - `outside` counts, per instance, the held centres of the infinite
+//!   lattice that lie outside the grid. It is exact unless an instance's
+//!   bounding box spans more than 2²⁰ lattice rows; then only rows inside
+//!   the grid are voxelized and `outside` is estimated as
+//!   `max(0, round(|det|·volume / voxel volume) − voxels held in the grid)`.
+//!
+//! The fast voxelizer works by spans: for each lattice row the instance's
+//! bounding box covers, it computes the interval of the row line inside the
+//! primitive analytically in `f64` (slabs for boxes and tapered boxes, a
+//! quadratic for spheres and frustums), for a shape grown by a bound on the
+//! predicate's rounding, then settles both ends by evaluating the oracle's
+//! own `f32` predicate on the boundary centres, walking inwards and then
+//! outwards. Each unit coordinate is a monotone function of the index along
+//! a row (one rounded multiply-add of a monotone centre), so for boxes the
+//! held centres of a row are an interval and the settled ends are exact by
+//! construction; for the curved and tapered primitives the same holds
+//! except on rows that graze a face to within rounding (never seen in
+//! 300,000 random cases per property against the oracle). Boxes whose
+//! transform maps lattice axes to unit axes one to one (axis-aligned,
+//! possibly mirrored) are separable: one span serves all their rows.
+//! Meshes sort their row crossings and fill between them by parity.
+//!
+//! Spans go into a [`VolumeScratch`] with two bit planes, occupied and
+//! overlap (`overlap |= occupied & span; occupied |= span`), which counts
+//! new held, overlap and target voxels as it marks them and remembers the
+//! rows it touched, so that clearing visits only those.
+
+mod crossing;
+mod mesh_rows;
+pub mod oracle;
+mod prepare;
+mod scratch;
+mod shape;
+mod spans;
+
+pub(crate) use crossing::crossing;
+use mesh_rows::mesh_rows;
+use prepare::{Body, prepare};
+pub(crate) use scratch::Plane;
+pub use scratch::VolumeScratch;
+use spans::{separable_box, solid_rows};
+
+use crate::grid::{Grid, Lattice};
+use crate::voxel_set::VoxelSet;
+use genform_core::scene::Scene;
+
+/// A voxelized Scene: the voxels it holds, those held more than once, and
+/// how many held lattice voxels lie outside the grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Voxelized {
+    /// Voxels held by at least one instance.
+    pub occupancy: VoxelSet,
+    /// Voxels held by at least two instances.
+    pub overlap: VoxelSet,
+    /// Held lattice voxels outside the grid, summed over instances.
+    pub outside: u64,
+}
+
+/// Voxelizes `scene` on `grid` with the fast voxelizer (allocates its own
+/// scratch; scorers reuse a [`VolumeScratch`] instead).
+pub fn voxelize(grid: &Grid, scene: &Scene) -> Voxelized {
+    let lat = Lattice::new(grid);
+    let mut s = VolumeScratch::new(&lat);
+    rasterize(&lat, scene, &mut s, &[]);
+    let out = Voxelized {
+        occupancy: VoxelSet::from_bits(lat.clone(), s.plane(Plane::Occupied)),
+        overlap: VoxelSet::from_bits(lat.clone(), s.plane(Plane::Overlap)),
+        outside: s.outside,
+    };
+    s.clear();
+    out
+}
+
+/// Per-instance tallies of held voxels in and outside the grid.
+#[derive(Default)]
+struct Tally {
+    in_grid: u64,
+    outside: u64,
+}
+
+/// Where an instance's spans go.
+struct Out<'a> {
+    s: &'a mut VolumeScratch,
+    tally: &'a mut Tally,
+    target: &'a [u64],
+}
+
+/// Adds the held span `lo..=hi` of lattice row `(j, k)`.
+#[inline]
+fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
+    let len = (hi - lo + 1) as u64;
+    match lat.row(j, k) {
+        Some(r) => {
+            let (a, b) = (lo.max(0), hi.min(lat.dims[0] - 1));
+            if a <= b {
+                out.s.write(r, a as usize, b as usize, out.target);
+                let n = (b - a + 1) as u64;
+                out.tally.in_grid += n;
+                out.tally.outside += len - n;
+            } else {
+                out.tally.outside += len;
+            }
+        }
+        None => out.tally.outside += len,
+    }
+}
+
+/// Voxelizes every instance of `scene` into `s` (which must be clear),
+/// counting held voxels that are set in `target` (a [`crate::bits::BitRows`]
+/// layout of the lattice, or empty).
+pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, target: &[u64]) {
+    let mut verts = s.take_verts();
+    for inst in &scene.instances {
+        let Some(p) = prepare(lat, scene, inst, &mut verts) else { continue };
+        let mut tally = Tally::default();
+        match &p.body {
+            Body::Solid(solid) => match solid.separable {
+                Some(perm) => separable_box(lat, &p, solid, perm, &mut Out { s, tally: &mut tally, target }),
+                None => solid_rows(lat, &p, solid, &mut Out { s, tally: &mut tally, target }),
+            },
+            Body::Mesh(mesh) => mesh_rows(lat, &p, mesh, &verts, &mut Out { s, tally: &mut tally, target }),
+        }
+        s.outside = s.outside.saturating_add(p.outside(tally.in_grid, tally.outside));
+    }
+    s.put_verts(verts);
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,325 @@
+//! The fast voxelizer's per-thread working memory.
+
+use crate::bits::{BitRows, bit_range};
+use crate::grid::Lattice;
+use glam::Vec3;
+
+/// One of the scratch's two bit planes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Plane {
+    /// Voxels held by at least one instance.
+    Occupied,
+    /// Voxels held by at least two instances.
+    Overlap,
+}
+
+/// What [`VolumeScratch::finish`] counted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct PlaneCounts {
+    pub held: u64,
+    pub overlap: u64,
+    /// Held voxels also set in the plane passed in.
+    pub held_and: u64,
+}
+
+/// Rows of more words than this track which words they touched.
+const RANGED_WORDS: usize = 8;
+
+/// Set bits of a word. (Without a `popcnt` target feature `count_ones` is a
+/// dozen instructions: callers avoid it where they know the answer.)
+#[inline]
+fn ones(w: u64) -> u64 {
+    u64::from(w.count_ones())
+}
+
+/// Zeroes a short slice (at most `2·RANGED_WORDS` words).
+#[inline]
+fn zero(w: &mut [u64]) {
+    fn fixed<const N: usize>(w: &mut [u64]) -> bool {
+        match <&mut [u64; N]>::try_from(w) {
+            Ok(a) => {
+                *a = [0; N];
+                true
+            }
+            Err(_) => false,
+        }
+    }
+    if !(fixed::<2>(w) || fixed::<4>(w) || fixed::<8>(w) || fixed::<16>(w)) {
+        w.fill(0);
+    }
+}
+
+/// Marks the bits `m` (`len` of them) of one word held once more:
+/// `overlap |= occupied & m; occupied |= m`, counting what is new. Spans
+/// rarely overlap and are often wholly in or out of the target, so most
+/// calls need no bit counting.
+#[inline]
+fn mark(occ: &mut u64, ovl: &mut u64, m: u64, len: u64, target: Option<u64>, c: &mut PlaneCounts) {
+    let o = *occ;
+    let again = m & o;
+    if again != 0 {
+        let new = again & !*ovl;
+        if new != 0 {
+            *ovl |= new;
+            c.overlap += ones(new);
+        }
+    }
+    let fresh = m & !o;
+    if fresh != 0 {
+        *occ = o | fresh;
+        let n = if fresh == m { len } else { ones(fresh) };
+        c.held += n;
+        if let Some(t) = target {
+            let hit = fresh & t;
+            if hit != 0 {
+                c.held_and += if hit == fresh { n } else { ones(hit) };
+            }
+        }
+    }
+}
+
+/// Per-thread working memory of the fast voxelizer: the occupied and overlap
+/// bit planes of the grid, the rows touched so far, and buffers for meshes.
+/// Get one from [`crate::VolumeScorer::scratch`]; after the first few
+/// scenes it no longer allocates.
+///
+/// Each row keeps its occupied words and then its overlap words side by
+/// side (row 0 on a 64-byte boundary), so that marking a span touches as
+/// few cache lines as possible.
+#[derive(Clone, Debug)]
+pub struct VolumeScratch {
+    words: usize,
+    stride: usize,
+    /// Index of row 0 in `data` (chosen for 64-byte alignment).
+    off: usize,
+    data: Vec<u64>,
+    /// One bit per row: touched since the last clear.
+    seen: Vec<u64>,
+    /// For rows longer than [`RANGED_WORDS`]: the touched word range per
+    /// row, `lo | hi << 32`. Shorter rows are counted whole (they fill one
+    /// or two cache lines anyway).
+    meta: Vec<u64>,
+    touched: Vec<u32>,
+    /// Held lattice voxels outside the grid so far.
+    pub(crate) outside: u64,
+    /// Counted as spans are marked.
+    counts: PlaneCounts,
+    verts: Vec<Vec3>,
+    crossings: Vec<(u32, f64)>,
+}
+
+impl VolumeScratch {
+    pub(crate) fn new(lat: &Lattice) -> VolumeScratch {
+        let stride = 2 * lat.words;
+        let data = vec![0u64; stride * lat.rows + 8];
+        let off = (64 - data.as_ptr() as usize % 64) % 64 / 8;
+        VolumeScratch {
+            words: lat.words,
+            stride,
+            off,
+            data,
+            seen: vec![0; lat.rows.div_ceil(64)],
+            meta: if lat.words > RANGED_WORDS { vec![0; lat.rows] } else { Vec::new() },
+            touched: Vec::new(),
+            outside: 0,
+            counts: PlaneCounts::default(),
+            verts: Vec::new(),
+            crossings: Vec::new(),
+        }
+    }
+
+    /// Whether this scratch has the shape `lat` needs.
+    pub(crate) fn fits(&self, lat: &Lattice) -> bool {
+        self.words == lat.words && self.seen.len() == lat.rows.div_ceil(64) && self.rows() == lat.rows
+    }
+
+    fn rows(&self) -> usize {
+        (self.data.len() - 8) / self.stride
+    }
+
+    /// Remembers row `r` as touched, covering words `wa..=wb`.
+    #[inline]
+    fn touch(&mut self, r: usize, wa: usize, wb: usize) {
+        let (wa, wb) = (wa as u64, wb as u64);
+        let (seen, bit) = (&mut self.seen[r / 64], 1u64 << (r % 64));
+        if *seen & bit == 0 {
+            *seen |= bit;
+            self.touched.push(r as u32);
+            if let Some(m) = self.meta.get_mut(r) {
+                *m = wa | wb << 32;
+            }
+        } else if let Some(m) = self.meta.get_mut(r) {
+            *m = (*m & 0xFFFF_FFFF).min(wa) | (*m >> 32).max(wb) << 32;
+        }
+    }
+
+    /// Marks bits `a..=b` of row `r` held by one more instance, counting
+    /// new held voxels, new overlap voxels and new held voxels set in
+    /// `target` (a [`BitRows`] layout of the lattice, or empty).
+    #[inline]
+    pub(crate) fn write(&mut self, r: usize, a: usize, b: usize, target: &[u64]) {
+        let (wa, wb) = (a / 64, b / 64);
+        self.touch(r, wa, wb);
+        let base = self.off + r * self.stride;
+        let (occ, ovl) = self.data[base..base + self.stride].split_at_mut(self.words);
+        let t = target.get(r * self.words..(r + 1) * self.words);
+        for w in wa..wb + 1 {
+            let lo = if w == wa { a % 64 } else { 0 };
+            let hi = if w == wb { b % 64 } else { 63 };
+            let m = bit_range(lo as u32, hi as u32);
+            mark(&mut occ[w], &mut ovl[w], m, (hi - lo + 1) as u64, t.map(|t| t[w]), &mut self.counts);
+        }
+    }
+
+    /// [`VolumeScratch::write`] of the same bits `a..=b` into the `n`
+    /// consecutive rows from `first` (the rows of a separable box).
+    #[inline]
+    pub(crate) fn write_rows(&mut self, first: usize, n: usize, a: usize, b: usize, target: &[u64]) {
+        let (wa, wb) = (a / 64, b / 64);
+        // The word masks and their sizes are the same for every row.
+        let mut masks = [(0u64, 0u64); 4];
+        let short = wb - wa < masks.len();
+        if short {
+            for (w, m) in (wa..wb + 1).zip(&mut masks) {
+                let lo = if w == wa { a % 64 } else { 0 };
+                let hi = if w == wb { b % 64 } else { 63 };
+                *m = (bit_range(lo as u32, hi as u32), (hi - lo + 1) as u64);
+            }
+        }
+        let has_target = !target.is_empty();
+        for r in first..first + n {
+            if !short {
+                self.write(r, a, b, target);
+                continue;
+            }
+            self.touch(r, wa, wb);
+            let base = self.off + r * self.stride;
+            let (occ, ovl) = self.data[base..base + self.stride].split_at_mut(self.words);
+            let tb = r * self.words;
+            for (w, &(m, len)) in (wa..wb + 1).zip(&masks) {
+                let t = if has_target { Some(target[tb + w]) } else { None };
+                mark(&mut occ[w], &mut ovl[w], m, len, t, &mut self.counts);
+            }
+        }
+    }
+
+    /// The touched word range of row `r`.
+    #[inline]
+    fn range(&self, r: usize) -> (usize, usize) {
+        match self.meta.get(r) {
+            Some(&m) => ((m & 0xFFFF_FFFF) as usize, (m >> 32) as usize),
+            None => (0, self.words - 1),
+        }
+    }
+
+    /// A copy of one plane as bit rows.
+    pub(crate) fn plane(&self, which: Plane) -> BitRows {
+        let mut b = BitRows::new(self.words, self.rows());
+        let shift = if which == Plane::Occupied { 0 } else { self.words };
+        for &r in &self.touched {
+            let r = r as usize;
+            let src = self.off + r * self.stride + shift;
+            b.data_mut()[r * self.words..(r + 1) * self.words].copy_from_slice(&self.data[src..src + self.words]);
+        }
+        b
+    }
+
+    /// `(|occupied|, |occupied ∧ plane|)` over the touched rows, for a plane
+    /// laid out as [`BitRows`] of this scratch's lattice.
+    pub(crate) fn held_and(&self, plane: &[u64]) -> (u64, u64) {
+        let (mut held, mut and) = (0, 0);
+        for &r in &self.touched {
+            let r = r as usize;
+            let (lo, hi) = self.range(r);
+            let row = self.off + r * self.stride;
+            for w in lo..=hi {
+                let o = self.data[row + w];
+                if o != 0 {
+                    held += ones(o);
+                    and += ones(o & plane[r * self.words + w]);
+                }
+            }
+        }
+        (held, and)
+    }
+
+    /// The counts so far (held and overlap voxels, held voxels in the
+    /// target given to the writes); then empties the planes (touched rows
+    /// only), the counts and `outside`.
+    pub(crate) fn finish(&mut self) -> PlaneCounts {
+        let words = self.words;
+        for &r in &self.touched {
+            let r = r as usize;
+            self.seen[r / 64] = 0;
+            let row = self.off + r * self.stride;
+            if self.meta.is_empty() {
+                // Short rows are cleared whole, with fixed-size stores
+                // rather than a call to memset.
+                zero(&mut self.data[row..row + self.stride]);
+            } else {
+                let (lo, hi) = self.range(r);
+                self.data[row + lo..row + hi + 1].fill(0);
+                self.data[row + words + lo..row + words + hi + 1].fill(0);
+            }
+        }
+        self.touched.clear();
+        self.outside = 0;
+        std::mem::take(&mut self.counts)
+    }
+
+    /// Empties the planes (touched rows only) and `outside`.
+    pub(crate) fn clear(&mut self) {
+        self.finish();
+    }
+
+    pub(crate) fn take_verts(&mut self) -> Vec<Vec3> {
+        std::mem::take(&mut self.verts)
+    }
+
+    pub(crate) fn put_verts(&mut self, v: Vec<Vec3>) {
+        self.verts = v;
+    }
+
+    pub(crate) fn take_crossings(&mut self) -> Vec<(u32, f64)> {
+        let mut c = std::mem::take(&mut self.crossings);
+        c.clear();
+        c
+    }
+
+    pub(crate) fn put_crossings(&mut self, c: Vec<(u32, f64)>) {
+        self.crossings = c;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Grid;
+
+    #[test]
+    fn writes_count_and_clear() {
+        for (width, ranged) in [(130, false), (700, true)] {
+            writes_count_and_clear_on(width, ranged);
+        }
+    }
+
+    fn writes_count_and_clear_on(width: u32, ranged: bool) {
+        let size = glam::Vec3::new(width as f32, 2.0, 1.0);
+        let lat = Lattice::new(&Grid::new(glam::Vec3::ZERO, size, [width, 2, 1]).unwrap());
+        let mut s = VolumeScratch::new(&lat);
+        assert_eq!(s.meta.is_empty(), !ranged);
+        assert_eq!((s.data.as_ptr() as usize + 8 * s.off) % 64, 0);
+        let mut target = BitRows::new(lat.words, lat.rows);
+        target.set_range(1, 0, 64);
+        s.write(1, 60, 70, target.data());
+        s.write_rows(1, 1, 65, 129, target.data());
+        s.write(0, 3, 3, target.data());
+        let occ = s.plane(Plane::Occupied);
+        assert_eq!(occ.count(), 11 + 59 + 1);
+        assert_eq!(s.plane(Plane::Overlap).count(), 6);
+        assert_eq!(s.held_and(target.data()), (71, 5));
+        let c = s.finish();
+        assert_eq!(c, PlaneCounts { held: 71, overlap: 6, held_and: 5 });
+        assert!(s.touched.is_empty() && s.data.iter().all(|&w| w == 0) && s.seen.iter().all(|&m| m == 0));
+    }
+}

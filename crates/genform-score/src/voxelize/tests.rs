@@ -1,0 +1,266 @@
+//! The fast voxelizer against the oracle, bit for bit.
+
+use super::{oracle, voxelize};
+use crate::grid::Grid;
+use genform_core::scene::{Instance, Mesh, Primitive, Scene, Tessellation, unit_mesh};
+use glam::{Affine3A, Mat3, Quat, Vec3};
+use proptest::prelude::*;
+use std::sync::Arc;
+
+/// Fast and oracle agree on occupancy, overlap and `outside`.
+fn check(grid: &Grid, scene: &Scene) {
+    let fast = voxelize(grid, scene);
+    let slow = oracle::voxelize(grid, scene);
+    let diff = |a: &crate::VoxelSet, b: &crate::VoxelSet| {
+        let mut d = Vec::new();
+        a.for_each(|v| {
+            if !b.contains(v) {
+                d.push(v)
+            }
+        });
+        d
+    };
+    assert!(
+        fast.occupancy == slow.occupancy,
+        "occupancy: fast-only {:?}, oracle-only {:?}",
+        diff(&fast.occupancy, &slow.occupancy),
+        diff(&slow.occupancy, &fast.occupancy)
+    );
+    assert!(fast.overlap == slow.overlap, "overlap differs");
+    assert_eq!(fast.outside, slow.outside, "outside");
+}
+
+/// Small grids; one in four has a fine axis of 65–200 voxels, so that rows
+/// span several words.
+fn grid_strategy() -> impl Strategy<Value = Grid> {
+    let dims = prop_oneof![
+        3 => prop::array::uniform3(2u32..12),
+        1 => (65u32..200, 2u32..8, 2u32..8).prop_map(|(a, b, c)| [a, b, c]),
+    ];
+    (prop::array::uniform3(-3.0f32..0.0), prop::array::uniform3(1.0f32..5.0), dims).prop_map(|(lo, ext, dims)| {
+        let lo = Vec3::from_array(lo);
+        Grid::new(lo, lo + Vec3::from_array(ext), dims).unwrap()
+    })
+}
+
+/// Rotation × signed scale × optional shear; the translation is a fraction
+/// of the grid's extent (from −0.1 to 1.1, so that shapes often stick out).
+fn transform_strategy() -> impl Strategy<Value = (Mat3, Vec3)> {
+    (
+        prop::array::uniform3(-1.0f32..1.0),
+        0.0f32..7.0,
+        prop::array::uniform3(0.3f32..2.5),
+        prop::array::uniform3(any::<bool>()),
+        prop::option::of(prop::array::uniform3(-0.8f32..0.8)),
+        prop::array::uniform3(-0.1f32..1.1),
+    )
+        .prop_map(|(axis, angle, scale, neg, shear, t)| {
+            let axis = Vec3::from_array(axis).try_normalize().unwrap_or(Vec3::Y);
+            let s = Vec3::from_array(std::array::from_fn(|i| if neg[i] { -scale[i] } else { scale[i] }));
+            let shear = shear.map_or(Mat3::IDENTITY, |[a, b, c]| {
+                Mat3::from_cols(Vec3::X, Vec3::new(a, 1.0, 0.0), Vec3::new(b, c, 1.0))
+            });
+            (Mat3::from_quat(Quat::from_axis_angle(axis, angle)) * shear * Mat3::from_diagonal(s), Vec3::from_array(t))
+        })
+}
+
+/// A grid and `n` random items placed in it.
+fn placed<T: std::fmt::Debug + Clone>(
+    items: impl Strategy<Value = T>,
+    n: std::ops::Range<usize>,
+) -> impl Strategy<Value = (Grid, Vec<(Affine3A, T)>)> {
+    (grid_strategy(), prop::collection::vec((transform_strategy(), items), n)).prop_map(|(grid, items)| {
+        let ext = grid.max() - grid.min();
+        let placed = items
+            .into_iter()
+            .map(|((m, t), item)| (Affine3A::from_mat3_translation(m, grid.min() + t * ext), item))
+            .collect();
+        (grid, placed)
+    })
+}
+
+fn primitive_strategy() -> impl Strategy<Value = Primitive> {
+    prop_oneof![
+        Just(Primitive::Box),
+        Just(Primitive::Sphere),
+        (0.0f32..2.0).prop_map(|top| Primitive::Frustum { top }),
+        (0.0f32..2.0).prop_map(|top| Primitive::TaperedBox { top }),
+        Just(Primitive::Frustum { top: 0.0 }),
+        Just(Primitive::TaperedBox { top: 0.0 }),
+    ]
+}
+
+fn scene_of(items: impl IntoIterator<Item = (Affine3A, Primitive)>) -> Scene {
+    let mut s = Scene::new();
+    for (transform, primitive) in items {
+        s.instances.push(Instance { transform, primitive, tag: 0 });
+    }
+    s
+}
+
+/// Axis-aligned, possibly mirrored or axis-swapped boxes with faces on
+/// voxel centres and boundaries (grid voxels of size 0.5 over [0, n/2]).
+/// With `exact`, sizes are powers of two and nothing is mirrored, so unit
+/// coordinates are computed without rounding.
+fn aligned_strategy(exact: bool) -> impl Strategy<Value = (Grid, Scene)> {
+    let item = (prop::array::uniform3(1u32..6), prop::array::uniform3(0u32..1000), 0usize..6, any::<bool>());
+    // One in four grids has rows of 130–200 voxels (several words).
+    let dims = prop_oneof![
+        3 => prop::array::uniform3(2u32..10),
+        1 => (130u32..200, 2u32..6, 2u32..6).prop_map(|(a, b, c)| [a, b, c]),
+    ];
+    (dims, prop::collection::vec(item, 1..6)).prop_map(move |(dims, items)| {
+        let max = Vec3::from_array(dims.map(|d| d as f32 * 0.5));
+        let grid = Grid::new(Vec3::ZERO, max, dims).unwrap();
+        let perms = [[0, 1, 2], [1, 0, 2], [2, 1, 0], [0, 2, 1], [1, 2, 0], [2, 0, 1]];
+        let scene = scene_of(items.into_iter().map(move |(size, pos, perm, mirror)| {
+            // Sizes and positions in quarter voxels: faces hit centres.
+            let size = if exact { size.map(|v| 1 << (v % 4)) } else { size };
+            let s = Vec3::from_array(size.map(|v| v as f32 * 0.25));
+            let cols = perms[perm].map(|c| Vec3::AXES[c]);
+            let mut m = Mat3::from_cols(cols[0], cols[1], cols[2]) * Mat3::from_diagonal(s);
+            if mirror && !exact {
+                m.x_axis = -m.x_axis;
+            }
+            // Anywhere from just before the grid to just past it, in quarter units.
+            let at = Vec3::from_array(std::array::from_fn(|a| (pos[a] % (2 * dims[a] + 6)) as f32 * 0.25 - 0.5));
+            (Affine3A::from_mat3_translation(m, at), Primitive::Box)
+        }));
+        (grid, scene)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn primitives_match_the_oracle((grid, items) in placed(primitive_strategy(), 1..5)) {
+        check(&grid, &scene_of(items));
+    }
+
+    #[test]
+    fn aligned_boxes_match_the_oracle((grid, scene) in aligned_strategy(false)) {
+        check(&grid, &scene);
+    }
+
+    #[test]
+    fn meshes_match_the_oracle((grid, items) in placed(0usize..4, 1..3)) {
+        let mut scene = Scene::new();
+        let tess = Tessellation { radial: 7, rings: 5 };
+        let meshes = [
+            Arc::new(cube_mesh()),
+            Arc::new(unit_mesh(Primitive::Sphere, tess)),
+            Arc::new(unit_mesh(Primitive::Frustum { top: 0.4 }, tess)),
+            Arc::new(open_strip()),
+        ];
+        for (transform, m) in items {
+            let id = scene.mesh(&meshes[m]);
+            scene.instances.push(Instance { transform, primitive: Primitive::Mesh(id), tag: 0 });
+        }
+        check(&grid, &scene);
+    }
+
+    #[test]
+    fn aligned_meshes_match_the_oracle((grid, boxes) in aligned_strategy(true)) {
+        let mut scene = boxes.clone();
+        let cube = Arc::new(cube_mesh());
+        let id = scene.mesh(&cube);
+        for inst in &mut scene.instances {
+            inst.primitive = Primitive::Mesh(id);
+        }
+        check(&grid, &scene);
+        // Lattice-aligned cube meshes hold what the same boxes hold.
+        prop_assert_eq!(voxelize(&grid, &scene).occupancy, voxelize(&grid, &boxes).occupancy);
+    }
+}
+
+/// The reference's `cube.obj` (12 triangles spanning ±0.5).
+pub(crate) fn cube_mesh() -> Mesh {
+    Mesh::from_obj("cube", include_str!("../../tests/data/cube.obj")).unwrap()
+}
+
+/// An open surface (parity is not a volume here, but both voxelizers must
+/// still agree).
+fn open_strip() -> Mesh {
+    Mesh::from_obj("strip", "v -0.5 -0.5 0\nv 0.5 -0.5 0.2\nv 0.5 0.5 0\nv -0.5 0.5 -0.3\nf 1 2 3\nf 1 3 4\n").unwrap()
+}
+
+#[test]
+fn degenerate_transforms_hold_nothing_and_do_not_panic() {
+    let grid = Grid::new(Vec3::ZERO, Vec3::splat(4.0), [4; 3]).unwrap();
+    let bad = [
+        Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0)),
+        Affine3A::from_translation(Vec3::splat(f32::NAN)),
+        Affine3A::from_scale(Vec3::splat(f32::INFINITY)),
+        Affine3A::from_scale(Vec3::splat(1e-30)),
+    ];
+    for t in bad {
+        for p in [Primitive::Box, Primitive::Sphere, Primitive::Frustum { top: f32::NAN }, Primitive::Mesh(0)] {
+            let mut scene = scene_of([(t, p)]);
+            scene.meshes.push(Arc::new(cube_mesh()));
+            let v = voxelize(&grid, &scene);
+            assert_eq!((v.occupancy.count(), v.outside), (0, 0), "{t:?} {p:?}");
+            check(&grid, &scene);
+        }
+    }
+    // A missing mesh asset and a mesh with bad indices are skipped.
+    let scene = scene_of([(Affine3A::IDENTITY, Primitive::Mesh(3))]);
+    assert_eq!(voxelize(&grid, &scene).occupancy.count(), 0);
+}
+
+#[test]
+fn huge_instances_estimate_outside() {
+    let grid = Grid::new(Vec3::ZERO, Vec3::splat(4.0), [4; 3]).unwrap();
+    // 2000³ unit voxels, all of the grid inside.
+    let scene = scene_of([(Affine3A::from_scale(Vec3::splat(2000.0)), Primitive::Box)]);
+    let v = voxelize(&grid, &scene);
+    assert_eq!(v.occupancy.count(), 64);
+    assert_eq!(v.outside, 8_000_000_000 - 64);
+    check(&grid, &scene);
+    let tall = scene_of([(Affine3A::from_scale(Vec3::new(1.0, 1e5, 1e5)), Primitive::Sphere)]);
+    check(&grid, &tall);
+}
+
+#[test]
+fn spans_are_exact_for_a_rotated_box_on_a_fine_grid() {
+    // A larger case than the proptests: many rows, long spans.
+    let grid = Grid::new(Vec3::splat(-2.0), Vec3::splat(2.0), [40, 30, 20]).unwrap();
+    let t = Affine3A::from_scale_rotation_translation(
+        Vec3::new(2.5, -1.0, 0.7),
+        Quat::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1),
+        Vec3::new(0.3, -0.2, 0.1),
+    );
+    let scene = scene_of([(t, Primitive::Box), (t, Primitive::Sphere), (t, Primitive::Frustum { top: 0.3 })]);
+    check(&grid, &scene);
+    let v = voxelize(&grid, &scene);
+    // Volume of the box is |det| = 1.75 units³ = 1750/ (0.1·0.1333·0.2) voxels.
+    let want = 1.75 / grid.voxel_volume();
+    let boxes = voxelize(&grid, &scene_of([(t, Primitive::Box)])).occupancy.count() as f64;
+    assert!((boxes - want).abs() / want < 0.05, "{boxes} vs {want}");
+    assert!(v.overlap.count() > 0);
+}
+
+/// The random scenes above do reach what they are meant to test: held
+/// voxels, overlaps, voxels outside the grid, rows along every axis.
+#[test]
+fn strategies_reach_the_interesting_cases() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = placed(primitive_strategy(), 1..5);
+    let (mut held, mut over, mut out, mut axes) = (0, 0, 0, [0; 3]);
+    for _ in 0..96 {
+        let (grid, items) = strategy.new_tree(&mut runner).unwrap().current();
+        let v = voxelize(&grid, &scene_of(items));
+        held += usize::from(v.occupancy.count() > 0);
+        over += usize::from(v.overlap.count() > 0);
+        out += usize::from(v.outside > 0);
+        axes[crate::grid::Lattice::new(&grid).axes[0]] += 1;
+    }
+    assert!(held > 70 && over > 15 && out > 40, "held {held}, overlap {over}, outside {out}");
+    assert!(axes.iter().all(|&a| a > 15), "row axes {axes:?}");
+}
+
+/// Cases per property: 256, or `PROPTEST_CASES` for longer hunts.
+fn cases() -> u32 {
+    std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)
+}
