@@ -24,6 +24,8 @@ pub enum Command {
     Info(InfoArgs),
     /// Steer a grammar towards the targets of a scene config (TOML) by evolution.
     Evolve(EvolveArgs),
+    /// Score a saved genome against the targets of a scene config.
+    Score(ScoreArgs),
 }
 
 /// Overrides of the grammar's derivation limits.
@@ -129,6 +131,18 @@ pub struct EvolveArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// Arguments of `genform score`.
+#[derive(Debug, Args)]
+pub struct ScoreArgs {
+    /// Scene config (.toml).
+    pub scene: PathBuf,
+    /// Genome JSON (e.g. `best-genome.json` of an evolve run).
+    #[arg(long, value_name = "G.json")]
+    pub genome: PathBuf,
     #[command(flatten)]
     pub limits: LimitArgs,
 }

@@ -20,6 +20,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Derive(a) => derive(a),
         Command::Info(a) => info(a),
         Command::Evolve(a) => crate::evolve::evolve(a),
+        Command::Score(a) => crate::evolve::score(a),
     }
 }
 

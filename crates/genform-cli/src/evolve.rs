@@ -19,21 +19,51 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::args::{Algorithm, EvolveArgs};
+use crate::args::{Algorithm, EvolveArgs, ScoreArgs};
 
 /// How often results are written during a run, so a crash loses little.
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(10);
+
+/// The grammar's limits overridden by the scene's [limits], then by flags.
+fn scene_limits(config: &SceneConfig, grammar: Limits, flags: LimitOverrides) -> Limits {
+    let scene = LimitOverrides {
+        max_genes: config.limits.genes,
+        max_depth: config.limits.depth,
+        max_primitives: config.limits.primitives,
+    };
+    flags.or(scene).apply(grammar)
+}
+
+/// Runs `genform score`: one genome's counts and fitness against a scene.
+pub fn score(a: ScoreArgs) -> Result<()> {
+    let LoadedScene { config, .. } = SceneConfig::load(&a.scene)?;
+    let loaded = grammar::load(&config.grammar)?;
+    let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
+    let scorers = targets::build(&config)?;
+    let text = std::fs::read_to_string(&a.genome).with_context(|| format!("cannot read {}", a.genome.display()))?;
+    let genome = Genome::from_json(&text, loaded.generator.graph())
+        .with_context(|| format!("{} does not fit grammar `{}`", a.genome.display(), loaded.name))?;
+    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
+    let c = objective.counts(&genome, &mut objective.scratch()).context("cannot build the model")?;
+    println!(
+        "fitness {} (max reachable {}); genes {}; good {} bad {} overlap {} outside {} target {}",
+        scorers.fitness.eval(&c, genome.len()),
+        scorers.fitness.max_reachable(genome.len()),
+        genome.len(),
+        c.good,
+        c.bad,
+        c.overlap,
+        c.outside,
+        c.target
+    );
+    Ok(())
+}
 
 /// Runs `genform evolve`.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
     let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
     let loaded = grammar::load(&config.grammar)?;
-    let overrides = a.limits.overrides().or(LimitOverrides {
-        max_genes: config.limits.genes,
-        max_depth: config.limits.depth,
-        max_primitives: config.limits.primitives,
-    });
-    let limits = overrides.apply(loaded.limits);
+    let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     if config.ga.max_length > limits.max_genes + 1 {
         eprintln!(
             "note: [ga] max_length {} is above the gene limit {}; genomes stop at {} genes",

@@ -5,7 +5,7 @@
 //! This glue is the only place that knows both a generator and the scorers;
 //! the optimizers see an [`Objective`] and genomes, the scorers see Scenes.
 
-use genform_core::{Generator, Genome, Limits, Scene};
+use genform_core::{ExpressError, Generator, Genome, Limits, Scene};
 use genform_evolve::Objective;
 use genform_score::{Counts, Fitness, ImageScorer, ImageScratch, VolumeScorer, VolumeScratch};
 
@@ -65,12 +65,12 @@ pub struct EvalScratch {
 }
 
 impl SceneObjective<'_> {
-    /// Expresses `genome` into `scene` and returns its counts, or `None` if
-    /// it cannot be expressed.
-    pub fn counts(&self, genome: &Genome, scratch: &mut EvalScratch) -> Option<Counts> {
+    /// Expresses `genome` and returns its counts, or why it cannot be
+    /// expressed.
+    pub fn counts(&self, genome: &Genome, scratch: &mut EvalScratch) -> Result<Counts, ExpressError> {
         scratch.scene.clear();
-        self.generator.express(genome, &self.limits, &mut scratch.scene).ok()?;
-        Some(self.scorers.counts(&scratch.scene, &mut scratch.scorers))
+        self.generator.express(genome, &self.limits, &mut scratch.scene)?;
+        Ok(self.scorers.counts(&scratch.scene, &mut scratch.scorers))
     }
 }
 
@@ -83,8 +83,8 @@ impl Objective for SceneObjective<'_> {
 
     fn evaluate(&self, genome: &Genome, scratch: &mut EvalScratch) -> f64 {
         match self.counts(genome, scratch) {
-            Some(c) => self.scorers.fitness.eval(&c, genome.len()),
-            None => f64::NEG_INFINITY,
+            Ok(c) => self.scorers.fitness.eval(&c, genome.len()),
+            Err(_) => f64::NEG_INFINITY,
         }
     }
 }

@@ -91,6 +91,11 @@ fn evolve_writes_every_result_file() {
     let ship_sg = root().join("examples/shape/spaceship.sg");
     ok(tmp.path(), &["derive", ship_sg.to_str().unwrap(), "--genome", "run/best-genome.json", "--out", "replay.obj"]);
     assert_eq!(std::fs::read(run.join("best.obj")).unwrap(), std::fs::read(tmp.path().join("replay.obj")).unwrap());
+    // `genform score` re-evaluates it to the same fitness.
+    let out = ok(tmp.path(), &["score", scene.to_str().unwrap(), "--genome", "run/best-genome.json"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let scored: f64 = text.split_whitespace().nth(1).unwrap().parse().unwrap();
+    assert_eq!(scored, best, "{text}");
 }
 
 #[test]

@@ -167,6 +167,10 @@ fn panel(s: &mut String, c: &Chart, x0: f64) {
 }
 
 /// Encodes 8-bit RGB pixels (rows from the top) as PNG.
+///
+/// # Panics
+///
+/// If `rgb` does not hold `width × height × 3` bytes or a side is 0.
 pub fn encode_png_rgb(rgb: &[u8], width: u32, height: u32) -> Vec<u8> {
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, width, height);

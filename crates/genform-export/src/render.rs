@@ -104,15 +104,7 @@ pub fn render_png(scene: &Scene, opts: &RenderOptions) -> Vec<u8> {
 
 pub(crate) fn render_png_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> Vec<u8> {
     let (rgb, w, h) = render_rgb_with(scene, opts, tess);
-    let mut out = Vec::new();
-    let mut enc = png::Encoder::new(&mut out, w, h);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.set_compression(png::Compression::Fast);
-    let mut writer = enc.write_header().expect("valid PNG header for a non-empty image");
-    writer.write_image_data(&rgb).expect("writing to memory cannot fail");
-    writer.finish().expect("writing to memory cannot fail");
-    out
+    crate::plot::encode_png_rgb(&rgb, w, h)
 }
 
 pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> (Vec<u8>, u32, u32) {

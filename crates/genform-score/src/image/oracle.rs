@@ -2,7 +2,7 @@
 //! the baseline of its benchmark.
 //!
 //! Every triangle of every instance and polygon is clipped and snapped
-//! exactly as the fast path does it (shared code, [`super::project`]); then
+//! exactly as the fast path does it (shared code, `image::project`); then
 //! every pixel center in the triangle's bounding box is tested against its
 //! three edges. No hulls, no spans, no incremental stepping: only the
 //! coverage rule written out as a predicate.

@@ -32,20 +32,14 @@ fn ones(w: u64) -> u64 {
     u64::from(w.count_ones())
 }
 
-/// Zeroes a short slice (at most `2·RANGED_WORDS` words).
-#[inline]
-fn zero(w: &mut [u64]) {
-    fn fixed<const N: usize>(w: &mut [u64]) -> bool {
-        match <&mut [u64; N]>::try_from(w) {
-            Ok(a) => {
-                *a = [0; N];
-                true
-            }
-            Err(_) => false,
+/// Zeroes the rows `touched` of `data` (rows of `N` words from `off`).
+/// With `N` a constant each row is a few vector stores, not a call to memset.
+fn zero_rows<const N: usize>(data: &mut [u64], off: usize, touched: &[u32]) {
+    for &r in touched {
+        let row = off + r as usize * N;
+        if let Ok(a) = <&mut [u64; N]>::try_from(&mut data[row..row + N]) {
+            *a = [0; N];
         }
-    }
-    if !(fixed::<2>(w) || fixed::<4>(w) || fixed::<8>(w) || fixed::<16>(w)) {
-        w.fill(0);
     }
 }
 
@@ -171,6 +165,33 @@ impl VolumeScratch {
         }
     }
 
+    /// Remembers the `n` consecutive rows from `first` as touched, covering
+    /// words `wa..=wb`: a word of `seen` at a time where ranges are not kept.
+    #[inline]
+    fn touch_rows(&mut self, first: usize, n: usize, wa: usize, wb: usize) {
+        if !self.meta.is_empty() {
+            for r in first..first + n {
+                self.touch(r, wa, wb);
+            }
+            return;
+        }
+        let end = first + n;
+        let mut r = first;
+        while r < end {
+            let (w, lo) = (r / 64, r % 64);
+            let hi = (lo + (end - r)).min(64) - 1;
+            let bits = bit_range(lo as u32, hi as u32);
+            let seen = &mut self.seen[w];
+            let mut new = bits & !*seen;
+            *seen |= bits;
+            while new != 0 {
+                self.touched.push((w * 64) as u32 + new.trailing_zeros());
+                new &= new - 1;
+            }
+            r = w * 64 + hi + 1;
+        }
+    }
+
     /// [`VolumeScratch::write`] of the same bits `a..=b` into the `n`
     /// consecutive rows from `first` (the rows of a separable box).
     #[inline]
@@ -178,29 +199,43 @@ impl VolumeScratch {
         let (wa, wb) = (a / 64, b / 64);
         // The word masks and their sizes are the same for every row.
         let mut masks = [(0u64, 0u64); 4];
-        let short = wb - wa < masks.len();
-        if short {
-            for (w, m) in (wa..wb + 1).zip(&mut masks) {
-                let lo = if w == wa { a % 64 } else { 0 };
-                let hi = if w == wb { b % 64 } else { 63 };
-                *m = (bit_range(lo as u32, hi as u32), (hi - lo + 1) as u64);
-            }
-        }
-        let has_target = !target.is_empty();
-        for r in first..first + n {
-            if !short {
+        if wb - wa >= masks.len() {
+            for r in first..first + n {
                 self.write(r, a, b, target);
-                continue;
             }
-            self.touch(r, wa, wb);
-            let base = self.off + r * self.stride;
-            let (occ, ovl) = self.data[base..base + self.stride].split_at_mut(self.words);
-            let tb = r * self.words;
-            for (w, &(m, len)) in (wa..wb + 1).zip(&masks) {
-                let t = if has_target { Some(target[tb + w]) } else { None };
-                mark(&mut occ[w], &mut ovl[w], m, len, t, &mut self.counts);
+            return;
+        }
+        for (w, m) in (wa..wb + 1).zip(&mut masks) {
+            let lo = if w == wa { a % 64 } else { 0 };
+            let hi = if w == wb { b % 64 } else { 63 };
+            *m = (bit_range(lo as u32, hi as u32), (hi - lo + 1) as u64);
+        }
+        let masks = &masks[..wb - wa + 1];
+        self.touch_rows(first, n, wa, wb);
+        let (words, stride) = (self.words, self.stride);
+        let start = self.off + first * stride;
+        let block = &mut self.data[start..start + n * stride];
+        // Counts in a local, so that they stay in registers across rows.
+        let mut c = self.counts;
+        if target.is_empty() {
+            for row in block.chunks_exact_mut(stride) {
+                let (occ, ovl) = row.split_at_mut(words);
+                for ((o, v), &(m, len)) in occ[wa..=wb].iter_mut().zip(&mut ovl[wa..=wb]).zip(masks) {
+                    mark(o, v, m, len, None, &mut c);
+                }
+            }
+        } else {
+            let rows =
+                block.chunks_exact_mut(stride).zip(target[first * words..(first + n) * words].chunks_exact(words));
+            for (row, t) in rows {
+                let (occ, ovl) = row.split_at_mut(words);
+                let words = occ[wa..=wb].iter_mut().zip(&mut ovl[wa..=wb]).zip(masks).zip(&t[wa..=wb]);
+                for (((o, v), &(m, len)), &t) in words {
+                    mark(o, v, m, len, Some(t), &mut c);
+                }
             }
         }
+        self.counts = c;
     }
 
     /// The touched word range of row `r`.
@@ -249,15 +284,26 @@ impl VolumeScratch {
     pub(crate) fn finish(&mut self) -> PlaneCounts {
         let words = self.words;
         for &r in &self.touched {
-            let r = r as usize;
-            self.seen[r / 64] = 0;
-            let row = self.off + r * self.stride;
-            if self.meta.is_empty() {
-                // Short rows are cleared whole, with fixed-size stores
-                // rather than a call to memset.
-                zero(&mut self.data[row..row + self.stride]);
-            } else {
-                let (lo, hi) = self.range(r);
+            self.seen[r as usize / 64] = 0;
+        }
+        if self.meta.is_empty() {
+            // Short rows are cleared whole, with fixed-size stores.
+            let (data, off, touched) = (&mut self.data[..], self.off, &self.touched[..]);
+            match self.stride {
+                2 => zero_rows::<2>(data, off, touched),
+                4 => zero_rows::<4>(data, off, touched),
+                6 => zero_rows::<6>(data, off, touched),
+                8 => zero_rows::<8>(data, off, touched),
+                10 => zero_rows::<10>(data, off, touched),
+                12 => zero_rows::<12>(data, off, touched),
+                14 => zero_rows::<14>(data, off, touched),
+                // Rows keep ranges beyond RANGED_WORDS words, so the stride is at most 16.
+                _ => zero_rows::<16>(data, off, touched),
+            }
+        } else {
+            for &r in &self.touched {
+                let (r, (lo, hi)) = (r as usize, self.range(r as usize));
+                let row = self.off + r * self.stride;
                 self.data[row + lo..row + hi + 1].fill(0);
                 self.data[row + words + lo..row + words + hi + 1].fill(0);
             }
@@ -300,6 +346,36 @@ mod tests {
     fn writes_count_and_clear() {
         for (width, ranged) in [(130, false), (700, true)] {
             writes_count_and_clear_on(width, ranged);
+        }
+    }
+
+    /// Writing a block of rows equals writing its rows one by one, across
+    /// words of the touched-row bits and over rows touched before.
+    #[test]
+    fn block_writes_equal_row_writes() {
+        for width in [130, 700] {
+            let lat = Lattice::new(
+                &Grid::new(glam::Vec3::ZERO, glam::Vec3::new(width as f32, 100.0, 3.0), [width, 100, 3]).unwrap(),
+            );
+            let mut target = BitRows::new(lat.words, lat.rows);
+            for r in (0..lat.rows).step_by(3) {
+                target.set_range(r, 10, 100);
+            }
+            let (mut block, mut single) = (VolumeScratch::new(&lat), VolumeScratch::new(&lat));
+            for s in [&mut block, &mut single] {
+                s.write(70, 0, 20, target.data());
+                s.write(250, 5, 6, target.data());
+            }
+            block.write_rows(60, 230, 15, 120, target.data());
+            for r in 60..290 {
+                single.write(r, 15, 120, target.data());
+            }
+            assert_eq!(block.touched.len(), 230);
+            let (p, q) = (block.plane(Plane::Occupied), single.plane(Plane::Occupied));
+            assert!(p.data() == q.data());
+            assert!(block.plane(Plane::Overlap).data() == single.plane(Plane::Overlap).data());
+            assert_eq!(block.finish(), single.finish());
+            assert!(block.data.iter().all(|&w| w == 0) && block.seen.iter().all(|&m| m == 0));
         }
     }
 

@@ -130,6 +130,53 @@ fn aligned_strategy(exact: bool) -> impl Strategy<Value = (Grid, Scene)> {
     })
 }
 
+/// Axis-aligned boxes on any grid, the shapes of the separable-box path:
+/// any axis permutation, any sign flips (mirrors), and extents either
+/// arbitrary or with faces snapped to voxel centres and boundaries; sizes
+/// from a sliver to three times the grid (so that some stick out of it on
+/// both sides, like the spaceship's compounded segments).
+fn separable_strategy() -> impl Strategy<Value = (Grid, Scene)> {
+    let face = prop_oneof![
+        // A face anywhere, mostly in the grid (in grid fractions) ...
+        3 => (-0.2f32..1.2).prop_map(|f| (false, f)),
+        // ... or far out of it,
+        1 => (-1.2f32..2.2).prop_map(|f| (false, f)),
+        // or on a voxel boundary or centre, in half voxels from the grid's min.
+        2 => (-8i32..400).prop_map(|h| (true, h as f32)),
+    ];
+    let item = (prop::array::uniform3((face.clone(), face)), 0usize..6, prop::array::uniform3(any::<bool>()));
+    (grid_strategy(), prop::collection::vec(item, 1..6)).prop_map(|(grid, items)| {
+        let (lo, ext, vs) = (grid.min(), grid.max() - grid.min(), grid.voxel_size());
+        let dims = grid.dims();
+        let perms = [[0, 1, 2], [1, 0, 2], [2, 1, 0], [0, 2, 1], [1, 2, 0], [2, 0, 1]];
+        let scene = scene_of(items.into_iter().map(|(faces, perm, flip)| {
+            let at = |a: usize, (snapped, f): (bool, f32)| {
+                let f = if snapped { f % (2 * dims[a] as i32 + 8) as f32 } else { f };
+                lo[a] + if snapped { f * 0.5 * vs[a] } else { f * ext[a] }
+            };
+            let (mut min, mut max) = (Vec3::ZERO, Vec3::ZERO);
+            for a in 0..3 {
+                let (p, q) = (at(a, faces[a].0), at(a, faces[a].1));
+                // Thin but never flat (a flat box holds nothing anyway).
+                let q = if (q - p).abs() < 1e-3 * vs[a] { p + 0.37 * vs[a] } else { q };
+                (min[a], max[a]) = (p.min(q), p.max(q));
+            }
+            // Unit axis c is world axis perms[perm][c], scaled by that extent.
+            let axes = perms[perm];
+            let cols: [Vec3; 3] = std::array::from_fn(|c| {
+                let w = axes[c];
+                let sign = if flip[c] { -1.0 } else { 1.0 };
+                Vec3::AXES[w] * (sign * (max[w] - min[w]))
+            });
+            (
+                Affine3A::from_mat3_translation(Mat3::from_cols(cols[0], cols[1], cols[2]), (min + max) * 0.5),
+                Primitive::Box,
+            )
+        }));
+        (grid, scene)
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases()))]
 
@@ -140,6 +187,19 @@ proptest! {
 
     #[test]
     fn aligned_boxes_match_the_oracle((grid, scene) in aligned_strategy(false)) {
+        check(&grid, &scene);
+    }
+
+    #[test]
+    fn separable_boxes_match_the_oracle((grid, scene) in separable_strategy()) {
+        // Every box takes the separable path (else this tests nothing new).
+        let lat = crate::grid::Lattice::new(&grid);
+        for inst in &scene.instances {
+            if let Some(p) = super::prepare::prepare(&lat, &scene, inst, &mut Vec::new()) {
+                let super::prepare::Body::Solid(solid) = &p.body else { unreachable!() };
+                prop_assert!(solid.separable.is_some(), "{:?}", inst.transform);
+            }
+        }
         check(&grid, &scene);
     }
 
@@ -263,4 +323,22 @@ fn strategies_reach_the_interesting_cases() {
 /// Cases per property: 256, or `PROPTEST_CASES` for longer hunts.
 fn cases() -> u32 {
     std::env::var("PROPTEST_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(256)
+}
+
+/// The separable-box scenes often hold voxels, overlap and stick out of
+/// the grid.
+#[test]
+fn separable_strategy_reaches_the_interesting_cases() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = separable_strategy();
+    let (mut held, mut over, mut out) = (0, 0, 0);
+    for _ in 0..96 {
+        let (grid, scene) = strategy.new_tree(&mut runner).unwrap().current();
+        let v = voxelize(&grid, &scene);
+        held += usize::from(v.occupancy.count() > 0);
+        over += usize::from(v.overlap.count() > 0);
+        out += usize::from(v.outside > 0);
+    }
+    assert!(held > 70 && over > 15 && out > 60, "held {held}, overlap {over}, outside {out}");
 }
