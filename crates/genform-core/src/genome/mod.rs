@@ -472,6 +472,25 @@ impl Genome {
         GenePos(first as u32)
     }
 
+    /// The subtree rooted at `pos` as nested text, `symbol[params](links,)`
+    /// with `_` for an empty and `x` for a closed link. It does not depend on
+    /// where genes are stored, so two subtrees are equal exactly when their
+    /// texts are (useful in tests and when comparing derivations).
+    pub fn subtree_text(&self, pos: GenePos) -> String {
+        let gene = self.gene(pos);
+        let mut s = format!("{}{:?}(", gene.symbol(), gene.params().collect::<Vec<_>>());
+        for l in gene.links() {
+            match l {
+                Link::Empty => s.push('_'),
+                Link::Closed => s.push('x'),
+                Link::Child(c) => s.push_str(&self.subtree_text(c)),
+            }
+            s.push(',');
+        }
+        s.push(')');
+        s
+    }
+
     /// Number of genes in the subtree rooted at `pos` (including it).
     pub fn subtree_len(&self, pos: GenePos) -> usize {
         let mut n = 0;

@@ -40,22 +40,6 @@ fn random_genome(seed: u64, steps: usize) -> Genome {
     g
 }
 
-/// The tree as nested (symbol, params, links) tuples: layout-independent.
-fn shape(g: &Genome, p: GenePos) -> String {
-    let gene = g.gene(p);
-    let mut s = format!("{}{:?}(", gene.symbol(), gene.params().collect::<Vec<_>>());
-    for l in gene.links() {
-        match l {
-            Link::Empty => s.push('_'),
-            Link::Closed => s.push('x'),
-            Link::Child(c) => s.push_str(&shape(g, c)),
-        }
-        s.push(',');
-    }
-    s.push(')');
-    s
-}
-
 #[test]
 fn grow_appends_and_links() {
     let graph = tiny();
@@ -82,7 +66,7 @@ fn cut_removes_subtree_and_clears_link() {
     assert_eq!(g.len(), 3);
     g.validate(&graph).unwrap();
     assert_eq!(g.gene(a).link(0), Link::Empty);
-    assert_eq!(shape(&g, GenePos(0)), "0[](1[1.0, 1.0, 1.0, 2.0](_,_,2[1.0](),),)");
+    assert_eq!(g.subtree_text(GenePos(0)), "0[](1[1.0, 1.0, 1.0, 2.0](_,_,2[1.0](),),)");
 }
 
 #[test]
@@ -180,6 +164,6 @@ proptest! {
         let at = dst.graft(&src, from, parent, link);
         dst.validate(&graph).unwrap();
         prop_assert_eq!(dst.len(), before + src.subtree_len(from));
-        prop_assert_eq!(shape(&dst, at), shape(&src, from));
+        prop_assert_eq!(dst.subtree_text(at), src.subtree_text(from));
     }
 }

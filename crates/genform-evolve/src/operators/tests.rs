@@ -24,22 +24,6 @@ fn random_genome(seed: u64, len: usize) -> Genome {
     g
 }
 
-/// The subtree at `pos` as nested text: independent of storage layout.
-fn shape(g: &Genome, pos: GenePos) -> String {
-    let gene = g.gene(pos);
-    let mut s = format!("{}{:?}(", gene.symbol(), gene.params().collect::<Vec<_>>());
-    for l in gene.links() {
-        match l {
-            Link::Empty => s.push('_'),
-            Link::Closed => s.push('x'),
-            Link::Child(c) => s.push_str(&shape(g, c)),
-        }
-        s.push(',');
-    }
-    s.push(')');
-    s
-}
-
 fn child_at(g: &Genome, at: Connection) -> Option<GenePos> {
     match g.gene(at.parent).link(at.link) {
         Link::Child(c) => Some(c),
@@ -290,8 +274,8 @@ proptest! {
         // Parent 1's point held a gene; the subtrees moved across intact.
         let e1 = child_at(&p1, a1).unwrap();
         let e2 = child_at(&p2, a2);
-        prop_assert_eq!(child_at(&c2, a2).map(|c| shape(&c2, c)), Some(shape(&p1, e1)));
-        prop_assert_eq!(child_at(&c1, a1).map(|c| shape(&c1, c)), e2.map(|e| shape(&p2, e)));
+        prop_assert_eq!(child_at(&c2, a2).map(|c| c2.subtree_text(c)), Some(p1.subtree_text(e1)));
+        prop_assert_eq!(child_at(&c1, a1).map(|c| c1.subtree_text(c)), e2.map(|e| p2.subtree_text(e)));
         prop_assert_eq!(p2.gene(a2.parent).link(a2.link) == Link::Closed, false);
         // Nothing is created or lost.
         prop_assert_eq!(genes(&[&p1, &p2]), genes(&[&c1, &c2]));
