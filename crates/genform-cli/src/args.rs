@@ -110,7 +110,7 @@ pub struct EvolveArgs {
     /// Random seed; the same seed gives the same results at any thread count.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Stop after N generations (overrides the scene's [run]).
+    /// Stop after N generations (overrides the scene's `[run]`).
     #[arg(long, value_name = "N")]
     pub generations: Option<usize>,
     /// Stop after this much wall-clock time, e.g. 30s, 5m, 1h.

@@ -24,7 +24,7 @@ use crate::args::{Algorithm, EvolveArgs, ScoreArgs};
 /// How often results are written during a run, so a crash loses little.
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(10);
 
-/// The grammar's limits overridden by the scene's [limits], then by flags.
+/// The grammar's limits overridden by the scene's `[limits]`, then by flags.
 fn scene_limits(config: &SceneConfig, grammar: Limits, flags: LimitOverrides) -> Limits {
     let scene = LimitOverrides {
         max_genes: config.limits.genes,
