@@ -3,16 +3,14 @@
 //! Most operands in a grammar are constants, gene parameters, scope sizes,
 //! or one arithmetic operation on those (`sz / 2`, `sz * move`). Running
 //! such a program through the bytecode evaluator costs many times the
-//! arithmetic itself, and expression is the inner loop of optimizers.
-//!
-//! A program gets a shortcut only when it *is* that shortcut: each
-//! candidate is written as source text, compiled by the one expression
-//! compiler and compared with the program. The shortcut then performs the
-//! same IEEE operations on the same values in the same order as the
-//! evaluator, so results are bit-identical; every other program is run.
+//! arithmetic itself, and expression is the inner loop of optimizers. The
+//! compiler says which programs are trivial ([`Program::trivial`]); here
+//! their loads are resolved to the interpreter's operands (scope size or
+//! gene env), performing the same IEEE operations on the same values in the
+//! same order as the evaluator, so results are bit-identical.
 
 use crate::program::ENV_SX;
-use genform_core::expr::{Program, Scope, compile, parse};
+use genform_core::expr::{self, Arith, Program, Trivial};
 use glam::DVec3;
 
 /// A value an operation reads.
@@ -24,17 +22,6 @@ pub(crate) enum Operand {
     /// An env slot of the running gene.
     Env(u32),
 }
-
-/// An arithmetic operation.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Arith {
-    Add,
-    Sub,
-    Mul,
-    Div,
-}
-
-const ARITH: [(Arith, &str); 4] = [(Arith::Add, "+"), (Arith::Sub, "-"), (Arith::Mul, "*"), (Arith::Div, "/")];
 
 /// How the interpreter evaluates an expression.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,10 +35,13 @@ pub(crate) enum Fast {
 }
 
 impl Operand {
-    fn load(idx: u32) -> Operand {
-        match (idx as usize).checked_sub(ENV_SX) {
-            Some(axis) if axis < 3 => Operand::Size(axis as u8),
-            _ => Operand::Env(idx),
+    fn of(op: expr::Operand) -> Operand {
+        match op {
+            expr::Operand::Const(v) => Operand::Const(v),
+            expr::Operand::Load(idx) => match (idx as usize).checked_sub(ENV_SX) {
+                Some(axis) if axis < 3 => Operand::Size(axis as u8),
+                _ => Operand::Env(idx),
+            },
         }
     }
 
@@ -70,26 +60,11 @@ impl Operand {
 impl Fast {
     /// The shortcut for `prog`, or [`Fast::Run`].
     pub fn of(prog: &Program) -> Fast {
-        if prog.uses_rng() {
-            return Fast::Run;
+        match prog.trivial() {
+            Some(Trivial::Value(a)) => Fast::Value(Operand::of(a)),
+            Some(Trivial::Bin(op, a, b)) => Fast::Bin(op, Operand::of(a), Operand::of(b)).strength_reduced(),
+            None => Fast::Run,
         }
-        if let Some(v) = prog.constant() {
-            return Fast::Value(Operand::Const(v));
-        }
-        let loads: Vec<u32> = prog.loads().collect();
-        let candidates = match loads[..] {
-            [a] => one_load(prog, a),
-            [a, b] => ARITH
-                .iter()
-                .map(|&(op, sym)| (format!("x {sym} y"), Fast::Bin(op, Operand::load(a), Operand::load(b))))
-                .collect(),
-            _ => Vec::new(),
-        };
-        let scope = Loads(&loads);
-        candidates
-            .into_iter()
-            .find(|(text, _)| parse(text).ok().and_then(|ast| compile(&ast, &scope).ok()).as_ref() == Some(prog))
-            .map_or(Fast::Run, |(_, fast)| fast.strength_reduced())
     }
 
     /// `x / c` as `x * (1 / c)` when `c` is a power of two: `1 / c` is then
@@ -133,54 +108,10 @@ fn is_power_of_two(c: f64) -> bool {
     c.is_normal() && c.to_bits() & MANTISSA == 0 && (1.0 / c).is_normal()
 }
 
-/// Candidates for a program that reads env slot `a` once: the lone load,
-/// or one operation with a constant. The constant is recovered from the
-/// program's values at 0 and 1 (e.g. `x * c` at 1 is `c`); a wrong guess
-/// merely fails the comparison.
-fn one_load(prog: &Program, a: u32) -> Vec<(String, Fast)> {
-    let at = |x: f64| {
-        let mut env = vec![0.0; a as usize + 1];
-        env[a as usize] = x;
-        prog.eval(&env)
-    };
-    let (f0, f1) = (at(0.0), at(1.0));
-    let x = Operand::load(a);
-    let mut out = vec![("x".to_string(), Fast::Value(x))];
-    for (op, sym, left, right) in [
-        (Arith::Add, "+", f0, f0),
-        (Arith::Sub, "-", -f0, f0),
-        (Arith::Mul, "*", f1, f1),
-        (Arith::Div, "/", 1.0 / f1, f1),
-    ] {
-        // Program equality cannot tell 0.0 from -0.0 and never matches a
-        // NaN, so only constants whose bits it pins down are accepted.
-        if left.is_finite() && left != 0.0 {
-            out.push((format!("x {sym} {left:?}"), Fast::Bin(op, x, Operand::Const(left))));
-        }
-        if right.is_finite() && right != 0.0 {
-            out.push((format!("{right:?} {sym} x"), Fast::Bin(op, Operand::Const(right), x)));
-        }
-    }
-    out
-}
-
-/// `x` and `y` name the program's loads.
-struct Loads<'a>(&'a [u32]);
-
-impl Scope for Loads<'_> {
-    fn variable(&self, name: &str) -> Option<u32> {
-        match name {
-            "x" => self.0.first().copied(),
-            "y" => self.0.get(1).copied(),
-            _ => None,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use genform_core::expr::Names;
+    use genform_core::expr::{Names, compile, parse};
 
     const NAMES: [&str; 8] = ["sx", "sy", "sz", "depth", "index", "count", "a", "b"];
 
@@ -197,15 +128,15 @@ mod tests {
             ("a", Fast::Value(Operand::Env(6))),
             ("sz / 2", Fast::Bin(Arith::Mul, Operand::Size(2), Operand::Const(0.5))),
             ("sz / -0.25", Fast::Bin(Arith::Mul, Operand::Size(2), Operand::Const(-4.0))),
-            // The divisor cannot be recovered from the values: run it.
-            ("sz / 1e-320", Fast::Run),
+            // A subnormal divisor has no exact reciprocal: divide.
+            ("sz / 1e-320", Fast::Bin(Arith::Div, Operand::Size(2), Operand::Const(1e-320))),
             ("sz * b", Fast::Bin(Arith::Mul, Operand::Size(2), Operand::Env(7))),
             ("b - a", Fast::Bin(Arith::Sub, Operand::Env(7), Operand::Env(6))),
             ("0.1 - a", Fast::Bin(Arith::Sub, Operand::Const(0.1), Operand::Env(6))),
             ("a + 1e-7", Fast::Bin(Arith::Add, Operand::Env(6), Operand::Const(1e-7))),
             ("3 / sx", Fast::Bin(Arith::Div, Operand::Const(3.0), Operand::Size(0))),
             ("a / 3", Fast::Bin(Arith::Div, Operand::Env(6), Operand::Const(3.0))),
-            ("a - 0", Fast::Run),
+            ("a - 0", Fast::Bin(Arith::Sub, Operand::Env(6), Operand::Const(0.0))),
             ("-a", Fast::Run),
             ("a * a * 2", Fast::Run),
             ("a < 2", Fast::Run),
@@ -237,6 +168,8 @@ mod tests {
             "a / 3",
             "a / 2e-300",
             "a / 1024",
+            "sz / 1e-320",
+            "a - 0",
         ];
         let values = [
             0.0,

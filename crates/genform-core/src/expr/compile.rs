@@ -154,6 +154,40 @@ fn bin(op: BinOp, a: f64, b: f64) -> f64 {
     }
 }
 
+/// A value a [`Trivial`] program reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operand {
+    /// A constant.
+    Const(f64),
+    /// Env slot `i` (NaN when the env is shorter, as in [`Program::eval`]).
+    Load(u32),
+}
+
+/// The operation of a [`Trivial`] program.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arith {
+    /// `a + b`.
+    Add,
+    /// `a − b`.
+    Sub,
+    /// `a · b`.
+    Mul,
+    /// `a / b`.
+    Div,
+}
+
+/// What a program computes when it is one value or one arithmetic
+/// operation on two values (`2.5`, `size.x`, `sz / 2`, `sz * move`): most
+/// operands of a grammar. Hot paths compute these directly, with the same
+/// IEEE operation as [`Program::eval`], so results are bit-identical.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Trivial {
+    /// The program yields this value.
+    Value(Operand),
+    /// The program yields `a op b`.
+    Bin(Arith, Operand, Operand),
+}
+
 /// A compiled expression.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Program {
@@ -377,6 +411,29 @@ impl Program {
     pub fn constant(&self) -> Option<f64> {
         match self.code.as_slice() {
             [Op::Const(v)] => Some(*v),
+            _ => None,
+        }
+    }
+
+    /// The program's computation when it is [`Trivial`], else `None`.
+    pub fn trivial(&self) -> Option<Trivial> {
+        let operand = |op: &Op| match *op {
+            Op::Const(v) => Some(Operand::Const(v)),
+            Op::Load(i) => Some(Operand::Load(i)),
+            _ => None,
+        };
+        match self.code.as_slice() {
+            [a] => Some(Trivial::Value(operand(a)?)),
+            [a, b, Op::Bin(op)] => {
+                let arith = match op {
+                    BinOp::Add => Arith::Add,
+                    BinOp::Sub => Arith::Sub,
+                    BinOp::Mul => Arith::Mul,
+                    BinOp::Div => Arith::Div,
+                    _ => return None,
+                };
+                Some(Trivial::Bin(arith, operand(a)?, operand(b)?))
+            }
             _ => None,
         }
     }

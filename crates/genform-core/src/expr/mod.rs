@@ -15,7 +15,7 @@ mod compile;
 mod lex;
 mod parse;
 
-pub use compile::{Program, compile, smootherstep};
+pub use compile::{Arith, Operand, Program, Trivial, compile, smootherstep};
 pub use lex::skip_trivia;
 pub use parse::{Ast, parse, parse_prefix};
 

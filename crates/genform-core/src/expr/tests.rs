@@ -135,3 +135,18 @@ proptest::proptest! {
         proptest::prop_assert_eq!(eval(&src), want as f64);
     }
 }
+
+#[test]
+fn trivial_programs_describe_themselves() {
+    let trivial = |src: &str| compile(&parse(src).unwrap(), NAMES).unwrap().trivial();
+    use Operand::{Const, Load};
+    assert_eq!(trivial("2.5"), Some(Trivial::Value(Const(2.5))));
+    assert_eq!(trivial("1 + 2"), Some(Trivial::Value(Const(3.0))), "folded");
+    assert_eq!(trivial("size.x"), Some(Trivial::Value(Load(2))));
+    assert_eq!(trivial("x / 2"), Some(Trivial::Bin(Arith::Div, Load(0), Const(2.0))));
+    assert_eq!(trivial("0.1 - y"), Some(Trivial::Bin(Arith::Sub, Const(0.1), Load(1))));
+    assert_eq!(trivial("x * y"), Some(Trivial::Bin(Arith::Mul, Load(0), Load(1))));
+    for src in ["-x", "x * x * 2", "x < 2", "sin(x)", "x % 2", "uniform(0, 1)"] {
+        assert_eq!(trivial(src), None, "{src}");
+    }
+}
