@@ -9,9 +9,7 @@ use genform_cli::report::{self, Row};
 use genform_cli::scene_config::{LoadedScene, SceneConfig, parse_duration};
 use genform_cli::targets;
 use genform_core::{Generator, Genome, Limits, Scene};
-use genform_evolve::{
-    Ga, GenerationStats, Individual, Objective, Optimizer, RandomConfig, RandomSearch, Stop, StopReason, run,
-};
+use genform_evolve::{Ga, Individual, Objective, Optimizer, RandomConfig, RandomSearch, Stop, StopReason, run};
 use genform_export::{Camera, ExportOptions, Format, RenderOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
@@ -133,24 +131,6 @@ struct RunContext<'a> {
     threads: usize,
 }
 
-fn row(s: &GenerationStats, seconds: f64) -> Row {
-    Row {
-        generation: s.generation,
-        evaluations: s.total_evaluations,
-        seconds,
-        max: s.max,
-        avg: s.avg,
-        min: s.min,
-        invalid: s.invalid,
-        eval_seconds: s.eval_time.as_secs_f64(),
-        reproduction_seconds: s.reproduction_time.as_secs_f64(),
-        crossover_retries: s.reproduction.crossover_retries,
-        len_min: s.len_min,
-        len_avg: s.len_avg,
-        len_max: s.len_max,
-    }
-}
-
 impl RunContext<'_> {
     fn progress(&self) -> ProgressBar {
         let bar = match self.stop.generations {
@@ -179,7 +159,7 @@ impl RunContext<'_> {
         let start = Instant::now();
         let summary = run(&mut opt, objective, &self.stop, |stats, opt| {
             let secs = start.elapsed().as_secs_f64();
-            rows.push(row(stats, secs));
+            rows.push((stats.clone(), secs));
             let best = opt.best().map_or(f64::NAN, |b| b.fitness);
             let rate = stats.total_evaluations as f64 / secs.max(1e-9);
             if self.stop.generations.is_some() {
@@ -279,8 +259,8 @@ impl RunContext<'_> {
             "evaluations": opt.evaluations(),
             "seconds": elapsed.as_secs_f64(),
             "evaluations_per_second": opt.evaluations() as f64 / elapsed.as_secs_f64().max(1e-9),
-            "eval_seconds": rows.iter().map(|r| r.eval_seconds).sum::<f64>(),
-            "reproduction_seconds": rows.iter().map(|r| r.reproduction_seconds).sum::<f64>(),
+            "eval_seconds": rows.iter().map(|(r, _)| r.eval_time.as_secs_f64()).sum::<f64>(),
+            "reproduction_seconds": rows.iter().map(|(r, _)| r.reproduction_time.as_secs_f64()).sum::<f64>(),
             "best_fitness": best.map(|b| b.fitness),
             "best_length": best.map(|b| b.genome.len()),
             "max_reachable_fitness": self.scorers.fitness.max_reachable(self.config.ga.min_length),

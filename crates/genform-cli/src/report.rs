@@ -2,40 +2,14 @@
 //! the fitness plot and the gallery of the best individuals.
 
 use genform_core::Scene;
+use genform_evolve::GenerationStats;
 use genform_export::plot::{Chart, Series, Tile, charts_svg, encode_png_rgb, gallery_rgb};
 use genform_export::{Camera, RenderOptions};
 use std::fmt::Write as _;
 
-/// One generation's line of `stats.csv`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Row {
-    /// Generation number (0 = the initial population).
-    pub generation: usize,
-    /// Evaluations so far.
-    pub evaluations: u64,
-    /// Wall-clock seconds since the start (not deterministic).
-    pub seconds: f64,
-    /// Best fitness of the population.
-    pub max: f64,
-    /// Mean fitness over valid individuals.
-    pub avg: f64,
-    /// Worst valid fitness.
-    pub min: f64,
-    /// Individuals that could not be expressed.
-    pub invalid: usize,
-    /// Seconds spent evaluating this generation (not deterministic).
-    pub eval_seconds: f64,
-    /// Seconds spent reproducing this generation (not deterministic).
-    pub reproduction_seconds: f64,
-    /// Crossover retries used this generation.
-    pub crossover_retries: u64,
-    /// Shortest genome.
-    pub len_min: usize,
-    /// Mean genome length.
-    pub len_avg: f64,
-    /// Longest genome.
-    pub len_max: usize,
-}
+/// One generation's line of `stats.csv`: the optimizer's statistics and
+/// the wall-clock seconds since the start of the run.
+pub type Row = (GenerationStats, f64);
 
 /// Column names of `stats.csv`, in order.
 pub const CSV_HEADER: &str = "generation,evaluations,seconds,max_fitness,avg_fitness,min_fitness,invalid,eval_seconds,reproduction_seconds,crossover_retries,min_length,avg_length,max_length";
@@ -50,20 +24,20 @@ fn num(v: f64) -> String {
 pub fn stats_csv(rows: &[Row]) -> String {
     let mut s = String::from(CSV_HEADER);
     s.push('\n');
-    for r in rows {
+    for (r, seconds) in rows {
         let _ = writeln!(
             s,
             "{},{},{:.3},{},{},{},{},{:.6},{:.6},{},{},{},{}",
             r.generation,
-            r.evaluations,
-            r.seconds,
+            r.total_evaluations,
+            seconds,
             num(r.max),
             num(r.avg),
             num(r.min),
             r.invalid,
-            r.eval_seconds,
-            r.reproduction_seconds,
-            r.crossover_retries,
+            r.eval_time.as_secs_f64(),
+            r.reproduction_time.as_secs_f64(),
+            r.reproduction.crossover_retries,
             r.len_min,
             num(r.len_avg),
             r.len_max
@@ -76,9 +50,9 @@ pub fn stats_csv(rows: &[Row]) -> String {
 pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
     let series = |x: &dyn Fn(&Row) -> f64| {
         [
-            ("max", "#d62728", (|r: &Row| r.max) as fn(&Row) -> f64),
-            ("avg", "#2ca02c", |r| r.avg),
-            ("min", "#1f77b4", |r| r.min),
+            ("max", "#d62728", (|r: &Row| r.0.max) as fn(&Row) -> f64),
+            ("avg", "#2ca02c", |r| r.0.avg),
+            ("min", "#1f77b4", |r| r.0.min),
         ]
         .into_iter()
         .map(|(name, color, y)| Series {
@@ -93,13 +67,13 @@ pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
             title: format!("{title}: fitness by generation"),
             x_label: "generation".into(),
             y_label: "fitness".into(),
-            series: series(&|r| r.generation as f64),
+            series: series(&|r| r.0.generation as f64),
         },
         Chart {
             title: "fitness by time".into(),
             x_label: "seconds".into(),
             y_label: "fitness".into(),
-            series: series(&|r| r.seconds),
+            series: series(&|r| r.1),
         },
     ])
 }
@@ -125,21 +99,14 @@ mod tests {
     use super::*;
 
     fn row(g: usize, max: f64) -> Row {
-        Row {
-            generation: g,
-            evaluations: 10 * g as u64,
-            seconds: 0.5 * g as f64,
-            max,
-            avg: max - 1.0,
-            min: max - 2.0,
-            invalid: 0,
-            eval_seconds: 0.1,
-            reproduction_seconds: 0.01,
-            crossover_retries: 2,
-            len_min: 4,
-            len_avg: 10.5,
-            len_max: 20,
-        }
+        let mut stats = GenerationStats::of_population(g, &[]);
+        stats.total_evaluations = 10 * g as u64;
+        (stats.max, stats.avg, stats.min) = (max, max - 1.0, max - 2.0);
+        stats.eval_time = std::time::Duration::from_millis(100);
+        stats.reproduction_time = std::time::Duration::from_millis(10);
+        stats.reproduction.crossover_retries = 2;
+        (stats.len_min, stats.len_avg, stats.len_max) = (4, 10.5, 20);
+        (stats, 0.5 * g as f64)
     }
 
     #[test]

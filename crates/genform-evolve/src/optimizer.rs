@@ -3,7 +3,7 @@
 use crate::objective::Objective;
 use crate::selection::rank;
 use crate::stats::GenerationStats;
-use genform_core::Genome;
+use genform_core::{Genome, Limits};
 
 /// A genome with its cached fitness.
 #[derive(Clone, Debug, PartialEq)]
@@ -65,4 +65,10 @@ pub(crate) fn update_best(best: &mut Option<Individual>, sorted: &[Individual]) 
     {
         *best = Some(top.clone());
     }
+}
+
+/// `limits` with the gene limit lowered below the exclusive length bound
+/// `max_length`, so growth never makes a genome the bound would drop.
+pub(crate) fn length_capped(limits: &Limits, max_length: usize) -> Limits {
+    Limits { max_genes: limits.max_genes.min(max_length - 1), ..*limits }
 }

@@ -35,7 +35,7 @@ impl RandomSearch {
     /// A search with nothing sampled yet.
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: RandomConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        let limits = Limits { max_genes: limits.max_genes.min(config.max_length - 1), ..*limits };
+        let limits = crate::optimizer::length_capped(limits, config.max_length);
         Ok(RandomSearch {
             graph: graph.clone(),
             limits,

@@ -52,7 +52,7 @@ impl Ga {
     /// pass [`GeneratorGraph::check`] (compiled grammars do).
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: GaConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        let limits = Limits { max_genes: limits.max_genes.min(config.max_length - 1), ..*limits };
+        let limits = crate::optimizer::length_capped(limits, config.max_length);
         Ok(Ga {
             graph: graph.clone(),
             limits,
