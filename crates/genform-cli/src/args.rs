@@ -26,6 +26,8 @@ pub enum Command {
     Evolve(EvolveArgs),
     /// Score a saved genome against the targets of a scene config.
     Score(ScoreArgs),
+    /// Run several algorithms on a scene with equal time budgets and compare them.
+    Compare(CompareArgs),
 }
 
 /// Overrides of the grammar's derivation limits.
@@ -93,13 +95,34 @@ pub struct InfoArgs {
     pub file: PathBuf,
 }
 
-/// The search algorithm of `genform evolve`.
+/// A search algorithm.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Algorithm {
     /// The ShapeGenetics genetic algorithm.
     Ga,
+    /// RJMCMC with parallel tempering, delayed rejection and annealing.
+    Mh,
+    /// Sequential Monte Carlo, fixed (depth-first) growth order.
+    Smc,
+    /// Stochastically-ordered SMC.
+    Sosmc,
+    /// SOSMC seeds a GA, MH polishes its best.
+    Hybrid,
     /// Random search: fresh random individuals, keep the best (a baseline).
     Random,
+}
+
+impl From<Algorithm> for genform_evolve::Algorithm {
+    fn from(a: Algorithm) -> Self {
+        match a {
+            Algorithm::Ga => genform_evolve::Algorithm::Ga,
+            Algorithm::Mh => genform_evolve::Algorithm::Mh,
+            Algorithm::Smc => genform_evolve::Algorithm::Smc,
+            Algorithm::Sosmc => genform_evolve::Algorithm::Sosmc,
+            Algorithm::Hybrid => genform_evolve::Algorithm::Hybrid,
+            Algorithm::Random => genform_evolve::Algorithm::Random,
+        }
+    }
 }
 
 /// Arguments of `genform evolve`.
@@ -129,6 +152,36 @@ pub struct EvolveArgs {
     #[arg(long, value_enum, default_value_t = Algorithm::Ga)]
     pub algorithm: Algorithm,
     /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+    #[command(flatten)]
+    pub limits: LimitArgs,
+}
+
+/// Arguments of `genform compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Scene config (.toml).
+    pub scene: PathBuf,
+    /// Wall-clock budget of every run, e.g. 10s, 1m.
+    #[arg(long, value_name = "TIME", default_value = "30s")]
+    pub budget: String,
+    /// Runs per algorithm; run r uses seed `--seed` + r.
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub runs: usize,
+    /// Algorithms to compare, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc])]
+    pub algorithms: Vec<Algorithm>,
+    /// Seed of the first run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads of each run (default: all cores); runs go one after another.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Output folder for comparison.csv, comparison.svg and each algorithm's best genome.
+    #[arg(long, short, default_value = "compare-out")]
+    pub out: PathBuf,
+    /// No progress output.
     #[arg(long, short)]
     pub quiet: bool,
     #[command(flatten)]

@@ -21,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Info(a) => info(a),
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
+        Command::Compare(a) => crate::evolve::compare(a),
     }
 }
 

@@ -2,6 +2,7 @@
 //! results (best model, genome, statistics, plots) to a folder.
 
 use anyhow::{Context, Result, bail};
+use genform_cli::comparison::{self, Trace, TracePoint};
 use genform_cli::grammar::{self, LimitOverrides};
 use genform_cli::objective::{SceneObjective, Scorers};
 use genform_cli::output::write_atomic;
@@ -9,7 +10,7 @@ use genform_cli::report::{self, Row};
 use genform_cli::scene_config::{LoadedScene, SceneConfig, parse_duration};
 use genform_cli::targets;
 use genform_core::{Generator, Genome, Limits, Scene};
-use genform_evolve::{Ga, Individual, Objective, Optimizer, RandomConfig, RandomSearch, Stop, StopReason, run};
+use genform_evolve::{AnyOptimizer, Horizon, Individual, Objective, Optimizer, Stop, StopReason, run};
 use genform_export::{Camera, ExportOptions, Format, RenderOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
@@ -17,7 +18,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::args::{Algorithm, EvolveArgs, ScoreArgs};
+use crate::args::{Algorithm, CompareArgs, EvolveArgs, ScoreArgs};
 
 /// How often results are written during a run, so a crash loses little.
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(10);
@@ -69,7 +70,6 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
         );
     }
     let scorers = targets::build(&config)?;
-    let cancel = Arc::new(AtomicBool::new(false));
     // Command-line stop rules replace the scene's [run] as a whole.
     let cli_stops = a.generations.is_some() || a.budget.is_some() || a.evaluations.is_some();
     let (generations, budget, evaluations) = if cli_stops {
@@ -83,18 +83,8 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
             "nothing tells the run when to stop: give --generations, --budget or --evaluations (or [run] in the scene)"
         );
     }
-    let threads = a.threads.unwrap_or(0);
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().context("cannot start worker threads")?;
-
-    {
-        let cancel = cancel.clone();
-        // A second Ctrl-C quits at once; the first lets the generation finish.
-        let _ = ctrlc::set_handler(move || {
-            if cancel.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        });
-    }
+    let pool = worker_pool(a.threads)?;
+    let cancel = cancel_on_ctrl_c();
     let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let ctx = RunContext {
         args: &a,
@@ -106,18 +96,132 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
         stop: Stop { generations, budget, evaluations, cancel: &cancel },
         threads: pool.current_num_threads(),
     };
-    pool.install(|| match a.algorithm {
-        Algorithm::Ga => {
-            let ga = Ga::new(loaded.generator.graph(), &limits, config.ga.clone(), a.seed)
-                .map_err(|e| anyhow::anyhow!("[ga]: {e}"))?;
-            ctx.drive(ga, &objective)
+    let horizon = Horizon { generations, budget, evaluations };
+    let opt =
+        AnyOptimizer::new(a.algorithm.into(), loaded.generator.graph(), &limits, &config.settings(), a.seed, horizon)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", section(a.algorithm)))?;
+    pool.install(|| ctx.drive(opt, &objective))
+}
+
+/// The scene section holding an algorithm's settings, for error messages.
+fn section(a: Algorithm) -> &'static str {
+    match a {
+        Algorithm::Ga | Algorithm::Random => "[ga]",
+        Algorithm::Mh => "[mh]",
+        Algorithm::Smc | Algorithm::Sosmc => "[smc]",
+        Algorithm::Hybrid => "[hybrid]",
+    }
+}
+
+fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build().context("cannot start worker threads")
+}
+
+/// A flag set by Ctrl-C; a second Ctrl-C quits at once.
+fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
+    let cancel = Arc::new(AtomicBool::new(false));
+    let flag = cancel.clone();
+    let _ = ctrlc::set_handler(move || {
+        if flag.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
         }
-        Algorithm::Random => {
-            let rs = RandomSearch::new(loaded.generator.graph(), &limits, RandomConfig::like(&config.ga), a.seed)
-                .map_err(|e| anyhow::anyhow!("random search: {e}"))?;
-            ctx.drive(rs, &objective)
+    });
+    cancel
+}
+
+/// Runs `genform compare`: every algorithm `runs` times with the same
+/// wall-clock budget, one run after another on the same worker pool.
+pub fn compare(a: CompareArgs) -> Result<()> {
+    let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
+    let loaded = grammar::load(&config.grammar)?;
+    let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
+    let scorers = targets::build(&config)?;
+    let budget = parse_duration(&a.budget).context("--budget")?;
+    if a.runs == 0 {
+        bail!("--runs must be at least 1");
+    }
+    let mut algorithms: Vec<Algorithm> = Vec::new();
+    for alg in &a.algorithms {
+        if !algorithms.contains(alg) {
+            algorithms.push(*alg);
         }
-    })
+    }
+    let settings = config.settings();
+    let horizon = Horizon { budget: Some(budget), ..Horizon::default() };
+    for alg in &algorithms {
+        AnyOptimizer::new((*alg).into(), loaded.generator.graph(), &limits, &settings, a.seed, horizon)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
+    }
+    std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
+    let pool = worker_pool(a.threads)?;
+    let cancel = cancel_on_ctrl_c();
+    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
+    let stop = Stop { generations: None, budget: Some(budget), evaluations: None, cancel: &cancel };
+    let title = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let spacing = budget.as_secs_f64() / 200.0;
+    let mut traces: Vec<Trace> = Vec::new();
+    'all: for alg in &algorithms {
+        let name = genform_evolve::Algorithm::from(*alg).name();
+        let mut best: Option<Individual> = None;
+        for r in 0..a.runs {
+            let seed = a.seed + r as u64;
+            let mut opt = AnyOptimizer::new((*alg).into(), loaded.generator.graph(), &limits, &settings, seed, horizon)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
+            let mut trace = Trace::new(name, r, seed);
+            let start = Instant::now();
+            let summary = pool.install(|| {
+                run(&mut opt, &objective, &stop, |stats, o| {
+                    let best = o.best().map_or(f64::NAN, |b| b.fitness);
+                    let point = TracePoint {
+                        seconds: start.elapsed().as_secs_f64(),
+                        evaluations: stats.total_evaluations,
+                        best,
+                    };
+                    trace.record(point, spacing);
+                })
+            })?;
+            if let Some(b) = opt.best()
+                && best.as_ref().is_none_or(|old| b.fitness > old.fitness)
+            {
+                best = Some(b.clone());
+            }
+            if !a.quiet {
+                eprintln!(
+                    "{name} run {}/{}: best {:.6} after {} evaluations in {:.1} s",
+                    r + 1,
+                    a.runs,
+                    opt.best().map_or(f64::NAN, |b| b.fitness),
+                    opt.evaluations(),
+                    summary.elapsed.as_secs_f64()
+                );
+            }
+            let cancelled = summary.reason == StopReason::Cancelled;
+            if !cancelled {
+                traces.push(trace);
+            }
+            write_atomic(&a.out.join("comparison.csv"), comparison::csv(&traces).as_bytes())?;
+            if cancelled {
+                eprintln!("interrupted: the unfinished run is left out");
+                break 'all;
+            }
+        }
+        if let Some(b) = best {
+            let path = a.out.join(format!("best-{name}-genome.json"));
+            write_atomic(&path, b.genome.to_json(loaded.generator.graph()).as_bytes())?;
+        }
+    }
+    write_atomic(&a.out.join("comparison.csv"), comparison::csv(&traces).as_bytes())?;
+    let svg = comparison::svg(&title, &traces, budget.as_secs_f64());
+    write_atomic(&a.out.join("comparison.svg"), svg.as_bytes())?;
+    print!("{}", comparison::summary(&traces));
+    eprintln!(
+        "{} runs of {} s each on {} → {}",
+        traces.len(),
+        budget.as_secs_f64(),
+        scene_path.display(),
+        a.out.display()
+    );
+    Ok(())
 }
 
 struct RunContext<'a> {
@@ -251,7 +355,7 @@ impl RunContext<'_> {
         let run = serde_json::json!({
             "genform": env!("CARGO_PKG_VERSION"),
             "scene": self.scene_path.display().to_string(),
-            "algorithm": format!("{:?}", self.args.algorithm).to_lowercase(),
+            "algorithm": genform_evolve::Algorithm::from(self.args.algorithm).name(),
             "seed": self.args.seed,
             "threads": self.threads,
             "stopped_by": reason,

@@ -4,6 +4,7 @@
 //! generator to scorers, run reports). The binary itself only parses
 //! arguments and prints.
 
+pub mod comparison;
 pub mod grammar;
 pub mod objective;
 pub mod output;

@@ -59,6 +59,7 @@ pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
             name: name.into(),
             color: color.into(),
             points: rows.iter().map(|r| (x(r), y(r))).collect(),
+            band: Vec::new(),
         })
         .collect::<Vec<_>>()
     };

@@ -31,6 +31,17 @@ pub struct SceneConfig {
     /// Genetic-algorithm settings (see `genform_evolve::GaConfig`).
     #[serde(default)]
     pub ga: genform_evolve::GaConfig,
+    /// MCMC settings (see `genform_evolve::MhConfig`); when the section is
+    /// absent, the chains take their lengths from `[ga]`.
+    #[serde(default)]
+    pub mh: Option<genform_evolve::MhConfig>,
+    /// SMC/SOSMC settings (see `genform_evolve::SmcConfig`); when absent,
+    /// `max_length` follows `[ga]`.
+    #[serde(default)]
+    pub smc: Option<genform_evolve::SmcConfig>,
+    /// The hybrid's switching rules (see `genform_evolve::HybridConfig`).
+    #[serde(default)]
+    pub hybrid: genform_evolve::HybridConfig,
     /// When to stop (command-line flags override it).
     #[serde(default)]
     pub run: RunConfig,
@@ -288,7 +299,28 @@ impl SceneConfig {
             parse_duration(b).with_context(|| "[run] budget")?;
         }
         self.ga.validate().map_err(|e| anyhow::anyhow!("[ga]: {e}"))?;
+        let settings = self.settings();
+        settings.mh.validate().map_err(|e| anyhow::anyhow!("[mh]: {e}"))?;
+        settings.smc.validate().map_err(|e| anyhow::anyhow!("[smc]: {e}"))?;
+        settings.hybrid.validate().map_err(|e| anyhow::anyhow!("[hybrid]: {e}"))?;
         Ok(())
+    }
+
+    /// The settings of every algorithm; absent `[mh]` and `[smc]` sections
+    /// take their defaults with the genome lengths of `[ga]`.
+    pub fn settings(&self) -> genform_evolve::Settings {
+        let ga = &self.ga;
+        let mh = self.mh.clone().unwrap_or_else(|| genform_evolve::MhConfig {
+            initial_length: ga.initial_length,
+            min_length: ga.min_length,
+            max_length: ga.max_length,
+            ..Default::default()
+        });
+        let smc = self
+            .smc
+            .clone()
+            .unwrap_or_else(|| genform_evolve::SmcConfig { max_length: ga.max_length, ..Default::default() });
+        genform_evolve::Settings { ga: ga.clone(), mh, smc, hybrid: self.hybrid.clone() }
     }
 
     /// The fitness function: the configured form, or "image" for image-only

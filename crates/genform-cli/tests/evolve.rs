@@ -50,6 +50,8 @@ fn ship(dir: &Path) -> PathBuf {
             ("elitism = 30", "elitism = 4"),
             ("initial_length = [50, 50]", "initial_length = [10, 30]"),
             ("generations = 130", "generations = 6"),
+            ("chains = 70", "chains = 8"),
+            ("particles = 500", "particles = 40"),
         ],
     )
 }
@@ -186,4 +188,76 @@ fn ctrl_c_ends_the_run_and_writes_the_results() {
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("run/run.json")).unwrap()).unwrap();
     assert_eq!(json["stopped_by"], "interrupted");
     assert!(tmp.path().join("run/best-genome.json").exists());
+}
+
+#[test]
+fn every_algorithm_runs_from_the_cli_and_is_deterministic() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let s = scene.to_str().unwrap();
+    let read = |d: &str, f: &str| std::fs::read_to_string(tmp.path().join(d).join(f)).unwrap();
+    for alg in ["mh", "smc", "sosmc", "hybrid"] {
+        let (one, two) = (format!("{alg}-1"), format!("{alg}-2"));
+        for (out, threads) in [(&one, "1"), (&two, "2")] {
+            let args =
+                ["evolve", s, "--algorithm", alg, "--evaluations", "600", "--threads", threads, "--out", out, "-q"];
+            ok(tmp.path(), &args);
+        }
+        assert_eq!(read(&one, "best-genome.json"), read(&two, "best-genome.json"), "{alg}");
+        assert_eq!(fitness_columns(&read(&one, "stats.csv")), fitness_columns(&read(&two, "stats.csv")), "{alg}");
+        let json: serde_json::Value = serde_json::from_str(&read(&one, "run.json")).unwrap();
+        assert_eq!(json["algorithm"], alg);
+        assert!(json["evaluations"].as_u64().unwrap() >= 600, "{alg}");
+        assert!(json["best_fitness"].as_f64().is_some(), "{alg}");
+    }
+}
+
+#[test]
+fn compare_writes_the_table_the_csv_and_the_plot() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let args = [
+        "compare",
+        scene.to_str().unwrap(),
+        "--budget",
+        "0.4s",
+        "--runs",
+        "2",
+        "--algorithms",
+        "ga,sosmc",
+        "--out",
+        "c",
+    ];
+    let out = ok(tmp.path(), &args);
+    let table = String::from_utf8_lossy(&out.stdout);
+    let rows: Vec<&str> = table.lines().collect();
+    assert_eq!(rows.len(), 3, "{table}");
+    assert!(rows[1].starts_with("ga ") && rows[2].starts_with("sosmc "), "{table}");
+    let csv = std::fs::read_to_string(tmp.path().join("c/comparison.csv")).unwrap();
+    assert_eq!(csv.lines().next().unwrap(), "algorithm,run,seed,seconds,evaluations,best_fitness");
+    for (alg, run, seed) in [("ga", 0, 1), ("ga", 1, 2), ("sosmc", 0, 1), ("sosmc", 1, 2)] {
+        let last = csv.lines().rfind(|l| l.starts_with(&format!("{alg},{run},{seed},")));
+        let cols: Vec<&str> = last.unwrap_or_else(|| panic!("no {alg} run {run}\n{csv}")).split(',').collect();
+        let seconds: f64 = cols[3].parse().unwrap();
+        assert!((0.4..3.0).contains(&seconds), "{alg} ran {seconds} s");
+        assert!(cols[4].parse::<u64>().unwrap() > 0 && cols[5].parse::<f64>().is_ok());
+    }
+    let svg = std::fs::read_to_string(tmp.path().join("c/comparison.svg")).unwrap();
+    assert_eq!(svg.matches("<polyline").count(), 2);
+    assert!(svg.contains(">ga<") && svg.contains(">sosmc<"));
+    assert!(tmp.path().join("c/best-ga-genome.json").exists() && tmp.path().join("c/best-sosmc-genome.json").exists());
+}
+
+#[test]
+fn mcmc_and_smc_settings_are_checked() {
+    let tmp = tempfile::tempdir().unwrap();
+    let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("chains = 70", "chains = 70\njump = 2")]);
+    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap(), "--algorithm", "mh"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("[mh]") && err.contains("jump must be in [0, 1], got 2"), "{err}");
+    let bad =
+        small_scene(tmp.path(), "spaceship_volume.toml", &[("particles = 500", "particles = 500\nweight = \"exp\"")]);
+    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("spaceship_volume.toml:") && err.contains("exp"), "{err}");
 }

@@ -56,6 +56,25 @@ pub enum ConfigError {
     /// A tournament without contestants.
     #[error("the tournament size in selection.{0} must be at least 1")]
     Tournament(&'static str),
+    /// A numeric setting outside its range.
+    #[error("{name} must be {requirement}, got {value}")]
+    Setting {
+        /// The setting's name.
+        name: &'static str,
+        /// What it must be, e.g. "in [0, 1]".
+        requirement: &'static str,
+        /// The value given.
+        value: f64,
+    },
+}
+
+/// Fails with [`ConfigError::Setting`] unless `ok(value)`.
+fn require(name: &'static str, value: f64, requirement: &'static str, ok: bool) -> Result<(), ConfigError> {
+    if ok { Ok(()) } else { Err(ConfigError::Setting { name, requirement, value }) }
+}
+
+fn probability(name: &'static str, value: f64) -> Result<(), ConfigError> {
+    require(name, value, "in [0, 1]", (0.0..=1.0).contains(&value))
 }
 
 /// The selector for each parent of a pair.
@@ -185,6 +204,190 @@ impl RandomConfig {
             return Err(ConfigError::Population(self.population));
         }
         check_lengths(1, self.max_length, self.initial_length)
+    }
+}
+
+/// How an MCMC move picks the gene it changes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeneChoice {
+    /// Uniformly among the eligible genes.
+    Uniform,
+    /// Talton et al.'s nonterminal selection as the reference implements
+    /// it: a depth uniformly among the depths that hold eligible genes, then
+    /// a gene uniformly at that depth, so shallow (structural) genes are
+    /// changed as often as the many deep ones.
+    Level,
+}
+
+/// Settings of the RJMCMC chains (Talton et al. 2011 as the thesis runs
+/// it: diffusion and jump moves, nonterminal selection, parallel
+/// tempering, delayed rejection and annealing). Defaults: the paper's
+/// spaceship experiment (70 chains, initial length 50, 50 % jumps,
+/// annealing 1.1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct MhConfig {
+    /// Chains, one per rung of the temperature ladder.
+    pub chains: usize,
+    /// Initial genome length, drawn uniformly from `[a, b]` (as the GA's).
+    pub initial_length: [usize; 2],
+    /// States shorter than this are outside the support (rejected).
+    pub min_length: usize,
+    /// States this long or longer are outside the support (exclusive).
+    pub max_length: usize,
+    /// Probability that a step is a jump (else a diffusion).
+    pub jump: f64,
+    /// How moves pick their gene.
+    pub gene_choice: GeneChoice,
+    /// Fraction of diffusion moves that drift continuous parameters by a
+    /// Gaussian step instead of redrawing them from their distribution.
+    pub drift: f64,
+    /// Standard deviation of a drift step, as a fraction of the
+    /// parameter's range (uniform) or standard deviation (normal).
+    pub drift_scale: f64,
+    /// Temperature of the coldest chain, in fitness units: a move that
+    /// loses `t` fitness is accepted with probability 1/e there. Unset:
+    /// the hottest chain's temperature is the standard deviation of the
+    /// initial fitness values, and the coldest is that over `ladder`.
+    pub temperature: Option<f64>,
+    /// Hottest over coldest temperature; chains are spaced geometrically.
+    /// 12.9 is Talton et al.'s rule: a move accepted with probability 0.7 in
+    /// the hottest chain is accepted with 0.01 in the coldest.
+    pub ladder: f64,
+    /// Factor applied to every chain's inverse temperature after each
+    /// generation (1 = no annealing; the thesis uses 1.1).
+    pub anneal: f64,
+    /// Whether a rejected jump gets a second try at the same gene
+    /// (Tierney–Mira delayed rejection).
+    pub delayed_rejection: bool,
+}
+
+impl Default for MhConfig {
+    fn default() -> Self {
+        MhConfig {
+            chains: 70,
+            initial_length: [50, 50],
+            min_length: 4,
+            max_length: 100,
+            jump: 0.5,
+            gene_choice: GeneChoice::Level,
+            drift: 0.5,
+            drift_scale: 0.1,
+            temperature: None,
+            ladder: TALTON_LADDER,
+            anneal: 1.1,
+            delayed_rejection: true,
+        }
+    }
+}
+
+/// Hottest over coldest temperature such that a move accepted with
+/// probability 0.7 in the hottest chain is accepted with 0.01 in the
+/// coldest: ln 0.01 / ln 0.7.
+pub const TALTON_LADDER: f64 = 12.911_368_260_251_52;
+
+impl MhConfig {
+    /// The length bounds states must satisfy.
+    pub fn length_bounds(&self) -> LengthBounds {
+        LengthBounds { min: self.min_length, max: self.max_length }
+    }
+
+    /// Checks every setting; the first problem is returned.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.chains == 0 {
+            return Err(ConfigError::Population(0));
+        }
+        check_lengths(self.min_length, self.max_length, self.initial_length)?;
+        probability("jump", self.jump)?;
+        probability("drift", self.drift)?;
+        require(
+            "drift_scale",
+            self.drift_scale,
+            "finite and > 0",
+            self.drift_scale.is_finite() && self.drift_scale > 0.0,
+        )?;
+        if let Some(t) = self.temperature {
+            require("temperature", t, "finite and > 0", t.is_finite() && t > 0.0)?;
+        }
+        require("ladder", self.ladder, "finite and ≥ 1", self.ladder.is_finite() && self.ladder >= 1.0)?;
+        require("anneal", self.anneal, "finite and ≥ 1", self.anneal.is_finite() && self.anneal >= 1.0)
+    }
+}
+
+/// How SMC weights particles for resampling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Weighting {
+    /// exp(fitness / T), as Ritchie et al. (who use the score itself, a log
+    /// likelihood, so T = 1 there).
+    Boltzmann,
+    /// fitness − the worst valid fitness, as the reference implementation
+    /// meant to (it dropped the shift when every fitness was negative).
+    Shifted,
+}
+
+/// Settings of SMC and SOSMC (Ritchie et al. 2015 in the thesis' genome
+/// framework). Defaults: the paper's spaceship experiment (500 particles).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SmcConfig {
+    /// Particles.
+    pub particles: usize,
+    /// Resampling weight.
+    pub weight: Weighting,
+    /// Temperature of [`Weighting::Boltzmann`]. Unset: the standard
+    /// deviation of the particles' fitness at each step, which makes the
+    /// weights independent of the fitness scale.
+    pub temperature: Option<f64>,
+    /// Particles stop growing before this length (exclusive bound).
+    pub max_length: usize,
+}
+
+impl Default for SmcConfig {
+    fn default() -> Self {
+        SmcConfig { particles: 500, weight: Weighting::Boltzmann, temperature: None, max_length: 100 }
+    }
+}
+
+impl SmcConfig {
+    /// Checks every setting; the first problem is returned.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.particles == 0 {
+            return Err(ConfigError::Population(0));
+        }
+        if let Some(t) = self.temperature {
+            require("temperature", t, "finite and > 0", t.is_finite() && t > 0.0)?;
+        }
+        require("max_length", self.max_length as f64, "at least 2", self.max_length >= 2)
+    }
+}
+
+/// Settings of the hybrid: SOSMC seeds the GA's population, the GA runs
+/// until it stagnates (or a share of the run's horizon is used), then MH
+/// chains polish its best individuals. Each phase takes its own settings
+/// from the `[smc]`, `[ga]` and `[mh]` sections.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct HybridConfig {
+    /// GA generations without a new best before switching to MH.
+    pub stagnation: usize,
+    /// Share of the run's horizon (time, evaluations or generations) after
+    /// which the GA hands over to MH even while it still improves.
+    pub polish_after: f64,
+}
+
+impl Default for HybridConfig {
+    fn default() -> Self {
+        HybridConfig { stagnation: 40, polish_after: 0.8 }
+    }
+}
+
+impl HybridConfig {
+    /// Checks every setting; the first problem is returned.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        require("stagnation", self.stagnation as f64, "at least 1", self.stagnation >= 1)?;
+        probability("polish_after", self.polish_after)
     }
 }
 

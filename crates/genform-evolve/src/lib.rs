@@ -10,30 +10,46 @@
 //! - [`selection`]: roulette, tournament, uniform.
 //! - [`ga`]: the ShapeGenetics genetic algorithm.
 //! - [`random`]: the random-search baseline.
+//! - [`smc`]: SMC and SOSMC (fixed and stochastic growth order).
+//! - [`hybrid`]: SOSMC seeding, GA, then MH polishing.
+//! - [`mcmc`]: RJMCMC with parallel tempering, delayed rejection and annealing.
 //! - [`run`](mod@run): the driver with generation, time, evaluation and cancel stops.
+//! - [`algorithm`]: every optimizer behind one run-time choice.
 //! - [`config`], [`stats`], [`optimizer`]: settings, per-generation
 //!   statistics, the shared [`Optimizer`] trait.
 //! - [`fixtures`]: toy graphs and objectives for tests and benchmarks.
 #![warn(missing_docs)]
 
+pub mod algorithm;
+#[cfg(test)]
+mod chi2;
 pub mod config;
 mod evaluate;
 pub mod fixtures;
 pub mod ga;
+pub mod hybrid;
+pub mod mcmc;
 pub mod objective;
 pub mod operators;
 pub mod optimizer;
 pub mod random;
 pub mod run;
 pub mod selection;
+pub mod smc;
 pub mod stats;
 
-pub use config::{ConfigError, GaConfig, RandomConfig, SelectionPair};
+pub use algorithm::{Algorithm, AnyOptimizer, Settings};
+pub use config::{
+    ConfigError, GaConfig, GeneChoice, HybridConfig, MhConfig, RandomConfig, SelectionPair, SmcConfig, Weighting,
+};
 pub use ga::Ga;
+pub use hybrid::{Horizon, Hybrid};
+pub use mcmc::Mh;
 pub use objective::{FnObjective, Objective};
 pub use operators::{LengthBounds, MutationKind, MutationMix};
 pub use optimizer::{Individual, Optimizer};
 pub use random::RandomSearch;
 pub use run::{RunSummary, Stop, StopReason, Unbounded, run};
 pub use selection::Selection;
-pub use stats::GenerationStats;
+pub use smc::{Order, Smc};
+pub use stats::{GenerationStats, MoveCounts};

@@ -58,6 +58,41 @@ impl std::ops::AddAssign for ReproductionCounts {
     }
 }
 
+/// Proposals and acceptances of the MCMC moves in one generation; all
+/// zero for other optimizers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MoveCounts {
+    /// Jump moves proposed.
+    pub jumps_proposed: u64,
+    /// Jump moves accepted at the first stage.
+    pub jumps_accepted: u64,
+    /// Second (delayed-rejection) jump stages tried.
+    pub delayed_proposed: u64,
+    /// Second stages accepted.
+    pub delayed_accepted: u64,
+    /// Diffusion moves proposed.
+    pub diffusions_proposed: u64,
+    /// Diffusion moves accepted.
+    pub diffusions_accepted: u64,
+    /// Parallel-tempering swaps proposed.
+    pub swaps_proposed: u64,
+    /// Swaps accepted.
+    pub swaps_accepted: u64,
+}
+
+impl std::ops::AddAssign for MoveCounts {
+    fn add_assign(&mut self, o: Self) {
+        self.jumps_proposed += o.jumps_proposed;
+        self.jumps_accepted += o.jumps_accepted;
+        self.delayed_proposed += o.delayed_proposed;
+        self.delayed_accepted += o.delayed_accepted;
+        self.diffusions_proposed += o.diffusions_proposed;
+        self.diffusions_accepted += o.diffusions_accepted;
+        self.swaps_proposed += o.swaps_proposed;
+        self.swaps_accepted += o.swaps_accepted;
+    }
+}
+
 /// One generation, summarized. Every value except the two durations is a
 /// pure function of (seed, configuration, objective): floats are reduced in
 /// population order.
@@ -83,6 +118,10 @@ pub struct GenerationStats {
     pub reproduction_time: Duration,
     /// How children were made.
     pub reproduction: ReproductionCounts,
+    /// MCMC moves made.
+    pub moves: MoveCounts,
+    /// SMC: effective sample size of the resampling weights.
+    pub ess: Option<f64>,
     /// Shortest genome (genes).
     pub len_min: usize,
     /// Mean genome length.
@@ -125,6 +164,8 @@ impl GenerationStats {
             eval_time: Duration::ZERO,
             reproduction_time: Duration::ZERO,
             reproduction: ReproductionCounts::default(),
+            moves: MoveCounts::default(),
+            ess: None,
             len_min: if n == 0 { 0 } else { len_min },
             len_avg: if n == 0 { 0.0 } else { len_sum as f64 / n as f64 },
             len_max,

@@ -11,6 +11,9 @@ pub struct Series {
     pub color: String,
     /// (x, y) points in drawing order; non-finite points are skipped.
     pub points: Vec<(f64, f64)>,
+    /// A shaded band `(x, low, high)` drawn under the line (e.g. mean ±
+    /// standard deviation); empty for none.
+    pub band: Vec<(f64, f64, f64)>,
 }
 
 /// One panel: axes with labels and any number of series.
@@ -85,7 +88,9 @@ fn label(v: f64) -> String {
 
 fn panel(s: &mut String, c: &Chart, x0: f64) {
     let (xl, xh) = range(c.series.iter().flat_map(|se| se.points.iter().map(|p| p.0)));
-    let (yl, yh) = range(c.series.iter().flat_map(|se| se.points.iter().map(|p| p.1)));
+    let (yl, yh) = range(
+        c.series.iter().flat_map(|se| se.points.iter().map(|p| p.1).chain(se.band.iter().flat_map(|b| [b.1, b.2]))),
+    );
     let (pw, ph) = (PANEL_W - MARGIN_L - MARGIN_R, PANEL_H - MARGIN_T - MARGIN_B);
     let px = |x: f64| x0 + MARGIN_L + (x - xl) / (xh - xl) * pw;
     let py = |y: f64| MARGIN_T + (1.0 - (y - yl) / (yh - yl)) * ph;
@@ -136,6 +141,21 @@ fn panel(s: &mut String, c: &Chart, x0: f64) {
         MARGIN_T + ph / 2.0,
         escape(&c.y_label)
     );
+    for se in &c.series {
+        let band: Vec<(f64, f64, f64)> =
+            se.band.iter().copied().filter(|(x, l, h)| x.is_finite() && l.is_finite() && h.is_finite()).collect();
+        if band.len() > 1 {
+            let upper = band.iter().map(|&(x, _, h)| format!("{:.1},{:.1}", px(x), py(h)));
+            let lower = band.iter().rev().map(|&(x, l, _)| format!("{:.1},{:.1}", px(x), py(l)));
+            let pts: Vec<String> = upper.chain(lower).collect();
+            let _ = writeln!(
+                s,
+                r#"<polygon fill="{}" fill-opacity="0.18" stroke="none" points="{}"/>"#,
+                escape(&se.color),
+                pts.join(" ")
+            );
+        }
+    }
     for (i, se) in c.series.iter().enumerate() {
         let pts: Vec<String> = se
             .points
@@ -293,12 +313,23 @@ mod tests {
             x_label: "generation".into(),
             y_label: "fitness".into(),
             series: vec![
-                Series { name: "max".into(), color: "#d62728".into(), points: vec![(0.0, -3.5), (1.0, 0.4)] },
-                Series { name: "min".into(), color: "#1f77b4".into(), points: vec![(0.0, f64::NEG_INFINITY)] },
+                Series {
+                    name: "max".into(),
+                    color: "#d62728".into(),
+                    points: vec![(0.0, -3.5), (1.0, 0.4)],
+                    band: vec![(0.0, -4.0, -3.0), (1.0, 0.2, 0.6)],
+                },
+                Series {
+                    name: "min".into(),
+                    color: "#1f77b4".into(),
+                    points: vec![(0.0, f64::NEG_INFINITY)],
+                    band: vec![],
+                },
             ],
         };
         let svg = charts_svg(&[c.clone(), c]);
         assert_eq!(svg.matches("<polyline").count(), 2, "the all-non-finite series draws nothing");
+        assert_eq!(svg.matches("<polygon").count(), 2, "one band per panel");
         assert!(svg.contains("fitness &lt;gen&gt;"));
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     }

@@ -65,6 +65,32 @@ impl Ga {
         })
     }
 
+    /// A GA whose generation 0 is `individuals` (with the fitness they
+    /// carry), e.g. the particles of an SMC run: the best
+    /// `config.population` are kept, repeated in order when there are
+    /// fewer. Individuals outside the length bounds are dropped; an error
+    /// when none is left.
+    pub fn from_population(
+        graph: &GeneratorGraph,
+        limits: &Limits,
+        config: GaConfig,
+        seed: u64,
+        mut individuals: Vec<Individual>,
+    ) -> Result<Self, ConfigError> {
+        let mut ga = Ga::new(graph, limits, config, seed)?;
+        let bounds = ga.config.length_bounds();
+        individuals.retain(|i| bounds.contains(i.genome.len()));
+        if individuals.is_empty() {
+            return Err(ConfigError::Population(0));
+        }
+        sort_population(&mut individuals);
+        let n = ga.config.population;
+        ga.population = individuals.iter().cycle().take(n).cloned().collect();
+        sort_population(&mut ga.population);
+        update_best(&mut ga.best, &ga.population);
+        Ok(ga)
+    }
+
     /// The configuration.
     pub fn config(&self) -> &GaConfig {
         &self.config

@@ -86,7 +86,7 @@ impl Depths {
 
 /// Appends a child of `symbol` with freshly drawn parameters under
 /// `parent`'s `link`; `params` is a reusable buffer.
-fn grow_one(
+pub(crate) fn grow_one(
     genome: &mut Genome,
     graph: &GeneratorGraph,
     at: Connection,

@@ -1,0 +1,188 @@
+//! Every optimizer behind one name, for drivers that pick the algorithm at
+//! run time (`genform evolve --algorithm`, `genform compare`).
+
+use crate::config::{ConfigError, GaConfig, HybridConfig, MhConfig, RandomConfig, SmcConfig};
+use crate::ga::Ga;
+use crate::hybrid::{Horizon, Hybrid};
+use crate::mcmc::Mh;
+use crate::objective::Objective;
+use crate::optimizer::{Individual, Optimizer};
+use crate::random::RandomSearch;
+use crate::smc::{Order, Smc};
+use crate::stats::GenerationStats;
+use genform_core::{GeneratorGraph, Limits};
+use std::fmt;
+
+/// The search algorithms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Algorithm {
+    /// The ShapeGenetics genetic algorithm.
+    Ga,
+    /// Random search (fresh individuals, keep the best).
+    Random,
+    /// RJMCMC with parallel tempering.
+    Mh,
+    /// SMC, fixed growth order.
+    Smc,
+    /// SOSMC, stochastic growth order.
+    Sosmc,
+    /// SOSMC → GA → MH.
+    Hybrid,
+}
+
+impl Algorithm {
+    /// Every algorithm, in the order reports list them.
+    pub const ALL: [Algorithm; 6] =
+        [Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc, Algorithm::Hybrid, Algorithm::Random];
+
+    /// Lower-case name, as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::Ga => "ga",
+            Algorithm::Random => "random",
+            Algorithm::Mh => "mh",
+            Algorithm::Smc => "smc",
+            Algorithm::Sosmc => "sosmc",
+            Algorithm::Hybrid => "hybrid",
+        }
+    }
+}
+
+impl fmt::Display for Algorithm {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The settings of every algorithm (a scene's `[ga]`, `[mh]`, `[smc]` and
+/// `[hybrid]` sections); random search mirrors the GA's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    /// GA (and random search).
+    pub ga: GaConfig,
+    /// MH.
+    pub mh: MhConfig,
+    /// SMC and SOSMC.
+    pub smc: SmcConfig,
+    /// The hybrid's switching rules.
+    pub hybrid: HybridConfig,
+}
+
+/// One of the optimizers, chosen at run time.
+#[derive(Clone, Debug)]
+pub enum AnyOptimizer {
+    /// [`Ga`].
+    Ga(Ga),
+    /// [`RandomSearch`].
+    Random(RandomSearch),
+    /// [`Mh`].
+    Mh(Mh),
+    /// [`Smc`], either order.
+    Smc(Smc),
+    /// [`Hybrid`].
+    Hybrid(Box<Hybrid>),
+}
+
+impl AnyOptimizer {
+    /// Builds `algorithm` with its settings; `horizon` is what the run will
+    /// be stopped by (only the hybrid plans with it).
+    pub fn new(
+        algorithm: Algorithm,
+        graph: &GeneratorGraph,
+        limits: &Limits,
+        settings: &Settings,
+        seed: u64,
+        horizon: Horizon,
+    ) -> Result<Self, ConfigError> {
+        let s = settings;
+        Ok(match algorithm {
+            Algorithm::Ga => AnyOptimizer::Ga(Ga::new(graph, limits, s.ga.clone(), seed)?),
+            Algorithm::Random => {
+                AnyOptimizer::Random(RandomSearch::new(graph, limits, RandomConfig::like(&s.ga), seed)?)
+            }
+            Algorithm::Mh => AnyOptimizer::Mh(Mh::new(graph, limits, s.mh.clone(), seed)?),
+            Algorithm::Smc => AnyOptimizer::Smc(Smc::new(graph, limits, s.smc.clone(), Order::Fixed, seed)?),
+            Algorithm::Sosmc => AnyOptimizer::Smc(Smc::new(graph, limits, s.smc.clone(), Order::Stochastic, seed)?),
+            Algorithm::Hybrid => AnyOptimizer::Hybrid(Box::new(Hybrid::new(
+                graph,
+                limits,
+                s.smc.clone(),
+                s.ga.clone(),
+                s.mh.clone(),
+                s.hybrid.clone(),
+                seed,
+                horizon,
+            )?)),
+        })
+    }
+
+    fn inner(&self) -> &dyn Optimizer {
+        match self {
+            AnyOptimizer::Ga(o) => o,
+            AnyOptimizer::Random(o) => o,
+            AnyOptimizer::Mh(o) => o,
+            AnyOptimizer::Smc(o) => o,
+            AnyOptimizer::Hybrid(o) => o.as_ref(),
+        }
+    }
+}
+
+impl Optimizer for AnyOptimizer {
+    fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        match self {
+            AnyOptimizer::Ga(o) => o.step(objective),
+            AnyOptimizer::Random(o) => o.step(objective),
+            AnyOptimizer::Mh(o) => o.step(objective),
+            AnyOptimizer::Smc(o) => o.step(objective),
+            AnyOptimizer::Hybrid(o) => o.step(objective),
+        }
+    }
+
+    fn population(&self) -> &[Individual] {
+        self.inner().population()
+    }
+
+    fn best(&self) -> Option<&Individual> {
+        self.inner().best()
+    }
+
+    fn generation(&self) -> usize {
+        self.inner().generation()
+    }
+
+    fn evaluations(&self) -> u64 {
+        self.inner().evaluations()
+    }
+
+    fn is_initialized(&self) -> bool {
+        self.inner().is_initialized()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::{ShipToy, ship};
+    use crate::run::{Stop, run};
+    use std::sync::atomic::AtomicBool;
+
+    #[test]
+    fn every_algorithm_runs_through_the_driver() {
+        let settings = Settings {
+            ga: GaConfig { population: 20, elitism: 4, initial_length: [5, 15], max_length: 40, ..GaConfig::default() },
+            mh: MhConfig { chains: 8, initial_length: [5, 15], max_length: 40, ..MhConfig::default() },
+            smc: SmcConfig { particles: 30, max_length: 40, ..SmcConfig::default() },
+            hybrid: HybridConfig::default(),
+        };
+        let cancel = AtomicBool::new(false);
+        let stop = Stop { generations: None, budget: None, evaluations: Some(3000), cancel: &cancel };
+        for algorithm in Algorithm::ALL {
+            let horizon = Horizon { evaluations: stop.evaluations, ..Horizon::default() };
+            let mut opt = AnyOptimizer::new(algorithm, &ship(), &Limits::default(), &settings, 1, horizon).unwrap();
+            let summary = run(&mut opt, &ShipToy { target: 15 }, &stop, |_, _| {}).unwrap();
+            assert!(summary.evaluations >= 3000, "{algorithm}");
+            assert!(opt.best().is_some_and(|b| b.fitness.is_finite()), "{algorithm}");
+            assert!(!opt.population().is_empty());
+        }
+    }
+}
