@@ -45,6 +45,7 @@ use crate::objective::Objective;
 use crate::operators::{LengthBounds, initial};
 use crate::optimizer::{Individual, Optimizer, length_capped, sort_population, update_best};
 use crate::stats::{GenerationStats, MoveCounts};
+use genform_core::genome::GenePos;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 use moves::Eligible;
 use rayon::prelude::*;
@@ -262,15 +263,9 @@ impl Optimizer for Mh {
 
 /// Standard deviation of the valid fitness values; `None` when it is 0 or
 /// fewer than two are valid.
-pub(crate) fn spread(population: &[Individual]) -> Option<f64> {
+fn spread(population: &[Individual]) -> Option<f64> {
     let valid: Vec<f64> = population.iter().map(|i| i.fitness).filter(|f| f.is_finite()).collect();
-    if valid.len() < 2 {
-        return None;
-    }
-    let mean = valid.iter().sum::<f64>() / valid.len() as f64;
-    let var = valid.iter().map(|f| (f - mean) * (f - mean)).sum::<f64>() / valid.len() as f64;
-    let sd = var.sqrt();
-    (sd > 0.0 && sd.is_finite()).then_some(sd)
+    crate::smc::resample::std_dev(&valid).filter(|sd| *sd > 0.0)
 }
 
 /// `β (new − old)`: the log likelihood ratio of a move. Leaving an invalid
@@ -303,6 +298,23 @@ struct Mover<'a> {
     config: &'a MhConfig,
 }
 
+/// One chain's move in progress: its temperature, the objective with the
+/// worker's scratch, and what the move counted.
+struct Move<'a, O: Objective> {
+    beta: f64,
+    objective: &'a O,
+    scratch: &'a mut O::Scratch,
+    counts: MoveCounts,
+    evaluations: u64,
+}
+
+impl<O: Objective> Move<'_, O> {
+    fn evaluate(&mut self, genome: &Genome) -> f64 {
+        self.evaluations += 1;
+        self.objective.evaluate(genome, self.scratch)
+    }
+}
+
 impl Mover<'_> {
     fn bounds(&self) -> LengthBounds {
         self.config.length_bounds()
@@ -317,90 +329,78 @@ impl Mover<'_> {
         scratch: &mut O::Scratch,
         rng: &mut Rng,
     ) -> (MoveCounts, u64) {
-        let mut counts = MoveCounts::default();
-        let mut evals = 0;
+        let mut m = Move { beta, objective, scratch, counts: MoveCounts::default(), evaluations: 0 };
         let choice = self.config.gene_choice;
         let jump_at = if rng.bernoulli(self.config.jump) {
             moves::choose(&chain.genome, Eligible::Nonterminals, choice, rng)
         } else {
             None
         };
-        let Some(v) = jump_at else {
-            self.diffusion(chain, beta, objective, scratch, rng, &mut counts, &mut evals);
-            return (counts, evals);
-        };
-        counts.jumps_proposed += 1;
+        match jump_at {
+            Some(v) => self.jump(chain, v, &mut m, rng),
+            None => self.diffusion(chain, &mut m, rng),
+        }
+        (m.counts, m.evaluations)
+    }
+
+    /// A jump at `v`, with a delayed-rejection second stage.
+    fn jump<O: Objective>(&self, chain: &mut Individual, v: GenePos, m: &mut Move<'_, O>, rng: &mut Rng) {
+        let choice = self.config.gene_choice;
+        m.counts.jumps_proposed += 1;
         let x = &chain.genome;
         let ln_px = moves::ln_choice(x, Eligible::Nonterminals, choice, v);
-        let Some(y1) = self.propose_jump(x, v, rng) else {
-            return (counts, evals);
-        };
-        let f1 = objective.evaluate(&y1, scratch);
-        evals += 1;
+        let Some(y1) = self.propose_jump(x, v, rng) else { return };
+        let f1 = m.evaluate(&y1);
         let ln_p1 = moves::ln_choice(&y1, Eligible::Nonterminals, choice, v);
-        let ln_a1 = tempered(beta, f1, chain.fitness) + ln_p1 - ln_px;
+        let ln_a1 = tempered(m.beta, f1, chain.fitness) + ln_p1 - ln_px;
         if accept(ln_a1, rng) {
-            counts.jumps_accepted += 1;
+            m.counts.jumps_accepted += 1;
             *chain = Individual { genome: y1, fitness: f1 };
-            return (counts, evals);
+            return;
         }
         if !self.config.delayed_rejection {
-            return (counts, evals);
+            return;
         }
-        counts.delayed_proposed += 1;
-        let Some(y2) = self.propose_jump(x, v, rng) else {
-            return (counts, evals);
-        };
+        m.counts.delayed_proposed += 1;
+        let Some(y2) = self.propose_jump(x, v, rng) else { return };
         // The reverse path (y₂ → y₁ → x) must exist and the dimensions must
         // match: every gene of y₁ sits at a place both x and y₂ have or
         // neither has. Otherwise y₁ shares freshly drawn values with one of
         // them that the reverse proposal could not reproduce.
         let (a, c) = (moves::paths_below(x, v), moves::paths_below(&y2, v));
         if moves::paths_below(&y1, v).keys().any(|p| a.contains_key(p) != c.contains_key(p)) {
-            return (counts, evals);
+            return;
         }
-        let f2 = objective.evaluate(&y2, scratch);
-        evals += 1;
+        let f2 = m.evaluate(&y2);
         let ln_p2 = moves::ln_choice(&y2, Eligible::Nonterminals, choice, v);
-        let ln_a21 = tempered(beta, f1, f2) + ln_p1 - ln_p2;
-        let ln_a2 = tempered(beta, f2, chain.fitness) + ln_p2 - ln_px + ln_reject(ln_a21) - ln_reject(ln_a1);
+        let ln_a21 = tempered(m.beta, f1, f2) + ln_p1 - ln_p2;
+        let ln_a2 = tempered(m.beta, f2, chain.fitness) + ln_p2 - ln_px + ln_reject(ln_a21) - ln_reject(ln_a1);
         if accept(ln_a2, rng) {
-            counts.delayed_accepted += 1;
+            m.counts.delayed_accepted += 1;
             *chain = Individual { genome: y2, fitness: f2 };
         }
-        (counts, evals)
     }
 
     /// A jump proposal inside the support, or `None`.
-    fn propose_jump(&self, x: &Genome, v: genform_core::genome::GenePos, rng: &mut Rng) -> Option<Genome> {
+    fn propose_jump(&self, x: &Genome, v: GenePos, rng: &mut Rng) -> Option<Genome> {
         moves::jump(x, v, self.graph, self.limits, rng).filter(|y| self.bounds().contains(y.len()))
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn diffusion<O: Objective>(
-        &self,
-        chain: &mut Individual,
-        beta: f64,
-        objective: &O,
-        scratch: &mut O::Scratch,
-        rng: &mut Rng,
-        counts: &mut MoveCounts,
-        evals: &mut u64,
-    ) {
+    /// New parameters for one gene.
+    fn diffusion<O: Objective>(&self, chain: &mut Individual, m: &mut Move<'_, O>, rng: &mut Rng) {
         let Some(v) = moves::choose(&chain.genome, Eligible::Parameters, self.config.gene_choice, rng) else {
             return;
         };
-        counts.diffusions_proposed += 1;
+        m.counts.diffusions_proposed += 1;
         let drift = rng.bernoulli(self.config.drift).then_some(self.config.drift_scale);
         let mut y = chain.genome.clone();
         let ln_prior = moves::diffuse(&mut y, v, self.graph, drift, rng);
         if ln_prior == f64::NEG_INFINITY {
             return;
         }
-        let f = objective.evaluate(&y, scratch);
-        *evals += 1;
-        if accept(tempered(beta, f, chain.fitness) + ln_prior, rng) {
-            counts.diffusions_accepted += 1;
+        let f = m.evaluate(&y);
+        if accept(tempered(m.beta, f, chain.fitness) + ln_prior, rng) {
+            m.counts.diffusions_accepted += 1;
             *chain = Individual { genome: y, fitness: f };
         }
     }

@@ -41,7 +41,8 @@ pub fn weights(fitness: &[f64], weighting: Weighting, temperature: Option<f64>) 
     w
 }
 
-fn std_dev(values: &[f64]) -> Option<f64> {
+/// Population standard deviation; `None` for fewer than two values.
+pub(crate) fn std_dev(values: &[f64]) -> Option<f64> {
     if values.len() < 2 {
         return None;
     }
