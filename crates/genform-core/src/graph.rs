@@ -264,6 +264,12 @@ impl SymbolSpec {
         self.slots.iter().position(|s| s.name == name)
     }
 
+    /// Every link of a gene of this symbol with the slot it belongs to, in
+    /// gene order: `(link index, slot)`, a slot repeated `max_count` times.
+    pub fn link_slots(&self) -> impl Iterator<Item = (usize, &SlotSpec)> {
+        self.slots.iter().flat_map(|s| std::iter::repeat_n(s, s.max_count as usize)).enumerate()
+    }
+
     /// Iterator over the flat component distributions, in gene order.
     pub fn components(&self) -> impl Iterator<Item = &Distribution> {
         self.params.iter().flat_map(|p| p.components.iter())

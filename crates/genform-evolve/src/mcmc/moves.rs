@@ -110,25 +110,21 @@ pub(crate) fn jump(x: &Genome, v: GenePos, graph: &GeneratorGraph, limits: &Limi
     let mut params = Vec::new();
     let mut stack = vec![(v, Some(v), x.depth(v))];
     while let Some((at, old, depth)) = stack.pop() {
-        let spec = graph.symbol(y.gene(at).symbol());
-        let mut link = 0;
-        for slot in &spec.slots {
-            for _ in 0..slot.max_count {
-                if rng.bernoulli(slot.prob) {
-                    if depth + 1 > limits.max_depth || y.len() >= limits.max_genes {
-                        return None;
-                    }
-                    let old_child = old.and_then(|o| child(x.gene(o).link(link)));
-                    params.clear();
-                    match old_child {
-                        Some(c) => params.extend(x.gene(c).params()),
-                        None => graph.draw_params(slot.target, rng, &mut params),
-                    }
-                    let c = y.grow(at, link, slot.target, &params, graph.symbol(slot.target).link_len());
-                    stack.push((c, old_child, depth + 1));
-                }
-                link += 1;
+        for (link, slot) in graph.symbol(y.gene(at).symbol()).link_slots() {
+            if !rng.bernoulli(slot.prob) {
+                continue;
             }
+            if depth + 1 > limits.max_depth || y.len() >= limits.max_genes {
+                return None;
+            }
+            let old_child = old.and_then(|o| child(x.gene(o).link(link)));
+            params.clear();
+            match old_child {
+                Some(c) => params.extend(x.gene(c).params()),
+                None => graph.draw_params(slot.target, rng, &mut params),
+            }
+            let c = y.grow(at, link, slot.target, &params, graph.symbol(slot.target).link_len());
+            stack.push((c, old_child, depth + 1));
         }
     }
     Some(y)

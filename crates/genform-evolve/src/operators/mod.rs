@@ -127,17 +127,12 @@ fn grow_mandatory_with(
     let mut added = 0;
     let mut stack = vec![(pos, depth)];
     while let Some((p, d)) = stack.pop() {
-        let spec = graph.symbol(genome.gene(p).symbol());
-        let mut link = 0;
-        for slot in &spec.slots {
-            for _ in 0..slot.max_count {
-                let free = genome.gene(p).link(link) == Link::Empty;
-                if slot.prob >= 1.0 && free && d < limits.max_depth && genome.len() < limits.max_genes {
-                    let child = grow_one(genome, graph, Connection { parent: p, link }, slot.target, rng, params);
-                    added += 1;
-                    stack.push((child, d + 1));
-                }
-                link += 1;
+        for (link, slot) in graph.symbol(genome.gene(p).symbol()).link_slots() {
+            let free = genome.gene(p).link(link) == Link::Empty;
+            if slot.prob >= 1.0 && free && d < limits.max_depth && genome.len() < limits.max_genes {
+                let child = grow_one(genome, graph, Connection { parent: p, link }, slot.target, rng, params);
+                added += 1;
+                stack.push((child, d + 1));
             }
         }
     }

@@ -95,14 +95,10 @@ pub fn grow(genome: &mut Genome, graph: &GeneratorGraph, limits: &Limits, rng: &
         if depth >= limits.max_depth {
             continue;
         }
-        let mut link = 0;
-        for slot in &graph.symbol(g.symbol()).slots {
-            for _ in 0..slot.max_count {
-                if slot.prob > 0.0 && g.link(link) == Link::Empty {
-                    links.push((Connection { parent: g.pos, link }, slot.target, depth));
-                    weights.push(slot.prob);
-                }
-                link += 1;
+        for (link, slot) in graph.symbol(g.symbol()).link_slots() {
+            if slot.prob > 0.0 && g.link(link) == Link::Empty {
+                links.push((Connection { parent: g.pos, link }, slot.target, depth));
+                weights.push(slot.prob);
             }
         }
     }

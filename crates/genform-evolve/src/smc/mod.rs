@@ -193,9 +193,14 @@ pub fn is_complete(genome: &Genome) -> bool {
 
 /// The open links of `genome` as `(gene, link)`, in storage order.
 pub fn open_links(genome: &Genome) -> Vec<(GenePos, usize)> {
+    links_in(genome, Link::Empty)
+}
+
+/// The links of `genome` in `state` (empty or closed), in storage order.
+fn links_in(genome: &Genome, state: Link) -> Vec<(GenePos, usize)> {
     let mut out = Vec::new();
     for g in genome.iter() {
-        out.extend(g.links().enumerate().filter(|(_, l)| *l == Link::Empty).map(|(i, _)| (g.pos, i)));
+        out.extend(g.links().enumerate().filter(|(_, l)| *l == state).map(|(i, _)| (g.pos, i)));
     }
     out
 }
@@ -249,11 +254,7 @@ pub fn advance(genome: &mut Genome, graph: &GeneratorGraph, limits: &Limits, ord
 /// grow into empty links) can continue from an SMC particle.
 pub fn reopen(genome: &Genome) -> Genome {
     let mut g = genome.clone();
-    let mut closed = Vec::new();
-    for gene in genome.iter() {
-        closed.extend(gene.links().enumerate().filter(|(_, l)| *l == Link::Closed).map(|(i, _)| (gene.pos, i)));
-    }
-    for (pos, link) in closed {
+    for (pos, link) in links_in(genome, Link::Closed) {
         g.set_closed(pos, link, false);
     }
     g
