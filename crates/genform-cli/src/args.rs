@@ -58,14 +58,24 @@ impl LimitArgs {
 /// Arguments of `genform sample`.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
-    /// Grammar file (.sg).
+    /// Grammar file (.sg shape grammar, .ls L-system).
     pub file: PathBuf,
     /// Random seed; the same seed gives the same model.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Output file; the format follows the extension (.glb .obj .ply .stl .png).
+    /// Output file; the format follows the extension (.glb .obj .ply .stl .png .svg).
     #[arg(long, short)]
     pub out: Option<PathBuf>,
+    /// L-systems: derivation steps (default: the file's `derivation:`).
+    #[arg(long, value_name = "N")]
+    pub steps: Option<u32>,
+    /// L-systems: longest string a derivation may produce (default: the
+    /// file's `max_modules:`, else 5,000,000).
+    #[arg(long, value_name = "N")]
+    pub max_modules: Option<usize>,
+    /// L-systems: also write the derived module string to this text file.
+    #[arg(long, value_name = "FILE")]
+    pub string_out: Option<PathBuf>,
     /// Also save the derivation tree (genome) as JSON, for `genform derive`.
     #[arg(long, value_name = "G.json")]
     pub genome_out: Option<PathBuf>,
@@ -76,7 +86,7 @@ pub struct SampleArgs {
 /// Arguments of `genform derive`.
 #[derive(Debug, Args)]
 pub struct DeriveArgs {
-    /// Grammar file (.sg).
+    /// Grammar file (.sg, or a context-free .ls).
     pub file: PathBuf,
     /// Genome JSON written by `sample --genome-out` or an optimizer.
     #[arg(long, value_name = "G.json")]
@@ -91,7 +101,7 @@ pub struct DeriveArgs {
 /// Arguments of `genform info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Grammar file (.sg).
+    /// Grammar file (.sg shape grammar, .ls L-system).
     pub file: PathBuf,
 }
 

@@ -2,7 +2,7 @@
 
 use anyhow::{Context, Result, bail};
 use genform_core::generator::Generator;
-use genform_core::{Genome, Limits, Rng, Scene};
+use genform_core::{Genome, Limits, Rng, Sampled, Scene};
 use genform_export::{ExportOptions, Format};
 use std::path::Path;
 
@@ -11,13 +11,15 @@ use genform_cli::grammar::{self, Loaded};
 use genform_cli::output::write_atomic;
 
 /// Stream id of `sample` (so other verbs' streams never coincide with it).
-const SAMPLE_STREAM: u64 = 0x5A4D_504C;
+pub(crate) const SAMPLE_STREAM: u64 = 0x5A4D_504C;
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Sample(a) if grammar::is_lsystem(&a.file) => crate::lsystem::sample(a),
         Command::Sample(a) => sample(a),
         Command::Derive(a) => derive(a),
+        Command::Info(a) if grammar::is_lsystem(&a.file) => crate::lsystem::info(a),
         Command::Info(a) => info(a),
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
@@ -25,7 +27,7 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-fn output_format(path: &Path) -> Result<Format> {
+pub(crate) fn output_format(path: &Path) -> Result<Format> {
     match Format::from_path(path) {
         Some(f) => Ok(f),
         None => bail!(
@@ -42,7 +44,7 @@ fn express(g: &dyn Generator, genome: &Genome, limits: &Limits) -> Result<Scene>
     Ok(scene)
 }
 
-fn write_model(scene: &Scene, path: &Path) -> Result<()> {
+pub(crate) fn write_model(scene: &Scene, path: &Path) -> Result<()> {
     let format = output_format(path)?;
     let bytes = genform_export::export(scene, format, &ExportOptions::default())
         .with_context(|| format!("cannot export {}", path.display()))?;
@@ -62,17 +64,13 @@ fn sample(a: SampleArgs) -> Result<()> {
     if let Some(out) = &a.out {
         output_format(out)?;
     }
+    if a.steps.is_some() || a.max_modules.is_some() || a.string_out.is_some() {
+        bail!("--steps, --max-modules and --string-out apply to L-systems (.ls) only");
+    }
     let Loaded { generator, name, limits } = grammar::load(&a.file)?;
     let limits = a.limits.overrides().apply(limits);
     let mut rng = Rng::stream(a.seed, &[SAMPLE_STREAM]);
-    let sampled = generator.sample(&mut rng, &limits).context("cannot sample")?;
-    if let Some(kind) = sampled.truncated {
-        eprintln!(
-            "warning: growth stopped at the {kind} limit ({}); the model is truncated (raise it with {})",
-            kind.value(&limits),
-            kind.flag()
-        );
-    }
+    let sampled = sample_prior(generator.as_ref(), &mut rng, &limits)?;
     let scene = express(generator.as_ref(), &sampled.genome, &limits)?;
     if let Some(path) = &a.genome_out {
         write_atomic(path, sampled.genome.to_json(generator.graph()).as_bytes())?;
@@ -84,6 +82,19 @@ fn sample(a: SampleArgs) -> Result<()> {
         println!("{name} seed {}: {}", a.seed, summary(&scene, &sampled.genome));
     }
     Ok(())
+}
+
+/// Draws a genome from `g`'s prior, warning when a limit truncated it.
+pub(crate) fn sample_prior(g: &dyn Generator, rng: &mut Rng, limits: &Limits) -> Result<Sampled> {
+    let sampled = g.sample(rng, limits).context("cannot sample")?;
+    if let Some(kind) = sampled.truncated {
+        eprintln!(
+            "warning: growth stopped at the {kind} limit ({}); the model is truncated (raise it with {})",
+            kind.value(limits),
+            kind.flag()
+        );
+    }
+    Ok(sampled)
 }
 
 fn derive(a: DeriveArgs) -> Result<()> {

@@ -2,8 +2,10 @@
 
 use anyhow::{Context, Result, bail};
 use genform_core::{Diagnostics, Generator, Limits, Mesh, SourceFile};
+use genform_lsystem::{LSystem, LsGenerator};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A compiled grammar of any formalism.
 pub struct Loaded {
@@ -33,30 +35,57 @@ fn render(d: &Diagnostics) -> String {
     if std::io::stderr().is_terminal() { d.render(true) } else { d.render(false) }
 }
 
-/// Compiles the grammar at `path`; warnings go to stderr, errors become the
-/// returned error with every diagnostic rendered.
+/// Whether `path` names an L-system (`.ls`).
+pub fn is_lsystem(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "ls")
+}
+
+fn read_source(path: &Path) -> Result<SourceFile> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read grammar {}", path.display()))?;
+    Ok(SourceFile::new(path.display().to_string(), text))
+}
+
+/// Prints warnings; turns errors into one error with every diagnostic.
+fn diagnosed<T>(result: Result<(T, Diagnostics), Diagnostics>, path: &Path) -> Result<T> {
+    match result {
+        Ok((value, warnings)) => {
+            if !warnings.items.is_empty() {
+                eprint!("{}", render(&warnings));
+            }
+            Ok(value)
+        }
+        Err(errors) => {
+            let n = errors.error_count();
+            bail!("{}{} error{} in {}", render(&errors), n, if n == 1 { "" } else { "s" }, path.display())
+        }
+    }
+}
+
+/// Compiles the L-system at `path`; warnings go to stderr.
+pub fn load_lsystem(path: &Path) -> Result<Arc<LSystem>> {
+    let file = read_source(path)?;
+    Ok(Arc::new(diagnosed(genform_lsystem::compile(&file), path)?))
+}
+
+/// Compiles the grammar at `path` into a generator; warnings go to stderr,
+/// errors become the returned error with every diagnostic rendered.
 pub fn load(path: &Path) -> Result<Loaded> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read grammar {}", path.display()))?;
-    let file = SourceFile::new(path.display().to_string(), text);
     match ext {
         "sg" => {
+            let file = read_source(path)?;
             let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-            match genform_shape::compile(&file, &FileAssets { base }) {
-                Ok((g, warnings)) => {
-                    if !warnings.items.is_empty() {
-                        eprint!("{}", render(&warnings));
-                    }
-                    Ok(Loaded { name: g.name().to_string(), limits: g.limits(), generator: Box::new(g) })
-                }
-                Err(errors) => {
-                    let n = errors.error_count();
-                    bail!("{}{} error{} in {}", render(&errors), n, if n == 1 { "" } else { "s" }, path.display())
-                }
-            }
+            let g = diagnosed(genform_shape::compile(&file, &FileAssets { base }), path)?;
+            Ok(Loaded { name: g.name().to_string(), limits: g.limits(), generator: Box::new(g) })
+        }
+        "ls" => {
+            let system = load_lsystem(path)?;
+            let g = LsGenerator::new(system)
+                .with_context(|| format!("{} cannot be used as a generator", path.display()))?;
+            Ok(Loaded { name: g.system().settings.name.clone(), limits: g.limits(), generator: Box::new(g) })
         }
         _ => bail!(
-            "don't know the grammar format of {} (extension `.{ext}`); supported: .sg (shape grammar)",
+            "don't know the grammar format of {} (extension `.{ext}`); supported: .sg (shape grammar), .ls (L-system)",
             path.display()
         ),
     }

@@ -4,6 +4,7 @@
 mod args;
 mod commands;
 mod evolve;
+mod lsystem;
 
 use clap::Parser;
 use std::process::ExitCode;

@@ -1,51 +1,9 @@
 //! End-to-end tests: run the real `genform` binary in a temporary folder and
 //! print everything it said when an expectation fails.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
-}
-
-fn example(name: &str) -> PathBuf {
-    root().join("examples/shape").join(name)
-}
-
-struct Run {
-    out: Output,
-}
-
-impl Run {
-    fn stdout(&self) -> String {
-        String::from_utf8_lossy(&self.out.stdout).into_owned()
-    }
-    fn stderr(&self) -> String {
-        String::from_utf8_lossy(&self.out.stderr).into_owned()
-    }
-    fn ok(self) -> Self {
-        assert!(self.out.status.success(), "genform failed\nstdout:\n{}\nstderr:\n{}", self.stdout(), self.stderr());
-        self
-    }
-    fn fails(self) -> Self {
-        assert!(
-            !self.out.status.success(),
-            "genform should have failed\nstdout:\n{}\nstderr:\n{}",
-            self.stdout(),
-            self.stderr()
-        );
-        self
-    }
-}
-
-fn genform(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_genform")).current_dir(dir).args(args).output().unwrap();
-    Run { out }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
-}
+use common::{example, genform, root, s};
 
 #[test]
 fn spaceship_glb_is_deterministic_and_well_formed() {

@@ -15,6 +15,7 @@
 pub mod camera;
 pub mod diag;
 pub mod expr;
+pub mod fixtures;
 pub mod generator;
 pub mod genome;
 pub mod graph;
@@ -25,5 +26,5 @@ pub use diag::{Diagnostic, Diagnostics, Severity, SourceFile, Span};
 pub use generator::{ExpressError, Generator, LimitKind, Limits, Sampled};
 pub use genome::{Genome, GenomeError};
 pub use graph::{Distribution, GeneratorGraph, ParamSpec, SlotSpec, SymbolId, SymbolSpec};
-pub use rng::Rng;
+pub use rng::{Draws, Rng};
 pub use scene::{Instance, Mesh, MeshId, Primitive, Scene, TagId};

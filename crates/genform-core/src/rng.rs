@@ -38,6 +38,41 @@ pub fn derive_key(seed: u64, ids: &[u64]) -> u64 {
     key
 }
 
+/// A source of uniform draws in `[0, 1)`: an [`Rng`], or stored values a
+/// genome replays (so a formula's random draws can be genes).
+pub trait Draws {
+    /// The next uniform value in `[0, 1)`.
+    fn next_f64(&mut self) -> f64;
+}
+
+impl Draws for Rng {
+    #[inline]
+    fn next_f64(&mut self) -> f64 {
+        Rng::next_f64(self)
+    }
+}
+
+/// Uniform in `[lo, hi)` from one draw of `d`; `lo` (and no draw) when
+/// `hi <= lo`.
+#[inline]
+pub fn uniform_in(d: &mut (impl Draws + ?Sized), lo: f64, hi: f64) -> f64 {
+    if hi <= lo {
+        return lo;
+    }
+    let v = lo + (hi - lo) * d.next_f64();
+    // Guard against rounding up to `hi`.
+    if v >= hi { lo } else { v }
+}
+
+/// A standard normal value from two draws of `d` (Box–Muller, one value per
+/// call so the position in the stream never depends on hidden state).
+pub fn standard_normal(d: &mut (impl Draws + ?Sized)) -> f64 {
+    // 1 - u keeps the argument of ln in (0, 1].
+    let u1 = 1.0 - d.next_f64();
+    let u2 = d.next_f64();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
 /// A xoshiro256++ random number generator with the distributions genform uses.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Rng {
@@ -96,12 +131,7 @@ impl Rng {
     /// Uniform in `[lo, hi)`; returns `lo` when `hi <= lo`.
     #[inline]
     pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        if hi <= lo {
-            return lo;
-        }
-        let v = lo + (hi - lo) * self.next_f64();
-        // Guard against rounding up to `hi`.
-        if v >= hi { lo } else { v }
+        uniform_in(self, lo, hi)
     }
 
     /// Uniform integer in `0..n` (unbiased, Lemire's method). `n` must be > 0.
@@ -151,10 +181,7 @@ impl Rng {
     /// A standard normal draw (Box–Muller, one value per call so the stream
     /// position never depends on hidden state).
     pub fn standard_normal(&mut self) -> f64 {
-        // 1 - u keeps the argument of ln in (0, 1].
-        let u1 = 1.0 - self.next_f64();
-        let u2 = self.next_f64();
-        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        standard_normal(self)
     }
 
     /// A normal draw with the given mean and standard deviation.

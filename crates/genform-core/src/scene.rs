@@ -212,6 +212,8 @@ impl Scene {
     /// Calls `f(triangle, tag)` for every triangle of every instance and
     /// polygon, in world space and counter-clockwise seen from outside
     /// (triangles of reflected instances are re-ordered to stay so).
+    /// Polygons are split by [`triangulate_polygon`]: counter-clockwise seen
+    /// from the side their points wind counter-clockwise around.
     pub fn for_each_triangle(&self, tess: Tessellation, mut f: impl FnMut([Vec3; 3], TagId)) {
         let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
         for inst in &self.instances {
@@ -235,8 +237,8 @@ impl Scene {
             }
         }
         for poly in &self.polygons {
-            for t in triangulate_fan(&poly.points) {
-                f(t, poly.tag);
+            for t in triangulate_polygon(&poly.points) {
+                f(t.map(|i| poly.points[i as usize]), poly.tag);
             }
         }
     }
@@ -264,9 +266,181 @@ fn bounds_of(mut it: impl Iterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
     Some(it.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p))))
 }
 
-/// Fan triangulation of a (convex or star-shaped) polygon.
-fn triangulate_fan(points: &[Vec3]) -> impl Iterator<Item = [Vec3; 3]> + '_ {
-    (1..points.len().saturating_sub(1)).map(move |i| [points[0], points[i], points[i + 1]])
+/// Splits a planar polygon into triangles by ear clipping in its plane;
+/// returns index triples into `points`.
+///
+/// The plane's normal is the polygon's Newell normal, so clockwise and
+/// counter-clockwise input both work: every triangle winds
+/// counter-clockwise seen from that normal's side, i.e. the way the input
+/// itself turns. Repeated points and points on a straight run (or at the tip
+/// of a zero-width spike) are skipped. Fewer than three distinct corners or
+/// zero area give no triangles. A convex outline gives the fan from its
+/// first kept corner. On a self-intersecting outline where no ear is left
+/// to clip, the rest is finished as a fan. Non-finite points give the plain
+/// fan, so callers that check coordinates still see them.
+pub fn triangulate_polygon(points: &[Vec3]) -> Vec<[u32; 3]> {
+    let n = points.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    if !points.iter().all(|p| p.is_finite()) {
+        return (1..n as u32 - 1).map(|i| [0, i, i + 1]).collect();
+    }
+    ear_clip::triangulate(points)
+}
+
+mod ear_clip {
+    //! Ear clipping in `f64` on the polygon projected to its plane.
+
+    use glam::{DVec2, DVec3, Vec3};
+
+    /// Relative tolerances: points closer than `SAME * size` are one point;
+    /// a corner whose turn has |sin| below `STRAIGHT` is no corner. Both are
+    /// far above `f32` rounding, far below anything drawn on purpose.
+    const SAME: f64 = 1e-6;
+    const STRAIGHT: f64 = 1e-6;
+
+    /// [`super::triangulate_polygon`] for at least 3 finite points.
+    pub(super) fn triangulate(points: &[Vec3]) -> Vec<[u32; 3]> {
+        let Some(q) = project(points) else { return Vec::new() };
+        let size = bounds_size(&q);
+        let mut ring = distinct(&q, SAME * size);
+        drop_straight(&q, &mut ring);
+        if ring.len() < 3 {
+            return Vec::new();
+        }
+        let mut out = Vec::with_capacity(ring.len() - 2);
+        let m = ring.len();
+        if (0..m).all(|i| turn(&q, ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]) > 0.0) {
+            out.extend((1..m - 1).map(|k| [ring[0], ring[k], ring[k + 1]]));
+        } else {
+            clip_ears(&q, ring, SAME * size, &mut out);
+        }
+        out.into_iter().map(|t| t.map(|i| i as u32)).collect()
+    }
+
+    /// The points in 2D coordinates of their plane, seen from the side of the
+    /// Newell normal (so the outline turns counter-clockwise); `None` when
+    /// the outline encloses no area.
+    fn project(points: &[Vec3]) -> Option<Vec<DVec2>> {
+        let p: Vec<DVec3> = points.iter().map(|v| v.as_dvec3()).collect();
+        let o = p[0];
+        let normal: DVec3 = (0..p.len()).map(|i| (p[i] - o).cross(p[(i + 1) % p.len()] - o)).sum();
+        let (lo, hi) = p.iter().fold((o, o), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        let size = (hi - lo).length();
+        // |normal| is twice the area.
+        if normal.length() <= 1e-10 * size * size {
+            return None;
+        }
+        let w = normal.normalize();
+        let u = w.any_orthonormal_vector();
+        let v = w.cross(u);
+        Some(p.iter().map(|&x| DVec2::new((x - o).dot(u), (x - o).dot(v))).collect())
+    }
+
+    fn bounds_size(q: &[DVec2]) -> f64 {
+        let (lo, hi) = q.iter().fold((q[0], q[0]), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        (hi - lo).length()
+    }
+
+    /// Indices of `q` without runs of (nearly) equal points, also across the
+    /// wrap-around.
+    fn distinct(q: &[DVec2], eps: f64) -> Vec<usize> {
+        let mut ring: Vec<usize> = Vec::with_capacity(q.len());
+        for i in 0..q.len() {
+            if ring.last().is_none_or(|&j| q[j].distance(q[i]) > eps) {
+                ring.push(i);
+            }
+        }
+        while ring.len() > 1 && q[ring[0]].distance(q[ring[ring.len() - 1]]) <= eps {
+            ring.pop();
+        }
+        ring
+    }
+
+    /// The turn at `b` on the way `a → b → c`: positive when left
+    /// (counter-clockwise), 0 for a straight run or a spike.
+    fn turn(q: &[DVec2], a: usize, b: usize, c: usize) -> f64 {
+        let (d0, d1) = (q[b] - q[a], q[c] - q[b]);
+        let cross = d0.perp_dot(d1);
+        if cross.abs() <= STRAIGHT * d0.length() * d1.length() { 0.0 } else { cross }
+    }
+
+    /// Removes corners that do not turn, until every remaining one does.
+    fn drop_straight(q: &[DVec2], ring: &mut Vec<usize>) {
+        let mut i = 0;
+        let mut unchanged = 0;
+        while ring.len() >= 3 && unchanged < ring.len() {
+            let m = ring.len();
+            if turn(q, ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]) == 0.0 {
+                ring.remove(i);
+                unchanged = 0;
+                // Step back: the previous corner has a new neighbour.
+                i = (i + ring.len() - 1) % ring.len().max(1);
+            } else {
+                i = (i + 1) % m;
+                unchanged += 1;
+            }
+        }
+    }
+
+    /// Whether `p` lies inside the counter-clockwise triangle `t` or within
+    /// `eps` of its edges. A corner on the cut (a, c) must stop the ear, or
+    /// the ring left behind has a straight corner and one triangle too few.
+    fn in_triangle(p: DVec2, [a, b, c]: [DVec2; 3], eps: f64) -> bool {
+        let left = |s: DVec2, e: DVec2| (e - s).perp_dot(p - s) >= -eps * (e - s).length();
+        left(a, b) && left(b, c) && left(c, a)
+    }
+
+    /// Clips ears off a counter-clockwise ring of turning corners.
+    fn clip_ears(q: &[DVec2], mut ring: Vec<usize>, eps: f64, out: &mut Vec<[usize; 3]>) {
+        let mut i = 0;
+        let mut tried = 0;
+        while ring.len() > 3 {
+            let m = ring.len();
+            let (a, b, c) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
+            let t = turn(q, a, b, c);
+            // A corner that became straight is dropped without a triangle.
+            let clip = t == 0.0 || (t > 0.0 && is_ear(q, &ring, [a, b, c], eps));
+            if clip {
+                if t != 0.0 {
+                    out.push([a, b, c]);
+                }
+                ring.remove(i);
+                i %= ring.len();
+                tried = 0;
+            } else {
+                i = (i + 1) % m;
+                tried += 1;
+                if tried >= m {
+                    // Stuck (the outline crosses itself): fan the rest.
+                    out.extend((1..m - 1).map(|k| [ring[0], ring[k], ring[k + 1]]));
+                    return;
+                }
+            }
+        }
+        if let [a, b, c] = ring[..]
+            && turn(q, a, b, c) != 0.0
+        {
+            out.push([a, b, c]);
+        }
+    }
+
+    /// No other corner of the ring lies in the triangle (corners at the same
+    /// place as one of its own, where an outline touches itself, aside).
+    fn is_ear(q: &[DVec2], ring: &[usize], t: [usize; 3], eps: f64) -> bool {
+        let tri = t.map(|i| q[i]);
+        let m = ring.len();
+        (0..m).all(|k| {
+            let j = ring[k];
+            let p = q[j];
+            // Only reflex corners can be inside an ear.
+            t.contains(&j)
+                || tri.contains(&p)
+                || turn(q, ring[(k + m - 1) % m], j, ring[(k + 1) % m]) > 0.0
+                || !in_triangle(p, tri, eps)
+        })
+    }
 }
 
 /// The triangle mesh of a built-in primitive in its unit frame.
@@ -427,6 +601,169 @@ mod tests {
         assert!(Mesh::from_obj("q", "v 0 0\n").unwrap_err().contains("line 1"));
         assert!(Mesh::from_obj("q", "v 0 0 0\nf 1 2 3\n").unwrap_err().contains("missing vertex"));
         assert!(Mesh::from_obj("q", "").unwrap_err().contains("no faces"));
+    }
+
+    /// 2D outline → 3D points on a tilted plane (so the Newell projection
+    /// is exercised), reversed for clockwise input.
+    fn tilted(outline: &[(f32, f32)], clockwise: bool) -> Vec<Vec3> {
+        let r = glam::Quat::from_euler(glam::EulerRot::XYZ, 0.7, -0.4, 0.2);
+        let mut pts: Vec<Vec3> = outline.iter().map(|&(x, y)| r * Vec3::new(x, y, 0.0) + Vec3::splat(3.0)).collect();
+        if clockwise {
+            pts.reverse();
+        }
+        pts
+    }
+
+    fn newell(pts: &[Vec3]) -> Vec3 {
+        (0..pts.len()).map(|i| (pts[i] - pts[0]).cross(pts[(i + 1) % pts.len()] - pts[0])).sum()
+    }
+
+    /// Even-odd point in polygon on the 2D outline.
+    fn inside(outline: &[(f32, f32)], (x, y): (f32, f32)) -> bool {
+        let mut odd = false;
+        for i in 0..outline.len() {
+            let ((x0, y0), (x1, y1)) = (outline[i], outline[(i + 1) % outline.len()]);
+            if (y0 > y) != (y1 > y) && x < x0 + (y - y0) / (y1 - y0) * (x1 - x0) {
+                odd = !odd;
+            }
+        }
+        odd
+    }
+
+    /// Checks a triangulation of a simple outline: `expected` triangles,
+    /// each counter-clockwise about the Newell normal and inside the
+    /// outline, their areas adding up to the polygon's.
+    fn check_triangulation(outline: &[(f32, f32)], expected: usize) {
+        for clockwise in [false, true] {
+            let pts = tilted(outline, clockwise);
+            let flat: Vec<(f32, f32)> =
+                if clockwise { outline.iter().rev().copied().collect() } else { outline.to_vec() };
+            let tris = triangulate_polygon(&pts);
+            assert_eq!(tris.len(), expected, "{outline:?} cw={clockwise}: {tris:?}");
+            let n = newell(&pts);
+            let mut area = 0.0;
+            for t in &tris {
+                let [a, b, c] = t.map(|i| pts[i as usize]);
+                let tn = (b - a).cross(c - a);
+                assert!(tn.dot(n) > 0.0, "{t:?} winds the wrong way");
+                area += tn.length() / 2.0;
+                let [p, q, r] = t.map(|i| flat[i as usize]);
+                let centroid = ((p.0 + q.0 + r.0) / 3.0, (p.1 + q.1 + r.1) / 3.0);
+                assert!(inside(outline, centroid), "{t:?} lies outside {outline:?}");
+            }
+            assert!((area - n.length() / 2.0).abs() < 1e-4 * area, "{area} vs {}", n.length() / 2.0);
+        }
+    }
+
+    #[test]
+    fn ear_clipping_handles_concave_outlines_both_ways_round() {
+        let l_shape = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+        check_triangulation(&l_shape, 4);
+        let star: Vec<(f32, f32)> = (0..10)
+            .map(|i| {
+                let a = std::f32::consts::TAU * i as f32 / 10.0;
+                let r = if i % 2 == 0 { 1.0 } else { 0.38 };
+                (r * a.cos(), r * a.sin())
+            })
+            .collect();
+        check_triangulation(&star, 8);
+        // A comb: the fan from vertex 0 would cross the outside.
+        let comb = [(0.0, 0.0), (5.0, 0.0), (5.0, 3.0), (4.0, 3.0), (4.0, 1.0), (3.0, 1.0), (3.0, 3.0), (0.0, 3.0)];
+        check_triangulation(&comb, 6);
+    }
+
+    #[test]
+    fn ear_clipping_drops_repeats_straight_runs_and_degenerates() {
+        // A unit square with repeated corners, midpoints and a zero-width spike.
+        let square = [
+            (0.0, 0.0),
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+            (1.0, 0.5),
+            (1.5, 0.5),
+            (1.0, 0.5),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (0.0, 0.0),
+        ];
+        let pts = tilted(&square, false);
+        let tris = triangulate_polygon(&pts);
+        assert_eq!(tris.len(), 2, "{tris:?}");
+        let area: f32 = tris
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| pts[i as usize]);
+                (b - a).cross(c - a).length() / 2.0
+            })
+            .sum();
+        assert!((area - 1.0).abs() < 1e-5, "{area}");
+        // A convex outline keeps the fan from its first corner.
+        let quad = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        assert_eq!(triangulate_polygon(&quad), vec![[0, 1, 2], [0, 2, 3]]);
+        // Nothing from too few points, one point, a line, or zero area.
+        assert!(triangulate_polygon(&quad[..2]).is_empty());
+        assert!(triangulate_polygon(&[Vec3::ONE; 5]).is_empty());
+        assert!(triangulate_polygon(&[Vec3::ZERO, Vec3::X, Vec3::X * 2.0, Vec3::X * 0.5]).is_empty());
+        // Non-finite input still shows up (as the plain fan).
+        assert_eq!(triangulate_polygon(&[Vec3::ZERO, Vec3::X, Vec3::NAN, Vec3::Y]).len(), 2);
+    }
+
+    #[test]
+    fn self_intersecting_outlines_do_not_get_stuck() {
+        // A bow tie and a pentagram: some triangles, all finite, no panic.
+        let bow = [Vec3::ZERO, Vec3::new(2.0, 1.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 1.2, 0.0)];
+        let pentagram: Vec<Vec3> = (0..5)
+            .map(|i| {
+                let a = std::f32::consts::TAU * (2 * i) as f32 / 5.0;
+                Vec3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        for pts in [&bow[..], &pentagram] {
+            let tris = triangulate_polygon(pts);
+            assert!(!tris.is_empty() && tris.len() <= pts.len() - 2, "{tris:?}");
+            assert!(tris.iter().flatten().all(|&i| (i as usize) < pts.len()));
+        }
+    }
+
+    #[test]
+    fn scene_polygons_are_ear_clipped() {
+        let mut s = Scene::new();
+        let tag = s.tag("leaf");
+        let l_shape = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+        s.polygons.push(Polygon { points: l_shape.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(), tag });
+        let mut area = 0.0;
+        s.for_each_triangle(Tessellation::default(), |[a, b, c], t| {
+            assert_eq!(t, tag);
+            let n = (b - a).cross(c - a);
+            assert!(n.z > 0.0);
+            area += n.z / 2.0;
+        });
+        assert_eq!(s.triangle_count(Tessellation::default()), 4);
+        assert!((area - 3.0).abs() < 1e-5, "{area}");
+    }
+
+    proptest::proptest! {
+        /// Random star-shaped outlines (simple by construction) split into
+        /// n − 2 inside triangles covering the area exactly.
+        #[test]
+        fn random_star_shaped_outlines(radii in proptest::collection::vec(0.2f32..1.0, 3..24)) {
+            let n = radii.len();
+            let outline: Vec<(f32, f32)> = radii
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let a = std::f32::consts::TAU * i as f32 / n as f32;
+                    (r * a.cos(), r * a.sin())
+                })
+                .collect();
+            // Nearly straight corners may be dropped, so up to n − 2.
+            let pts = tilted(&outline, false);
+            let tris = triangulate_polygon(&pts);
+            let kept: std::collections::BTreeSet<u32> = tris.iter().flatten().copied().collect();
+            proptest::prop_assert_eq!(tris.len(), kept.len() - 2);
+            check_triangulation(&outline, tris.len());
+        }
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use crate::palette::{srgb_to_linear, tag_color};
 use crate::shapes::{Shapes, tag_name};
 use crate::stl::face_normal;
-use genform_core::scene::{Scene, TagId, Tessellation};
+use genform_core::scene::{Scene, TagId, Tessellation, triangulate_polygon};
 use glam::{Affine3A, DMat4, Mat4, Vec3};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, HashMap};
@@ -98,9 +98,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     for poly in &scene.polygons {
         if poly.points.iter().all(|p| p.is_finite()) {
             let tris = polygons.entry(poly.tag).or_default();
-            tris.extend(
-                (1..poly.points.len().saturating_sub(1)).map(|k| [poly.points[0], poly.points[k], poly.points[k + 1]]),
-            );
+            tris.extend(triangulate_polygon(&poly.points).into_iter().map(|t| t.map(|k| poly.points[k as usize])));
         }
     }
     doc.world_mesh(scene, "polygons", &polygons, true);

@@ -9,7 +9,10 @@
 //!   node per instance ([`write_glb`]).
 //! - [`Format::Ply`]: binary little-endian PLY triangle soup ([`write_ply`]).
 //! - [`Format::Stl`]: binary STL ([`write_stl`]).
-//! - [`Format::Png`]: a software-rendered preview image ([`render_png`]).
+//! - [`Format::Svg`]: an orthographic line drawing onto the xy plane
+//!   ([`write_svg`]).
+//! - [`Format::Png`]: a preview image ([`render_png`]): flat drawings through
+//!   the SVG writer and resvg, everything else by a software rasterizer.
 //!
 //! All output is deterministic: the same scene gives the same bytes.
 //! [`export`] checks the scene first (missing mesh assets, non-finite
@@ -18,6 +21,7 @@
 
 #![warn(missing_docs)]
 
+mod flat;
 mod glb;
 pub mod import;
 mod obj;
@@ -27,6 +31,7 @@ mod ply;
 mod render;
 mod shapes;
 mod stl;
+mod svg;
 
 use genform_core::scene::{Primitive, Scene, Tessellation};
 use std::fmt;
@@ -40,6 +45,7 @@ pub use palette::tag_color;
 pub use ply::write_ply;
 pub use render::{Camera, RenderOptions, render_png, render_rgb};
 pub use stl::write_stl;
+pub use svg::{SvgOptions, write_svg};
 
 /// The largest image side [`export`] accepts for [`Format::Png`].
 pub const MAX_IMAGE_SIDE: u32 = 8192;
@@ -57,11 +63,13 @@ pub enum Format {
     Stl,
     /// A rendered preview image (`.png`).
     Png,
+    /// An orthographic line drawing (`.svg`).
+    Svg,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::extensions`].
-    pub const ALL: [Format; 5] = [Format::Obj, Format::Glb, Format::Ply, Format::Stl, Format::Png];
+    pub const ALL: [Format; 6] = [Format::Obj, Format::Glb, Format::Ply, Format::Stl, Format::Png, Format::Svg];
 
     /// The format a file name asks for, from its extension (case-insensitive);
     /// `None` when the extension is missing or unknown.
@@ -71,7 +79,7 @@ impl Format {
 
     /// The known extensions, lowercase and without the dot.
     pub fn extensions() -> &'static [&'static str] {
-        &["obj", "glb", "ply", "stl", "png"]
+        &["obj", "glb", "ply", "stl", "png", "svg"]
     }
 
     /// This format's extension, lowercase and without the dot.
@@ -82,10 +90,12 @@ impl Format {
             Format::Ply => "ply",
             Format::Stl => "stl",
             Format::Png => "png",
+            Format::Svg => "svg",
         }
     }
 
-    /// Whether this format holds geometry (all but [`Format::Png`]).
+    /// Whether this format holds geometry (all but [`Format::Png`]); these
+    /// refuse an empty scene.
     pub fn is_geometry(self) -> bool {
         self != Format::Png
     }
@@ -99,6 +109,7 @@ impl fmt::Display for Format {
             Format::Ply => "PLY",
             Format::Stl => "STL",
             Format::Png => "PNG",
+            Format::Svg => "SVG",
         })
     }
 }
@@ -123,6 +134,8 @@ pub struct ExportOptions {
     pub tessellation: Tessellation,
     /// Image settings for [`Format::Png`].
     pub render: RenderOptions,
+    /// Drawing settings for [`Format::Svg`].
+    pub svg: SvgOptions,
 }
 
 /// Why a scene could not be exported.
@@ -159,8 +172,8 @@ pub enum ExportError {
 /// Writes `scene` as `format` and returns the file's bytes.
 ///
 /// Checks the scene first: every [`Primitive::Mesh`] must name a valid asset
-/// (all formats), geometry formats need at least one triangle (OBJ and GLB
-/// also accept polylines alone) and finite coordinates, and PNG needs a
+/// (all formats), geometry formats need at least one triangle (OBJ, GLB and
+/// SVG also accept polylines alone) and finite coordinates, and PNG needs a
 /// size within [`MAX_IMAGE_SIDE`]. An empty scene renders as a blank image.
 pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec<u8>, ExportError> {
     check_meshes(scene)?;
@@ -173,6 +186,7 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
         Format::Glb => write_glb(scene, tess),
         Format::Ply => write_ply(scene, tess),
         Format::Stl => write_stl(scene, tess),
+        Format::Svg => svg::Drawing::new(scene, tess).write(scene, &opts.svg).into_bytes(),
         Format::Png => {
             let (w, h) = (opts.render.width, opts.render.height);
             if !(1..=MAX_IMAGE_SIDE).contains(&w) || !(1..=MAX_IMAGE_SIDE).contains(&h) {
@@ -209,7 +223,10 @@ fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(
     if !finite {
         return Err(ExportError::NonFinite("a triangle".into()));
     }
-    let lines = matches!(format, Format::Obj | Format::Glb);
+    if !scene.polygons.iter().all(|p| p.points.iter().all(|p| p.is_finite())) {
+        return Err(ExportError::NonFinite("a polygon".into()));
+    }
+    let lines = matches!(format, Format::Obj | Format::Glb | Format::Svg);
     let mut drawable_lines = false;
     if lines {
         for l in &scene.polylines {

@@ -2,9 +2,15 @@
 
 /// The display color of a tag, as 8-bit sRGB.
 ///
-/// Derived from a hash of the name alone, so a tag keeps its color across
-/// scenes, runs and formats: any hue, moderate saturation, fairly bright.
+/// A name ending in `#rrggbb` (six hex digits, either case), such as
+/// `leaf#3a7d23` or just `#3a7d23`, gets exactly that color. Any other name
+/// gets one derived from a hash of the name alone, so a tag keeps its color
+/// across scenes, runs and formats: any hue, moderate saturation, fairly
+/// bright.
 pub fn tag_color(name: &str) -> [u8; 3] {
+    if let Some(rgb) = explicit_color(name) {
+        return rgb;
+    }
     // FNV-1a, then a splitmix64 finalizer to spread the bits.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for b in name.bytes() {
@@ -21,6 +27,16 @@ pub fn tag_color(name: &str) -> [u8; 3] {
     let sat = 0.40 + 0.25 * unit(h >> 16);
     let val = 0.72 + 0.20 * unit(h >> 32);
     hsv_to_rgb(hue, sat, val).map(|c| (c * 255.0).round().clamp(0.0, 255.0) as u8)
+}
+
+/// The `#rrggbb` a name ends with, if any.
+fn explicit_color(name: &str) -> Option<[u8; 3]> {
+    let hex = name.len().checked_sub(7).and_then(|i| name.get(i..))?.strip_prefix('#')?;
+    if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    let channel = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok();
+    Some([channel(0)?, channel(2)?, channel(4)?])
 }
 
 /// HSV (all in `[0, 1]`) to RGB in `[0, 1]`.
@@ -65,6 +81,18 @@ mod tests {
             let (lo, hi) = (*c.iter().min().unwrap(), *c.iter().max().unwrap());
             assert!(hi >= 180 && lo >= 60, "{name}: {c:?} too dark or too saturated");
         }
+    }
+
+    #[test]
+    fn a_hex_suffix_names_the_color() {
+        assert_eq!(tag_color("leaf#3a7d23"), [0x3a, 0x7d, 0x23]);
+        assert_eq!(tag_color("#3A7D23"), [0x3a, 0x7d, 0x23]);
+        assert_eq!(tag_color("stem #000000"), [0, 0, 0]);
+        // Not a suffix of exactly six hex digits: the hashed color.
+        for name in ["leaf#3a7d2", "leaf#3a7d2g", "leaf3a7d23", "#3a7d23 ", "leaf#3a7d23ff", "é#12345", "x#é"] {
+            assert_eq!(explicit_color(name), None, "{name}");
+        }
+        assert_ne!(tag_color("leaf#3a7d2"), [0x3a, 0x7d, 0x2]);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use crate::palette::{linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
-use genform_core::scene::{Primitive, Scene, Tessellation};
+use genform_core::scene::{Primitive, Scene, Tessellation, triangulate_polygon};
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 
@@ -80,7 +80,13 @@ impl Default for RenderOptions {
 /// assets and polygons are two-sided, lit from whichever side faces the
 /// camera. Polylines are drawn as lines of their stroke width (at least one
 /// pixel). With no camera given, the view is a [`Camera::fit_aspect`] 3/4
-/// view tightened to the actual geometry. Instances are
+/// view tightened to the actual geometry.
+///
+/// A flat drawing (no instances, every point at z = 0, such as a 2D
+/// turtle's) with no camera given is drawn instead as [`crate::write_svg`]
+/// draws it, rendered by resvg: seen from +z, fitted to the image with its
+/// aspect ratio kept and centred, anti-aliased, strokes at least 1.5 pixels
+/// wide. Instances are
 /// tessellated with [`Tessellation::default`]. An empty scene gives a plain
 /// background. The size is clamped to `1..=`[`crate::MAX_IMAGE_SIDE`].
 ///
@@ -110,6 +116,12 @@ pub(crate) fn render_png_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
 pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> (Vec<u8>, u32, u32) {
     let w = opts.width.clamp(1, crate::MAX_IMAGE_SIDE);
     let h = opts.height.clamp(1, crate::MAX_IMAGE_SIDE);
+    if opts.camera.is_none()
+        && crate::flat::is_flat(scene)
+        && let Some(rgb) = crate::flat::render_rgb(scene, w, h, opts.background, tess)
+    {
+        return (rgb, w, h);
+    }
     let ss = if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 };
     let mut r = Raster::new(w as usize * ss, h as usize * ss, pack(opts.background));
     if !scene.is_empty() {
@@ -161,8 +173,8 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
         let color = color_of(poly.tag);
         verts.clear();
         verts.extend(poly.points.iter().map(|&p| view.vertex(p)));
-        for k in 1..verts.len().saturating_sub(1) {
-            view.draw(r, [&verts[0], &verts[k], &verts[k + 1]], color, false);
+        for t in triangulate_polygon(&poly.points) {
+            view.draw(r, t.map(|k| &verts[k as usize]), color, false);
         }
     }
     let min_half_width = 0.5 * ss as f32;
@@ -560,6 +572,38 @@ mod tests {
         let (rgb, _, _) = render_rgb(&s, &opts);
         assert_ne!(pixel(&rgb, 100, 50, 50), opts.background);
         assert_eq!(pixel(&rgb, 100, 50, 10), opts.background);
+    }
+
+    #[test]
+    fn polylines_in_3d_are_depth_tested() {
+        // Seen from +z: a unit box, and a stroke passing behind or in front.
+        let cam =
+            Camera { fov_deg: 40.0, phi: std::f32::consts::FRAC_PI_2, theta: 0.0, radius: 8.0, look_at: Vec3::ZERO };
+        let opts = RenderOptions { width: 80, height: 80, camera: Some(cam), ..Default::default() };
+        let with_stroke = |z: f32| {
+            let mut s = test_scenes::boxes(1);
+            let tag = s.tag("wire#ff0000");
+            s.polylines.push(genform_core::scene::Polyline {
+                points: vec![Vec3::new(-3.0, 0.0, z), Vec3::new(0.0, 0.0, z + 0.1), Vec3::new(3.0, 0.0, z)],
+                width: 0.0,
+                tag,
+            });
+            render_rgb(&s, &opts).0
+        };
+        let (plain, _, _) = render_rgb(&test_scenes::boxes(1), &opts);
+        let (behind, front) = (with_stroke(-2.0), with_stroke(1.0));
+        assert_eq!(pixel(&behind, 80, 40, 40), pixel(&plain, 80, 40, 40), "hidden behind the box");
+        // The stroke is a pixel wide and may straddle rows 39 and 40.
+        let red = |rgb: &[u8], x: u32| {
+            [39, 40].iter().any(|&y| {
+                let p = pixel(rgb, 80, x, y);
+                p[0] > p[1].saturating_add(50) && p[0] > p[2].saturating_add(50)
+            })
+        };
+        assert!(red(&front, 40));
+        // Beside the box both are visible.
+        assert!(red(&behind, 15) && red(&front, 15));
+        assert_eq!(pixel(&front, 80, 40, 20), pixel(&plain, 80, 40, 20));
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use super::parse::{Ast, BinOp, Node, UnOp};
 use super::{Scope, did_you_mean};
 use crate::diag::Diagnostic;
-use crate::rng::Rng;
+use crate::rng::{Draws, Rng, standard_normal, uniform_in};
 
 /// Largest evaluation stack a program may need.
 const STACK: usize = 64;
@@ -278,7 +278,7 @@ impl Compiler<'_> {
     }
 
     fn load(&mut self, name: &str, ast: &Ast) {
-        if let Some(v) = constant(name) {
+        if let Some(v) = self.constant(name) {
             self.code.push(Op::Const(v));
             return;
         }
@@ -356,7 +356,7 @@ impl Compiler<'_> {
     fn fold(&self, ast: &Ast) -> Option<f64> {
         Some(match &ast.kind {
             Node::Num(v) => *v,
-            Node::Var(n) => constant(n)?,
+            Node::Var(n) => self.constant(n)?,
             Node::Unary(UnOp::Neg, a) => -self.fold(a)?,
             Node::Unary(UnOp::Not, a) => truth(!is_true(self.fold(a)?)),
             Node::Binary(op, a, b) => bin(*op, self.fold(a)?, self.fold(b)?),
@@ -381,7 +381,18 @@ impl Compiler<'_> {
     }
 }
 
-fn constant(name: &str) -> Option<f64> {
+impl Compiler<'_> {
+    /// A name's constant value: the scope's own constants, then the
+    /// built-in ones; `None` for variables (which shadow both).
+    fn constant(&self, name: &str) -> Option<f64> {
+        if self.scope.variable(name).is_some() {
+            return None;
+        }
+        self.scope.constant(name).or_else(|| builtin_constant(name))
+    }
+}
+
+fn builtin_constant(name: &str) -> Option<f64> {
     Some(match name {
         "pi" | "PI" => std::f64::consts::PI,
         "tau" => std::f64::consts::TAU,
@@ -399,12 +410,19 @@ impl Program {
         if self.uses_rng {
             return self.eval_rng(env, &mut Rng::from_seed(0));
         }
-        self.run(env, None)
+        self.run::<Rng>(env, None)
     }
 
     /// Evaluates on `env`, drawing random values from `rng`.
     pub fn eval_rng(&self, env: &[f64], rng: &mut Rng) -> f64 {
         self.run(env, Some(rng))
+    }
+
+    /// Evaluates on `env`, taking random draws from `draws` (e.g. values
+    /// stored in a genome). Draws per evaluation are at most
+    /// [`Program::max_draws`].
+    pub fn eval_draws(&self, env: &[f64], draws: &mut impl Draws) -> f64 {
+        self.run(env, Some(draws))
     }
 
     /// The value when the expression is a constant.
@@ -471,7 +489,19 @@ impl Program {
         max.max(1) as usize
     }
 
-    fn run(&self, env: &[f64], mut rng: Option<&mut Rng>) -> f64 {
+    /// The most uniform draws one evaluation can take (`normal` takes two).
+    pub fn max_draws(&self) -> usize {
+        self.code
+            .iter()
+            .map(|op| match op {
+                Op::Rand(RandOp::Normal) => 2,
+                Op::Rand(_) => 1,
+                _ => 0,
+            })
+            .sum()
+    }
+
+    fn run<D: Draws + ?Sized>(&self, env: &[f64], mut rng: Option<&mut D>) -> f64 {
         let mut stack = [0.0f64; STACK];
         let mut sp = 0usize;
         let mut pc = 0usize;
@@ -521,11 +551,11 @@ impl Program {
                         }
                         RandOp::Uniform => {
                             sp -= 1;
-                            stack[sp - 1] = rng.uniform(stack[sp - 1], stack[sp]);
+                            stack[sp - 1] = uniform_in(rng, stack[sp - 1], stack[sp]);
                         }
                         RandOp::Normal => {
                             sp -= 1;
-                            stack[sp - 1] = rng.normal(stack[sp - 1], stack[sp]);
+                            stack[sp - 1] += stack[sp] * standard_normal(rng);
                         }
                     }
                 }

@@ -26,6 +26,11 @@ pub trait Scope {
     /// `size.x`; a call `f(x)` of a non-builtin function `f` with one bare
     /// identifier argument is looked up as the variable `"f(x)"`).
     fn variable(&self, name: &str) -> Option<u32>;
+    /// The value of a named constant (folded at compile time); variables
+    /// shadow constants, constants shadow the built-in `pi`, `e`, ….
+    fn constant(&self, _name: &str) -> Option<f64> {
+        None
+    }
     /// Known names, for "did you mean" hints.
     fn names(&self) -> Vec<String> {
         Vec::new()

@@ -9,8 +9,9 @@
 
 use super::ImageScorer;
 use super::coverage::Coverage;
-use super::project::{HALF, ONE, Projector, Pt, SUB, Shapes, fan};
+use super::project::{HALF, ONE, Projector, Pt, SUB, Shapes};
 use crate::fitness::Counts;
+use genform_core::scene::triangulate_polygon;
 use genform_core::scene::{Primitive, Scene};
 
 /// The pixels `scene` covers through `scorer`'s camera, by brute force.
@@ -32,7 +33,13 @@ pub fn coverage(scorer: &ImageScorer, scene: &Scene) -> Coverage {
         projector.triangles(frame, &to_view, &mesh.positions, mesh.triangles.iter().copied(), &mut cover);
     }
     for poly in &scene.polygons {
-        projector.triangles(frame, &frame.world_view(), &poly.points, fan(poly.points.len()), &mut cover);
+        projector.triangles(
+            frame,
+            &frame.world_view(),
+            &poly.points,
+            triangulate_polygon(&poly.points).into_iter(),
+            &mut cover,
+        );
     }
     out
 }

@@ -258,11 +258,6 @@ impl Shapes {
     }
 }
 
-/// Fan triangles of a polygon with `n` points (as `Scene::for_each_triangle`).
-pub(crate) fn fan(n: usize) -> impl Iterator<Item = [u32; 3]> {
-    (1..n.saturating_sub(1)).map(|i| [0, i as u32, i as u32 + 1])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

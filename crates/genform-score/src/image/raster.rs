@@ -14,7 +14,8 @@
 //! (see [`super::project`]) are exact integer arithmetic.
 
 use super::coverage::Mask;
-use super::project::{Frame, HALF, ONE, Projector, Pt, SUB, Shapes, fan};
+use super::project::{Frame, HALF, ONE, Projector, Pt, SUB, Shapes};
+use genform_core::scene::triangulate_polygon;
 use genform_core::scene::{Primitive, Scene, Tessellation};
 use glam::DAffine3;
 
@@ -83,7 +84,7 @@ pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
     }
     let view = frame.world_view();
     for poly in &scene.polygons {
-        let tris = fan(poly.points.len());
+        let tris = triangulate_polygon(&poly.points).into_iter();
         s.projector.triangles(frame, &view, &poly.points, tris, |t| fill_triangle(frame, t, &mut s.mask, &mut s.rows));
     }
 }

@@ -1,0 +1,105 @@
+//! End-to-end tests of the L-system verbs: the real binary on the shipped
+//! `examples/lsystem` files, in a temporary folder.
+
+mod common;
+
+use common::{Run, genform, root, s};
+use std::path::PathBuf;
+
+fn ls(name: &str) -> PathBuf {
+    root().join("examples/lsystem").join(format!("{name}.ls"))
+}
+
+fn read(dir: &tempfile::TempDir, name: &str) -> Vec<u8> {
+    std::fs::read(dir.path().join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+#[test]
+fn koch_svg_png_and_string_are_deterministic() {
+    let tmp = tempfile::tempdir().unwrap();
+    let koch = ls("koch_snowflake");
+    for out in ["a.svg", "b.svg", "a.png"] {
+        genform(tmp.path(), &["sample", s(&koch), "--out", out]).ok();
+    }
+    let svg = read(&tmp, "a.svg");
+    assert_eq!(svg, read(&tmp, "b.svg"), "same input, same bytes");
+    let text = String::from_utf8(svg).unwrap();
+    assert!(text.starts_with("<svg") || text.starts_with("<?xml"), "{}", &text[..80.min(text.len())]);
+    assert!(text.contains("<path"));
+    assert_eq!(&read(&tmp, "a.png")[1..4], b"PNG");
+    // --steps overrides the file's derivation length.
+    let run = genform(tmp.path(), &["sample", s(&koch), "--steps", "2", "--string-out", "k.txt"]).ok();
+    assert!(run.stdout().contains("2 steps: 112 modules, 48 segments"), "{}", run.stdout());
+    let string = String::from_utf8(read(&tmp, "k.txt")).unwrap();
+    assert_eq!(string.trim_end().len(), 112);
+    assert!(string.starts_with("F-F++F-F-F-F++F-F++F-F++F-F"), "{string}");
+}
+
+#[test]
+fn stochastic_plants_differ_by_seed_and_repeat_by_seed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plant = ls("stochastic_plant");
+    for (seed, out) in [("1", "a.txt"), ("1", "b.txt"), ("2", "c.txt")] {
+        genform(tmp.path(), &["sample", s(&plant), "--seed", seed, "--string-out", out]).ok();
+    }
+    assert_eq!(read(&tmp, "a.txt"), read(&tmp, "b.txt"));
+    assert_ne!(read(&tmp, "a.txt"), read(&tmp, "c.txt"));
+}
+
+#[test]
+fn runaway_growth_stops_with_the_step_and_the_flag() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = genform(tmp.path(), &["sample", s(&ls("abop_1_24a")), "--steps", "40", "--out", "x.svg"]).fails();
+    let err = run.stderr();
+    assert!(err.contains("step 10 of 40") && err.contains("--max-modules"), "{err}");
+    assert!(!tmp.path().join("x.svg").exists(), "nothing written on failure");
+    let run = genform(tmp.path(), &["sample", s(&ls("koch_snowflake")), "--max-modules", "100"]).fails();
+    assert!(run.stderr().contains("past 100 modules"), "{}", run.stderr());
+}
+
+#[test]
+fn grammar_errors_name_file_line_and_column() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("bad.ls"), "axiom: A(1)\nproduction:\nA(x) : y > 1 -> B\nA(x) => C\n").unwrap();
+    let run: Run = genform(tmp.path(), &["sample", "bad.ls"]).fails();
+    let err = run.stderr();
+    assert!(err.contains("bad.ls:4:1") && err.contains("expected a production"), "{err}");
+    assert!(err.contains("1 error"), "parse errors come first, all of them: {err}");
+    std::fs::write(tmp.path().join("bad.ls"), "axiom: A(1)\nproduction:\nA(x) : y > 1 -> B\nA(x) -> C(sqr(x))\n")
+        .unwrap();
+    let err = genform(tmp.path(), &["info", "bad.ls"]).fails().stderr();
+    assert!(err.contains("bad.ls:3:8") && err.contains("unknown name `y`"), "{err}");
+    assert!(err.contains("bad.ls:4:11") && err.contains("did you mean `sqrt`"), "{err}");
+    assert!(err.contains("2 errors"), "{err}");
+}
+
+#[test]
+fn info_describes_modules_growth_and_the_generator() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = genform(tmp.path(), &["info", s(&ls("koch_snowflake"))]).ok().stdout();
+    assert!(out.contains("modules per step (seed 0): 0: 7, 1: 28, 2: 112, 3: 448, 4: 1792"), "{out}");
+    assert!(out.contains("draw forward") && out.contains("generator: 2 symbols"), "{out}");
+    let out = genform(tmp.path(), &["info", s(&ls("hogeweg"))]).ok().stdout();
+    assert!(out.contains("generator: none") && out.contains("context-sensitive"), "{out}");
+}
+
+#[test]
+fn a_saved_genome_replays_the_same_model() {
+    let tmp = tempfile::tempdir().unwrap();
+    let tree = ls("evolvable_tree");
+    genform(tmp.path(), &["sample", s(&tree), "--seed", "2", "--genome-out", "g.json", "--out", "a.glb"]).ok();
+    genform(tmp.path(), &["derive", s(&tree), "--genome", "g.json", "--out", "b.glb"]).ok();
+    assert_eq!(read(&tmp, "a.glb"), read(&tmp, "b.glb"));
+    let run = genform(tmp.path(), &["sample", s(&ls("hogeweg")), "--genome-out", "h.json"]).fails();
+    assert!(run.stderr().contains("context-free"), "{}", run.stderr());
+}
+
+#[test]
+fn evolve_steers_the_lsystem_tree() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("examples/scenes/lsystem_tree_volume.toml");
+    genform(tmp.path(), &["evolve", s(&scene), "--generations", "4", "--seed", "3", "--out", "run", "-q"]).ok();
+    let run: serde_json::Value = serde_json::from_slice(&read(&tmp, "run/run.json")).unwrap();
+    assert!(run["best_fitness"].as_f64().unwrap() > 0.0, "{run}");
+    assert!(tmp.path().join("run/best.glb").exists());
+}

@@ -1,0 +1,74 @@
+//! Data-driven diagnostics fixtures, shared by every language's tests.
+//!
+//! A fixture is a grammar file that carries its expected diagnostics as
+//! comments in its own comment syntax, e.g. for `.sg` files
+//!
+//! ```text
+//! box2; // Error: 3:5 unknown operation
+//! ```
+//!
+//! meaning "an error at line 3, column 5 whose message contains `unknown
+//! operation`" (`Warning:` for warnings). [`check`] compares one compile's
+//! diagnostics with the annotations: every annotation must be matched and
+//! nothing may be reported unannotated.
+
+use crate::diag::{Diagnostics, Severity, SourceFile};
+
+#[derive(Debug)]
+struct Expected {
+    severity: Severity,
+    line: usize,
+    col: usize,
+    text: String,
+    /// Line of the annotation (for messages).
+    at: usize,
+}
+
+fn annotations(src: &str, comment: &str) -> Result<Vec<Expected>, String> {
+    let mut out = Vec::new();
+    for (i, line) in src.lines().enumerate() {
+        for (tag, severity) in [("Error:", Severity::Error), ("Warning:", Severity::Warning)] {
+            let marker = format!("{comment} {tag}");
+            let Some(pos) = line.find(&marker) else { continue };
+            let rest = line[pos + marker.len()..].trim();
+            let (loc, text) = rest.split_once(' ').unwrap_or((rest, ""));
+            let parsed = loc.split_once(':').and_then(|(l, c)| Some((l.parse().ok()?, c.parse().ok()?)));
+            let Some((line_no, col)) = parsed else {
+                return Err(format!("line {}: bad annotation `{rest}` (expected `L:C text`)", i + 1));
+            };
+            out.push(Expected { severity, line: line_no, col, text: text.trim().to_string(), at: i + 1 });
+        }
+    }
+    Ok(out)
+}
+
+/// Checks `diags` (from compiling `file`) against the annotations in the
+/// file's text, written after `comment` (`"//"`, `"#"`). `Err` lists every
+/// mismatch and what was reported.
+pub fn check(file: &SourceFile, diags: &Diagnostics, comment: &str) -> Result<(), String> {
+    let name = &file.name;
+    let mut expected = annotations(&file.text, comment)?;
+    if expected.is_empty() {
+        return Err(format!("{name}: no annotations; reported:\n{}", diags.short()));
+    }
+    let mut problems = Vec::new();
+    for d in &diags.items {
+        let (line, col) = d.span.map_or((0, 0), |s| file.line_col(s.start));
+        let hit = expected
+            .iter()
+            .position(|e| e.severity == d.severity && e.line == line && e.col == col && d.message.contains(&e.text));
+        match hit {
+            Some(i) => {
+                expected.remove(i);
+            }
+            None => problems.push(format!("unexpected {}:{}:{}: {}: {}", name, line, col, d.severity, d.message)),
+        }
+    }
+    for e in expected {
+        problems.push(format!(
+            "missing {name}:{}:{}: {}: …{}… (annotated on line {})",
+            e.line, e.col, e.severity, e.text, e.at
+        ));
+    }
+    if problems.is_empty() { Ok(()) } else { Err(format!("{}\nreported:\n{}", problems.join("\n"), diags.short())) }
+}

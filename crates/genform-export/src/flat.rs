@@ -1,0 +1,128 @@
+//! Flat drawings (a 2D turtle's lines and regions) as images: the SVG
+//! drawing rendered by resvg, which anti-aliases thin strokes far better
+//! than the 3D preview rasterizer.
+
+use crate::svg::{Drawing, SvgOptions};
+use genform_core::scene::{Scene, Tessellation};
+use resvg::{tiny_skia, usvg};
+
+/// The thinnest stroke in an image, in pixels.
+const MIN_STROKE_PX: f32 = 1.5;
+
+/// Whether the scene is a non-empty drawing in the z = 0 plane with nothing
+/// solid in it: no instances, every polyline and polygon point at z = 0.
+pub(crate) fn is_flat(scene: &Scene) -> bool {
+    !scene.is_empty()
+        && scene.instances.is_empty()
+        && scene.polylines.iter().flat_map(|l| &l.points).all(|p| p.z == 0.0)
+        && scene.polygons.iter().flat_map(|p| &p.points).all(|p| p.z == 0.0)
+}
+
+/// Renders the drawing into a `width × height` RGB image (rows from the
+/// top) on `background`, fitted with its aspect ratio kept and centred;
+/// `None` when resvg cannot (an image too large for it), so the caller can
+/// fall back to the rasterizer.
+pub(crate) fn render_rgb(
+    scene: &Scene,
+    width: u32,
+    height: u32,
+    background: [u8; 3],
+    tess: Tessellation,
+) -> Option<Vec<u8>> {
+    let drawing = Drawing::new(scene, tess);
+    // The drawing's width in the image, so the stroke floor is in pixels.
+    let fitted = (width as f32).min(height as f32 * drawing.aspect());
+    let opts = SvgOptions { width_px: fitted.round().max(1.0) as u32, min_stroke_px: MIN_STROKE_PX, background: None };
+    let svg = drawing.write(scene, &opts);
+    let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).ok()?;
+    let size = tree.size();
+    let k = (width as f32 / size.width()).min(height as f32 / size.height());
+    let dx = 0.5 * (width as f32 - k * size.width());
+    let dy = 0.5 * (height as f32 - k * size.height());
+    let mut pixmap = tiny_skia::Pixmap::new(width, height)?;
+    let [r, g, b] = background;
+    pixmap.fill(tiny_skia::Color::from_rgba8(r, g, b, 255));
+    resvg::render(&tree, tiny_skia::Transform::from_row(k, 0.0, 0.0, k, dx, dy), &mut pixmap.as_mut());
+    // Opaque background: premultiplied RGBA is plain RGB with alpha 255.
+    Some(pixmap.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ExportOptions, Format, RenderOptions, export};
+    use genform_core::scene::{Instance, Polyline, Primitive};
+    use glam::Vec3;
+
+    fn decode(png_bytes: &[u8]) -> (Vec<u8>, u32, u32) {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(png_bytes)).read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        buf.truncate(info.buffer_size());
+        (buf, info.width, info.height)
+    }
+
+    /// A hairline "L": a long horizontal stroke and a short vertical one.
+    fn hairline_l() -> Scene {
+        let mut s = Scene::new();
+        let tag = s.tag("ink#204080");
+        let pts = [(0.0, 1.0), (0.0, 0.0), (4.0, 0.0)];
+        s.polylines.push(Polyline {
+            points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+            width: 0.0,
+            tag,
+        });
+        s
+    }
+
+    #[test]
+    fn flat_drawings_render_through_the_svg_writer() {
+        let s = hairline_l();
+        let render = RenderOptions { width: 200, height: 200, background: [255; 3], camera: None };
+        let opts = ExportOptions { render, ..Default::default() };
+        let bytes = export(&s, Format::Png, &opts).unwrap();
+        assert_eq!(bytes, export(&s, Format::Png, &opts).unwrap());
+        let (rgb, w, h) = decode(&bytes);
+        assert_eq!((w, h), (200, 200));
+        let px = |x: u32, y: u32| {
+            let i = 3 * (y * w + x) as usize;
+            [rgb[i], rgb[i + 1], rgb[i + 2]]
+        };
+        // View box 4.24 × 1.24 fitted to the width (47.2 px per unit) and
+        // centred: y = 0 at row 100 + 0.5·1.24·47.2 − 0.03·4·47.2 ≈ 123.6,
+        // x = 0 at column 5.7.
+        let ink = |p: [u8; 3]| p[2] > p[0] + 40 && p[0] < 200;
+        for x in [20, 100, 180] {
+            assert!(ink(px(x, 123)) || ink(px(x, 124)), "no ink at column {x}: {:?}", px(x, 123));
+            assert_eq!(px(x, 110), [255; 3]);
+            assert_eq!(px(x, 140), [255; 3]);
+        }
+        assert!(ink(px(5, 100)) || ink(px(6, 100)), "no vertical stroke");
+        for (x, y) in [(0, 0), (199, 0), (0, 199), (199, 199), (100, 60), (100, 160), (196, 124)] {
+            assert_eq!(px(x, y), [255; 3], "({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn only_camera_less_flat_drawings_take_the_svg_path() {
+        let s = hairline_l();
+        assert!(is_flat(&s));
+        assert!(!is_flat(&Scene::new()));
+        let mut raised = s.clone();
+        raised.polylines[0].points[1].z = 0.5;
+        assert!(!is_flat(&raised));
+        let mut solid = s.clone();
+        solid.instances.push(Instance { transform: Default::default(), primitive: Primitive::Box, tag: 0 });
+        assert!(!is_flat(&solid));
+        // The SVG path keeps the background colour; an explicit camera asks
+        // for the 3D view.
+        let opts = RenderOptions { width: 64, height: 48, background: [10, 20, 30], camera: None };
+        let (flat, _, _) = crate::render_rgb(&s, &opts);
+        assert_eq!(flat[..3], [10, 20, 30]);
+        assert_eq!(Some(flat.clone()), render_rgb(&s, 64, 48, [10, 20, 30], Tessellation::default()));
+        let cam = crate::Camera::fit((Vec3::new(0.0, 0.0, -1.0), Vec3::new(4.0, 1.0, 1.0)));
+        let (view, _, _) = crate::render_rgb(&s, &RenderOptions { camera: Some(cam), ..opts });
+        assert_ne!(flat, view);
+    }
+}

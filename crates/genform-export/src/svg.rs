@@ -1,0 +1,446 @@
+//! SVG line drawings: the scene seen orthographically along −z.
+
+use crate::palette::tag_color;
+use crate::shapes::Shapes;
+use genform_core::scene::{Primitive, Scene, TagId, Tessellation};
+use glam::Vec2;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// Settings for [`write_svg`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// Nominal rendered width in pixels (the `width` attribute); the height
+    /// follows the drawing's aspect ratio.
+    pub width_px: u32,
+    /// The thinnest stroke, in pixels at the nominal width: thinner strokes
+    /// (a turtle's width 0 included) are drawn this wide so they stay
+    /// visible.
+    pub min_stroke_px: f32,
+    /// The colour behind the drawing (8-bit sRGB), or `None` for a
+    /// transparent background.
+    pub background: Option<[u8; 3]>,
+}
+
+impl Default for SvgOptions {
+    /// 1000 px wide, strokes at least 1 px, white background.
+    fn default() -> Self {
+        SvgOptions { width_px: 1000, min_stroke_px: 1.0, background: Some([255; 3]) }
+    }
+}
+
+/// Writes `scene` as an SVG drawing, viewed orthographically onto the xy
+/// plane (z is dropped, +y points up).
+///
+/// The view box fits everything drawn plus a margin of 3% of the larger
+/// extent. Draw order: instances (their triangles, filled, one `<path>` per
+/// tag, faces turned away from the viewer of closed primitives left out),
+/// then polygons (one filled `<polygon>` each), then polylines (stroked
+/// `<path>`s with round caps and joins, consecutive polylines with the same
+/// tag and stroke width sharing one element), each in scene order, so strokes
+/// stay on top. A stroke is its polyline's width in scene units, never
+/// thinner than [`SvgOptions::min_stroke_px`]. Colours are [`tag_color`]s.
+/// There is no depth sorting: it is a line-drawing view, not a renderer.
+///
+/// Numbers have a fixed number of decimals, chosen so that about 10⁴–10⁵
+/// steps span the drawing; the same scene gives the same bytes. Non-finite
+/// points, polylines of fewer than two points and polygons of fewer than
+/// three are left out. An empty drawing is a 1×1 view box.
+///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset (see [`crate::export`],
+/// which checks).
+pub fn write_svg(scene: &Scene, opts: &SvgOptions) -> String {
+    Drawing::new(scene, Tessellation::default()).write(scene, opts)
+}
+
+/// Instance triangles projected and the frame around everything drawn:
+/// what [`write_svg`] needs before it writes, and what the PNG path needs to
+/// choose the nominal width.
+pub(crate) struct Drawing {
+    /// Per tag, the projected instance triangles (counter-clockwise in xy).
+    fills: BTreeMap<TagId, Vec<[Vec2; 3]>>,
+    /// The view box in SVG coordinates (y down): top left corner and size.
+    origin: Vec2,
+    size: Vec2,
+    /// Decimals of every coordinate written.
+    decimals: usize,
+}
+
+impl Drawing {
+    /// Projects the instances and measures the drawing.
+    pub(crate) fn new(scene: &Scene, tess: Tessellation) -> Drawing {
+        let fills = project_instances(scene, tess);
+        let mut bounds = Bounds::default();
+        fills.values().flatten().flatten().for_each(|&p| bounds.add(p, 0.0));
+        for poly in scene.polygons.iter().filter(|p| drawable(&p.points, 3)) {
+            poly.points.iter().for_each(|p| bounds.add(p.truncate(), 0.0));
+        }
+        for line in scene.polylines.iter().filter(|l| drawable(&l.points, 2)) {
+            let half = if line.width.is_finite() { 0.5 * line.width.max(0.0) } else { 0.0 };
+            line.points.iter().for_each(|p| bounds.add(p.truncate(), half));
+        }
+        let (lo, hi) = match (bounds.lo, bounds.hi) {
+            (Some(lo), Some(hi)) => (lo, hi),
+            _ => (Vec2::ZERO, Vec2::ZERO),
+        };
+        let extent = (hi - lo).max_element();
+        // A lone point or nothing: a unit view around it.
+        let margin = if extent > 0.0 && extent.is_finite() { 0.03 * extent } else { 0.5 };
+        // SVG's y runs down: the top edge is at −max y.
+        let origin = Vec2::new(lo.x - margin, -hi.y - margin);
+        let size = (hi - lo) + Vec2::splat(2.0 * margin);
+        let decimals = (4 - size.max_element().log10().floor() as i32).clamp(0, 12) as usize;
+        Drawing { fills, origin, size, decimals }
+    }
+
+    /// The view box's width over its height.
+    pub(crate) fn aspect(&self) -> f32 {
+        self.size.x / self.size.y
+    }
+
+    /// The SVG text.
+    pub(crate) fn write(&self, scene: &Scene, opts: &SvgOptions) -> String {
+        let mut w = Writer { out: String::new(), decimals: self.decimals };
+        let width_px = opts.width_px.max(1);
+        let height_px = ((width_px as f32 / self.aspect()).round() as u32).max(1);
+        w.out.push_str("<svg xmlns=\"http://www.w3.org/2000/svg\"");
+        let _ = write!(w.out, " width=\"{width_px}\" height=\"{height_px}\" viewBox=\"");
+        w.point(self.origin);
+        w.out.push(' ');
+        w.point(self.size);
+        w.out.push_str("\">\n");
+        if let Some(bg) = opts.background {
+            w.out.push_str("<rect x=\"");
+            w.num(self.origin.x);
+            w.out.push_str("\" y=\"");
+            w.num(self.origin.y);
+            w.out.push_str("\" width=\"");
+            w.num(self.size.x);
+            w.out.push_str("\" height=\"");
+            w.num(self.size.y);
+            let _ = writeln!(w.out, "\" fill=\"{}\"/>", hex(bg));
+        }
+        let color = |tag: TagId| scene.tags.get(tag as usize).map_or([128; 3], |t| tag_color(t));
+
+        for (&tag, tris) in &self.fills {
+            let _ = write!(w.out, "<path fill=\"{}\" d=\"", hex(color(tag)));
+            for t in tris {
+                // Flipped y reverses the winding, the same for all: nonzero
+                // filling then gives their union.
+                let [a, b, c] = t.map(flip);
+                w.out.push('M');
+                w.point(a);
+                w.out.push('L');
+                w.point(b);
+                w.out.push(' ');
+                w.point(c);
+                w.out.push('Z');
+            }
+            w.out.push_str("\"/>\n");
+        }
+
+        for poly in scene.polygons.iter().filter(|p| drawable(&p.points, 3)) {
+            let _ = write!(w.out, "<polygon fill=\"{}\" points=\"", hex(color(poly.tag)));
+            for (i, p) in poly.points.iter().enumerate() {
+                if i > 0 {
+                    w.out.push(' ');
+                }
+                w.point(flip(p.truncate()));
+            }
+            w.out.push_str("\"/>\n");
+        }
+
+        // Strokes: consecutive polylines with the same tag and written width
+        // share one path.
+        let floor = opts.min_stroke_px.max(0.0) * self.size.x / width_px as f32;
+        let mut open: Option<(TagId, String)> = None;
+        for line in scene.polylines.iter().filter(|l| drawable(&l.points, 2)) {
+            let width = if line.width.is_finite() { line.width.max(floor) } else { floor };
+            let width = w.format(width, self.decimals + 2);
+            if open.as_ref().is_none_or(|(tag, wd)| *tag != line.tag || *wd != width) {
+                if open.is_some() {
+                    w.out.push_str("\"/>\n");
+                }
+                let _ = write!(
+                    w.out,
+                    "<path fill=\"none\" stroke=\"{}\" stroke-width=\"{width}\" stroke-linecap=\"round\" \
+                     stroke-linejoin=\"round\" d=\"",
+                    hex(color(line.tag))
+                );
+                open = Some((line.tag, width));
+            }
+            w.run(line.points.iter().map(|p| flip(p.truncate())));
+        }
+        if open.is_some() {
+            w.out.push_str("\"/>\n");
+        }
+        w.out.push_str("</svg>\n");
+        w.out
+    }
+}
+
+/// At least `min` points, all finite.
+fn drawable(points: &[glam::Vec3], min: usize) -> bool {
+    points.len() >= min && points.iter().all(|p| p.is_finite())
+}
+
+/// Scene xy → SVG user coordinates (y down).
+fn flip(p: Vec2) -> Vec2 {
+    Vec2::new(p.x, -p.y)
+}
+
+fn hex([r, g, b]: [u8; 3]) -> String {
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// Every instance's triangles projected onto xy, per tag, turned
+/// counter-clockwise; zero-area ones dropped. Closed primitives keep only
+/// the faces toward +z: the others lie under them.
+fn project_instances(scene: &Scene, tess: Tessellation) -> BTreeMap<TagId, Vec<[Vec2; 3]>> {
+    let mut fills: BTreeMap<TagId, Vec<[Vec2; 3]>> = BTreeMap::new();
+    if scene.instances.is_empty() {
+        return fills;
+    }
+    let shapes = Shapes::new(scene, tess);
+    let mut verts = Vec::new();
+    for (i, inst) in scene.instances.iter().enumerate() {
+        let mesh = shapes.of(i);
+        verts.clear();
+        verts.extend(mesh.positions.iter().map(|&p| inst.transform.transform_point3(p)));
+        let closed = !matches!(inst.primitive, Primitive::Mesh(_));
+        let flip = inst.transform.matrix3.determinant() < 0.0;
+        let out = fills.entry(inst.tag).or_default();
+        for t in &mesh.triangles {
+            let [a, b, c] = t.map(|v| verts[v as usize]);
+            if !(a.is_finite() && b.is_finite() && c.is_finite()) {
+                continue;
+            }
+            let [a, b, c] = [a, b, c].map(|p| p.truncate());
+            // Outward winding first, as in `Scene::for_each_triangle`.
+            let (b, c) = if flip { (c, b) } else { (b, c) };
+            let area = (b - a).perp_dot(c - a);
+            if area > 0.0 {
+                out.push([a, b, c]);
+            } else if area < 0.0 && !closed {
+                out.push([a, c, b]);
+            }
+        }
+    }
+    fills.retain(|_, t| !t.is_empty());
+    fills
+}
+
+/// Bounds of points, each widened by a radius.
+#[derive(Default)]
+struct Bounds {
+    lo: Option<Vec2>,
+    hi: Option<Vec2>,
+}
+
+impl Bounds {
+    fn add(&mut self, p: Vec2, r: f32) {
+        self.lo = Some(self.lo.map_or(p - r, |lo| lo.min(p - r)));
+        self.hi = Some(self.hi.map_or(p + r, |hi| hi.max(p + r)));
+    }
+}
+
+/// The SVG text with its number format.
+struct Writer {
+    out: String,
+    decimals: usize,
+}
+
+impl Writer {
+    /// `v` with `decimals` decimals, trailing zeros trimmed, never `-0`.
+    fn format(&self, v: f32, decimals: usize) -> String {
+        let mut s = format!("{:.*}", decimals, f64::from(v));
+        if s.contains('.') {
+            let t = s.trim_end_matches('0').trim_end_matches('.').len();
+            s.truncate(t);
+        }
+        if s == "-0" { "0".to_string() } else { s }
+    }
+
+    fn num(&mut self, v: f32) {
+        let s = self.format(v, self.decimals);
+        self.out.push_str(&s);
+    }
+
+    fn point(&mut self, p: Vec2) {
+        self.num(p.x);
+        self.out.push(' ');
+        self.num(p.y);
+    }
+
+    /// One `M…L…` run; points that print the same as the one before are
+    /// skipped, but a run keeps at least one segment (a dot, with round
+    /// caps).
+    fn run(&mut self, points: impl Iterator<Item = Vec2>) {
+        let mut last = String::new();
+        let mut n = 0;
+        for p in points {
+            let s = format!("{} {}", self.format(p.x, self.decimals), self.format(p.y, self.decimals));
+            if s == last {
+                continue;
+            }
+            self.out.push(match n {
+                0 => 'M',
+                1 => 'L',
+                _ => ' ',
+            });
+            self.out.push_str(&s);
+            last = s;
+            n += 1;
+        }
+        if n == 1 {
+            self.out.push('L');
+            self.out.push_str(&last);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{ExportError, ExportOptions, Format, export, test_scenes};
+    use genform_core::scene::{Instance, Polygon, Polyline};
+    use glam::{Affine3A, Vec3};
+
+    fn line(points: &[(f32, f32)], width: f32, tag: TagId) -> Polyline {
+        Polyline { points: points.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(), width, tag }
+    }
+
+    /// The value of the first `name="…"` attribute at or after `from`.
+    fn attr<'a>(svg: &'a str, name: &str) -> &'a str {
+        let key = format!(" {name}=\"");
+        let start = svg.find(&key).unwrap_or_else(|| panic!("no {name} in {svg}")) + key.len();
+        &svg[start..start + svg[start..].find('"').unwrap()]
+    }
+
+    fn numbers(s: &str) -> Vec<f32> {
+        s.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+            .filter(|t| !t.is_empty())
+            .map(|t| t.parse().unwrap())
+            .collect()
+    }
+
+    #[test]
+    fn output_is_deterministic_and_parses() {
+        let s = test_scenes::mixed();
+        let svg = write_svg(&s, &SvgOptions::default());
+        assert_eq!(svg, write_svg(&s.clone(), &SvgOptions::default()));
+        assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1000\""), "{svg}");
+        assert!(svg.ends_with("</svg>\n"));
+        let tree = resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default()).unwrap();
+        assert_eq!(tree.size().width(), 1000.0);
+        // Every number is compact: no negative zero, no trailing zeros.
+        for token in svg.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-')) {
+            assert!(token != "-0" && !(token.contains('.') && token.ends_with('0')), "`{token}`");
+        }
+    }
+
+    #[test]
+    fn view_box_fits_with_a_margin_and_y_points_up() {
+        let mut s = Scene::new();
+        let tag = s.tag("stem");
+        s.polylines.push(line(&[(0.0, 0.0), (2.0, 1.0)], 0.0, tag));
+        let svg = write_svg(&s, &SvgOptions::default());
+        // Extent 2, margin 0.06; the top edge is at −(1 + 0.06).
+        assert_eq!(attr(&svg, "viewBox"), "-0.06 -1.06 2.12 1.12");
+        assert_eq!(attr(&svg, "height"), "528");
+        // y = +1 is drawn above y = 0 (smaller SVG y).
+        let d = numbers(attr(&svg, "d"));
+        assert_eq!(d, [0.0, 0.0, 2.0, -1.0]);
+        // The background covers the view box.
+        assert!(svg.contains("<rect x=\"-0.06\" y=\"-1.06\" width=\"2.12\" height=\"1.12\" fill=\"#ffffff\"/>"));
+        let no_bg = write_svg(&s, &SvgOptions { background: None, ..Default::default() });
+        assert!(!no_bg.contains("<rect"));
+    }
+
+    #[test]
+    fn a_lone_point_gets_a_unit_view_and_a_dot() {
+        let mut s = Scene::new();
+        let tag = s.tag("dot");
+        s.polylines.push(line(&[(3.0, -2.0), (3.0, -2.0)], 0.0, tag));
+        let svg = write_svg(&s, &SvgOptions::default());
+        assert_eq!(attr(&svg, "viewBox"), "2.5 1.5 1 1");
+        assert_eq!(attr(&svg, "d"), "M3 2L3 2");
+    }
+
+    #[test]
+    fn strokes_keep_their_width_with_a_floor_and_group_by_tag_and_width() {
+        let mut s = Scene::new();
+        let (a, b) = (s.tag("a"), s.tag("b"));
+        s.polylines.push(line(&[(0.0, 0.0), (10.0, 0.0)], 0.0, a));
+        s.polylines.push(line(&[(0.0, 1.0), (10.0, 1.0)], 0.0, a));
+        s.polylines.push(line(&[(0.0, 2.0), (10.0, 2.0)], 0.5, a));
+        s.polylines.push(line(&[(0.0, 3.0), (10.0, 3.0)], 0.5, b));
+        s.polylines.push(line(&[(0.0, 4.0), (10.0, 4.0)], 0.5, b));
+        let svg = write_svg(&s, &SvgOptions { width_px: 500, ..Default::default() });
+        let paths: Vec<&str> = svg.lines().filter(|l| l.starts_with("<path")).collect();
+        assert_eq!(paths.len(), 3, "{svg}");
+        // Extent 10 + 2·0.25 (round caps of the thick lines), view box
+        // 1.06 times that: 1 px of 500 is 0.02226 units.
+        assert_eq!(attr(paths[0], "stroke-width"), "0.02226");
+        assert_eq!(attr(paths[0], "d").matches('M').count(), 2);
+        assert_eq!(attr(paths[1], "stroke-width"), "0.5");
+        assert_eq!(attr(paths[2], "d").matches('M').count(), 2);
+        assert_eq!(attr(paths[0], "stroke"), attr(paths[1], "stroke"));
+        assert_ne!(attr(paths[1], "stroke"), attr(paths[2], "stroke"));
+        assert!(paths.iter().all(|p| p.contains("stroke-linecap=\"round\" stroke-linejoin=\"round\"")));
+    }
+
+    #[test]
+    fn instances_fill_one_path_per_tag_under_polygons_and_strokes() {
+        let s = test_scenes::mixed();
+        let svg = write_svg(&s, &SvgOptions::default());
+        let lines: Vec<&str> = svg.lines().collect();
+        let fills: Vec<usize> = (0..lines.len()).filter(|&i| lines[i].starts_with("<path fill=\"#")).collect();
+        assert_eq!(fills.len(), 3, "one per instance tag");
+        let polygon = lines.iter().position(|l| l.starts_with("<polygon")).unwrap();
+        let stroke = lines.iter().position(|l| l.contains("stroke=")).unwrap();
+        assert!(fills.iter().all(|&i| i < polygon) && polygon < stroke);
+        let trunk = format!("\"{}\"", hex(tag_color("trunk")));
+        assert!(lines[stroke].contains(&format!("stroke={trunk}")));
+        assert!(lines[polygon].contains(&format!("fill=\"{}\"", hex(tag_color("roof tile")))));
+
+        // A box seen from +z: its front face only (two triangles).
+        let mut s = Scene::new();
+        let tag = s.tag("box#102030");
+        s.instances.push(Instance { transform: Affine3A::IDENTITY, primitive: Primitive::Box, tag });
+        let svg = write_svg(&s, &SvgOptions::default());
+        assert_eq!(attr(&svg, "d"), "M0.5 0.5L0.5 -0.5 -0.5 -0.5ZM0.5 0.5L-0.5 -0.5 -0.5 0.5Z");
+        assert!(svg.contains("fill=\"#102030\""));
+    }
+
+    #[test]
+    fn polygons_are_filled_outlines() {
+        let mut s = Scene::new();
+        let tag = s.tag("leaf#3a7d23");
+        let pts = [(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (1.0, 1.0), (1.0, 2.0), (0.0, 2.0)];
+        s.polygons.push(Polygon { points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 5.0)).collect(), tag });
+        let svg = write_svg(&s, &SvgOptions::default());
+        assert!(svg.contains("<polygon fill=\"#3a7d23\" points=\"0 0 2 0 2 -1 1 -1 1 -2 0 -2\"/>"), "{svg}");
+    }
+
+    #[test]
+    fn export_checks_the_drawing() {
+        let opts = ExportOptions::default();
+        assert_eq!(export(&Scene::new(), Format::Svg, &opts), Err(ExportError::EmptyScene(Format::Svg)));
+        let mut s = Scene::new();
+        let tag = s.tag("a");
+        s.polylines.push(line(&[(0.0, 0.0)], 1.0, tag));
+        assert_eq!(export(&s, Format::Svg, &opts), Err(ExportError::EmptyScene(Format::Svg)));
+        s.polylines.push(line(&[(0.0, 0.0), (f32::NAN, 1.0)], 1.0, tag));
+        assert!(matches!(export(&s, Format::Svg, &opts), Err(ExportError::NonFinite(_))));
+        s.polylines[1].points[1].x = 1.0;
+        let bytes = export(&s, Format::Svg, &opts).unwrap();
+        assert_eq!(String::from_utf8(bytes).unwrap(), write_svg(&s, &SvgOptions::default()));
+        s.polygons.push(Polygon { points: vec![Vec3::ZERO, Vec3::X, Vec3::INFINITY], tag });
+        assert!(matches!(export(&s, Format::Svg, &opts), Err(ExportError::NonFinite(_))));
+        assert_eq!(Format::from_path(std::path::Path::new("plant.SVG")), Some(Format::Svg));
+        assert_eq!(Format::Svg.to_string(), "SVG");
+    }
+}

@@ -1,0 +1,136 @@
+//! Module symbols: a name with a parameter count, and what the turtle does
+//! with it.
+
+/// Index of a symbol in an [`Alphabet`].
+pub type Sym = u16;
+
+/// What the turtle does for a module (ABOP p. 19 and L-Py's turtle).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Command {
+    /// `F`: move forward drawing a segment.
+    Draw,
+    /// `f` and `G`: move forward without drawing.
+    Move,
+    /// `+`: turn left about U.
+    Left,
+    /// `-`: turn right about U.
+    Right,
+    /// `&`: pitch down about L.
+    Down,
+    /// `^`: pitch up about L.
+    Up,
+    /// `\`: roll left about H.
+    RollLeft,
+    /// `/`: roll right about H.
+    RollRight,
+    /// `|`: turn around.
+    TurnAround,
+    /// `$`: roll so that L is horizontal.
+    RollHorizontal,
+    /// `[`: push the turtle state.
+    Push,
+    /// `]`: pop the turtle state.
+    Pop,
+    /// `!`: set (with a parameter) or decrease the width.
+    Width,
+    /// `'`: set (with a parameter) or increment the colour index.
+    Color,
+    /// `{`: start a polygon.
+    PolygonStart,
+    /// `.`: record a polygon vertex.
+    PolygonVertex,
+    /// `}`: close the polygon.
+    PolygonEnd,
+    /// `@O`: a sphere of the given radius (default: half the width).
+    Sphere,
+    /// `%`: cut the rest of the branch (during derivation).
+    Cut,
+    /// No drawing meaning.
+    None,
+}
+
+impl Command {
+    /// The command of a module name.
+    pub fn of(name: &str) -> Command {
+        match name {
+            "F" => Command::Draw,
+            "f" | "G" => Command::Move,
+            "+" => Command::Left,
+            "-" => Command::Right,
+            "&" => Command::Down,
+            "^" => Command::Up,
+            "\\" => Command::RollLeft,
+            "/" => Command::RollRight,
+            "|" => Command::TurnAround,
+            "$" => Command::RollHorizontal,
+            "[" => Command::Push,
+            "]" => Command::Pop,
+            "!" => Command::Width,
+            "'" => Command::Color,
+            "{" => Command::PolygonStart,
+            "." => Command::PolygonVertex,
+            "}" => Command::PolygonEnd,
+            "%" => Command::Cut,
+            "@O" => Command::Sphere,
+            _ => Command::None,
+        }
+    }
+}
+
+/// One symbol.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SymbolInfo {
+    /// The module name.
+    pub name: String,
+    /// Number of parameters.
+    pub arity: u8,
+    /// The turtle command.
+    pub command: Command,
+}
+
+/// Every (name, parameter count) pair a grammar uses.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Alphabet {
+    /// The symbols, indexed by [`Sym`].
+    pub symbols: Vec<SymbolInfo>,
+}
+
+impl Alphabet {
+    /// The most symbols an alphabet holds.
+    pub const MAX: usize = u16::MAX as usize;
+
+    /// The symbol of `name` with `arity` parameters, if used.
+    pub fn find(&self, name: &str, arity: usize) -> Option<Sym> {
+        self.symbols.iter().position(|s| s.name == name && s.arity as usize == arity).map(|i| i as Sym)
+    }
+
+    /// The symbol of `name` with `arity` parameters, added on first use;
+    /// `None` when the alphabet is full or the arity exceeds 255.
+    pub fn intern(&mut self, name: &str, arity: usize) -> Option<Sym> {
+        if let Some(s) = self.find(name, arity) {
+            return Some(s);
+        }
+        if self.symbols.len() >= Self::MAX || arity > u8::MAX as usize {
+            return None;
+        }
+        self.symbols.push(SymbolInfo { name: name.to_string(), arity: arity as u8, command: Command::of(name) });
+        Some((self.symbols.len() - 1) as Sym)
+    }
+
+    /// Parameter count of `s`.
+    #[inline]
+    pub fn arity(&self, s: Sym) -> usize {
+        self.symbols[s as usize].arity as usize
+    }
+
+    /// The turtle command of `s`.
+    #[inline]
+    pub fn command(&self, s: Sym) -> Command {
+        self.symbols[s as usize].command
+    }
+
+    /// Every symbol whose name is `name`, any arity.
+    pub fn named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = Sym> + 'a {
+        self.symbols.iter().enumerate().filter(move |(_, s)| s.name == name).map(|(i, _)| i as Sym)
+    }
+}

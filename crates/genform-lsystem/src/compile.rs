@@ -1,0 +1,472 @@
+//! From the syntax tree to rule tables: symbols interned, formulas compiled
+//! against their production's parameters and the file's constants.
+
+use crate::alphabet::{Alphabet, Command, Sym};
+use crate::rules::{Arg, Entry, Rule, Table};
+use crate::settings::{Heading, Settings, View};
+use crate::string::ModuleString;
+use crate::syntax::{self, Call, Expr, Pattern, Section, Setting};
+use genform_core::diag::{Diagnostic, Span};
+use genform_core::expr::{self, Program, Scope};
+use std::collections::HashMap;
+
+/// A compiled L-system.
+#[derive(Clone, Debug)]
+pub struct LSystem {
+    /// Settings from the file's header.
+    pub settings: Settings,
+    /// Every module symbol the system uses.
+    pub alphabet: Alphabet,
+    /// The axiom.
+    pub axiom: ModuleString,
+    pub(crate) productions: Table,
+    pub(crate) decomposition: Table,
+    pub(crate) interpretation: Table,
+    /// Per symbol: skipped when matching contexts.
+    pub(crate) ignored: Vec<bool>,
+    /// Per symbol: is `[`, is `]`.
+    pub(crate) brackets: [Vec<bool>; 2],
+}
+
+/// Names visible in a production: its formal parameters (variables) and the
+/// file's `define`s (constants).
+struct RuleScope<'a> {
+    formals: &'a [String],
+    defines: &'a HashMap<String, f64>,
+}
+
+impl Scope for RuleScope<'_> {
+    fn variable(&self, name: &str) -> Option<u32> {
+        self.formals.iter().rposition(|f| f == name).map(|i| i as u32)
+    }
+    fn constant(&self, name: &str) -> Option<f64> {
+        self.defines.get(name).copied()
+    }
+    fn names(&self) -> Vec<String> {
+        self.formals.iter().cloned().chain(self.defines.keys().cloned()).collect()
+    }
+}
+
+struct Compiler {
+    alphabet: Alphabet,
+    defines: HashMap<String, f64>,
+    errors: Vec<Diagnostic>,
+    warnings: Vec<Diagnostic>,
+}
+
+/// Compiles a parsed file. Returns the system and warnings, or every error.
+pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
+    let mut c =
+        Compiler { alphabet: Alphabet::default(), defines: HashMap::new(), errors: Vec::new(), warnings: Vec::new() };
+    for (name, span, e) in &file.defines {
+        if let Some(v) = c.constant(e, &format!("`define {name}`")) {
+            if c.defines.insert(name.clone(), v).is_some() {
+                c.warnings.push(Diagnostic::warning(*span, format!("`{name}` is defined again; the later value wins")));
+            }
+        } else {
+            // Keep later formulas from reporting it as unknown.
+            c.defines.insert(name.clone(), f64::NAN);
+        }
+    }
+    let settings = c.settings(file);
+    let axiom = match &file.axiom {
+        Some((calls, span)) => {
+            if calls.is_empty() {
+                c.errors
+                    .push(Diagnostic::error(*span, "the axiom is empty").with_hint("write `axiom: F`, for example"));
+            }
+            c.axiom(calls)
+        }
+        None => {
+            c.errors.push(
+                Diagnostic::error(Span::new(0, 0), "the L-system has no axiom")
+                    .with_hint("add a line `axiom: F`, for example"),
+            );
+            ModuleString::default()
+        }
+    };
+    let mut rules: [Vec<(Rule, bool)>; 3] = Default::default();
+    for (section, p) in &file.productions {
+        if let Some(rule) = c.rule(p, *section) {
+            let weighted = p.weight.is_some();
+            rules[*section as usize].push((rule, weighted));
+        }
+    }
+    let ignored = c.ignored(file);
+    let n = c.alphabet.symbols.len();
+    let [prod, dec, interp] = rules;
+    let depth = |i: usize, default: u32| file.max_depth[i].map_or(default, |(d, _)| d);
+    let productions = Table::new(prod, n, 1);
+    let decomposition = Table::new(dec, n, depth(0, 1));
+    let interpretation = Table::new(interp, n, depth(1, 1));
+    c.unused_predecessors(&productions, &axiom, [&decomposition, &interpretation]);
+    if c.errors.is_empty() {
+        let is = |cmd: Command| c.alphabet.symbols.iter().map(|s| s.command == cmd).collect::<Vec<bool>>();
+        let brackets = [is(Command::Push), is(Command::Pop)];
+        let system = LSystem {
+            settings,
+            alphabet: c.alphabet,
+            axiom,
+            productions,
+            decomposition,
+            interpretation,
+            ignored,
+            brackets,
+        };
+        Ok((system, c.warnings))
+    } else {
+        Err(c.errors)
+    }
+}
+
+impl Compiler {
+    /// A formula without names other than constants and without random
+    /// draws.
+    fn constant(&mut self, e: &Expr, what: &str) -> Option<f64> {
+        let scope = RuleScope { formals: &[], defines: &self.defines };
+        match expr::compile(&e.ast, &scope) {
+            Ok(p) if p.uses_rng() => {
+                self.errors.push(
+                    Diagnostic::error(e.ast.span.shift(e.at), format!("{what} must be a constant, not a random draw"))
+                        .with_hint("random draws belong in productions, where each application draws anew"),
+                );
+                None
+            }
+            Ok(p) => Some(p.eval(&[])),
+            Err(ds) => {
+                self.errors.extend(ds.into_iter().map(|d| d.shifted(e.at)));
+                None
+            }
+        }
+    }
+
+    fn number(&mut self, s: &Setting) -> Option<f64> {
+        match expr::parse(&s.value) {
+            Ok(ast) => {
+                let v = self.constant(&Expr { ast, at: s.at }, &format!("`{}`", s.key))?;
+                if v.is_finite() {
+                    Some(v)
+                } else {
+                    self.errors.push(Diagnostic::error(value_span(s), format!("`{}` is not a finite number", s.key)));
+                    None
+                }
+            }
+            Err(d) => {
+                self.errors.push(d.shifted(s.at));
+                None
+            }
+        }
+    }
+
+    fn settings(&mut self, file: &syntax::File) -> Settings {
+        let mut st = Settings::default();
+        for s in &file.settings {
+            match s.key.as_str() {
+                "name" => st.name = s.value.trim_matches('"').to_string(),
+                "derivation" => {
+                    if let Some(v) = self.number(s) {
+                        if v >= 0.0 && v.fract() == 0.0 && v <= 1e6 {
+                            st.derivation = v as u32;
+                        } else {
+                            self.errors.push(
+                                Diagnostic::error(value_span(s), "the derivation length is a whole number of steps")
+                                    .with_hint("for example `derivation: 5`"),
+                            );
+                        }
+                    }
+                }
+                "angle" => st.angle = self.number(s).unwrap_or(st.angle),
+                "step" => st.step = self.number(s).unwrap_or(st.step),
+                "width" => st.width = self.non_negative(s).unwrap_or(st.width),
+                "width_factor" => st.width_factor = self.number(s).unwrap_or(st.width_factor),
+                "elasticity" => st.elasticity = self.number(s).unwrap_or(st.elasticity),
+                "growth" => match self.number(s) {
+                    Some(g) if (0.0..=1.0).contains(&g) => st.growth = g,
+                    Some(_) => self.errors.push(
+                        Diagnostic::error(value_span(s), "`growth` is a probability")
+                            .with_hint("a number from 0 to 1, e.g. `growth: 0.9`"),
+                    ),
+                    None => {}
+                },
+                "max_modules" => {
+                    if let Some(v) = self.non_negative(s) {
+                        st.max_modules = v.min(usize::MAX as f64) as usize;
+                    }
+                }
+                "view" => match s.value.as_str() {
+                    "2d" | "2D" => st.view = View::Flat,
+                    "3d" | "3D" => st.view = View::Solid,
+                    _ => self.errors.push(
+                        Diagnostic::error(value_span(s), format!("unknown view `{}`", s.value))
+                            .with_hint("`view: 2d` draws lines (SVG), `view: 3d` draws widths as frusta (GLB)"),
+                    ),
+                },
+                "heading" => match Heading::parse(&s.value) {
+                    Some(h) => st.heading = h,
+                    None => self.errors.push(
+                        Diagnostic::error(value_span(s), format!("unknown heading `{}`", s.value)).with_hint(
+                            "one of +x, -x, +y, -y, +z, -z (curves usually start along +x, plants along +y)",
+                        ),
+                    ),
+                },
+                "tropism" => {
+                    let parts: Vec<&str> = s.value.split(',').collect();
+                    let mut v = [0.0; 3];
+                    let mut ok = parts.len() == 3;
+                    if ok {
+                        let mut at = s.at;
+                        for (k, part) in parts.iter().enumerate() {
+                            let sub =
+                                Setting { key: "tropism".into(), key_span: s.key_span, value: part.to_string(), at };
+                            match self.number(&sub) {
+                                Some(x) => v[k] = x,
+                                None => ok = false,
+                            }
+                            at += part.len() + 1;
+                        }
+                    } else {
+                        self.errors.push(
+                            Diagnostic::error(value_span(s), "the tropism vector has three components")
+                                .with_hint("for example `tropism: 0, -1, 0` (gravity) with `elasticity: 0.2`"),
+                        );
+                    }
+                    if ok {
+                        st.tropism = Some(v);
+                    }
+                }
+                "colors" => {
+                    st.colors.clear();
+                    for w in s.value.split_whitespace() {
+                        match parse_hex(w) {
+                            Some(c) => st.colors.push(c),
+                            None => self.errors.push(
+                                Diagnostic::error(value_span(s), format!("`{w}` is not a colour"))
+                                    .with_hint("colours are written #rrggbb, e.g. `colors: #6b4423 #3a7d23`"),
+                            ),
+                        }
+                    }
+                }
+                _ => self.errors.push(Diagnostic::error(s.key_span, format!("`{}` is not valid here", s.key))),
+            }
+        }
+        if st.angle.abs() > 1e6 {
+            self.errors.push(Diagnostic::error(Span::new(0, 0), "the angle is out of range"));
+        }
+        st
+    }
+
+    fn non_negative(&mut self, s: &Setting) -> Option<f64> {
+        let v = self.number(s)?;
+        if v < 0.0 {
+            self.errors.push(Diagnostic::error(value_span(s), format!("`{}` cannot be negative", s.key)));
+            return None;
+        }
+        Some(v)
+    }
+
+    fn sym(&mut self, name: &str, arity: usize, span: Span) -> Sym {
+        match self.alphabet.intern(name, arity) {
+            Some(s) => s,
+            None => {
+                self.errors
+                    .push(Diagnostic::error(span, "too many distinct modules or parameters (at most 65535 and 255)"));
+                0
+            }
+        }
+    }
+
+    fn axiom(&mut self, calls: &[Call]) -> ModuleString {
+        let mut out = ModuleString::default();
+        for call in calls {
+            let s = self.sym(&call.name, call.args.len(), call.span);
+            out.syms.push(s);
+            for a in &call.args {
+                if let Some(v) = self.constant(a, "an axiom parameter") {
+                    out.params.push(v);
+                } else {
+                    out.params.push(f64::NAN);
+                }
+            }
+        }
+        out
+    }
+
+    fn pattern(&mut self, p: &Pattern, formals: &mut Vec<String>) -> Sym {
+        for (f, span) in &p.formals {
+            if formals.contains(f) {
+                self.errors.push(
+                    Diagnostic::error(*span, format!("parameter `{f}` is named twice in this production"))
+                        .with_hint("give every parameter of the predecessor and its contexts its own name"),
+                );
+            }
+            formals.push(f.clone());
+        }
+        self.sym(&p.name, p.formals.len(), p.span)
+    }
+
+    fn program(&mut self, e: &Expr, scope: &RuleScope) -> Option<Program> {
+        match expr::compile(&e.ast, scope) {
+            Ok(p) => Some(p),
+            Err(ds) => {
+                self.errors.extend(ds.into_iter().map(|d| d.shifted(e.at)));
+                None
+            }
+        }
+    }
+
+    fn rule(&mut self, p: &syntax::Production, section: Section) -> Option<Rule> {
+        if section != Section::Production && !(p.left.is_empty() && p.right.is_empty()) {
+            self.errors.push(
+                Diagnostic::error(p.span, "decomposition and interpretation rules are context-free")
+                    .with_hint("move the context to a production, or drop it"),
+            );
+        }
+        let mut formals = Vec::new();
+        let left: Vec<Sym> = p.left.iter().map(|m| self.pattern(m, &mut formals)).collect();
+        let strict = self.pattern(&p.strict, &mut formals);
+        let right: Vec<Sym> = p.right.iter().map(|m| self.pattern(m, &mut formals)).collect();
+        for &s in left.iter().chain(&right) {
+            if matches!(self.alphabet.command(s), Command::Push | Command::Pop) {
+                self.errors.push(
+                    Diagnostic::error(p.span, "brackets cannot be part of a context")
+                        .with_hint("contexts skip over branches by themselves: `A < B` finds A past `[…]` siblings"),
+                );
+                break;
+            }
+        }
+        let defines = self.defines.clone();
+        let scope = RuleScope { formals: &formals, defines: &defines };
+        let cond = p.cond.as_ref().and_then(|e| self.program(e, &scope));
+        let weight = p.weight.as_ref().and_then(|e| self.program(e, &scope));
+        let mut succ_syms = Vec::with_capacity(p.successor.len());
+        let mut succ_args = Vec::new();
+        let mut draws = cond.as_ref().map_or(0, Program::max_draws) + weight.as_ref().map_or(0, Program::max_draws);
+        for call in &p.successor {
+            succ_syms.push(self.sym(&call.name, call.args.len(), call.span));
+            for a in &call.args {
+                let prog = self.program(a, &scope)?;
+                draws += prog.max_draws();
+                succ_args.push(Arg::of(prog));
+            }
+        }
+        if (p.cond.is_some() && cond.is_none()) || (p.weight.is_some() && weight.is_none()) {
+            return None;
+        }
+        Some(Rule { strict, left, right, env: formals.len(), cond, weight, succ_syms, succ_args, draws, span: p.span })
+    }
+
+    /// Per symbol: whether contexts skip it (`ignore:` lists the skipped,
+    /// `consider:` the matched; brackets always count).
+    fn ignored(&mut self, file: &syntax::File) -> Vec<bool> {
+        let n = self.alphabet.symbols.len();
+        let mut out = vec![false; n];
+        let sets = &file.context_sets;
+        if sets.len() > 1 {
+            self.errors.push(
+                Diagnostic::error(sets[1].2, "give either one `ignore:` or one `consider:` list")
+                    .with_hint("`consider:` matches only the listed modules; `ignore:` skips the listed ones"),
+            );
+        }
+        let Some((consider, names, _)) = sets.first() else { return out };
+        for (i, sym) in self.alphabet.symbols.iter().enumerate() {
+            let listed = names.contains(&sym.name);
+            let bracket = matches!(sym.command, Command::Push | Command::Pop);
+            out[i] = !bracket && (listed != *consider);
+        }
+        out
+    }
+
+    fn unused_predecessors(&mut self, productions: &Table, axiom: &ModuleString, others: [&Table; 2]) {
+        // Symbols that can ever appear: the axiom's and every successor's.
+        let mut reachable = vec![false; self.alphabet.symbols.len()];
+        for &s in &axiom.syms {
+            reachable[s as usize] = true;
+        }
+        for t in std::iter::once(productions).chain(others) {
+            for r in &t.rules {
+                for &s in &r.succ_syms {
+                    reachable[s as usize] = true;
+                }
+            }
+        }
+        for t in std::iter::once(productions).chain(others) {
+            for r in &t.rules {
+                if !reachable[r.strict as usize] {
+                    let info = &self.alphabet.symbols[r.strict as usize];
+                    let others: Vec<String> = self
+                        .alphabet
+                        .named(&info.name)
+                        .filter(|&s| reachable[s as usize])
+                        .map(|s| self.alphabet.arity(s).to_string())
+                        .collect();
+                    let mut d = Diagnostic::warning(
+                        r.span,
+                        format!(
+                            "no module `{}` with {} parameter{} ever appears, so this rule never applies",
+                            info.name,
+                            info.arity,
+                            if info.arity == 1 { "" } else { "s" }
+                        ),
+                    );
+                    if !others.is_empty() {
+                        d = d.with_hint(format!("`{}` appears with {} parameter(s)", info.name, others.join(" or ")));
+                    }
+                    self.warnings.push(d);
+                }
+            }
+        }
+    }
+}
+
+fn value_span(s: &Setting) -> Span {
+    Span::new(s.at, s.at + s.value.len().max(1))
+}
+
+fn parse_hex(w: &str) -> Option<[u8; 3]> {
+    let h = w.strip_prefix('#')?;
+    if h.len() != 6 || !h.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    let v = u32::from_str_radix(h, 16).ok()?;
+    Some([(v >> 16) as u8, (v >> 8) as u8, v as u8])
+}
+
+impl Table {
+    /// Groups rules per predecessor symbol, in file order: consecutive
+    /// weighted rules of one symbol form one stochastic group.
+    fn new(rules: Vec<(Rule, bool)>, symbols: usize, max_depth: u32) -> Table {
+        let mut by_sym: Vec<Vec<Entry>> = vec![Vec::new(); symbols];
+        let mut flat = Vec::with_capacity(rules.len());
+        for (i, (rule, weighted)) in rules.into_iter().enumerate() {
+            let list = &mut by_sym[rule.strict as usize];
+            match (weighted, list.last_mut()) {
+                (true, Some(Entry::Group(g))) => g.push(i as u32),
+                (true, _) => list.push(Entry::Group(vec![i as u32])),
+                (false, _) => list.push(Entry::One(i as u32)),
+            }
+            flat.push(rule);
+        }
+        Table::from_parts(flat, by_sym, max_depth)
+    }
+}
+
+#[cfg(test)]
+pub(crate) fn compile_text(text: &str) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
+    let (file, errors) = syntax::parse(text);
+    if !errors.is_empty() {
+        return Err(errors);
+    }
+    compile(&file)
+}
+
+impl LSystem {
+    /// Number of productions, decomposition rules and interpretation rules.
+    pub fn rule_counts(&self) -> [usize; 3] {
+        [self.productions.rules.len(), self.decomposition.rules.len(), self.interpretation.rules.len()]
+    }
+
+    /// Whether some production has a left or right context.
+    pub fn is_context_sensitive(&self) -> bool {
+        self.productions.context
+    }
+}

@@ -1,0 +1,423 @@
+//! Parallel rewriting: each step replaces every module by the successor of
+//! the first rule that matches it (identity when none does), then applies
+//! decomposition rules and cuts.
+
+use crate::alphabet::{Command, Sym};
+use crate::compile::LSystem;
+use crate::context::{Context, bracket_partners};
+use crate::rules::{Entry, Rule, Table, is_true};
+use crate::string::ModuleString;
+use genform_core::{Draws, Rng};
+
+/// Why a derivation stopped.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum DeriveError {
+    /// The string outgrew the module limit.
+    #[error(
+        "step {step} of {steps}: the string grew past {limit} modules (it had {previous} after step {prev_step}); \
+         raise the limit with --max-modules (or `max_modules:`) or derive fewer steps",
+        prev_step = step - 1
+    )]
+    TooLong {
+        /// The step that overflowed (1-based).
+        step: u32,
+        /// Steps asked for.
+        steps: u32,
+        /// The limit.
+        limit: usize,
+        /// Length after the previous step.
+        previous: usize,
+    },
+    /// The derivation as a whole wrote too many modules (long strings over
+    /// many steps), which would take minutes.
+    #[error(
+        "step {step} of {steps}: the derivation has written more than {limit} modules in all ({WORK_FACTOR} × the module limit); \
+         derive fewer steps or raise --max-modules"
+    )]
+    TooMuchWork {
+        /// The step that passed the budget.
+        step: u32,
+        /// Steps asked for.
+        steps: u32,
+        /// Modules the whole derivation may write.
+        limit: u64,
+    },
+}
+
+/// Modules a derivation may write over all its steps, per module of the
+/// limit on one string: bounds the time of many steps over a long string
+/// (about 20 s at the default limit on the slowest path).
+pub const WORK_FACTOR: u64 = 200;
+
+/// Reusable buffers of one derivation.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    partners: Vec<u32>,
+    offsets: Vec<u32>,
+    /// The bound parameters of the rule last chosen.
+    pub(crate) env: Vec<f64>,
+    found: Vec<usize>,
+    candidates: Vec<(u32, f64)>,
+}
+
+/// A module being rewritten and what its contexts can see.
+pub(crate) struct Site<'a> {
+    pub sym: Sym,
+    pub params: &'a [f64],
+    /// Position, the string's context view, parameter offsets and all
+    /// parameters (only for tables with contexts).
+    pub ctx: Option<(usize, &'a Context<'a>, &'a [u32], &'a [f64])>,
+}
+
+impl LSystem {
+    /// Derives `steps` steps from the axiom with the file's module limit;
+    /// stochastic choices and random formulas draw from `rng`.
+    pub fn derive(&self, steps: u32, rng: &mut Rng) -> Result<ModuleString, DeriveError> {
+        self.derive_limited(steps, rng, self.settings.max_modules, |_, _| {})
+    }
+
+    /// [`LSystem::derive`] with an explicit module limit, calling
+    /// `after_step(step, string)` after each step.
+    pub fn derive_limited(
+        &self,
+        steps: u32,
+        rng: &mut Rng,
+        max_modules: usize,
+        mut after_step: impl FnMut(u32, &ModuleString),
+    ) -> Result<ModuleString, DeriveError> {
+        let mut cur = self.axiom.clone();
+        let mut next = ModuleString::default();
+        let mut scratch = Scratch::default();
+        let fast = self.fast_table();
+        let has_cut = self.alphabet.symbols.iter().any(|s| s.command == Command::Cut);
+        let budget = (max_modules as u64).saturating_mul(WORK_FACTOR);
+        let mut written = 0u64;
+        for step in 1..=steps {
+            let ok = match &fast {
+                Some(table) => rewrite_fast(table, &cur.syms, &mut next.syms, max_modules),
+                None => self.rewrite(&self.productions, &cur, &mut next, rng, max_modules, &mut scratch),
+            };
+            let ok = ok && (self.decomposition.is_empty() || self.decompose(&mut next, rng, max_modules));
+            if !ok {
+                return Err(DeriveError::TooLong { step, steps, limit: max_modules, previous: cur.len() });
+            }
+            if has_cut {
+                self.cut(&mut next);
+            }
+            std::mem::swap(&mut cur, &mut next);
+            written += cur.len() as u64;
+            if written > budget {
+                return Err(DeriveError::TooMuchWork { step, steps, limit: budget });
+            }
+            after_step(step, &cur);
+        }
+        Ok(cur)
+    }
+
+    /// The symbol → successor map when every production is a
+    /// parameter-free, unconditional, context-free, deterministic rule and
+    /// no module has parameters: rewriting is then a copy per module.
+    fn fast_table(&self) -> Option<FastTable> {
+        if self.alphabet.symbols.iter().any(|s| s.arity > 0) {
+            return None;
+        }
+        let mut table = FastTable { ranges: Vec::new(), succ: Vec::new() };
+        for s in 0..self.alphabet.symbols.len() {
+            let start = table.succ.len() as u32;
+            match self.productions.unconditional(s as Sym)? {
+                Some(rule) => table.succ.extend_from_slice(&rule.succ_syms),
+                None => table.succ.push(s as Sym),
+            }
+            table.ranges.push((start, table.succ.len() as u32));
+        }
+        Some(table)
+    }
+
+    /// One step of `table` over `cur` into `out`; false when `out` would
+    /// exceed `cap` modules.
+    pub(crate) fn rewrite(
+        &self,
+        table: &Table,
+        cur: &ModuleString,
+        out: &mut ModuleString,
+        rng: &mut Rng,
+        cap: usize,
+        sc: &mut Scratch,
+    ) -> bool {
+        out.syms.clear();
+        out.params.clear();
+        let mut partners = std::mem::take(&mut sc.partners);
+        let mut offsets = std::mem::take(&mut sc.offsets);
+        if table.context {
+            bracket_partners(&cur.syms, &self.alphabet, &mut partners);
+            offsets.clear();
+            let mut off = 0u32;
+            for &s in &cur.syms {
+                offsets.push(off);
+                off += self.alphabet.arity(s) as u32;
+            }
+        }
+        let view = Context {
+            syms: &cur.syms,
+            partners: &partners,
+            ignored: &self.ignored,
+            push: &self.brackets[0],
+            pop: &self.brackets[1],
+        };
+        let mut off = 0usize;
+        let mut ok = true;
+        for (i, &sym) in cur.syms.iter().enumerate() {
+            let n = self.alphabet.arity(sym);
+            let params = &cur.params[off..off + n];
+            off += n;
+            let site = Site { sym, params, ctx: table.context.then_some((i, &view, &offsets[..], &cur.params[..])) };
+            match self.choose(table, &site, rng, sc) {
+                Some(r) => emit(&table.rules[r as usize], &self.alphabet, &sc.env, out, rng),
+                None => {
+                    out.syms.push(sym);
+                    out.params.extend_from_slice(params);
+                }
+            }
+            if !within(out, cap) {
+                ok = false;
+                break;
+            }
+        }
+        sc.partners = partners;
+        sc.offsets = offsets;
+        ok
+    }
+
+    /// The rule applied at `site`, its parameters bound in `sc.env`: the
+    /// first entry that matches; a stochastic group draws among its
+    /// matching members by weight.
+    pub(crate) fn choose(&self, table: &Table, site: &Site, draws: &mut impl Draws, sc: &mut Scratch) -> Option<u32> {
+        self.choose_with(table, site, draws, None, sc)
+    }
+
+    /// [`LSystem::choose`] where a stochastic group's roulette position is
+    /// `roulette` (in `[0, 1)`) when given, else a draw.
+    pub(crate) fn choose_with(
+        &self,
+        table: &Table,
+        site: &Site,
+        draws: &mut impl Draws,
+        roulette: Option<f64>,
+        sc: &mut Scratch,
+    ) -> Option<u32> {
+        let entries = table.by_sym.get(site.sym as usize)?;
+        for entry in entries {
+            match entry {
+                Entry::One(r) => {
+                    if self.applies(&table.rules[*r as usize], site, draws, sc) {
+                        return Some(*r);
+                    }
+                }
+                Entry::Group(members) => {
+                    let mut cands = std::mem::take(&mut sc.candidates);
+                    cands.clear();
+                    let mut total = 0.0;
+                    for &r in members {
+                        let rule = &table.rules[r as usize];
+                        if self.applies(rule, site, draws, sc) {
+                            let w = rule.weight.as_ref().map_or(1.0, |p| p.eval_draws(&sc.env, draws));
+                            let w = if w > 0.0 && w.is_finite() { w } else { 0.0 };
+                            total += w;
+                            cands.push((r, w));
+                        }
+                    }
+                    let picked = pick(&cands, total, roulette, draws);
+                    sc.candidates = cands;
+                    if let Some(r) = picked {
+                        // Re-bind the chosen rule's parameters.
+                        let bound = self.bind(&table.rules[r as usize], site, sc);
+                        debug_assert!(bound);
+                        return Some(r);
+                    }
+                }
+            }
+        }
+        None
+    }
+
+    /// Contexts match and the condition holds; binds the parameters.
+    fn applies(&self, rule: &Rule, site: &Site, draws: &mut impl Draws, sc: &mut Scratch) -> bool {
+        self.bind(rule, site, sc) && rule.cond.as_ref().is_none_or(|c| is_true(c.eval_draws(&sc.env, draws)))
+    }
+
+    /// Matches the contexts and fills `sc.env` with the formal parameters.
+    fn bind(&self, rule: &Rule, site: &Site, sc: &mut Scratch) -> bool {
+        sc.env.clear();
+        if rule.has_context() {
+            let Some((i, view, offsets, all)) = site.ctx else { return false };
+            let ctx_params = |pos: usize, env: &mut Vec<f64>| {
+                let o = offsets[pos] as usize;
+                env.extend_from_slice(&all[o..o + self.alphabet.arity(view.syms[pos])]);
+            };
+            sc.found.clear();
+            if !view.left(i, &rule.left, &mut sc.found) {
+                return false;
+            }
+            for &pos in &sc.found {
+                ctx_params(pos, &mut sc.env);
+            }
+            sc.env.extend_from_slice(site.params);
+            sc.found.clear();
+            if !view.right(i, &rule.right, &mut sc.found) {
+                return false;
+            }
+            for &pos in &sc.found {
+                ctx_params(pos, &mut sc.env);
+            }
+        } else {
+            sc.env.extend_from_slice(site.params);
+        }
+        true
+    }
+
+    /// Applies the decomposition rules to every module of `s`, recursively
+    /// up to their depth; false when the result exceeds `cap`.
+    fn decompose(&self, s: &mut ModuleString, rng: &mut Rng, cap: usize) -> bool {
+        let mut out = ModuleString::default();
+        let mut sc = Scratch::default();
+        let ok = s.modules(&self.alphabet).all(|(sym, params)| {
+            self.expand(&self.decomposition, (sym, params), 0, rng, &mut sc, &mut |sym, p| {
+                out.syms.push(sym);
+                out.params.extend_from_slice(p);
+                within(&out, cap)
+            })
+        });
+        *s = out;
+        ok
+    }
+
+    /// Rewrites one module with a context-free `table` again and again (up
+    /// to the table's depth), passing the final modules to `sink`; stops
+    /// (returning false) as soon as `sink` returns false.
+    pub(crate) fn expand(
+        &self,
+        table: &Table,
+        (sym, params): (Sym, &[f64]),
+        depth: u32,
+        draws: &mut impl Draws,
+        sc: &mut Scratch,
+        sink: &mut impl FnMut(Sym, &[f64]) -> bool,
+    ) -> bool {
+        let rule = if depth < table.max_depth {
+            self.choose(table, &Site { sym, params, ctx: None }, draws, sc)
+        } else {
+            None
+        };
+        let Some(r) = rule else {
+            return sink(sym, params);
+        };
+        let mut produced = ModuleString::default();
+        emit(&table.rules[r as usize], &self.alphabet, &sc.env, &mut produced, draws);
+        produced.modules(&self.alphabet).all(|(s, p)| self.expand(table, (s, p), depth + 1, draws, sc, sink))
+    }
+
+    /// Removes every `%` with the rest of its branch (up to, not including,
+    /// the `]` that closes it).
+    fn cut(&self, s: &mut ModuleString) {
+        let mut out = ModuleString { syms: Vec::with_capacity(s.len()), params: Vec::with_capacity(s.params.len()) };
+        let mut skip_depth: Option<usize> = None;
+        let mut depth = 0usize;
+        for (sym, params) in s.modules(&self.alphabet) {
+            let cmd = self.alphabet.command(sym);
+            match cmd {
+                Command::Push => depth += 1,
+                Command::Pop => {
+                    if skip_depth == Some(depth) {
+                        skip_depth = None;
+                    }
+                    depth = depth.saturating_sub(1);
+                }
+                _ => {}
+            }
+            if skip_depth.is_none() && cmd == Command::Cut {
+                skip_depth = Some(depth);
+            }
+            if skip_depth.is_none() {
+                out.syms.push(sym);
+                out.params.extend_from_slice(params);
+            }
+        }
+        *s = out;
+    }
+}
+
+/// Whether `s` keeps within the module limit `cap` (and, so that
+/// parameters cannot exhaust memory either, at most four parameters per
+/// module of the limit).
+#[inline]
+pub(crate) fn within(s: &ModuleString, cap: usize) -> bool {
+    s.syms.len() <= cap && s.params.len() <= cap.saturating_mul(4)
+}
+
+/// Appends `rule`'s successor, its parameters evaluated on `env`.
+pub(crate) fn emit(
+    rule: &Rule,
+    alphabet: &crate::alphabet::Alphabet,
+    env: &[f64],
+    out: &mut ModuleString,
+    draws: &mut impl Draws,
+) {
+    if rule.succ_args.is_empty() {
+        out.syms.extend_from_slice(&rule.succ_syms);
+        return;
+    }
+    let mut a = 0;
+    for &s in &rule.succ_syms {
+        out.syms.push(s);
+        for _ in 0..alphabet.arity(s) {
+            out.params.push(rule.succ_args[a].eval(env, draws));
+            a += 1;
+        }
+    }
+}
+
+/// Roulette choice among weighted candidates; the first candidate when
+/// every weight is zero.
+fn pick(cands: &[(u32, f64)], total: f64, roulette: Option<f64>, draws: &mut impl Draws) -> Option<u32> {
+    let first = cands.first()?.0;
+    if total <= 0.0 {
+        return Some(first);
+    }
+    let mut u = roulette.unwrap_or_else(|| draws.next_f64()) * total;
+    for &(r, w) in cands {
+        if u < w {
+            return Some(r);
+        }
+        u -= w;
+    }
+    Some(cands.iter().rev().find(|c| c.1 > 0.0).map_or(first, |c| c.0))
+}
+
+/// Successor of each symbol as a range of `succ` (identity included).
+struct FastTable {
+    ranges: Vec<(u32, u32)>,
+    succ: Vec<Sym>,
+}
+
+/// One deterministic, parameter-free step: a copy per module.
+fn rewrite_fast(table: &FastTable, cur: &[Sym], out: &mut Vec<Sym>, cap: usize) -> bool {
+    out.clear();
+    // The exact length first, so the output is allocated once and the
+    // limit is checked before any work.
+    let len: usize = cur
+        .iter()
+        .map(|&s| {
+            let (a, b) = table.ranges[s as usize];
+            (b - a) as usize
+        })
+        .sum();
+    if len > cap {
+        return false;
+    }
+    out.reserve(len);
+    for &s in cur {
+        let (a, b) = table.ranges[s as usize];
+        out.extend_from_slice(&table.succ[a as usize..b as usize]);
+    }
+    true
+}

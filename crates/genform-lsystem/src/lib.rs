@@ -1,0 +1,83 @@
+//! L-systems (`.ls`): the classic rewriting systems of *The Algorithmic
+//! Beauty of Plants* and L-Py, with a 2D/3D turtle, and an L-system as a
+//! genform [`Generator`] for evolutionary control.
+//!
+//! - [`compile`] reads a `.ls` file (every error at once, with positions).
+//! - [`LSystem::derive`] rewrites the axiom in parallel steps:
+//!   deterministic, stochastic (weighted groups), parametric with
+//!   conditions, context-sensitive with bracket-aware contexts and
+//!   `ignore`/`consider` sets, decomposition rules, cut `%`.
+//! - [`LSystem::interpret`] runs the turtle, with interpretation rules,
+//!   into a [`Scene`](genform_core::Scene): polylines in 2D, frusta in 3D,
+//!   polygons.
+//! - [`LsGenerator`] makes each module rewrite a gene (production choice and
+//!   random draws) with the successor's rewritable modules as its child
+//!   slots, so the optimizers can steer a context-free stochastic or
+//!   parametric L-system.
+//!
+//! The language is documented in `docs/lsystem.md`.
+//!
+//! ```
+//! use genform_core::{Rng, SourceFile};
+//! let file = SourceFile::new("koch.ls", "derivation: 2\nangle: 60\nheading: +x\naxiom: F++F++F\nproduction:\nF -> F-F++F-F\n");
+//! let (system, _warnings) = genform_lsystem::compile(&file).unwrap();
+//! let s = system.derive(system.settings.derivation, &mut Rng::from_seed(1)).unwrap();
+//! assert_eq!(s.len(), 112);
+//! ```
+
+#![warn(missing_docs)]
+
+mod alphabet;
+mod compile;
+mod context;
+mod derive;
+mod generator;
+mod rules;
+mod settings;
+mod string;
+mod syntax;
+mod turtle;
+
+#[cfg(test)]
+mod tests;
+
+pub use alphabet::{Alphabet, Command, Sym, SymbolInfo};
+pub use compile::LSystem;
+pub use derive::DeriveError;
+pub use generator::{GeneratorError, LsGenerator};
+pub use settings::{Heading, Settings, View};
+pub use string::ModuleString;
+pub use turtle::{TurtleEnd, TurtleError};
+
+use genform_core::{Diagnostics, SourceFile};
+
+/// Compiles a `.ls` file. Returns the system and its warnings, or every
+/// error found.
+pub fn compile(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics> {
+    let (parsed, errors) = syntax::parse(&file.text);
+    let mut diags = Diagnostics::new(file.clone());
+    if !errors.is_empty() {
+        for e in errors {
+            diags.push(e);
+        }
+        return Err(diags);
+    }
+    match compile::compile(&parsed) {
+        Ok((mut system, warnings)) => {
+            if system.settings.name.is_empty() {
+                let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
+                system.settings.name = stem.unwrap_or_default().trim_end_matches(".ls").to_string();
+            }
+            for w in warnings {
+                diags.push(w);
+            }
+            Ok((system, diags))
+        }
+        Err(errors) => {
+            for e in errors {
+                diags.push(e);
+            }
+            Err(diags)
+        }
+    }
+}

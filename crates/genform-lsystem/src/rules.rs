@@ -1,0 +1,143 @@
+//! Compiled rules: predecessor with contexts, condition, weight, and a
+//! successor whose parameters are compiled formulas.
+
+use crate::alphabet::Sym;
+use genform_core::Draws;
+use genform_core::diag::Span;
+use genform_core::expr::{Arith, Operand, Program, Trivial};
+
+/// A compiled successor parameter. Most are a constant, a parameter, or one
+/// operation on two of those (`x*p`, `t-1`); those skip the bytecode
+/// interpreter and perform the same IEEE operation, so results are
+/// bit-identical to [`Program::eval`].
+#[derive(Clone, Debug)]
+pub(crate) enum Arg {
+    Value(Operand),
+    Bin(Arith, Operand, Operand),
+    Run(Program),
+}
+
+impl Arg {
+    pub(crate) fn of(prog: Program) -> Arg {
+        match prog.trivial() {
+            Some(Trivial::Value(a)) => Arg::Value(a),
+            Some(Trivial::Bin(op, a, b)) => Arg::Bin(op, a, b),
+            None => Arg::Run(prog),
+        }
+    }
+
+    #[inline(always)]
+    pub(crate) fn eval(&self, env: &[f64], draws: &mut impl Draws) -> f64 {
+        #[inline(always)]
+        fn get(o: Operand, env: &[f64]) -> f64 {
+            match o {
+                Operand::Const(v) => v,
+                Operand::Load(i) => env.get(i as usize).copied().unwrap_or(f64::NAN),
+            }
+        }
+        match self {
+            Arg::Value(a) => get(*a, env),
+            Arg::Bin(op, a, b) => {
+                let (x, y) = (get(*a, env), get(*b, env));
+                match op {
+                    Arith::Add => x + y,
+                    Arith::Sub => x - y,
+                    Arith::Mul => x * y,
+                    Arith::Div => x / y,
+                }
+            }
+            Arg::Run(p) => p.eval_draws(env, draws),
+        }
+    }
+}
+
+/// One production (or decomposition / interpretation rule).
+#[derive(Clone, Debug)]
+pub(crate) struct Rule {
+    pub strict: Sym,
+    pub left: Vec<Sym>,
+    pub right: Vec<Sym>,
+    /// Formal parameters: left context's, the predecessor's, the right
+    /// context's, in string order.
+    pub env: usize,
+    pub cond: Option<Program>,
+    pub weight: Option<Program>,
+    pub succ_syms: Vec<Sym>,
+    /// The successor's parameters, module after module.
+    pub succ_args: Vec<Arg>,
+    /// The most random draws one application takes.
+    pub draws: usize,
+    pub span: Span,
+}
+
+impl Rule {
+    pub(crate) fn has_context(&self) -> bool {
+        !self.left.is_empty() || !self.right.is_empty()
+    }
+}
+
+/// What is tried for a module, in order: a single rule, or a stochastic
+/// group (every member whose match and condition hold is a candidate; one
+/// is drawn by weight).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Entry {
+    One(u32),
+    Group(Vec<u32>),
+}
+
+/// The rules of one section, indexed by predecessor symbol.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Table {
+    pub rules: Vec<Rule>,
+    pub by_sym: Vec<Vec<Entry>>,
+    /// How often the rules re-apply to their own output (decomposition and
+    /// interpretation).
+    pub max_depth: u32,
+    /// Some rule has a context.
+    pub context: bool,
+}
+
+impl Table {
+    pub(crate) fn from_parts(rules: Vec<Rule>, by_sym: Vec<Vec<Entry>>, max_depth: u32) -> Table {
+        let context = rules.iter().any(Rule::has_context);
+        Table { rules, by_sym, max_depth, context }
+    }
+
+    pub(crate) fn is_empty(&self) -> bool {
+        self.rules.is_empty()
+    }
+
+    /// The rule of symbol `s`'s first entry when that rule always applies
+    /// and produces parameter-free modules with no draws: the whole table is
+    /// then a symbol → successor map.
+    pub(crate) fn unconditional(&self, s: Sym) -> Option<Option<&Rule>> {
+        match self.by_sym.get(s as usize).and_then(|l| l.first()) {
+            None => Some(None),
+            Some(Entry::One(r)) => {
+                let r = &self.rules[*r as usize];
+                (r.cond.is_none() && !r.has_context() && r.succ_args.is_empty() && r.env == 0).then_some(Some(r))
+            }
+            Some(Entry::Group(_)) => None,
+        }
+    }
+}
+
+/// Replays stored uniforms as draws (a genome's), then 0.5 if exhausted.
+pub(crate) struct Stored<'a> {
+    pub values: &'a [f64],
+    pub next: usize,
+}
+
+impl Draws for Stored<'_> {
+    fn next_f64(&mut self) -> f64 {
+        let v = self.values.get(self.next).copied().unwrap_or(0.5);
+        self.next += 1;
+        v
+    }
+}
+
+/// True as the expression language defines it: non-zero and not NaN.
+#[inline]
+pub(crate) fn is_true(v: f64) -> bool {
+    v != 0.0 && !v.is_nan()
+}

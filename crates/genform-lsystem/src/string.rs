@@ -1,0 +1,68 @@
+//! The module string: symbols and their parameters in two flat arrays.
+
+use crate::alphabet::{Alphabet, Sym};
+use std::fmt::Write;
+
+/// A string of modules. Symbol `syms[i]` owns the next
+/// `alphabet.arity(syms[i])` values of `params`, in order, so the string is
+/// two contiguous arrays (no per-module allocation) and a parameter-free
+/// string is a plain `Vec<u16>`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModuleString {
+    /// The symbols.
+    pub syms: Vec<Sym>,
+    /// All parameters, module after module.
+    pub params: Vec<f64>,
+}
+
+impl ModuleString {
+    /// Number of modules.
+    pub fn len(&self) -> usize {
+        self.syms.len()
+    }
+
+    /// No modules.
+    pub fn is_empty(&self) -> bool {
+        self.syms.is_empty()
+    }
+
+    /// How many modules have symbol name `name` (any arity).
+    pub fn count(&self, alphabet: &Alphabet, name: &str) -> usize {
+        let mut hit = vec![false; alphabet.symbols.len()];
+        for s in alphabet.named(name) {
+            hit[s as usize] = true;
+        }
+        self.syms.iter().filter(|&&s| hit[s as usize]).count()
+    }
+
+    /// Each module with its parameters, in order.
+    pub fn modules<'a>(&'a self, alphabet: &'a Alphabet) -> impl Iterator<Item = (Sym, &'a [f64])> + 'a {
+        let mut off = 0;
+        self.syms.iter().map(move |&s| {
+            let n = alphabet.arity(s);
+            let p = &self.params[off..off + n];
+            off += n;
+            (s, p)
+        })
+    }
+
+    /// The string as text: names, and parameters in parentheses when
+    /// `with_params` (shortest round-trip formatting).
+    pub fn display(&self, alphabet: &Alphabet, with_params: bool) -> String {
+        let mut out = String::new();
+        for (s, p) in self.modules(alphabet) {
+            out.push_str(&alphabet.symbols[s as usize].name);
+            if with_params && !p.is_empty() {
+                out.push('(');
+                for (i, v) in p.iter().enumerate() {
+                    if i > 0 {
+                        out.push(',');
+                    }
+                    let _ = write!(out, "{v}");
+                }
+                out.push(')');
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,673 @@
+//! The `.ls` text format, read into a syntax tree with spans.
+//!
+//! The format is line-oriented: `key: value` settings, `define name = expr`
+//! constants, section headers (`production:`, `decomposition:`,
+//! `interpretation:`) and, inside sections, one production per line. `#`
+//! starts a comment (except in a `#rrggbb` colour). Every problem is reported,
+//! with its position, before anything is compiled.
+
+use genform_core::diag::{Diagnostic, Span};
+use genform_core::expr::{self, Ast};
+
+/// A formula and where its text starts in the file (its [`Ast`] spans are
+/// relative to that).
+#[derive(Clone, Debug)]
+pub struct Expr {
+    /// The parsed formula.
+    pub ast: Ast,
+    /// Byte offset of the formula's text in the file.
+    pub at: usize,
+}
+
+/// A module in an axiom or successor: a name and actual parameters.
+#[derive(Clone, Debug)]
+pub struct Call {
+    /// The module name.
+    pub name: String,
+    /// Where the name is.
+    pub span: Span,
+    /// Actual parameters (none without parentheses).
+    pub args: Vec<Expr>,
+}
+
+/// A module in a predecessor or context: a name and formal parameter names.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// The module name.
+    pub name: String,
+    /// Where the name (and its parameter list) is.
+    pub span: Span,
+    /// Formal parameter names with their spans.
+    pub formals: Vec<(String, Span)>,
+}
+
+/// One production line.
+#[derive(Clone, Debug)]
+pub struct Production {
+    /// Left context, in string order.
+    pub left: Vec<Pattern>,
+    /// The strict predecessor.
+    pub strict: Pattern,
+    /// Right context, in string order.
+    pub right: Vec<Pattern>,
+    /// Condition after `:`.
+    pub cond: Option<Expr>,
+    /// Weight of a stochastic production (`-(w)->`).
+    pub weight: Option<Expr>,
+    /// The successor (empty: the module is deleted).
+    pub successor: Vec<Call>,
+    /// The whole line.
+    pub span: Span,
+}
+
+/// Which table a production belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Section {
+    /// Rewriting productions (`production:`).
+    Production,
+    /// Decomposition rules, applied after each step (`decomposition:`).
+    Decomposition,
+    /// Interpretation rules, applied when drawing (`interpretation:` or
+    /// `homomorphism:`).
+    Interpretation,
+}
+
+/// A `key: value` setting.
+#[derive(Clone, Debug)]
+pub struct Setting {
+    /// The key.
+    pub key: String,
+    /// Where the key is.
+    pub key_span: Span,
+    /// The value text (comment stripped, trimmed).
+    pub value: String,
+    /// Byte offset of the value text.
+    pub at: usize,
+}
+
+/// A whole `.ls` file.
+#[derive(Clone, Debug, Default)]
+pub struct File {
+    /// Settings in file order (`axiom`, `define` and sections excluded).
+    pub settings: Vec<Setting>,
+    /// `define name = expr`, in file order.
+    pub defines: Vec<(String, Span, Expr)>,
+    /// Declared multi-character module names.
+    pub modules: Vec<(String, Span)>,
+    /// The axiom.
+    pub axiom: Option<(Vec<Call>, Span)>,
+    /// Productions per section, in file order.
+    pub productions: Vec<(Section, Production)>,
+    /// `maxdepth:` of the decomposition and interpretation sections.
+    pub max_depth: [Option<(u32, Span)>; 2],
+    /// `ignore:` (false) or `consider:` (true) lists: module names.
+    pub context_sets: Vec<(bool, Vec<String>, Span)>,
+}
+
+/// Setting keys, for "did you mean" hints.
+pub const KEYS: &[&str] = &[
+    "name",
+    "derivation",
+    "angle",
+    "step",
+    "width",
+    "width_factor",
+    "heading",
+    "view",
+    "tropism",
+    "elasticity",
+    "growth",
+    "colors",
+    "max_modules",
+    "ignore",
+    "consider",
+    "module",
+    "axiom",
+    "maxdepth",
+];
+
+const SECTIONS: &[(&str, Section)] = &[
+    ("production", Section::Production),
+    ("productions", Section::Production),
+    ("decomposition", Section::Decomposition),
+    ("interpretation", Section::Interpretation),
+    ("homomorphism", Section::Interpretation),
+];
+
+/// The deepest decomposition or interpretation recursion (`maxdepth:`).
+pub const MAX_RULE_DEPTH: u32 = 1000;
+
+/// Characters that are syntax, never module names.
+const RESERVED: &[char] = &['(', ')', ',', '<', '>', ':', '=', '#'];
+
+/// Reads `text` into a [`File`], collecting every error.
+pub fn parse(text: &str) -> (File, Vec<Diagnostic>) {
+    let mut p = Parser { file: File::default(), errors: Vec::new(), section: None };
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let body = strip_comment(line.trim_end_matches(['\n', '\r']));
+        p.line(body, offset);
+        offset += line.len();
+    }
+    (p.file, p.errors)
+}
+
+/// The line without its `#` comment; `#` followed by six hex digits is a
+/// colour, not a comment.
+fn strip_comment(line: &str) -> &str {
+    let b = line.as_bytes();
+    let mut i = 0;
+    while let Some(k) = line[i..].find('#') {
+        let at = i + k;
+        let hex = b.len() >= at + 7
+            && b[at + 1..at + 7].iter().all(u8::is_ascii_hexdigit)
+            && b.get(at + 7).is_none_or(|c| !c.is_ascii_alphanumeric());
+        if !hex {
+            return &line[..at];
+        }
+        i = at + 7;
+    }
+    line
+}
+
+struct Parser {
+    file: File,
+    errors: Vec<Diagnostic>,
+    section: Option<Section>,
+}
+
+/// Trims `s` (at byte `at`), returning the trimmed text and its offset.
+fn trimmed(s: &str, at: usize) -> (&str, usize) {
+    let start = s.len() - s.trim_start().len();
+    (s.trim(), at + start)
+}
+
+fn span(at: usize, len: usize) -> Span {
+    Span::new(at, at + len)
+}
+
+/// A leading identifier and the rest after it.
+fn leading_word(s: &str) -> Option<(&str, &str)> {
+    let end = s.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(s.len());
+    if end == 0 || !s.as_bytes()[0].is_ascii_alphabetic() {
+        return None;
+    }
+    Some((&s[..end], &s[end..]))
+}
+
+impl Parser {
+    fn line(&mut self, raw: &str, offset: usize) {
+        let (line, at) = trimmed(raw, offset);
+        if line.is_empty() {
+            return;
+        }
+        if let Some(rest) = line.strip_prefix("define").filter(|r| r.starts_with(char::is_whitespace)) {
+            let skip = line.len() - rest.len();
+            self.define(rest, at + skip, span(at, line.len()));
+            return;
+        }
+        if let Some((word, rest)) = leading_word(line) {
+            let after = rest.trim_start();
+            if let Some(value) = after.strip_prefix(':')
+                && !value.starts_with('=')
+            {
+                if let Some(&(_, s)) = SECTIONS.iter().find(|(n, _)| *n == word) {
+                    if !value.trim().is_empty() {
+                        self.errors.push(
+                            Diagnostic::error(
+                                span(at, line.len()),
+                                format!("`{word}:` starts a section; put the productions on the lines below it"),
+                            )
+                            .with_hint("write one production per line after the section header"),
+                        );
+                    }
+                    self.section = Some(s);
+                    return;
+                }
+                if KEYS.contains(&word) {
+                    let vstart = line.len() - value.len();
+                    let (v, vat) = trimmed(value, at + vstart);
+                    self.setting(word, span(at, word.len()), v, vat);
+                    return;
+                }
+                if self.section.is_none() {
+                    let mut d = Diagnostic::error(span(at, word.len()), format!("unknown setting `{word}`"));
+                    let all = KEYS.iter().chain(SECTIONS.iter().map(|(n, _)| n)).copied();
+                    d = match expr::did_you_mean(word, all) {
+                        Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                        None => d.with_hint(format!("settings are: {}", KEYS.join(", "))),
+                    };
+                    self.errors.push(d);
+                    return;
+                }
+            }
+        }
+        match self.section {
+            Some(section) => {
+                if let Some(p) = self.production(line, at) {
+                    self.file.productions.push((section, p));
+                }
+            }
+            None => self.errors.push(
+                Diagnostic::error(
+                    span(at, line.len()),
+                    "expected a setting (`key: value`), `define`, or a section header",
+                )
+                .with_hint("productions go below a `production:` line"),
+            ),
+        }
+    }
+
+    fn setting(&mut self, key: &str, key_span: Span, value: &str, at: usize) {
+        match key {
+            "axiom" => {
+                let calls = self.calls(value, at);
+                if self.file.axiom.is_some() {
+                    self.errors.push(Diagnostic::error(key_span, "the axiom is given twice"));
+                }
+                self.file.axiom = Some((calls, span(at, value.len())));
+            }
+            "ignore" | "consider" => {
+                let names = self.modules(value, at).iter().map(|m| m.name.to_string()).collect();
+                self.file.context_sets.push((key == "consider", names, key_span));
+            }
+            "module" => {
+                for (w, wat) in words(value, at) {
+                    if leading_word(w).is_none_or(|(n, rest)| !rest.is_empty() || n.len() != w.len()) {
+                        self.errors.push(
+                            Diagnostic::error(span(wat, w.len()), format!("`{w}` is not a module name"))
+                                .with_hint("declared names are letters, digits and `_`, starting with a letter"),
+                        );
+                    } else {
+                        self.file.modules.push((w.to_string(), span(wat, w.len())));
+                    }
+                }
+            }
+            "maxdepth" => {
+                let idx = match self.section {
+                    Some(Section::Decomposition) => 0,
+                    Some(Section::Interpretation) => 1,
+                    _ => {
+                        self.errors.push(
+                            Diagnostic::error(
+                                key_span,
+                                "`maxdepth:` belongs in a decomposition or interpretation section",
+                            )
+                            .with_hint("it bounds how often those rules re-apply to their own output"),
+                        );
+                        return;
+                    }
+                };
+                match value.parse::<u32>() {
+                    Ok(n) if n <= MAX_RULE_DEPTH => self.file.max_depth[idx] = Some((n, key_span)),
+                    _ => self.errors.push(
+                        Diagnostic::error(
+                            span(at, value.len().max(1)),
+                            format!("`maxdepth` needs a whole number up to {MAX_RULE_DEPTH}"),
+                        )
+                        .with_hint("for example `maxdepth: 5`"),
+                    ),
+                }
+            }
+            _ => self.file.settings.push(Setting { key: key.to_string(), key_span, value: value.to_string(), at }),
+        }
+    }
+
+    fn define(&mut self, rest: &str, at: usize, whole: Span) {
+        let (rest, at) = trimmed(rest, at);
+        let Some((name, after)) = leading_word(rest) else {
+            self.errors
+                .push(Diagnostic::error(whole, "expected a name after `define`").with_hint("write `define p = 0.3`"));
+            return;
+        };
+        let Some(value) = after.trim_start().strip_prefix('=') else {
+            self.errors.push(
+                Diagnostic::error(span(at, name.len()), format!("expected `=` after `define {name}`"))
+                    .with_hint("write `define p = 0.3`"),
+            );
+            return;
+        };
+        let vstart = rest.len() - value.len();
+        let (v, vat) = trimmed(value, at + vstart);
+        if let Some(e) = self.expr(v, vat, whole) {
+            self.file.defines.push((name.to_string(), span(at, name.len()), e));
+        }
+    }
+
+    fn expr(&mut self, text: &str, at: usize, ctx: Span) -> Option<Expr> {
+        if text.trim().is_empty() {
+            self.errors.push(Diagnostic::error(ctx, "expected a formula here"));
+            return None;
+        }
+        match expr::parse(text) {
+            Ok(ast) => Some(Expr { ast, at }),
+            Err(d) => {
+                self.errors.push(d.shifted(at));
+                None
+            }
+        }
+    }
+
+    /// Splits a module sequence into names and raw parameter lists.
+    fn modules<'t>(&mut self, text: &'t str, at: usize) -> Vec<RawModule<'t>> {
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < text.len() {
+            let c = text[i..].chars().next().unwrap_or(' ');
+            if c.is_whitespace() {
+                i += c.len_utf8();
+                continue;
+            }
+            if RESERVED.contains(&c) {
+                let hint = match c {
+                    '(' => "parameters follow a module name directly, as in `F(x)`",
+                    '<' | '>' => "`<` and `>` mark contexts and only appear before the arrow",
+                    ':' => "a condition follows the predecessor: `A(x) : x > 1 -> …`",
+                    _ => "module names are letters, digits and turtle symbols",
+                };
+                self.errors.push(
+                    Diagnostic::error(span(at + i, c.len_utf8()), format!("`{c}` cannot be a module here"))
+                        .with_hint(hint),
+                );
+                i += c.len_utf8();
+                continue;
+            }
+            let declared =
+                self.file.modules.iter().filter(|(n, _)| text[i..].starts_with(n.as_str())).map(|(n, _)| n.len()).max();
+            // `@O`-style names (L-Py's sphere) are one module.
+            let at_name = c == '@' && text[i + 1..].starts_with(|n: char| n.is_ascii_alphabetic());
+            let len = declared.unwrap_or(if at_name { 2 } else { c.len_utf8() });
+            let name = &text[i..i + len];
+            let start = i;
+            i += len;
+            let mut args = None;
+            if text[i..].starts_with('(') {
+                match matching_paren(&text[i..]) {
+                    Some(close) => {
+                        args = Some((&text[i + 1..i + close], at + i + 1));
+                        i += close + 1;
+                    }
+                    None => {
+                        self.errors.push(
+                            Diagnostic::error(span(at + i, 1), "this `(` is never closed")
+                                .with_hint("close the parameter list with `)`"),
+                        );
+                        i = text.len();
+                    }
+                }
+            }
+            out.push(RawModule { name, span: Span::new(at + start, at + i), args });
+        }
+        out
+    }
+
+    fn calls(&mut self, text: &str, at: usize) -> Vec<Call> {
+        let raw = self.modules(text, at);
+        raw.into_iter()
+            .map(|m| {
+                let mut args = Vec::new();
+                if let Some((inner, iat)) = m.args {
+                    for (piece, pat) in split_top(inner, iat, ',') {
+                        let (t, tat) = trimmed(piece, pat);
+                        if let Some(e) = self.expr(t, tat, m.span) {
+                            args.push(e);
+                        }
+                    }
+                }
+                Call { name: m.name.to_string(), span: m.span, args }
+            })
+            .collect()
+    }
+
+    fn patterns(&mut self, text: &str, at: usize) -> Vec<Pattern> {
+        let raw = self.modules(text, at);
+        raw.into_iter()
+            .map(|m| {
+                let mut formals = Vec::new();
+                if let Some((inner, iat)) = m.args {
+                    for (piece, pat) in split_top(inner, iat, ',') {
+                        let (t, tat) = trimmed(piece, pat);
+                        match leading_word(t) {
+                            Some((w, "")) => formals.push((w.to_string(), span(tat, w.len()))),
+                            _ => self.errors.push(
+                                Diagnostic::error(span(tat, t.len().max(1)), "a predecessor's parameters are names")
+                                    .with_hint("write `A(x, y) : x > y -> …`; put tests in the condition"),
+                            ),
+                        }
+                    }
+                }
+                Pattern { name: m.name.to_string(), span: m.span, formals }
+            })
+            .collect()
+    }
+
+    fn production(&mut self, line: &str, at: usize) -> Option<Production> {
+        let whole = span(at, line.len());
+        let Some(arrow) = find_arrow(line) else {
+            self.errors.push(
+                Diagnostic::error(whole, "expected a production `predecessor -> successor`")
+                    .with_hint("stochastic productions are written `A -(0.3)-> B`; conditions `A(x) : x > 1 -> B`"),
+            );
+            return None;
+        };
+        let lhs = &line[..arrow.start];
+        let succ_text = &line[arrow.end..];
+        let weight = match arrow.weight {
+            Some((s, e)) => {
+                let (t, tat) = trimmed(&line[s..e], at + s);
+                Some(self.expr(t, tat, whole)?)
+            }
+            None => None,
+        };
+        let (pattern_text, cond) = match find_top(lhs, ':') {
+            Some(c) => {
+                let (t, tat) = trimmed(&lhs[c + 1..], at + c + 1);
+                (&lhs[..c], Some(self.expr(t, tat, whole)?))
+            }
+            None => (lhs, None),
+        };
+        let lt = find_top(pattern_text, '<');
+        let gt = find_top(pattern_text, '>');
+        let (l_end, s_start) = match lt {
+            Some(i) => (i, i + 1),
+            None => (0, 0),
+        };
+        let (s_end, r_start) = match gt {
+            Some(i) if i >= s_start => (i, i + 1),
+            Some(i) => {
+                self.errors
+                    .push(Diagnostic::error(span(at + i, 1), "the right context `>` must follow the left context `<`"));
+                return None;
+            }
+            None => (pattern_text.len(), pattern_text.len()),
+        };
+        let left = self.patterns(&pattern_text[..l_end], at);
+        let mut strict = self.patterns(&pattern_text[s_start..s_end], at + s_start);
+        let right = self.patterns(&pattern_text[r_start..], at + r_start);
+        if strict.len() != 1 {
+            let (t, tat) = trimmed(&pattern_text[s_start..s_end], at + s_start);
+            self.errors.push(
+                Diagnostic::error(
+                    span(tat, t.len().max(1)),
+                    format!("the strict predecessor must be one module, found {}", strict.len()),
+                )
+                .with_hint("contexts go around it: `A B < C > D -> …` rewrites C"),
+            );
+            return None;
+        }
+        let successor = self.calls(succ_text, at + arrow.end);
+        Some(Production { left, strict: strict.remove(0), right, cond, weight, successor, span: whole })
+    }
+}
+
+struct RawModule<'t> {
+    name: &'t str,
+    span: Span,
+    args: Option<(&'t str, usize)>,
+}
+
+/// Whitespace-separated words with their offsets.
+fn words(s: &str, at: usize) -> Vec<(&str, usize)> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    for w in s.split_whitespace() {
+        let k = s[i..].find(w).map_or(i, |k| i + k);
+        out.push((w, at + k));
+        i = k + w.len();
+    }
+    out
+}
+
+/// Index of the `)` closing the `(` at `s[0]`.
+fn matching_paren(s: &str) -> Option<usize> {
+    let mut depth = 0usize;
+    for (i, c) in s.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return Some(i);
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// First `c` outside parentheses.
+fn find_top(s: &str, c: char) -> Option<usize> {
+    let mut depth = 0i32;
+    for (i, ch) in s.char_indices() {
+        match ch {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            _ if ch == c && depth == 0 => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// `s` split at top-level `c`, each piece with its offset.
+fn split_top(s: &str, at: usize, c: char) -> Vec<(&str, usize)> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    let mut depth = 0i32;
+    for (i, ch) in s.char_indices() {
+        match ch {
+            '(' => depth += 1,
+            ')' => depth -= 1,
+            _ if ch == c && depth == 0 => {
+                out.push((&s[start..i], at + start));
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push((&s[start..], at + start));
+    out
+}
+
+struct Arrow {
+    start: usize,
+    end: usize,
+    weight: Option<(usize, usize)>,
+}
+
+/// The production arrow: `->`, or `-(w)->` with a weight. `-(a)` right at
+/// the start of a line is the parametric turn module, not a weight.
+fn find_arrow(line: &str) -> Option<Arrow> {
+    let b = line.as_bytes();
+    let mut depth = 0i32;
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'(' => depth += 1,
+            b')' => depth -= 1,
+            b'-' if depth == 0 => {
+                if b.get(i + 1) == Some(&b'>') {
+                    return Some(Arrow { start: i, end: i + 2, weight: None });
+                }
+                if b.get(i + 1) == Some(&b'(') && !line[..i].trim().is_empty() {
+                    let close = i + 1 + matching_paren(&line[i + 1..])?;
+                    if line[close + 1..].starts_with("->") {
+                        return Some(Arrow { start: i, end: close + 3, weight: Some((i + 2, close)) });
+                    }
+                }
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ok(text: &str) -> File {
+        let (f, errors) = parse(text);
+        assert!(errors.is_empty(), "{errors:?}");
+        f
+    }
+
+    #[test]
+    fn settings_sections_and_productions() {
+        let f = ok("# Koch\nangle: 60 # degrees\naxiom: F++F++F\nproduction:\nF -> F-F++F-F\n");
+        assert_eq!(f.settings.len(), 1);
+        assert_eq!(f.settings[0].value, "60");
+        let (axiom, _) = f.axiom.unwrap();
+        assert_eq!(axiom.iter().map(|c| c.name.as_str()).collect::<String>(), "F++F++F");
+        assert_eq!(f.productions.len(), 1);
+        assert_eq!(f.productions[0].1.successor.len(), 8);
+    }
+
+    #[test]
+    fn contexts_conditions_weights_and_parameters() {
+        let f = ok("production:\nA B(y) < C(x) > D : x > y && x < 3 -(0.25)-> C(x+1) [ +(45) ]\n-(a) -> +(a)\n");
+        let p = &f.productions[0].1;
+        assert_eq!(p.left.len(), 2);
+        assert_eq!(p.left[1].formals[0].0, "y");
+        assert_eq!(p.strict.name, "C");
+        assert_eq!(p.right.len(), 1);
+        assert!(p.cond.is_some() && p.weight.is_some());
+        assert_eq!(p.successor.len(), 4);
+        assert_eq!(p.successor[2].args.len(), 1);
+        let q = &f.productions[1].1;
+        assert_eq!(q.strict.name, "-");
+        assert!(q.weight.is_none());
+    }
+
+    #[test]
+    fn declared_names_match_longest_first() {
+        let f = ok("module: Apex Ap\naxiom: ApexApB\n");
+        let (axiom, _) = f.axiom.unwrap();
+        let names: Vec<&str> = axiom.iter().map(|c| c.name.as_str()).collect();
+        assert_eq!(names, ["Apex", "Ap", "B"]);
+    }
+
+    #[test]
+    fn colours_are_not_comments() {
+        let f = ok("colors: #6b4423 #3a7d23 # brown, green\n");
+        assert_eq!(f.settings[0].value, "#6b4423 #3a7d23");
+    }
+
+    #[test]
+    fn empty_successor_deletes() {
+        let f = ok("production:\nA ->\n");
+        assert!(f.productions[0].1.successor.is_empty());
+    }
+
+    #[test]
+    fn every_error_is_reported_with_its_position() {
+        let text = "angel: 60\nproduction:\nF => FF\nA(x+1) -> B\nA -> B(\n";
+        let (_, errors) = parse(text);
+        assert_eq!(errors.len(), 4, "{errors:?}");
+        assert!(errors[0].message.contains("unknown setting"));
+        assert!(errors[0].hints[0].contains("angle"));
+        assert_eq!(errors[1].span.unwrap().start as usize, text.find("F =>").unwrap());
+    }
+}

@@ -1,0 +1,430 @@
+//! Golden figures from ABOP and L-Py (`shared/reference/lsystems.md`),
+//! semantics tests, and the generator.
+
+use crate::compile::{LSystem, compile_text};
+use crate::string::ModuleString;
+use genform_core::{Rng, Scene};
+use glam::DVec3;
+
+fn system(text: &str) -> LSystem {
+    match compile_text(text) {
+        Ok((s, _)) => s,
+        Err(e) => panic!("{e:?}"),
+    }
+}
+
+fn derive(text: &str, n: u32) -> (LSystem, ModuleString) {
+    let s = system(text);
+    let out = s.derive(n, &mut Rng::from_seed(7)).unwrap();
+    (s, out)
+}
+
+/// Draws and returns the scene's 2D bounds and the turtle's end point.
+fn draw(s: &LSystem, m: &ModuleString) -> (DVec3, DVec3, DVec3) {
+    let mut scene = Scene::new();
+    let end = s.interpret(m, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for l in &scene.polylines {
+        for p in &l.points {
+            lo = lo.min(p.as_dvec3());
+            hi = hi.max(p.as_dvec3());
+        }
+    }
+    (lo, hi, end.position)
+}
+
+const KOCH: &str = "angle: 60\nheading: +x\naxiom: F++F++F\nproduction:\nF -> F-F++F-F\n";
+
+#[test]
+fn koch_snowflake_lengths_counts_and_bounds() {
+    for (n, len, f) in [(0, 7, 3), (1, 28, 12), (2, 112, 48), (3, 448, 192), (4, 1792, 768)] {
+        let (s, m) = derive(KOCH, n);
+        assert_eq!((m.len(), m.count(&s.alphabet, "F")), (len, f), "n = {n}");
+    }
+    let (s, m) = derive(KOCH, 4);
+    let (lo, hi, end) = draw(&s, &m);
+    // f32 scene coordinates: compare to 1e-3.
+    assert!((lo.x - 0.0).abs() < 1e-3 && (hi.x - 81.0).abs() < 1e-3, "{lo} {hi}");
+    assert!((lo.y + 23.383).abs() < 1e-3 && (hi.y - 70.148).abs() < 1e-3, "{lo} {hi}");
+    assert!(end.length() < 1e-9, "a closed curve ends where it starts: {end}");
+}
+
+#[test]
+fn quadratic_koch_island() {
+    let text = "angle: 90\nheading: +x\naxiom: F-F-F-F\nproduction:\nF -> F-F+F+FF-F-F+F\n";
+    for (n, len, f) in [(1, 59, 32), (2, 475, 256), (3, 3803, 2048)] {
+        let (s, m) = derive(text, n);
+        assert_eq!((m.len(), m.count(&s.alphabet, "F")), (len, f), "n = {n}");
+    }
+    let (s, m) = derive(text, 3);
+    let (lo, hi, end) = draw(&s, &m);
+    assert_eq!([lo.x, lo.y, hi.x, hi.y].map(f64::round), [-21.0, -85.0, 85.0, 21.0]);
+    assert!(end.length() < 1e-9);
+}
+
+#[test]
+fn signal_propagates_one_cell_per_step() {
+    let text = "axiom: baaaaaaaa\nproduction:\nb < a -> b\nb -> a\n";
+    let s = system(text);
+    let mut rng = Rng::from_seed(0);
+    for n in 0..9 {
+        let m = s.derive(n, &mut rng).unwrap();
+        let expect: String = (0..9).map(|i| if i == n as usize { 'b' } else { 'a' }).collect();
+        assert_eq!(m.display(&s.alphabet, false), expect);
+    }
+}
+
+pub(crate) const HOGEWEG: &str = "angle: 22.5\nignore: + - F\naxiom: F1F1F1\nproduction:\n\
+    0 < 0 > 0 -> 0\n0 < 0 > 1 -> 1[+F1F1]\n0 < 1 > 0 -> 1\n0 < 1 > 1 -> 1\n\
+    1 < 0 > 0 -> 0\n1 < 0 > 1 -> 1F1\n1 < 1 > 0 -> 0\n1 < 1 > 1 -> 0\n+ -> -\n- -> +\n";
+
+#[test]
+fn hogeweg_context_sensitive_strings() {
+    let s = system(HOGEWEG);
+    let at = |n| s.derive(n, &mut Rng::from_seed(0)).unwrap();
+    assert_eq!(at(1).display(&s.alphabet, false), "F1F0F1");
+    assert_eq!(at(2).display(&s.alphabet, false), "F1F1F1F1");
+    assert_eq!(at(5).display(&s.alphabet, false), "F1F1F1F1[-F0F1]F1");
+    assert_eq!(at(10).display(&s.alphabet, false), "F1F0F0F0[+F1F1F1]F1F1[-F1F0F1][+F1F0F0F1F1F1]F1");
+    let m = at(30);
+    assert_eq!((m.len(), m.count(&s.alphabet, "F"), m.count(&s.alphabet, "[")), (6910, 2501, 636));
+}
+
+#[test]
+fn left_context_skips_sibling_branches_and_right_context_stops_at_branch_end() {
+    // B's left neighbour across the sibling branch [C] is A; D inside a
+    // branch has no right context past `]`.
+    let text = "axiom: A[C]B[DE]\nproduction:\nA < B -> X\nD > E -> Y\nE > A -> Z\nC > B -> W\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.display(&s.alphabet, false), "A[C]X[YE]");
+    // The left context steps out of a branch to its parent.
+    let (s, m) = derive("axiom: A[B]\nproduction:\nA < B -> X\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "A[X]");
+}
+
+#[test]
+fn consider_matches_only_listed_modules() {
+    let (s, m) = derive("consider: A B\naxiom: A+-fB\nproduction:\nA < B -> X\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "A+-fX");
+    let (s, m) = derive("axiom: A+B\nproduction:\nA < B -> X\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "A+B", "without ignore, `+` blocks the context");
+}
+
+#[test]
+fn parametric_koch_construction_sums() {
+    // ABOP's form (δ = 86°, `--` for the 172° turn): the reference's module
+    // count 2388 counts both `-`.
+    let text = "define p = 0.3\ndefine q = 1 - p\ndefine h = sqrt(p*q)\nangle: 86\nheading: +x\naxiom: F(1)\n\
+                production:\nF(x) -> F(x*p) + F(x*h) - - F(x*h) + F(x*q)\n";
+    let s = system(text);
+    let sum = |m: &ModuleString| -> f64 {
+        m.modules(&s.alphabet).filter(|(sym, _)| s.alphabet.symbols[*sym as usize].name == "F").map(|(_, p)| p[0]).sum()
+    };
+    let m1 = s.derive(1, &mut Rng::from_seed(0)).unwrap();
+    assert!((sum(&m1) - 1.9165151390).abs() < 1e-9, "{}", sum(&m1));
+    let m5 = s.derive(5, &mut Rng::from_seed(0)).unwrap();
+    assert_eq!((m5.len(), m5.count(&s.alphabet, "F")), (2388, 1024));
+    assert!((sum(&m5) - 25.8559959446).abs() < 1e-9, "{}", sum(&m5));
+}
+
+#[test]
+fn conditions_choose_the_first_matching_production() {
+    let text = "axiom: A(0)\nproduction:\nA(t) : t < 2 -> A(t+1)\nA(t) : t >= 2 -> B(t*10)\n";
+    let (s, m) = derive(text, 4);
+    assert_eq!(m.display(&s.alphabet, true), "B(20)");
+}
+
+#[test]
+fn empty_successor_deletes_and_identity_keeps() {
+    let (s, m) = derive("axiom: ABC\nproduction:\nB ->\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "AC");
+}
+
+#[test]
+fn cut_removes_the_rest_of_the_branch() {
+    let (s, m) = derive("axiom: A[BCD]E\nproduction:\nB -> %\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "A[]E");
+    let (s, m) = derive("axiom: A[B[C]D]E\nproduction:\nB -> X%\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "A[X]E");
+}
+
+#[test]
+fn decomposition_applies_recursively_up_to_its_depth() {
+    let text = "axiom: A\nproduction:\nA -> B\ndecomposition:\nmaxdepth: 2\nB -> CC\nC -> DD\nD -> E\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.display(&s.alphabet, false), "DDDD", "depth 2 stops before D -> E");
+}
+
+#[test]
+fn interpretation_rules_draw_without_changing_the_string() {
+    let text = "heading: +x\naxiom: L\nproduction:\ninterpretation:\nL -> F+F\n";
+    let (s, m) = derive(text, 3);
+    assert_eq!(m.display(&s.alphabet, false), "L");
+    let (_, hi, end) = draw(&s, &m);
+    assert!((end - DVec3::new(1.0, 1.0, 0.0)).length() < 1e-9, "{end}");
+    assert!((hi.y - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn stochastic_expectation_matches_3_66_to_the_n() {
+    let text = "axiom: F\nproduction:\nF -(0.33)-> F[+F]F[-F]F\nF -(0.33)-> F[+F]F\nF -(0.34)-> F[-F]F\n";
+    let s = system(text);
+    let n = 3;
+    let runs = 2000;
+    let mut counts = Vec::with_capacity(runs);
+    for seed in 0..runs as u64 {
+        let m = s.derive(n, &mut Rng::from_seed(seed)).unwrap();
+        counts.push(m.count(&s.alphabet, "F") as f64);
+    }
+    let mean = counts.iter().sum::<f64>() / runs as f64;
+    let var = counts.iter().map(|c| (c - mean).powi(2)).sum::<f64>() / (runs - 1) as f64;
+    let expect = 3.66f64.powi(n as i32);
+    let se = (var / runs as f64).sqrt();
+    assert!((mean - expect).abs() < 3.0 * se, "mean {mean} vs {expect} (se {se})");
+    // Fixed seeds pin the strings.
+    let m = s.derive(2, &mut Rng::from_seed(42)).unwrap();
+    assert_eq!(m.display(&s.alphabet, false), "F[+F]F[-F]F[-F[-F]F]F[-F]F");
+}
+
+#[test]
+fn module_limit_stops_with_the_step_and_count() {
+    let text = "axiom: F\nproduction:\nF -> FF\n";
+    let s = system(text);
+    let e = s.derive_limited(30, &mut Rng::from_seed(0), 1000, |_, _| {}).unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("step 10 of 30") && msg.contains("1000 modules") && msg.contains("512"), "{msg}");
+    // Many steps over a long string stop too.
+    let s = system("axiom: A\nproduction:\nA -> A\n");
+    let e = s.derive_limited(1_000_000, &mut Rng::from_seed(0), 10, |_, _| {}).unwrap_err();
+    assert!(e.to_string().contains("step 2001 of 1000000"), "{e}");
+    // The parametric path checks the limit too.
+    let s = system("axiom: A(1)\nproduction:\nA(x) -> A(x)A(x)\n");
+    let e = s.derive_limited(30, &mut Rng::from_seed(0), 1000, |_, _| {}).unwrap_err();
+    assert!(e.to_string().contains("step 10 of 30"), "{e}");
+}
+
+#[test]
+fn turtle_3d_frame_rotations() {
+    // Heading +y, U = +z: `&` pitches H down towards −U, `/` rolls, `|`
+    // turns around, `+` turns towards L = −x.
+    let at = |text: &str| {
+        let s = system(&format!("angle: 90\naxiom: {text}\n"));
+        let (_, _, end) = draw(&s, &s.axiom);
+        end
+    };
+    assert!((at("+F") - DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-9);
+    assert!((at("-F") - DVec3::new(1.0, 0.0, 0.0)).length() < 1e-9);
+    assert!((at("&F") - DVec3::new(0.0, 0.0, -1.0)).length() < 1e-9);
+    assert!((at("^F") - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-9);
+    assert!((at("/+F") - DVec3::new(0.0, 0.0, 1.0)).length() < 1e-9, "{}", at("/+F"));
+    assert!((at("|F") - DVec3::new(0.0, -1.0, 0.0)).length() < 1e-9);
+    assert!((at("F(2.5)") - DVec3::new(0.0, 2.5, 0.0)).length() < 1e-9);
+    assert!((at("+(45)F") - DVec3::new(-0.5f64.sqrt(), 0.5f64.sqrt(), 0.0)).length() < 1e-9);
+}
+
+#[test]
+fn tropism_bends_towards_the_vector() {
+    let s = system("angle: 90\ntropism: 0, -1, 0\nelasticity: 0.3\naxiom: -FFFF\n");
+    let (_, _, end) = draw(&s, &s.axiom);
+    assert!(end.y < -0.5, "heading +x bends down under gravity: {end}");
+    let straight = system("angle: 90\naxiom: -FFFF\n");
+    let (_, _, e2) = draw(&straight, &straight.axiom);
+    assert!((e2 - DVec3::new(4.0, 0.0, 0.0)).length() < 1e-9);
+}
+
+#[test]
+fn solid_view_makes_frusta_with_taper_and_polygons() {
+    let s = system("view: 3d\nwidth: 0.4\naxiom: F!(0.2)F[{.f.+f.}]\n");
+    let mut scene = Scene::new();
+    s.interpret(&s.axiom, &mut Rng::from_seed(0), 1000, &mut scene).unwrap();
+    assert_eq!(scene.instances.len(), 2);
+    assert_eq!(scene.polygons.len(), 1);
+    match scene.instances[1].primitive {
+        genform_core::scene::Primitive::Frustum { top } => assert!((top - 0.5).abs() < 1e-6, "{top}"),
+        p => panic!("{p:?}"),
+    }
+    // The first cylinder: 0.4 wide, unit long, centred at y = 0.5.
+    let t = scene.instances[0].transform;
+    assert!((t.translation.y - 0.5).abs() < 1e-6);
+    assert!((t.matrix3.x_axis.length() - 0.4).abs() < 1e-6 && t.matrix3.determinant() > 0.0);
+}
+
+#[test]
+fn flat_view_joins_segments_into_polylines() {
+    let s = system("axiom: FF[+F]F!(0.5)F\n");
+    let mut scene = Scene::new();
+    s.interpret(&s.axiom, &mut Rng::from_seed(0), 1000, &mut scene).unwrap();
+    let lens: Vec<usize> = scene.polylines.iter().map(|l| l.points.len()).collect();
+    assert_eq!(lens, [3, 2, 2, 2], "FF joined; the branch; F after the branch; F after the width change");
+}
+
+#[test]
+fn primitive_limit_is_an_error() {
+    let s = system("axiom: F+F+F+F\n");
+    let mut scene = Scene::new();
+    let e = s.interpret(&s.axiom, &mut Rng::from_seed(0), 0, &mut scene).unwrap_err();
+    assert!(e.to_string().contains("more than 0 primitives"));
+}
+
+mod generator {
+    use super::*;
+    use crate::generator::{GeneratorError, LsGenerator};
+    use genform_core::genome::{GenePos, Link};
+    use genform_core::{Generator, Limits};
+    use std::sync::Arc;
+
+    fn generator(text: &str) -> LsGenerator {
+        LsGenerator::new(Arc::new(system(text))).unwrap()
+    }
+
+    #[test]
+    fn a_full_prior_derivation_is_the_plain_derivation() {
+        let text = "angle: 20\naxiom: X\nproduction:\nX -> F[+X]F[-X]+X\nF -> FF\n";
+        let g = generator(text);
+        let limits = Limits { max_depth: 5, ..g.limits() };
+        let sampled = g.sample(&mut Rng::from_seed(3), &limits).unwrap();
+        assert!(sampled.truncated.is_none());
+        let from_genome = g.derive(&sampled.genome, &limits).unwrap();
+        let plain = g.system().derive(5, &mut Rng::from_seed(0)).unwrap();
+        assert_eq!(from_genome, plain);
+        // One gene per rewrite: the axiom's, then every X and F rewritten.
+        assert_eq!(sampled.genome.len(), 1 + count_rewrites(g.system(), 5));
+        sampled.genome.validate(g.graph()).unwrap();
+    }
+
+    /// Modules rewritten over `n` steps of a deterministic system.
+    fn count_rewrites(s: &LSystem, n: u32) -> usize {
+        let mut total = 0;
+        let rewritable = |name: &str| name == "X" || name == "F";
+        let mut cur = s.axiom.clone();
+        for _ in 0..n {
+            total += cur.syms.iter().filter(|&&m| rewritable(&s.alphabet.symbols[m as usize].name)).count();
+            cur = {
+                let mut tmp = s.clone();
+                tmp.axiom = cur.clone();
+                tmp.derive(1, &mut Rng::from_seed(0)).unwrap()
+            };
+        }
+        total
+    }
+
+    #[test]
+    fn a_pruned_link_leaves_the_module_unrewritten() {
+        let g = generator("axiom: A\nproduction:\nA -> F[+A][-A]\n");
+        let limits = Limits { max_depth: 2, ..g.limits() };
+        let mut genome = g.sample(&mut Rng::from_seed(1), &limits).unwrap().genome;
+        assert_eq!(
+            g.derive(&genome, &limits).unwrap().display(&g.system().alphabet, false),
+            "F[+F[+A][-A]][-F[+A][-A]]"
+        );
+        // Cut the first branch's rewrite: its A stays.
+        let mut positions = Vec::new();
+        genome.positions_into(&mut positions);
+        let first = match genome.gene(positions[1]).link(0) {
+            Link::Child(c) => c,
+            l => panic!("{l:?}"),
+        };
+        genome.cut(first);
+        assert_eq!(g.derive(&genome, &limits).unwrap().display(&g.system().alphabet, false), "F[+A][-F[+A][-A]]");
+    }
+
+    #[test]
+    fn genes_hold_the_choice_and_the_random_draws() {
+        let text = "growth: 0.9\naxiom: A(1)\nproduction:\nA(x) -(1)-> F(x * uniform(1, 2)) A(x)\nA(x) -(3)-> F(x)\n";
+        let g = generator(text);
+        let spec = g.graph().symbol(1);
+        let names: Vec<&str> = spec.params.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(names, ["rule", "u0"]);
+        assert_eq!(spec.slots.len(), 1, "only the first production's A is rewritable");
+        assert!((spec.slots[0].prob - 0.9).abs() < 1e-12);
+        // rule < 1/4 picks the first production; u0 = 0.5 draws 1.5.
+        let mut genome = genform_core::Genome::with_root(g.graph(), 0, &[]);
+        let a = genome.grow(GenePos(0), 0, 1, &[0.1, 0.5], 1);
+        let limits = g.limits();
+        let s = g.derive(&genome, &limits).unwrap();
+        assert_eq!(s.display(&g.system().alphabet, true), "F(1.5)A(1)");
+        genome.set_params(a, &[0.3, 0.5]);
+        assert_eq!(g.derive(&genome, &limits).unwrap().display(&g.system().alphabet, true), "F(1)");
+    }
+
+    #[test]
+    fn prior_choices_follow_the_weights() {
+        let g = generator("growth: 0.5\naxiom: A\nproduction:\nA -(1)-> B\nA -(3)-> C\n");
+        let limits = g.limits();
+        let runs = 4000;
+        let (mut b, mut rewritten) = (0, 0);
+        for seed in 0..runs {
+            let s = g.sample(&mut Rng::from_seed(seed), &limits).unwrap();
+            let m = g.derive(&s.genome, &limits).unwrap().display(&g.system().alphabet, false);
+            if m != "A" {
+                rewritten += 1;
+                b += usize::from(m == "B");
+            }
+        }
+        let p = b as f64 / rewritten as f64;
+        let se = (0.25 * 0.75 / rewritten as f64).sqrt();
+        assert!((p - 0.25).abs() < 3.0 * se, "P(B) = {p}");
+        let q = rewritten as f64 / runs as f64;
+        assert!((q - 0.5).abs() < 3.0 * (0.25 / runs as f64).sqrt(), "growth {q}");
+    }
+
+    #[test]
+    fn systems_that_cannot_be_generators_say_why() {
+        let ctx = LsGenerator::new(Arc::new(system(HOGEWEG))).unwrap_err();
+        assert!(matches!(ctx, GeneratorError::Context(_)));
+        let dec =
+            LsGenerator::new(Arc::new(system("axiom: A\nproduction:\nA -> B\ndecomposition:\nB -> C\n"))).unwrap_err();
+        assert!(matches!(dec, GeneratorError::Decomposition(_)));
+        let growth = LsGenerator::new(Arc::new(system("axiom: A\nproduction:\nA -(1)-> B\nA -(1)-> C\n"))).unwrap_err();
+        assert!(growth.to_string().contains("growth"), "{growth}");
+    }
+
+    #[test]
+    fn express_draws_and_respects_limits() {
+        let g = generator("view: 3d\nwidth: 0.1\naxiom: A\nproduction:\nA -> F[+A][-A]\n");
+        let limits = Limits { max_depth: 6, ..g.limits() };
+        let s = g.sample(&mut Rng::from_seed(0), &limits).unwrap();
+        let mut scene = Scene::new();
+        g.express(&s.genome, &limits, &mut scene).unwrap();
+        assert_eq!(scene.instances.len(), 63);
+        let tight = Limits { max_primitives: 10, ..limits };
+        assert!(g.express(&s.genome, &tight, &mut Scene::new()).is_err());
+        let shallow = Limits { max_depth: 3, ..limits };
+        assert!(g.express(&s.genome, &shallow, &mut Scene::new()).is_err(), "genes deeper than the depth limit");
+    }
+}
+
+mod properties {
+    use super::{Rng, Scene, compile_text};
+    use proptest::prelude::{ProptestConfig, prop_assert, proptest};
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+        /// Any text compiles or fails with diagnostics; nothing panics.
+        #[test]
+        fn compiling_never_panics(text in "[A-Fa-f0-9+\\-\\[\\](){}<>:,.!'%&^/|$@O#= \n*]{0,160}") {
+            let _ = compile_text(&text);
+            let _ = compile_text(&format!("axiom: A\nproduction:\n{text}"));
+        }
+
+        /// Random (possibly unbalanced, context-sensitive, cutting) systems
+        /// derive and draw within their limits without panicking.
+        #[test]
+        fn deriving_and_drawing_never_panic(
+            axiom in "[ABF+\\-\\[\\]f!{}.%]{1,10}",
+            succ in "[ABF+\\-\\[\\]f!{}.%&^/|$]{0,10}",
+            ctx in "[ABF+\\-\\[\\]f!{}.%]{0,6}",
+            steps in 0u32..8,
+        ) {
+            let text = format!("view: 3d\nwidth: 0.1\nignore: +\naxiom: {axiom}\nproduction:\nB < A > B -> {ctx}\nA -> {succ}\nB -(1)-> {ctx}\nB -(2)-> A\n");
+            if let Ok((s, _)) = compile_text(&text) {
+                let cap = 2000;
+                if let Ok(m) = s.derive_limited(steps, &mut Rng::from_seed(1), cap, |_, _| {}) {
+                    prop_assert!(m.len() <= cap);
+                    let _ = s.interpret(&m, &mut Rng::from_seed(1), 500, &mut Scene::new());
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,305 @@
+//! The turtle: modules to geometry in a [`Scene`] (ABOP §1.5 and p. 19).
+//!
+//! State: position and a right-handed frame H (heading), L (left), U (up),
+//! width, colour index. `+`/`-` turn about U (`+` towards L:
+//! counter-clockwise seen from U), `&`/`^` pitch about L (`&` down, towards
+//! −U), `\`/`/` roll about H (`/` right: L towards U), `|` turns around,
+//! `$` rolls L horizontal (perpendicular to +y). Polygons: `{` starts one
+//! at the current position, every move inside it (and `.`) adds a vertex,
+//! `}` closes it. Modules without a drawing meaning are ignored.
+
+use crate::alphabet::{Command, Sym};
+use crate::compile::LSystem;
+use crate::derive::Scratch;
+use crate::settings::View;
+use crate::string::ModuleString;
+use genform_core::Rng;
+use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene, TagId};
+use glam::{Affine3A, DMat3, DVec3, Vec3};
+
+/// Colours used when the file gives no `colors:` table: near-black lines,
+/// then green, red, yellow, brown.
+const DEFAULT_COLORS: [[u8; 3]; 5] =
+    [[0x22, 0x22, 0x22], [0x2e, 0x7d, 0x32], [0xc6, 0x28, 0x28], [0xf9, 0xa8, 0x25], [0x6d, 0x4c, 0x41]];
+
+/// Why a drawing stopped.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TurtleError {
+    /// The drawing has more primitives than allowed.
+    #[error(
+        "the drawing has more than {limit} primitives (segments, polygons); raise it with --max-primitives or derive fewer steps"
+    )]
+    TooManyPrimitives {
+        /// The limit.
+        limit: usize,
+    },
+}
+
+/// What the turtle ended with (for tests and summaries).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TurtleEnd {
+    /// Final position.
+    pub position: DVec3,
+    /// Drawn segments (`F`).
+    pub segments: usize,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct State {
+    pos: DVec3,
+    h: DVec3,
+    l: DVec3,
+    u: DVec3,
+    width: f64,
+    /// Width the last segment of this branch ended with (for taper).
+    drawn: Option<f64>,
+    color: usize,
+}
+
+struct Turtle<'a> {
+    sys: &'a LSystem,
+    scene: &'a mut Scene,
+    state: State,
+    stack: Vec<State>,
+    polygons: Vec<Vec<Vec3>>,
+    /// The polyline being extended, by index into `scene.polylines`.
+    open_line: Option<usize>,
+    tags: Vec<Option<TagId>>,
+    segments: usize,
+    limit: usize,
+    over: bool,
+}
+
+impl LSystem {
+    /// Draws `s` into `scene`, after applying the interpretation rules
+    /// (their random draws come from `rng`). At most `max_primitives`
+    /// polylines, instances and polygons.
+    pub fn interpret(
+        &self,
+        s: &ModuleString,
+        rng: &mut Rng,
+        max_primitives: usize,
+        scene: &mut Scene,
+    ) -> Result<TurtleEnd, TurtleError> {
+        let [h, l, u] = self.settings.heading.frame();
+        let st = &self.settings;
+        let mut t = Turtle {
+            sys: self,
+            scene,
+            state: State { pos: DVec3::ZERO, h, l, u, width: st.width, drawn: None, color: 0 },
+            stack: Vec::new(),
+            polygons: Vec::new(),
+            open_line: None,
+            tags: Vec::new(),
+            segments: 0,
+            limit: max_primitives,
+            over: false,
+        };
+        let mut sc = Scratch::default();
+        for (sym, params) in s.modules(&self.alphabet) {
+            if self.interpretation.is_empty() {
+                t.apply(sym, params);
+            } else {
+                self.expand(&self.interpretation, (sym, params), 0, rng, &mut sc, &mut |s, p| {
+                    t.apply(s, p);
+                    !t.over
+                });
+            }
+            if t.over {
+                return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+            }
+        }
+        Ok(TurtleEnd { position: t.state.pos, segments: t.segments })
+    }
+}
+
+/// `a` turned towards `b` by `deg` degrees, and `b` turned along.
+fn rotate(a: DVec3, b: DVec3, deg: f64) -> (DVec3, DVec3) {
+    let (s, c) = deg.to_radians().sin_cos();
+    (a * c + b * s, b * c - a * s)
+}
+
+impl Turtle<'_> {
+    fn primitives(&self) -> usize {
+        self.scene.instances.len() + self.scene.polylines.len() + self.scene.polygons.len()
+    }
+
+    fn tag(&mut self, color: usize) -> TagId {
+        if let Some(Some(t)) = self.tags.get(color) {
+            return *t;
+        }
+        let table: &[[u8; 3]] =
+            if self.sys.settings.colors.is_empty() { &DEFAULT_COLORS } else { &self.sys.settings.colors };
+        // Indices past the table keep its last colour.
+        let [r, g, b] = table[color.min(table.len() - 1)];
+        let id = self.scene.tag(&format!("color{color}#{r:02x}{g:02x}{b:02x}"));
+        if self.tags.len() <= color {
+            self.tags.resize(color + 1, None);
+        }
+        self.tags[color] = Some(id);
+        id
+    }
+
+    fn apply(&mut self, sym: Sym, params: &[f64]) {
+        let st = &self.sys.settings;
+        let arg = params.first().copied();
+        let s = &mut self.state;
+        match self.sys.alphabet.command(sym) {
+            Command::Draw => {
+                let len = arg.unwrap_or(st.step);
+                self.segment(len);
+            }
+            Command::Move => {
+                s.pos += s.h * arg.unwrap_or(st.step);
+                self.open_line = None;
+                self.vertex();
+            }
+            Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg.unwrap_or(st.angle)),
+            Command::Right => (s.h, s.l) = rotate(s.h, s.l, -arg.unwrap_or(st.angle)),
+            // Pitching down turns H towards −U.
+            Command::Down => (s.h, s.u) = rotate(s.h, s.u, -arg.unwrap_or(st.angle)),
+            Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg.unwrap_or(st.angle)),
+            Command::RollRight => (s.l, s.u) = rotate(s.l, s.u, arg.unwrap_or(st.angle)),
+            Command::RollLeft => (s.l, s.u) = rotate(s.l, s.u, -arg.unwrap_or(st.angle)),
+            Command::TurnAround => {
+                s.h = -s.h;
+                s.l = -s.l;
+            }
+            Command::RollHorizontal => {
+                let l = DVec3::Y.cross(s.h);
+                if l.length_squared() > 1e-12 {
+                    s.l = l.normalize();
+                    s.u = s.h.cross(s.l);
+                }
+            }
+            Command::Push => {
+                self.stack.push(*s);
+                s.drawn = None;
+                self.open_line = None;
+            }
+            Command::Pop => {
+                if let Some(prev) = self.stack.pop() {
+                    *s = prev;
+                }
+                self.open_line = None;
+            }
+            Command::Width => {
+                s.width = match arg {
+                    Some(w) => w.max(0.0),
+                    None => s.width * st.width_factor,
+                };
+            }
+            Command::Color => {
+                s.color = match arg {
+                    Some(c) if c.is_finite() && c >= 0.0 => (c as usize).min(1 << 16),
+                    Some(_) => 0,
+                    None => (s.color + 1).min(1 << 16),
+                };
+            }
+            Command::PolygonStart => {
+                self.polygons.push(Vec::new());
+                self.vertex();
+            }
+            Command::PolygonVertex => self.vertex(),
+            Command::PolygonEnd => {
+                if let Some(mut points) = self.polygons.pop() {
+                    if points.len() > 1 && points.first() == points.last() {
+                        points.pop();
+                    }
+                    if points.len() < 3 {
+                        return;
+                    }
+                    let tag = self.tag(self.state.color);
+                    self.scene.polygons.push(Polygon { points, tag });
+                    self.over |= self.primitives() > self.limit;
+                }
+            }
+            Command::Sphere => {
+                let r = arg.unwrap_or(s.width * 0.5);
+                if r > 0.0 && r.is_finite() {
+                    let transform = Affine3A::from_scale_rotation_translation(
+                        Vec3::splat(2.0 * r as f32),
+                        glam::Quat::IDENTITY,
+                        s.pos.as_vec3(),
+                    );
+                    let tag = self.tag(self.state.color);
+                    self.scene.instances.push(Instance { transform, primitive: Primitive::Sphere, tag });
+                    self.over |= self.primitives() > self.limit;
+                }
+            }
+            Command::Cut | Command::None => {}
+        }
+    }
+
+    /// Records the position as a vertex of the polygon being traced (the
+    /// position at `{`, after each move inside it, and at `.`); repeated
+    /// points are kept once.
+    fn vertex(&mut self) {
+        let p = self.state.pos.as_vec3();
+        if let Some(poly) = self.polygons.last_mut()
+            && poly.last() != Some(&p)
+        {
+            poly.push(p);
+        }
+    }
+
+    fn segment(&mut self, len: f64) {
+        let st = &self.sys.settings;
+        let from = self.state.pos;
+        let to = from + self.state.h * len;
+        let width = self.state.width;
+        let tag = self.tag(self.state.color);
+        self.segments += 1;
+        if st.view == View::Solid && width > 0.0 && len != 0.0 {
+            let bottom = self.state.drawn.filter(|&d| d > width).unwrap_or(width);
+            // Unit frustum: axis along +y from y = −½ to ½, radius ½ at the
+            // bottom; x → U, y → H, z → L keeps the transform a rotation.
+            let s = &self.state;
+            let axis = s.h * len;
+            let m = DMat3::from_cols(s.u * bottom, axis, s.l * bottom);
+            let mid = (from + to) * 0.5;
+            let transform = Affine3A::from_mat3_translation(m.as_mat3(), mid.as_vec3());
+            let top = (width / bottom) as f32;
+            self.scene.instances.push(Instance { transform, primitive: Primitive::Frustum { top }, tag });
+            self.open_line = None;
+        } else {
+            let (p0, p1) = (from.as_vec3(), to.as_vec3());
+            let w = width as f32;
+            let extend = self.open_line.filter(|&k| {
+                let l = &self.scene.polylines[k];
+                l.tag == tag && l.width == w && l.points.last() == Some(&p0)
+            });
+            match extend {
+                Some(k) => self.scene.polylines[k].points.push(p1),
+                None => {
+                    self.scene.polylines.push(Polyline { points: vec![p0, p1], width: w, tag });
+                    self.open_line = Some(self.scene.polylines.len() - 1);
+                }
+            }
+        }
+        self.state.pos = to;
+        self.state.drawn = Some(width);
+        self.vertex();
+        self.tropism();
+        self.over |= self.primitives() > self.limit;
+    }
+
+    /// Bends H towards T about H × T by e·|H × T| (ABOP p. 58).
+    fn tropism(&mut self) {
+        let st = &self.sys.settings;
+        let Some(t) = st.tropism else { return };
+        if st.elasticity == 0.0 {
+            return;
+        }
+        let s = &mut self.state;
+        let axis = s.h.cross(DVec3::from_array(t));
+        let n = axis.length();
+        if n < 1e-12 {
+            return;
+        }
+        let rot = DMat3::from_axis_angle(axis / n, st.elasticity * n);
+        s.h = (rot * s.h).normalize();
+        s.l = (rot * s.l).normalize();
+        s.u = s.h.cross(s.l);
+    }
+}
