@@ -58,24 +58,45 @@ impl LimitArgs {
 /// Arguments of `genform sample`.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
-    /// Grammar file (.sg shape grammar, .ls L-system).
+    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar).
     pub file: PathBuf,
     /// Random seed; the same seed gives the same model.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Output file; the format follows the extension (.glb .obj .ply .stl .png .svg).
+    /// Output file; the format follows the extension (.glb .obj .ply .stl .png .svg;
+    /// block grammars also .schem .litematic .vox .mca; graph grammars .yaml).
     #[arg(long, short)]
     pub out: Option<PathBuf>,
-    /// L-systems: derivation steps (default: the file's `derivation:`).
+    /// L-systems and graph grammars: derivation steps (default: the file's `derivation:`).
     #[arg(long, value_name = "N")]
     pub steps: Option<u32>,
     /// L-systems: longest string a derivation may produce (default: the
-    /// file's `max_modules:`, else 5,000,000).
+    /// file's `max_modules:`, else 5,000,000); graph grammars: most
+    /// elements (vertices + edges, default 1,000,000).
     #[arg(long, value_name = "N")]
     pub max_modules: Option<usize>,
     /// L-systems: also write the derived module string to this text file.
     #[arg(long, value_name = "FILE")]
     pub string_out: Option<PathBuf>,
+    /// Box-split grammars: the box to derive in, two opposite corners
+    /// (inclusive) `x0,y0,z0,x1,y1,z1`.
+    #[arg(long = "box", value_name = "X0,Y0,Z0,X1,Y1,Z1", allow_hyphen_values = true)]
+    pub r#box: Option<String>,
+    /// Box-split grammars: observe this Minecraft region file (r.X.Z.mca) or
+    /// folder of region files; `--out x.mca` writes into a copy of it.
+    #[arg(long, value_name = "REGION")]
+    pub world: Option<PathBuf>,
+    /// Box-split grammars: write the derivation trace (choices, failures,
+    /// backtracks) as JSON.
+    #[arg(long, value_name = "FILE.json")]
+    pub trace: Option<PathBuf>,
+    /// Box-split grammars: Sponge schematic version of `.schem` output.
+    #[arg(long, value_name = "2|3", default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub schem_version: u8,
+    /// Box-split grammars: Minecraft DataVersion written into `.schem` and
+    /// `.litematic` files (3955 = 1.21.1; 3337 = 1.19.4).
+    #[arg(long, value_name = "N", default_value_t = 3955)]
+    pub data_version: i32,
     /// Also save the derivation tree (genome) as JSON, for `genform derive`.
     #[arg(long, value_name = "G.json")]
     pub genome_out: Option<PathBuf>,

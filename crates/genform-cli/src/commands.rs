@@ -17,9 +17,13 @@ pub(crate) const SAMPLE_STREAM: u64 = 0x5A4D_504C;
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Sample(a) if grammar::is_lsystem(&a.file) => crate::lsystem::sample(a),
+        Command::Sample(a) if grammar::is_boxsplit(&a.file) => crate::boxsplit::sample(a),
+        Command::Sample(a) if grammar::is_graph(&a.file) => crate::graph::sample(a),
         Command::Sample(a) => sample(a),
         Command::Derive(a) => derive(a),
         Command::Info(a) if grammar::is_lsystem(&a.file) => crate::lsystem::info(a),
+        Command::Info(a) if grammar::is_boxsplit(&a.file) => crate::boxsplit::info(a),
+        Command::Info(a) if grammar::is_graph(&a.file) => crate::graph::info(a),
         Command::Info(a) => info(a),
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
@@ -45,9 +49,14 @@ fn express(g: &dyn Generator, genome: &Genome, limits: &Limits) -> Result<Scene>
 }
 
 pub(crate) fn write_model(scene: &Scene, path: &Path) -> Result<()> {
+    write_model_with(scene, path, &ExportOptions::default())
+}
+
+/// [`write_model`] with explicit export options.
+pub(crate) fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<()> {
     let format = output_format(path)?;
-    let bytes = genform_export::export(scene, format, &ExportOptions::default())
-        .with_context(|| format!("cannot export {}", path.display()))?;
+    let bytes =
+        genform_export::export(scene, format, options).with_context(|| format!("cannot export {}", path.display()))?;
     write_atomic(path, &bytes)
 }
 
@@ -66,6 +75,9 @@ fn sample(a: SampleArgs) -> Result<()> {
     }
     if a.steps.is_some() || a.max_modules.is_some() || a.string_out.is_some() {
         bail!("--steps, --max-modules and --string-out apply to L-systems (.ls) only");
+    }
+    if a.r#box.is_some() || a.world.is_some() || a.trace.is_some() {
+        bail!("--box, --world and --trace apply to box-split grammars (.bsg) only");
     }
     let Loaded { generator, name, limits } = grammar::load(&a.file)?;
     let limits = a.limits.overrides().apply(limits);

@@ -61,6 +61,28 @@ fn diagnosed<T>(result: Result<(T, Diagnostics), Diagnostics>, path: &Path) -> R
     }
 }
 
+/// Whether `path` names a box-split grammar (`.bsg`).
+pub fn is_boxsplit(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e == "bsg")
+}
+
+/// Compiles the box-split grammar at `path`; warnings go to stderr.
+pub fn load_boxsplit(path: &Path) -> Result<genform_boxsplit::BoxGrammar> {
+    let file = read_source(path)?;
+    diagnosed(genform_boxsplit::compile(&file), path)
+}
+
+/// Whether `path` names a graph grammar (`.gg.yaml`).
+pub fn is_graph(path: &Path) -> bool {
+    path.file_name().is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().ends_with(".gg.yaml"))
+}
+
+/// Compiles the graph grammar at `path`; warnings go to stderr.
+pub fn load_graph(path: &Path) -> Result<genform_graph::GraphGrammar> {
+    let file = read_source(path)?;
+    diagnosed(genform_graph::compile(&file), path)
+}
+
 /// Compiles the L-system at `path`; warnings go to stderr.
 pub fn load_lsystem(path: &Path) -> Result<Arc<LSystem>> {
     let file = read_source(path)?;

@@ -18,6 +18,9 @@ pub fn sample(a: SampleArgs) -> Result<()> {
     if let Some(out) = &a.out {
         output_format(out)?;
     }
+    if a.r#box.is_some() || a.world.is_some() || a.trace.is_some() {
+        anyhow::bail!("--box, --world and --trace apply to box-split grammars (.bsg) only");
+    }
     let system = grammar::load_lsystem(&a.file)?;
     let st = &system.settings;
     let steps = a.steps.unwrap_or(st.derivation);

@@ -2,8 +2,10 @@
 //! runs generators and writes files; the libraries do no process I/O.
 
 mod args;
+mod boxsplit;
 mod commands;
 mod evolve;
+mod graph;
 mod lsystem;
 
 use clap::Parser;

@@ -12,6 +12,7 @@
 //! - [`diag`]: the one diagnostics type, with file:line:col rendering.
 //! - [`expr`]: the one compiler for user formulas, to an f64 bytecode.
 
+pub mod blocks;
 pub mod camera;
 pub mod diag;
 pub mod expr;
@@ -22,6 +23,7 @@ pub mod graph;
 pub mod rng;
 pub mod scene;
 
+pub use blocks::{BlockGrid, BlockKind, BlockState};
 pub use diag::{Diagnostic, Diagnostics, Severity, SourceFile, Span};
 pub use generator::{ExpressError, Generator, LimitKind, Limits, Sampled};
 pub use genome::{Genome, GenomeError};

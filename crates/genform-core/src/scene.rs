@@ -141,6 +141,59 @@ pub struct Polygon {
     pub tag: TagId,
 }
 
+/// A 2D vector-drawing element on the xy plane (y up), in scene units: what
+/// a graph grammar's `svg_*` attributes describe.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape2d {
+    /// The geometry.
+    pub kind: Shape2dKind,
+    /// Extra SVG presentation attributes (`stroke`, `fill`,
+    /// `stroke-width`, …), written as given, in order.
+    pub attributes: Vec<(String, String)>,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// The geometry of a [`Shape2d`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape2dKind {
+    /// A straight line.
+    Line {
+        /// Start point.
+        from: glam::Vec2,
+        /// End point.
+        to: glam::Vec2,
+    },
+    /// A circle.
+    Circle {
+        /// Centre.
+        center: glam::Vec2,
+        /// Radius.
+        radius: f32,
+    },
+    /// An axis-aligned rectangle.
+    Rect {
+        /// Lower-left corner (y up).
+        min: glam::Vec2,
+        /// Width and height.
+        size: glam::Vec2,
+    },
+    /// SVG path data in scene coordinates (y up).
+    Path {
+        /// The `d` attribute.
+        d: String,
+    },
+    /// An external image.
+    Image {
+        /// The `href`.
+        href: String,
+        /// Lower-left corner (y up).
+        min: glam::Vec2,
+        /// Width and height.
+        size: glam::Vec2,
+    },
+}
+
 /// Resolved geometry.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
@@ -154,6 +207,13 @@ pub struct Scene {
     pub polylines: Vec<Polyline>,
     /// Turtle polygons.
     pub polygons: Vec<Polygon>,
+    /// Block structures (box-split grammars): unit cubes on the integer
+    /// grid, cell (x, y, z) covering [x, x+1]×[y, y+1]×[z, z+1]. Exporters
+    /// mesh them themselves; [`Scene::for_each_triangle`] leaves them out.
+    pub blocks: Vec<crate::blocks::BlockGrid>,
+    /// 2D vector-drawing elements (graph grammars), drawn by the SVG and
+    /// PNG exporters in order.
+    pub shapes2d: Vec<Shape2d>,
 }
 
 /// How finely curved primitives are tessellated.
@@ -184,6 +244,8 @@ impl Scene {
         self.tags.clear();
         self.polylines.clear();
         self.polygons.clear();
+        self.blocks.clear();
+        self.shapes2d.clear();
     }
 
     /// The id of tag `name`, interning it on first use.
@@ -206,7 +268,11 @@ impl Scene {
 
     /// Whether nothing was emitted.
     pub fn is_empty(&self) -> bool {
-        self.instances.is_empty() && self.polylines.is_empty() && self.polygons.is_empty()
+        self.instances.is_empty()
+            && self.polylines.is_empty()
+            && self.polygons.is_empty()
+            && self.blocks.iter().all(|g| g.set_count() == 0)
+            && self.shapes2d.is_empty()
     }
 
     /// Calls `f(triangle, tag)` for every triangle of every instance and

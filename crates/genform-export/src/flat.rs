@@ -10,10 +10,12 @@ use resvg::{tiny_skia, usvg};
 const MIN_STROKE_PX: f32 = 1.5;
 
 /// Whether the scene is a non-empty drawing in the z = 0 plane with nothing
-/// solid in it: no instances, every polyline and polygon point at z = 0.
+/// solid in it: no instances, every polyline and polygon point at z = 0
+/// (2D shapes are always flat).
 pub(crate) fn is_flat(scene: &Scene) -> bool {
-    !scene.is_empty()
+    (!scene.is_empty() || !scene.shapes2d.is_empty())
         && scene.instances.is_empty()
+        && scene.blocks.is_empty()
         && scene.polylines.iter().flat_map(|l| &l.points).all(|p| p.z == 0.0)
         && scene.polygons.iter().flat_map(|p| &p.points).all(|p| p.z == 0.0)
 }
@@ -33,7 +35,8 @@ pub(crate) fn render_rgb(
     // The drawing's width in the image, so the stroke floor is in pixels.
     let fitted = (width as f32).min(height as f32 * drawing.aspect());
     let opts = SvgOptions { width_px: fitted.round().max(1.0) as u32, min_stroke_px: MIN_STROKE_PX, background: None };
-    let svg = drawing.write(scene, &opts);
+    // Sized in pixels even for a drawing that is otherwise in centimetres.
+    let svg = drawing.write_sized(scene, &opts, false);
     let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).ok()?;
     let size = tree.size();
     let k = (width as f32 / size.width()).min(height as f32 / size.height());
@@ -102,6 +105,33 @@ mod tests {
         for (x, y) in [(0, 0), (199, 0), (0, 199), (199, 199), (100, 60), (100, 160), (196, 124)] {
             assert_eq!(px(x, y), [255; 3], "({x}, {y})");
         }
+    }
+
+    #[test]
+    fn shape_drawings_render_through_resvg() {
+        use genform_core::scene::{Shape2d, Shape2dKind};
+        use glam::Vec2;
+        let mut s = Scene::new();
+        let tag = s.tag("wall");
+        let rect = |min: Vec2, fill: &str| Shape2d {
+            kind: Shape2dKind::Rect { min, size: Vec2::splat(1.0) },
+            attributes: vec![("fill".into(), fill.into())],
+            tag,
+        };
+        // Red lower left, blue upper right (y up).
+        s.shapes2d.push(rect(Vec2::ZERO, "#ff0000"));
+        s.shapes2d.push(rect(Vec2::ONE, "#0000ff"));
+        assert!(is_flat(&s));
+        let render = RenderOptions { width: 100, height: 100, background: [255; 3], camera: None };
+        let bytes = export(&s, Format::Png, &ExportOptions { render, ..Default::default() }).unwrap();
+        let (rgb, w, _) = decode(&bytes);
+        let px = |x: u32, y: u32| {
+            let i = 3 * (y * w + x) as usize;
+            [rgb[i], rgb[i + 1], rgb[i + 2]]
+        };
+        assert_eq!(px(25, 75), [255, 0, 0]);
+        assert_eq!(px(75, 25), [0, 0, 255]);
+        assert_eq!(px(75, 75), [255, 255, 255]);
     }
 
     #[test]

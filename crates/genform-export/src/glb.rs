@@ -1,8 +1,10 @@
 //! Binary glTF 2.0 (GLB).
 
+use crate::minecraft::{block_color, block_meshes};
 use crate::palette::{srgb_to_linear, tag_color};
 use crate::shapes::{Shapes, tag_name};
 use crate::stl::face_normal;
+use genform_core::blocks::BlockState;
 use genform_core::scene::{Scene, TagId, Tessellation, triangulate_polygon};
 use glam::{Affine3A, DMat4, Mat4, Vec3};
 use serde_json::{Map, Value, json};
@@ -34,6 +36,11 @@ const MODE_LINES: u32 = 1;
 ///   (stroke widths are not kept).
 /// - One material per tag: base color from [`crate::tag_color`] (converted to
 ///   linear), metallic 0, roughness 0.8.
+/// - Block grids ([`Scene::blocks`]) as greedy meshes
+///   ([`crate::minecraft::mesh_blocks`]) in world space: one mesh and node
+///   per block state, named by the state (`minecraft:oak_stairs[facing=east]`);
+///   one material per block id, named by the id, coloured by
+///   [`crate::minecraft::block_color`].
 ///
 /// # Panics
 ///
@@ -103,6 +110,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     }
     doc.world_mesh(scene, "polygons", &polygons, true);
     doc.polylines(scene);
+    doc.blocks(scene);
     doc.finish()
 }
 
@@ -162,6 +170,7 @@ struct Doc {
     nodes: Vec<Value>,
     materials: Vec<Value>,
     material_of: HashMap<(TagId, bool), usize>,
+    block_material_of: HashMap<String, usize>,
 }
 
 impl Doc {
@@ -293,6 +302,40 @@ impl Doc {
             prims.push(json!({"attributes": {"POSITION": pos}, "mode": MODE_LINES, "material": material}));
         }
         self.named_mesh_node("polylines", prims);
+    }
+
+    /// The block grids: one mesh and node per block state.
+    fn blocks(&mut self, scene: &Scene) {
+        for m in block_meshes(scene) {
+            if m.mesh.triangles.is_empty() {
+                continue;
+            }
+            let pos = self.vec3(&m.mesh.positions, true);
+            let nrm = self.vec3(&m.normals, false);
+            let flat: Vec<u32> = m.mesh.triangles.iter().flatten().copied().collect();
+            let idx = self.indices(&flat, m.mesh.positions.len());
+            let material = self.block_material(&m.state);
+            let prim = json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material});
+            self.named_mesh_node(&m.mesh.name, vec![prim]);
+        }
+    }
+
+    /// The material of a block id (properties ignored), added on first use.
+    fn block_material(&mut self, state: &BlockState) -> usize {
+        if let Some(&m) = self.block_material_of.get(&state.name) {
+            return m;
+        }
+        let rgb = block_color(state).map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0);
+        self.materials.push(json!({
+            "name": state.name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.8,
+            },
+        }));
+        self.block_material_of.insert(state.name.clone(), self.materials.len() - 1);
+        self.materials.len() - 1
     }
 
     fn named_mesh_node(&mut self, name: &str, prims: Vec<Value>) {
@@ -489,6 +532,40 @@ mod tests {
         let m = &json["nodes"][1]["matrix"];
         let m = Mat4::from_cols_array(&std::array::from_fn(|i| m[i].as_f64().unwrap() as f32));
         assert!(m.determinant() < 0.0);
+    }
+
+    #[test]
+    fn block_grids_become_one_mesh_per_state() {
+        use genform_core::blocks::BlockGrid;
+        use glam::{IVec3, UVec3};
+        let mut s = test_scenes::boxes(1);
+        let mut g = BlockGrid::new(IVec3::new(10, 0, 0), UVec3::new(3, 2, 1));
+        for x in 10..13 {
+            g.set(IVec3::new(x, 0, 0), &BlockState::new("stone"));
+        }
+        g.set(IVec3::new(10, 1, 0), &BlockState::parse("oak_stairs[facing=east]").unwrap());
+        g.set(IVec3::new(11, 1, 0), &BlockState::parse("oak_stairs[facing=west]").unwrap());
+        g.set(IVec3::new(12, 1, 0), &BlockState::air());
+        s.blocks.push(g);
+        let (json, bin) = parse(&write_glb(&s, Tessellation::default()));
+        check_accessors(&json, &bin);
+        let names: Vec<&str> = json["nodes"].as_array().unwrap().iter().map(|n| n["name"].as_str().unwrap()).collect();
+        assert_eq!(
+            names,
+            ["hull_0", "minecraft:stone", "minecraft:oak_stairs[facing=east]", "minecraft:oak_stairs[facing=west]"]
+        );
+        let mats: Vec<&str> =
+            json["materials"].as_array().unwrap().iter().map(|m| m["name"].as_str().unwrap()).collect();
+        assert_eq!(mats, ["hull", "minecraft:stone", "minecraft:oak_stairs"]);
+        // The stone bar's top is covered by (solid) stairs except under the
+        // air at x = 12. Positions lie on the grid.
+        let stone = &json["meshes"][1]["primitives"][0];
+        let pos = read_vec3(&json, &bin, stone["attributes"]["POSITION"].as_u64().unwrap() as usize);
+        assert!(pos.iter().all(|p| *p == p.round()));
+        let (lo, hi) = pos.iter().fold((pos[0], pos[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        assert_eq!((lo, hi), (Vec3::new(10.0, 0.0, 0.0), Vec3::new(13.0, 1.0, 1.0)));
+        let idx = json["accessors"][stone["indices"].as_u64().unwrap() as usize]["count"].as_u64().unwrap();
+        assert_eq!(idx, 6 * 6, "6 quads: bottom, top (only x = 12 shows), 4 sides");
     }
 
     #[test]

@@ -13,6 +13,13 @@
 //!   ([`write_svg`]).
 //! - [`Format::Png`]: a preview image ([`render_png`]): flat drawings through
 //!   the SVG writer and resvg, everything else by a software rasterizer.
+//! - [`Format::Schem`], [`Format::Litematic`], [`Format::Vox`]: the scene's
+//!   block grids ([`Scene::blocks`]) as a Sponge schematic, a Litematica
+//!   schematic or a MagicaVoxel model ([`minecraft`]).
+//!
+//! Block grids are drawn by OBJ, GLB, PLY, STL and PNG as greedy meshes
+//! (one mesh per block state); region files are read and written by
+//! [`minecraft::read_terrain`] and [`minecraft::write_region`].
 //!
 //! All output is deterministic: the same scene gives the same bytes.
 //! [`export`] checks the scene first (missing mesh assets, non-finite
@@ -24,6 +31,7 @@
 mod flat;
 mod glb;
 pub mod import;
+pub mod minecraft;
 mod obj;
 mod palette;
 pub mod plot;
@@ -65,11 +73,27 @@ pub enum Format {
     Png,
     /// An orthographic line drawing (`.svg`).
     Svg,
+    /// A Sponge schematic of the block grids (`.schem`).
+    Schem,
+    /// A Litematica schematic of the block grids (`.litematic`).
+    Litematic,
+    /// A MagicaVoxel model of the block grids (`.vox`).
+    Vox,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::extensions`].
-    pub const ALL: [Format; 6] = [Format::Obj, Format::Glb, Format::Ply, Format::Stl, Format::Png, Format::Svg];
+    pub const ALL: [Format; 9] = [
+        Format::Obj,
+        Format::Glb,
+        Format::Ply,
+        Format::Stl,
+        Format::Png,
+        Format::Svg,
+        Format::Schem,
+        Format::Litematic,
+        Format::Vox,
+    ];
 
     /// The format a file name asks for, from its extension (case-insensitive);
     /// `None` when the extension is missing or unknown.
@@ -79,7 +103,7 @@ impl Format {
 
     /// The known extensions, lowercase and without the dot.
     pub fn extensions() -> &'static [&'static str] {
-        &["obj", "glb", "ply", "stl", "png", "svg"]
+        &["obj", "glb", "ply", "stl", "png", "svg", "schem", "litematic", "vox"]
     }
 
     /// This format's extension, lowercase and without the dot.
@@ -91,6 +115,9 @@ impl Format {
             Format::Stl => "stl",
             Format::Png => "png",
             Format::Svg => "svg",
+            Format::Schem => "schem",
+            Format::Litematic => "litematic",
+            Format::Vox => "vox",
         }
     }
 
@@ -98,6 +125,12 @@ impl Format {
     /// refuse an empty scene.
     pub fn is_geometry(self) -> bool {
         self != Format::Png
+    }
+
+    /// Whether this format holds only block grids ([`Format::Schem`],
+    /// [`Format::Litematic`], [`Format::Vox`]).
+    pub fn is_blocks_only(self) -> bool {
+        matches!(self, Format::Schem | Format::Litematic | Format::Vox)
     }
 }
 
@@ -110,6 +143,9 @@ impl fmt::Display for Format {
             Format::Stl => "STL",
             Format::Png => "PNG",
             Format::Svg => "SVG",
+            Format::Schem => "Sponge schematic",
+            Format::Litematic => "Litematica schematic",
+            Format::Vox => "MagicaVoxel",
         })
     }
 }
@@ -136,6 +172,24 @@ pub struct ExportOptions {
     pub render: RenderOptions,
     /// Drawing settings for [`Format::Svg`].
     pub svg: SvgOptions,
+    /// Settings for the block formats.
+    pub blocks: BlockOptions,
+}
+
+/// Settings for [`Format::Schem`] and [`Format::Litematic`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockOptions {
+    /// Sponge schematic version ([`minecraft::SchemVersion::V2`] by default).
+    pub schem_version: minecraft::SchemVersion,
+    /// Minecraft DataVersion written into schematics
+    /// ([`minecraft::DATA_VERSION_1_21_1`] by default).
+    pub data_version: i32,
+}
+
+impl Default for BlockOptions {
+    fn default() -> Self {
+        BlockOptions { schem_version: minecraft::SchemVersion::V2, data_version: minecraft::DATA_VERSION_1_21_1 }
+    }
 }
 
 /// Why a scene could not be exported.
@@ -159,6 +213,9 @@ pub enum ExportError {
     /// Some coordinate is NaN or infinite (a degenerate transform upstream).
     #[error("the scene has non-finite coordinates (NaN or infinity) in {0}")]
     NonFinite(String),
+    /// A block format could not hold the blocks.
+    #[error(transparent)]
+    Blocks(#[from] minecraft::MinecraftError),
     /// The image size is zero or larger than [`MAX_IMAGE_SIDE`].
     #[error("cannot render a {width}×{height} image (each side must be 1..={max})", max = MAX_IMAGE_SIDE)]
     ImageSize {
@@ -172,10 +229,18 @@ pub enum ExportError {
 /// Writes `scene` as `format` and returns the file's bytes.
 ///
 /// Checks the scene first: every [`Primitive::Mesh`] must name a valid asset
-/// (all formats), geometry formats need at least one triangle (OBJ, GLB and
-/// SVG also accept polylines alone) and finite coordinates, and PNG needs a
-/// size within [`MAX_IMAGE_SIDE`]. An empty scene renders as a blank image.
+/// (all formats), geometry formats need at least one triangle or drawn
+/// block (OBJ, GLB and SVG also accept polylines alone; SVG does not draw
+/// blocks) and finite coordinates, and PNG needs a size within
+/// [`MAX_IMAGE_SIDE`]. An empty scene renders as a blank image.
+///
+/// The block formats write only [`Scene::blocks`] (several grids are merged
+/// into one grid over their bounding box, later grids winning where they
+/// overlap) and need at least one grid with a cell.
 pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec<u8>, ExportError> {
+    if format.is_blocks_only() {
+        return export_blocks(scene, format, &opts.blocks);
+    }
     check_meshes(scene)?;
     let tess = opts.tessellation;
     if format.is_geometry() {
@@ -194,6 +259,21 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
             }
             render::render_png_with(scene, &opts.render, tess)
         }
+        Format::Schem | Format::Litematic | Format::Vox => return export_blocks(scene, format, &opts.blocks),
+    })
+}
+
+/// [`export`] for the block formats.
+fn export_blocks(scene: &Scene, format: Format, opts: &BlockOptions) -> Result<Vec<u8>, ExportError> {
+    let grid = minecraft::merge_grids(&scene.blocks).filter(|g| g.volume() > 0);
+    let grid = grid.ok_or(ExportError::EmptyScene(format))?;
+    Ok(match format {
+        Format::Schem => minecraft::write_schem(&grid, opts.schem_version, opts.data_version)?,
+        Format::Litematic => minecraft::write_litematic(&grid, opts.data_version, "genform")?,
+        _ => minecraft::write_vox(&grid).map_err(|e| match e {
+            minecraft::MinecraftError::Empty => ExportError::EmptyScene(format),
+            e => e.into(),
+        })?,
     })
 }
 
@@ -226,6 +306,9 @@ fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(
     if !scene.polygons.iter().all(|p| p.points.iter().all(|p| p.is_finite())) {
         return Err(ExportError::NonFinite("a polygon".into()));
     }
+    if format != Format::Svg && minecraft::has_drawn_blocks(scene) {
+        triangles += 1;
+    }
     let lines = matches!(format, Format::Obj | Format::Glb | Format::Svg);
     let mut drawable_lines = false;
     if lines {
@@ -236,7 +319,10 @@ fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(
             drawable_lines |= l.points.len() >= 2;
         }
     }
-    if triangles == 0 && !drawable_lines {
+    // 2D drawing elements exist only for SVG (and PNG, which is not a
+    // geometry format).
+    let drawing = format == Format::Svg && !scene.shapes2d.is_empty();
+    if triangles == 0 && !drawable_lines && !drawing {
         return Err(ExportError::EmptyScene(format));
     }
     Ok(())
@@ -379,11 +465,57 @@ mod tests {
     }
 
     #[test]
+    fn block_scenes_export_to_block_and_mesh_formats() {
+        use genform_core::{BlockGrid, BlockState};
+        use glam::{IVec3, UVec3};
+        let opts = ExportOptions::default();
+        let mut s = Scene::new();
+        for f in [Format::Schem, Format::Litematic, Format::Vox] {
+            assert_eq!(export(&s, f, &opts), Err(ExportError::EmptyScene(f)));
+        }
+        // Only air: the block formats write it, nothing is drawn.
+        let mut air = BlockGrid::new(IVec3::ZERO, UVec3::new(2, 2, 2));
+        air.set(IVec3::ZERO, &BlockState::air());
+        s.blocks.push(air);
+        assert!(export(&s, Format::Schem, &opts).is_ok());
+        for f in [Format::Vox, Format::Obj, Format::Stl] {
+            assert_eq!(export(&s, f, &opts), Err(ExportError::EmptyScene(f)));
+        }
+        // Two grids: merged for the block formats, meshed for the others.
+        let mut g = BlockGrid::new(IVec3::new(4, 0, 0), UVec3::new(1, 1, 1));
+        g.set(IVec3::new(4, 0, 0), &BlockState::new("stone"));
+        s.blocks.push(g);
+        let schem = export(&s, Format::Schem, &opts).unwrap();
+        let back = minecraft::read_schem(&schem).unwrap();
+        assert_eq!((back.origin, back.size), (IVec3::ZERO, UVec3::new(5, 2, 2)));
+        assert_eq!(back.get(IVec3::new(4, 0, 0)).unwrap().id(), "stone");
+        let v3 = ExportOptions {
+            blocks: BlockOptions { schem_version: minecraft::SchemVersion::V3, data_version: 3337 },
+            ..opts
+        };
+        assert_ne!(export(&s, Format::Schem, &v3).unwrap(), schem);
+        let stl = export(&s, Format::Stl, &opts).unwrap();
+        assert_eq!(u32::from_le_bytes(stl[80..84].try_into().unwrap()), 12);
+        let ply = export(&s, Format::Ply, &opts).unwrap();
+        assert!(String::from_utf8_lossy(&ply[..200]).contains("element face 12"));
+        assert_eq!(export(&s, Format::Svg, &opts), Err(ExportError::EmptyScene(Format::Svg)));
+        let big = BlockGrid::new(IVec3::ZERO, UVec3::new(70_000, 1, 1));
+        s.blocks.push(big);
+        let e = export(&s, Format::Schem, &opts).unwrap_err();
+        assert!(e.to_string().contains("too large for schem"), "{e}");
+    }
+
+    #[test]
     fn every_format_exports_deterministically() {
         let s = test_scenes::mixed();
         let mut opts = ExportOptions::default();
         opts.render.width = 160;
         opts.render.height = 120;
+        let mut s = s;
+        let mut g = genform_core::BlockGrid::new(glam::IVec3::new(0, -8, 0), glam::UVec3::new(3, 2, 2));
+        g.set(glam::IVec3::new(1, -8, 1), &genform_core::BlockState::new("stone"));
+        g.set(glam::IVec3::new(2, -7, 0), &genform_core::BlockState::parse("oak_slab[type=top]").unwrap());
+        s.blocks.push(g);
         for f in Format::ALL {
             let a = export(&s, f, &opts).unwrap();
             let b = export(&s.clone(), f, &opts).unwrap();

@@ -12,7 +12,10 @@ use std::fmt::Write;
 /// space (`v` lines), then its triangles (`f`, counter-clockwise from
 /// outside, also for reflected instances). A box gives 8 vertices and 12
 /// faces. Then one object per polygon (`o <tag>_polygon<k>`, one n-gon
-/// face) and per polyline (`o <tag>_polyline<k>`, one `l` statement).
+/// face) and per polyline (`o <tag>_polyline<k>`, one `l` statement), and
+/// last one object per block state of the block grids (`o <state>`, the
+/// greedy mesh of [`crate::minecraft::mesh_blocks`], quads as two
+/// triangles).
 /// No normals, texture coordinates or materials. Numbers are printed with
 /// at most 6 decimals, trailing zeros trimmed, so the text is identical
 /// from run to run.
@@ -65,6 +68,17 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
         }
         out.push('\n');
         next += points.len();
+    }
+    for m in crate::minecraft::block_meshes(scene) {
+        let _ = writeln!(out, "o {}", m.mesh.name);
+        for &p in &m.mesh.positions {
+            vertex(&mut out, p);
+        }
+        for t in &m.mesh.triangles {
+            let [a, b, c] = t.map(|v| next + v as usize);
+            let _ = writeln!(out, "f {a} {b} {c}");
+        }
+        next += m.mesh.positions.len();
     }
     out
 }
@@ -172,6 +186,25 @@ mod tests {
         assert!(text.contains("\no roof_tile_1") || text.contains("\no roof_tile_14"));
         assert!(text.contains("\no roof_tile_polygon0\n") && text.contains("\no trunk_polyline0\n"));
         assert!(text.contains("\nl ") && text.lines().any(|l| l.starts_with("f ") && l.split(' ').count() == 5));
+    }
+
+    #[test]
+    fn block_grids_are_objects_per_state() {
+        use genform_core::blocks::{BlockGrid, BlockState};
+        use glam::{IVec3, UVec3};
+        let mut s = test_scenes::boxes(1);
+        let mut g = BlockGrid::new(IVec3::new(0, 5, 0), UVec3::new(2, 1, 1));
+        g.set(IVec3::new(0, 5, 0), &BlockState::new("stone"));
+        g.set(IVec3::new(1, 5, 0), &BlockState::new("stone"));
+        s.blocks.push(g);
+        let text = write_obj(&s, Tessellation::default());
+        assert!(text.contains("\no minecraft:stone\n"), "{text}");
+        // The box (8 vertices, 12 faces), then the bar: 6 quads.
+        assert_eq!(count(&text, "v "), 8 + 24);
+        assert_eq!(count(&text, "f "), 12 + 12);
+        assert!(text.contains("\nv 2 6 1\n"));
+        let last = text.lines().rev().find(|l| l.starts_with("f ")).unwrap();
+        assert!(last.split_whitespace().skip(1).all(|v| (9..=32).contains(&v.parse::<usize>().unwrap())));
     }
 
     #[test]

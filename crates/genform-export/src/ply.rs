@@ -1,8 +1,10 @@
 //! Binary little-endian PLY.
 
 use genform_core::scene::{Scene, Tessellation};
+use glam::Vec3;
 
-/// Writes every triangle of `scene` (instances and polygons, in world space)
+/// Writes every triangle of `scene` (instances, polygons and block-grid
+/// meshes, in world space)
 /// as a binary little-endian PLY 1.0 file.
 ///
 /// The header declares `element vertex N` with `float x y z` and
@@ -17,14 +19,16 @@ use genform_core::scene::{Scene, Tessellation};
 pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let mut verts: Vec<u8> = Vec::new();
     let mut faces = 0usize;
-    scene.for_each_triangle(tess, |t, _| {
+    let mut add = |t: [Vec3; 3]| {
         for p in t {
             for c in p.to_array() {
                 verts.extend_from_slice(&c.to_le_bytes());
             }
         }
         faces += 1;
-    });
+    };
+    scene.for_each_triangle(tess, |t, _| add(t));
+    crate::minecraft::for_each_block_triangle(scene, |t, _| add(t));
     let header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment genform\nelement vertex {}\n\
          property float x\nproperty float y\nproperty float z\nelement face {faces}\n\

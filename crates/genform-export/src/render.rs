@@ -1,5 +1,6 @@
 //! A small software rasterizer for PNG previews.
 
+use crate::minecraft::{block_color, block_meshes};
 use crate::palette::{linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
 use genform_core::scene::{Primitive, Scene, Tessellation, triangulate_polygon};
@@ -79,7 +80,8 @@ impl Default for RenderOptions {
 /// Built-in primitives are closed, so their back faces are culled; mesh
 /// assets and polygons are two-sided, lit from whichever side faces the
 /// camera. Polylines are drawn as lines of their stroke width (at least one
-/// pixel). With no camera given, the view is a [`Camera::fit_aspect`] 3/4
+/// pixel). Block grids are drawn as their greedy meshes, each block in its
+/// [`crate::minecraft::block_color`]. With no camera given, the view is a [`Camera::fit_aspect`] 3/4
 /// view tightened to the actual geometry.
 ///
 /// A flat drawing (no instances, every point at z = 0, such as a 2D
@@ -124,7 +126,7 @@ pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
     }
     let ss = if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 };
     let mut r = Raster::new(w as usize * ss, h as usize * ss, pack(opts.background));
-    if !scene.is_empty() {
+    if !scene.is_empty() || !scene.blocks.is_empty() {
         draw_scene(&mut r, scene, opts.camera, tess, ss);
     }
     (r.downsample(ss, w as usize, h as usize), w, h)
@@ -134,10 +136,12 @@ pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
 /// side).
 fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tessellation, ss: usize) {
     let shapes = Shapes::new(scene, tess);
+    let blocks = block_meshes(scene);
     let camera = camera.unwrap_or_else(|| {
         let aspect = r.w as f32 / r.h as f32;
         let mut pts = Vec::new();
         finite_points(scene, &shapes, |p| pts.push(p));
+        pts.extend(blocks.iter().flat_map(|m| m.mesh.positions.iter().copied()));
         let b = pts
             .iter()
             .fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
@@ -167,6 +171,15 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
             let [a, b, c] = t.map(|v| &verts[v as usize]);
             let (b, c) = if flip { (c, b) } else { (b, c) };
             view.draw(r, [a, b, c], color, closed);
+        }
+    }
+    // Block meshes are closed where seen from outside: cull back faces.
+    for m in &blocks {
+        let color = block_color(&m.state).map(srgb_to_linear);
+        verts.clear();
+        verts.extend(m.mesh.positions.iter().map(|&p| view.vertex(p)));
+        for t in &m.mesh.triangles {
+            view.draw(r, t.map(|v| &verts[v as usize]), color, true);
         }
     }
     for poly in &scene.polygons {
@@ -617,6 +630,28 @@ mod tests {
         // Degenerate bounds still give a usable camera.
         let p = Camera::fit((Vec3::ONE, Vec3::ONE));
         assert!(p.radius > 0.0 && p.radius.is_finite());
+    }
+
+    #[test]
+    fn block_grids_are_drawn() {
+        use genform_core::blocks::{BlockGrid, BlockState};
+        use glam::{IVec3, UVec3};
+        let mut s = Scene::new();
+        let mut g = BlockGrid::new(IVec3::new(100, 60, -40), UVec3::new(8, 4, 8));
+        for (p, _) in (0..256).map(|i| (IVec3::new(100 + i % 8, 60 + i / 64, -40 + (i / 8) % 8), ())) {
+            g.set(p, &BlockState::new(if p.y == 63 { "grass_block" } else { "dirt" }));
+        }
+        s.blocks.push(g);
+        let opts = RenderOptions { width: 120, height: 90, ..Default::default() };
+        let (rgb, w, h) = render_rgb(&s, &opts);
+        // Auto-fitted: the block in the middle, background in the corners.
+        let mid = pixel(&rgb, w, w / 2, h / 2);
+        assert_ne!(mid, opts.background);
+        assert_eq!(pixel(&rgb, w, 0, 0), opts.background);
+        // Seen from above the grass top is green-dominant.
+        let greenish =
+            rgb.chunks(3).filter(|c| c[1] as u32 > c[0] as u32 + 20 && c[1] as u32 > c[2] as u32 + 20).count();
+        assert!(greenish > 200, "{greenish} green pixels");
     }
 
     #[test]

@@ -3,7 +3,8 @@
 use genform_core::scene::{Scene, Tessellation};
 use glam::Vec3;
 
-/// Writes every triangle of `scene` (instances and polygons, in world space)
+/// Writes every triangle of `scene` (instances, polygons and block-grid
+/// meshes, in world space)
 /// as binary STL.
 ///
 /// An 80-byte header starting with `genform` (zero padded), the triangle
@@ -19,7 +20,7 @@ pub fn write_stl(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let mut out = vec![0u8; 84];
     out[..7].copy_from_slice(b"genform");
     let mut count = 0u32;
-    scene.for_each_triangle(tess, |t, _| {
+    let mut add = |t: [Vec3; 3]| {
         let n = face_normal(t);
         for v in [n, t[0], t[1], t[2]] {
             for c in v.to_array() {
@@ -28,7 +29,9 @@ pub fn write_stl(scene: &Scene, tess: Tessellation) -> Vec<u8> {
         }
         out.extend_from_slice(&[0, 0]);
         count += 1;
-    });
+    };
+    scene.for_each_triangle(tess, |t, _| add(t));
+    crate::minecraft::for_each_block_triangle(scene, |t, _| add(t));
     out[80..84].copy_from_slice(&count.to_le_bytes());
     out
 }

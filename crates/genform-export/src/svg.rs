@@ -2,7 +2,7 @@
 
 use crate::palette::tag_color;
 use crate::shapes::Shapes;
-use genform_core::scene::{Primitive, Scene, TagId, Tessellation};
+use genform_core::scene::{Primitive, Scene, Shape2d, Shape2dKind, TagId, Tessellation};
 use glam::Vec2;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -38,9 +38,15 @@ impl Default for SvgOptions {
 /// then polygons (one filled `<polygon>` each), then polylines (stroked
 /// `<path>`s with round caps and joins, consecutive polylines with the same
 /// tag and stroke width sharing one element), each in scene order, so strokes
-/// stay on top. A stroke is its polyline's width in scene units, never
+/// stay on top, and last the 2D shapes ([`Scene::shapes2d`]) in order, one
+/// element each (`<line>`, `<circle>`, `<rect>`, `<path>`, `<image>`) with
+/// their own attributes (a shape with neither `fill` nor `stroke` gets its
+/// tag's colour). A stroke is its polyline's width in scene units, never
 /// thinner than [`SvgOptions::min_stroke_px`]. Colours are [`tag_color`]s.
 /// There is no depth sorting: it is a line-drawing view, not a renderer.
+///
+/// A scene of 2D shapes only is sized in centimetres, 1 unit = 1 cm
+/// (`width="12.5cm"`); any other drawing is [`SvgOptions::width_px`] wide.
 ///
 /// Numbers have a fixed number of decimals, chosen so that about 10⁴–10⁵
 /// steps span the drawing; the same scene gives the same bytes. Non-finite
@@ -66,6 +72,8 @@ pub(crate) struct Drawing {
     size: Vec2,
     /// Decimals of every coordinate written.
     decimals: usize,
+    /// Whether the drawing is only 2D shapes, written at 1 unit = 1 cm.
+    physical: bool,
 }
 
 impl Drawing {
@@ -81,6 +89,9 @@ impl Drawing {
             let half = if line.width.is_finite() { 0.5 * line.width.max(0.0) } else { 0.0 };
             line.points.iter().for_each(|p| bounds.add(p.truncate(), half));
         }
+        for shape in &scene.shapes2d {
+            shapes2d::bounds(shape, &mut |p, r| bounds.add(p, r));
+        }
         let (lo, hi) = match (bounds.lo, bounds.hi) {
             (Some(lo), Some(hi)) => (lo, hi),
             _ => (Vec2::ZERO, Vec2::ZERO),
@@ -92,7 +103,11 @@ impl Drawing {
         let origin = Vec2::new(lo.x - margin, -hi.y - margin);
         let size = (hi - lo) + Vec2::splat(2.0 * margin);
         let decimals = (4 - size.max_element().log10().floor() as i32).clamp(0, 12) as usize;
-        Drawing { fills, origin, size, decimals }
+        let physical = !scene.shapes2d.is_empty()
+            && scene.instances.is_empty()
+            && scene.polylines.is_empty()
+            && scene.polygons.is_empty();
+        Drawing { fills, origin, size, decimals, physical }
     }
 
     /// The view box's width over its height.
@@ -100,13 +115,28 @@ impl Drawing {
         self.size.x / self.size.y
     }
 
-    /// The SVG text.
+    /// The SVG text: sized in centimetres (1 unit = 1 cm) when the scene
+    /// holds only 2D shapes, else in pixels.
     pub(crate) fn write(&self, scene: &Scene, opts: &SvgOptions) -> String {
+        self.write_sized(scene, opts, self.physical)
+    }
+
+    /// The SVG text, sized in centimetres when `physical`, else
+    /// `opts.width_px` wide.
+    pub(crate) fn write_sized(&self, scene: &Scene, opts: &SvgOptions, physical: bool) -> String {
         let mut w = Writer { out: String::new(), decimals: self.decimals };
         let width_px = opts.width_px.max(1);
         let height_px = ((width_px as f32 / self.aspect()).round() as u32).max(1);
         w.out.push_str("<svg xmlns=\"http://www.w3.org/2000/svg\"");
-        let _ = write!(w.out, " width=\"{width_px}\" height=\"{height_px}\" viewBox=\"");
+        if physical {
+            w.out.push_str(" width=\"");
+            w.num(self.size.x);
+            w.out.push_str("cm\" height=\"");
+            w.num(self.size.y);
+            w.out.push_str("cm\" viewBox=\"");
+        } else {
+            let _ = write!(w.out, " width=\"{width_px}\" height=\"{height_px}\" viewBox=\"");
+        }
         w.point(self.origin);
         w.out.push(' ');
         w.point(self.size);
@@ -175,6 +205,10 @@ impl Drawing {
         }
         if open.is_some() {
             w.out.push_str("\"/>\n");
+        }
+        for shape in &scene.shapes2d {
+            let default = scene.tags.get(shape.tag as usize).map_or([0; 3], |t| tag_color(t));
+            shapes2d::write(&mut w, shape, &hex(default));
         }
         w.out.push_str("</svg>\n");
         w.out
@@ -301,11 +335,270 @@ impl Writer {
     }
 }
 
+/// 2D shapes: their extent and their SVG elements.
+mod shapes2d {
+    use super::{Shape2d, Shape2dKind, Vec2, Writer, flip};
+    use std::fmt::Write;
+
+    /// The value of presentation attribute `name`.
+    fn attr<'a>(shape: &'a Shape2d, name: &str) -> Option<&'a str> {
+        shape.attributes.iter().find(|(n, _)| n == name).map(|(_, v)| v.as_str())
+    }
+
+    /// Half the stroke width, when the shape is stroked.
+    fn half_stroke(shape: &Shape2d) -> f32 {
+        if attr(shape, "stroke").is_none_or(|s| s == "none") {
+            return 0.0;
+        }
+        let w = attr(shape, "stroke-width").and_then(|w| w.trim().parse::<f32>().ok()).unwrap_or(1.0);
+        if w.is_finite() { 0.5 * w.max(0.0) } else { 0.0 }
+    }
+
+    fn finite(shape: &Shape2d) -> bool {
+        match &shape.kind {
+            Shape2dKind::Line { from, to } => from.is_finite() && to.is_finite(),
+            Shape2dKind::Circle { center, radius } => center.is_finite() && radius.is_finite(),
+            Shape2dKind::Rect { min, size } | Shape2dKind::Image { min, size, .. } => {
+                min.is_finite() && size.is_finite()
+            }
+            Shape2dKind::Path { d } => path_points(d).iter().all(|p| p.is_finite()),
+        }
+    }
+
+    /// Calls `add(point, radius)` for points whose discs cover the shape.
+    pub(super) fn bounds(shape: &Shape2d, add: &mut dyn FnMut(Vec2, f32)) {
+        if !finite(shape) {
+            return;
+        }
+        let h = half_stroke(shape);
+        match &shape.kind {
+            Shape2dKind::Line { from, to } => {
+                add(*from, h);
+                add(*to, h);
+            }
+            Shape2dKind::Circle { center, radius } => add(*center, radius.abs() + h),
+            Shape2dKind::Rect { min, size } | Shape2dKind::Image { min, size, .. } => {
+                add(*min, h);
+                add(*min + *size, h);
+            }
+            Shape2dKind::Path { d } => path_points(d).into_iter().for_each(|p| add(p, h)),
+        }
+    }
+
+    fn escape(s: &str) -> String {
+        s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    }
+
+    fn valid_name(n: &str) -> bool {
+        !n.is_empty() && n.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | ':' | '.'))
+    }
+
+    /// Writes one shape; `color` stands in when it has neither fill nor
+    /// stroke.
+    pub(super) fn write(w: &mut Writer, shape: &Shape2d, color: &str) {
+        if !finite(shape) {
+            return;
+        }
+        let open_line = matches!(shape.kind, Shape2dKind::Line { .. } | Shape2dKind::Path { .. });
+        match &shape.kind {
+            Shape2dKind::Line { from, to } => {
+                let (a, b) = (flip(*from), flip(*to));
+                w.out.push_str("<line x1=\"");
+                w.num(a.x);
+                w.out.push_str("\" y1=\"");
+                w.num(a.y);
+                w.out.push_str("\" x2=\"");
+                w.num(b.x);
+                w.out.push_str("\" y2=\"");
+                w.num(b.y);
+                w.out.push('"');
+            }
+            Shape2dKind::Circle { center, radius } => {
+                let c = flip(*center);
+                w.out.push_str("<circle cx=\"");
+                w.num(c.x);
+                w.out.push_str("\" cy=\"");
+                w.num(c.y);
+                w.out.push_str("\" r=\"");
+                w.num(radius.abs());
+                w.out.push('"');
+            }
+            Shape2dKind::Rect { min, size } | Shape2dKind::Image { min, size, .. } => {
+                let image = matches!(shape.kind, Shape2dKind::Image { .. });
+                w.out.push_str(if image { "<image" } else { "<rect" });
+                if let Shape2dKind::Image { href, .. } = &shape.kind {
+                    let _ = write!(w.out, " href=\"{}\" preserveAspectRatio=\"none\"", escape(href));
+                }
+                // The top edge in SVG's y-down frame.
+                w.out.push_str(" x=\"");
+                w.num(min.x);
+                w.out.push_str("\" y=\"");
+                w.num(-(min.y + size.y));
+                w.out.push_str("\" width=\"");
+                w.num(size.x.abs());
+                w.out.push_str("\" height=\"");
+                w.num(size.y.abs());
+                w.out.push('"');
+            }
+            Shape2dKind::Path { d } => {
+                // Path data stays in scene coordinates; the transform flips y.
+                let _ = write!(w.out, "<path transform=\"scale(1 -1)\" d=\"{}\"", escape(d));
+            }
+        }
+        let has = |n: &str| attr(shape, n).is_some();
+        if !has("fill") && !has("stroke") {
+            if open_line {
+                let _ = write!(w.out, " fill=\"none\" stroke=\"{color}\"");
+            } else {
+                let _ = write!(w.out, " fill=\"{color}\"");
+            }
+        }
+        for (n, v) in &shape.attributes {
+            if valid_name(n) {
+                let _ = write!(w.out, " {n}=\"{}\"", escape(v));
+            }
+        }
+        w.out.push_str("/>\n");
+    }
+
+    /// The points an SVG path visits, control points included (arcs add
+    /// their end points widened by their radii): a box around them covers
+    /// the path. Relative commands are resolved; malformed data ends the
+    /// list where it breaks.
+    pub(super) fn path_points(d: &str) -> Vec<Vec2> {
+        let mut t = Tokens { s: d.as_bytes(), i: 0 };
+        let mut out = Vec::new();
+        let (mut cur, mut start) = (Vec2::ZERO, Vec2::ZERO);
+        // Path data must start with a command.
+        let mut cmd = b'?';
+        loop {
+            t.skip();
+            let Some(&c) = t.s.get(t.i) else { break };
+            if c.is_ascii_alphabetic() {
+                cmd = c;
+                t.i += 1;
+                if matches!(cmd, b'Z' | b'z') {
+                    cur = start;
+                    continue;
+                }
+            } else if matches!(cmd, b'Z' | b'z') {
+                break;
+            }
+            let rel = cmd.is_ascii_lowercase();
+            let base = if rel { cur } else { Vec2::ZERO };
+            let pt = |t: &mut Tokens| -> Option<Vec2> { Some(base + Vec2::new(t.num()?, t.num()?)) };
+            let ok = match cmd.to_ascii_uppercase() {
+                b'M' | b'L' | b'T' => pt(&mut t).map(|p| {
+                    out.push(p);
+                    if cmd.eq_ignore_ascii_case(&b'M') {
+                        start = p;
+                        // Later pairs of a moveto are linetos.
+                        cmd = if rel { b'l' } else { b'L' };
+                    }
+                    cur = p;
+                }),
+                b'H' => t.num().map(|x| {
+                    cur.x = if rel { cur.x + x } else { x };
+                    out.push(cur);
+                }),
+                b'V' => t.num().map(|y| {
+                    cur.y = if rel { cur.y + y } else { y };
+                    out.push(cur);
+                }),
+                b'C' => (|| {
+                    let (a, b, c) = (pt(&mut t)?, pt(&mut t)?, pt(&mut t)?);
+                    out.extend([a, b, c]);
+                    cur = c;
+                    Some(())
+                })(),
+                b'S' | b'Q' => (|| {
+                    let (a, b) = (pt(&mut t)?, pt(&mut t)?);
+                    out.extend([a, b]);
+                    cur = b;
+                    Some(())
+                })(),
+                b'A' => (|| {
+                    let (rx, ry) = (t.num()?.abs(), t.num()?.abs());
+                    let _rotation = t.num()?;
+                    let (_large, _sweep) = (t.flag()?, t.flag()?);
+                    let end = base + Vec2::new(t.num()?, t.num()?);
+                    let r = Vec2::new(rx, ry).max_element();
+                    for p in [cur, end] {
+                        out.extend([p - Vec2::splat(r), p + Vec2::splat(r)]);
+                    }
+                    out.push(end);
+                    cur = end;
+                    Some(())
+                })(),
+                _ => None,
+            };
+            if ok.is_none() {
+                break;
+            }
+        }
+        out
+    }
+
+    struct Tokens<'a> {
+        s: &'a [u8],
+        i: usize,
+    }
+
+    impl Tokens<'_> {
+        fn skip(&mut self) {
+            while self.s.get(self.i).is_some_and(|c| c.is_ascii_whitespace() || *c == b',') {
+                self.i += 1;
+            }
+        }
+
+        fn num(&mut self) -> Option<f32> {
+            self.skip();
+            let start = self.i;
+            let s = self.s;
+            let mut j = self.i;
+            if j < s.len() && matches!(s[j], b'+' | b'-') {
+                j += 1;
+            }
+            let mut dot = false;
+            while j < s.len() && (s[j].is_ascii_digit() || (s[j] == b'.' && !dot)) {
+                dot |= s[j] == b'.';
+                j += 1;
+            }
+            if j < s.len() && matches!(s[j], b'e' | b'E') {
+                let mut k = j + 1;
+                if k < s.len() && matches!(s[k], b'+' | b'-') {
+                    k += 1;
+                }
+                if k < s.len() && s[k].is_ascii_digit() {
+                    while k < s.len() && s[k].is_ascii_digit() {
+                        k += 1;
+                    }
+                    j = k;
+                }
+            }
+            let v = std::str::from_utf8(&s[start..j]).ok()?.parse().ok()?;
+            self.i = j;
+            Some(v)
+        }
+
+        fn flag(&mut self) -> Option<bool> {
+            self.skip();
+            let c = *self.s.get(self.i)?;
+            self.i += 1;
+            match c {
+                b'0' => Some(false),
+                b'1' => Some(true),
+                _ => None,
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::{ExportError, ExportOptions, Format, export, test_scenes};
-    use genform_core::scene::{Instance, Polygon, Polyline};
+    use genform_core::scene::{Instance, Polygon, Polyline, Shape2d, Shape2dKind};
     use glam::{Affine3A, Vec3};
 
     fn line(points: &[(f32, f32)], width: f32, tag: TagId) -> Polyline {
@@ -423,6 +716,84 @@ mod tests {
         s.polygons.push(Polygon { points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 5.0)).collect(), tag });
         let svg = write_svg(&s, &SvgOptions::default());
         assert!(svg.contains("<polygon fill=\"#3a7d23\" points=\"0 0 2 0 2 -1 1 -1 1 -2 0 -2\"/>"), "{svg}");
+    }
+
+    fn shape(kind: Shape2dKind, attributes: &[(&str, &str)], tag: TagId) -> Shape2d {
+        Shape2d { kind, attributes: attributes.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(), tag }
+    }
+
+    #[test]
+    fn shapes2d_are_drawn_in_centimetres_with_y_up() {
+        use glam::Vec2;
+        let mut s = Scene::new();
+        let (ink, leaf) = (s.tag("ink"), s.tag("leaf#3a7d23"));
+        s.shapes2d.push(shape(
+            Shape2dKind::Line { from: Vec2::ZERO, to: Vec2::new(10.0, 0.0) },
+            &[("stroke", "#000"), ("stroke-width", "1")],
+            ink,
+        ));
+        s.shapes2d.push(shape(Shape2dKind::Circle { center: Vec2::new(2.0, 3.0), radius: 1.0 }, &[], leaf));
+        s.shapes2d.push(shape(
+            Shape2dKind::Rect { min: Vec2::new(4.0, 1.0), size: Vec2::new(2.0, 3.0) },
+            &[("fill", "red"), ("bad name", "x"), ("title", "a<b&\"c\"")],
+            ink,
+        ));
+        s.shapes2d.push(shape(Shape2dKind::Path { d: "M 0 0 Q 5 10 10 0".into() }, &[], ink));
+        s.shapes2d.push(shape(
+            Shape2dKind::Image { href: "brush.png".into(), min: Vec2::new(8.0, 2.0), size: Vec2::new(1.0, 1.0) },
+            &[],
+            ink,
+        ));
+        let svg = write_svg(&s, &SvgOptions::default());
+        // x ∈ [−0.5, 10.5] (the line's ends widened by half its stroke), y ∈
+        // [−0.5, 10] (stroke, path control point): extent 11, margin 0.33.
+        assert_eq!((attr(&svg, "width"), attr(&svg, "height")), ("11.66cm", "11.16cm"));
+        assert_eq!(attr(&svg, "viewBox"), "-0.83 -10.33 11.66 11.16");
+        let lines: Vec<&str> = svg.lines().collect();
+        assert_eq!(lines[2], "<line x1=\"0\" y1=\"0\" x2=\"10\" y2=\"0\" stroke=\"#000\" stroke-width=\"1\"/>");
+        assert_eq!(
+            lines[3],
+            format!("<circle cx=\"2\" cy=\"-3\" r=\"1\" fill=\"{}\"/>", hex(tag_color("leaf#3a7d23")))
+        );
+        assert_eq!(
+            lines[4],
+            "<rect x=\"4\" y=\"-4\" width=\"2\" height=\"3\" fill=\"red\" title=\"a&lt;b&amp;&quot;c&quot;\"/>"
+        );
+        assert!(
+            lines[5].starts_with("<path transform=\"scale(1 -1)\" d=\"M 0 0 Q 5 10 10 0\" fill=\"none\" stroke="),
+            "{}",
+            lines[5]
+        );
+        assert!(
+            lines[6].starts_with("<image href=\"brush.png\" preserveAspectRatio=\"none\" x=\"8\" y=\"-3\""),
+            "{}",
+            lines[6]
+        );
+        resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default()).unwrap();
+        // With anything else in the scene the drawing keeps pixel sizes.
+        s.polylines.push(line(&[(0.0, 0.0), (1.0, 1.0)], 0.0, ink));
+        assert_eq!(attr(&write_svg(&s, &SvgOptions::default()), "width"), "1000");
+        // Non-finite shapes are left out.
+        let mut bad = Scene::new();
+        bad.shapes2d.push(shape(Shape2dKind::Circle { center: Vec2::NAN, radius: 1.0 }, &[], ink));
+        assert!(!write_svg(&bad, &SvgOptions::default()).contains("<circle"));
+    }
+
+    #[test]
+    fn path_points_cover_every_command() {
+        use glam::Vec2;
+        let pts = shapes2d::path_points(
+            "M1,2 L3 4 h2 v-1 l1 1 Q 0 0 1 1 t 1 1 C 1 2 3 4 5 6 s 1 1 2 2 A 1 1 0 0 1 9 9 m1-1 z L 0 0",
+        );
+        let v = |x: f32, y: f32| Vec2::new(x, y);
+        assert_eq!(&pts[..6], &[v(1.0, 2.0), v(3.0, 4.0), v(5.0, 4.0), v(5.0, 3.0), v(6.0, 4.0), v(0.0, 0.0)]);
+        // The arc's end widened by its radius; relative moveto after it.
+        assert!(pts.contains(&v(10.0, 10.0)) && pts.contains(&v(10.0, 8.0)), "{pts:?}");
+        assert_eq!(pts.last(), Some(&v(0.0, 0.0)));
+        // Broken data stops the list where it breaks.
+        assert_eq!(shapes2d::path_points("M 1 2 L 3 x 4"), [v(1.0, 2.0)]);
+        assert_eq!(shapes2d::path_points("1 2 L 3 4"), Vec::<Vec2>::new(), "data starts with a command");
+        assert!(!shapes2d::path_points("M 1e400 2")[0].is_finite());
     }
 
     #[test]

@@ -48,6 +48,12 @@ builtins!(F2, 2, { "atan2" => Atan2, "min" => Min, "max" => Max, "pow" => Pow, "
 builtins!(F3, 3, { "clamp" => Clamp, "mix" => Mix, "lerp" => Lerp, "smoothstep" => Smoothstep, "smootherstep" => Smootherstep, "if" => If });
 builtins!(RandOp, 2, { "uniform" => Uniform, "normal" => Normal, "rand" => Rand });
 
+/// Whether `name` is one of the random-draw functions (`uniform`, `normal`,
+/// `rand`).
+pub(crate) fn is_random_function(name: &str) -> bool {
+    RandOp::lookup(name).is_some()
+}
+
 impl F1 {
     fn apply(self, x: f64) -> f64 {
         match self {
@@ -392,7 +398,7 @@ impl Compiler<'_> {
     }
 }
 
-fn builtin_constant(name: &str) -> Option<f64> {
+pub(crate) fn builtin_constant(name: &str) -> Option<f64> {
     Some(match name {
         "pi" | "PI" => std::f64::consts::PI,
         "tau" => std::f64::consts::TAU,

@@ -14,6 +14,7 @@
 mod compile;
 mod lex;
 mod parse;
+pub mod vec2;
 
 pub use compile::{Arith, Operand, Program, Trivial, compile, smootherstep};
 pub use lex::skip_trivia;

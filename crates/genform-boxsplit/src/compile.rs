@@ -1,0 +1,447 @@
+//! From syntax tree to [`BoxGrammar`]: names resolved, formulas compiled,
+//! operations flattened into an arena, every problem reported.
+
+use crate::formula::Formulas;
+use crate::grammar::{AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId};
+use crate::observe::TypeTable;
+use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn};
+use genform_core::diag::{Diagnostic, SourceFile, Span};
+use genform_core::expr::did_you_mean;
+use genform_core::{BlockState, Diagnostics};
+use std::collections::HashMap;
+
+/// Compiles a `.bsg` file. Returns the grammar and its warnings, or every
+/// error found.
+pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnostics> {
+    let mut diags = Diagnostics::new(file.clone());
+    let (items, errors) = syntax::parse(&file.text);
+    if !errors.is_empty() {
+        diags.items = errors;
+        return Err(diags);
+    }
+    let mut c = Compiler {
+        file,
+        out: Vec::new(),
+        types: TypeTable::new(),
+        formulas: Formulas::default(),
+        rule_ids: HashMap::new(),
+        rule_spans: Vec::new(),
+        materials: HashMap::new(),
+        material_list: Vec::new(),
+        blocks: vec![BlockState::air()],
+        block_ids: HashMap::new(),
+        ops: Vec::new(),
+        used: Vec::new(),
+    };
+    c.block_ids.insert(BlockState::air(), AIR);
+    let grammar = c.run(&items);
+    diags.items = c.out;
+    match grammar {
+        Some(g) if !diags.has_errors() => Ok((g, diags)),
+        _ => Err(diags),
+    }
+}
+
+struct Compiler<'f> {
+    file: &'f SourceFile,
+    out: Vec<Diagnostic>,
+    types: TypeTable,
+    formulas: Formulas,
+    rule_ids: HashMap<String, RuleId>,
+    rule_spans: Vec<Span>,
+    materials: HashMap<String, u32>,
+    material_list: Vec<Material>,
+    blocks: Vec<BlockState>,
+    block_ids: HashMap<BlockState, u32>,
+    ops: Vec<Op>,
+    /// Rules each rule invokes, for reachability.
+    used: Vec<Vec<RuleId>>,
+}
+
+const LIMIT_KEYS: &[&str] = &["applications", "backtracks", "depth"];
+
+impl Compiler<'_> {
+    fn line(&self, span: Span) -> u32 {
+        self.file.line_col(span.start).0 as u32
+    }
+
+    fn run(&mut self, items: &[Item]) -> Option<BoxGrammar> {
+        let mut name = String::new();
+        let mut axiom: Option<&Ident> = None;
+        let mut limits = DeriveLimits::default();
+        let rules: Vec<&RuleSyn> =
+            items.iter().filter_map(|i| if let Item::Rule(r) = i { Some(r) } else { None }).collect();
+        for r in &rules {
+            if let Some(&prev) = self.rule_ids.get(&r.name.name) {
+                self.out.push(
+                    Diagnostic::error(r.name.span, format!("rule `{}` is defined twice", r.name.name))
+                        .with_label(self.rule_spans[prev as usize], "first defined here")
+                        .with_hint("put all alternatives of a rule in one block"),
+                );
+                continue;
+            }
+            self.rule_ids.insert(r.name.name.clone(), self.rule_spans.len() as RuleId);
+            self.rule_spans.push(r.name.span);
+        }
+        for item in items {
+            match item {
+                Item::Grammar(n, span) => {
+                    if !name.is_empty() {
+                        self.out.push(Diagnostic::error(*span, "the grammar is named twice"));
+                    }
+                    name = n.clone();
+                }
+                Item::Axiom(a) => {
+                    if let Some(prev) = axiom {
+                        self.out.push(
+                            Diagnostic::error(a.span, "the axiom is given twice").with_label(prev.span, "first here"),
+                        );
+                    }
+                    axiom = Some(a);
+                }
+                Item::Limits(list) => self.limits(list, &mut limits),
+                Item::Group(n, members) => {
+                    if self.rule_ids.contains_key(&n.name) {
+                        self.out.push(Diagnostic::error(n.span, format!("`{}` is already a rule", n.name)));
+                    }
+                    self.types.define_group(n, members, &mut self.out);
+                }
+                Item::Material(n, entries) => self.material(n, entries),
+                Item::Let(n, e) => self.formulas.define(n, e, &mut self.types, &mut self.out),
+                Item::Rule(_) => {}
+            }
+        }
+        // Rules compile in order of their ids (first definitions only).
+        let mut compiled: Vec<Option<Rule>> = vec![None; self.rule_spans.len()];
+        self.used = vec![Vec::new(); self.rule_spans.len()];
+        for r in &rules {
+            let id = self.rule_ids[&r.name.name];
+            if self.rule_spans[id as usize] != r.name.span {
+                continue;
+            }
+            compiled[id as usize] = Some(self.rule(id, r));
+        }
+        let Some(first) = rules.first() else {
+            self.out.push(
+                Diagnostic::error(Span::new(0, 0), "the grammar has no rules")
+                    .with_hint("add a rule, e.g. `House { fill oak_planks }`"),
+            );
+            return None;
+        };
+        let axiom_id = match axiom {
+            Some(a) => match self.rule_ids.get(&a.name) {
+                Some(&id) => id,
+                None => {
+                    self.unknown_rule(a);
+                    return None;
+                }
+            },
+            None => self.rule_ids[&first.name.name],
+        };
+        self.warn_unreachable(axiom_id);
+        let rules: Vec<Rule> = compiled.into_iter().collect::<Option<Vec<_>>>()?;
+        let start = self.push(Op::Rule(axiom_id));
+        Some(BoxGrammar {
+            name,
+            axiom: axiom_id,
+            start,
+            rules,
+            ops: std::mem::take(&mut self.ops),
+            blocks: std::mem::take(&mut self.blocks),
+            materials: std::mem::take(&mut self.material_list),
+            types: self.types.types.clone(),
+            slots: self.formulas.slots.clone(),
+            limits,
+        })
+    }
+
+    fn limits(&mut self, list: &[(Ident, f64, Span)], limits: &mut DeriveLimits) {
+        for (key, v, vs) in list {
+            if !LIMIT_KEYS.contains(&key.name.as_str()) {
+                let mut d = Diagnostic::error(key.span, format!("unknown limit `{}`", key.name));
+                d = match did_you_mean(&key.name, LIMIT_KEYS.iter().copied()) {
+                    Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                    None => d.with_hint("limits are `applications`, `backtracks` and `depth`"),
+                };
+                self.out.push(d);
+                continue;
+            }
+            if v.fract() != 0.0 || *v < 1.0 || *v > 1e15 {
+                self.out.push(Diagnostic::error(*vs, format!("`{}` needs a whole number of at least 1", key.name)));
+                continue;
+            }
+            match key.name.as_str() {
+                "applications" => limits.applications = *v as u64,
+                "backtracks" => limits.backtracks = *v as u64,
+                _ => limits.depth = v.min(u32::MAX as f64) as u32,
+            }
+        }
+    }
+
+    fn material(&mut self, name: &Ident, entries: &[syntax::MixEntry]) {
+        if self.materials.contains_key(&name.name) {
+            self.out.push(Diagnostic::error(name.span, format!("material `{}` is defined twice", name.name)));
+            return;
+        }
+        let mut m = Material { blocks: Vec::new(), weights: Vec::new() };
+        for e in entries {
+            if !(e.weight.is_finite() && e.weight > 0.0) {
+                self.out.push(Diagnostic::error(
+                    e.weight_span.unwrap_or(e.block.span),
+                    "a mix weight must be a positive number",
+                ));
+                continue;
+            }
+            if self.materials.contains_key(&e.block.name) {
+                self.out.push(
+                    Diagnostic::error(e.block.span, "a material cannot contain another material")
+                        .with_hint("list the blocks themselves"),
+                );
+                continue;
+            }
+            match BlockState::parse(&e.block.name) {
+                Ok(b) => {
+                    m.blocks.push(self.block(b));
+                    m.weights.push(e.weight);
+                }
+                Err(msg) => self.out.push(Diagnostic::error(e.block.span, msg)),
+            }
+        }
+        self.materials.insert(name.name.clone(), self.material_list.len() as u32);
+        self.material_list.push(m);
+    }
+
+    fn block(&mut self, b: BlockState) -> u32 {
+        if let Some(&i) = self.block_ids.get(&b) {
+            return i;
+        }
+        let i = self.blocks.len() as u32;
+        self.block_ids.insert(b.clone(), i);
+        self.blocks.push(b);
+        i
+    }
+
+    fn push(&mut self, op: Op) -> OpId {
+        self.ops.push(op);
+        (self.ops.len() - 1) as OpId
+    }
+
+    fn rule(&mut self, id: RuleId, r: &RuleSyn) -> Rule {
+        if r.alts.is_empty() {
+            self.out.push(
+                Diagnostic::error(r.name.span, format!("rule `{}` has no alternatives", r.name.name))
+                    .with_hint("add one, e.g. `{ skip }`"),
+            );
+        }
+        if r.alts.len() > u16::MAX as usize {
+            self.out.push(Diagnostic::error(r.name.span, format!("rule `{}` has too many alternatives", r.name.name)));
+        }
+        let mut alternatives = Vec::new();
+        let mut else_seen: Option<Span> = None;
+        let mut always: Option<Span> = None;
+        for a in &r.alts {
+            if let Some(alt) = self.alternative(id, a, &mut else_seen, &mut always) {
+                alternatives.push(alt);
+            }
+        }
+        if let (Some(e), Some(a)) = (else_seen, always) {
+            self.out.push(
+                Diagnostic::warning(e, "this `else` is never used")
+                    .with_label(a, "this alternative always applies")
+                    .with_hint("`else` applies only when no other alternative's condition holds"),
+            );
+        }
+        Rule { name: r.name.name.clone(), alternatives }
+    }
+
+    fn alternative(
+        &mut self,
+        id: RuleId,
+        a: &AltSyn,
+        else_seen: &mut Option<Span>,
+        always: &mut Option<Span>,
+    ) -> Option<Alternative> {
+        let guard = match &a.guard {
+            syntax::Guard::Always => {
+                always.get_or_insert(a.span);
+                Guard::Always
+            }
+            syntax::Guard::When(e) => {
+                let f = self.formulas.compile(e, &mut self.types, &mut self.out);
+                match f.as_ref().and_then(|f| f.constant) {
+                    Some(v) if v != 0.0 && !v.is_nan() => {
+                        always.get_or_insert(a.span);
+                    }
+                    Some(_) => self.out.push(Diagnostic::warning(e.span, "this condition is never true")),
+                    None => {}
+                }
+                match f {
+                    Some(f) => Guard::When(f),
+                    None => {
+                        // Still check the operation, for its own errors.
+                        self.op(id, &a.op);
+                        return None;
+                    }
+                }
+            }
+            syntax::Guard::Else => {
+                if let Some(prev) = else_seen {
+                    self.out.push(
+                        Diagnostic::error(a.span, "a rule has at most one `else`").with_label(*prev, "first `else`"),
+                    );
+                }
+                *else_seen = Some(a.span);
+                if let Some((_, ws)) = a.weight {
+                    self.out.push(Diagnostic::warning(ws, "the weight of `else` has no effect"));
+                }
+                Guard::Else
+            }
+        };
+        let weight = match a.weight {
+            Some((w, ws)) if !(w.is_finite() && w >= 0.0) => {
+                self.out.push(Diagnostic::error(ws, "a weight must be a number of at least 0"));
+                1.0
+            }
+            Some((w, _)) => w,
+            None => 1.0,
+        };
+        let op = self.op(id, &a.op)?;
+        Some(Alternative { guard, weight, op, line: self.line(a.span) })
+    }
+
+    fn op(&mut self, rule: RuleId, op: &OpSyn) -> Option<OpId> {
+        let compiled = match op {
+            OpSyn::Split { axis, sizes, repeat, round, children, span, children_span } => {
+                let mut formulas = Vec::new();
+                let mut ok = true;
+                for s in sizes {
+                    match self.formulas.compile(s, &mut self.types, &mut self.out) {
+                        Some(f) => {
+                            if f.constant.is_some_and(|v| v == 0.0 || !v.is_finite() || (v > 0.0 && v < 1.0)) {
+                                self.out.push(
+                                    Diagnostic::error(s.span, "this size makes an empty child")
+                                        .with_hint("sizes are whole blocks (positive) or relative weights (negative)"),
+                                );
+                            }
+                            formulas.push(f);
+                        }
+                        None => ok = false,
+                    }
+                }
+                if sizes.is_empty() {
+                    self.out.push(Diagnostic::error(*span, "a split needs at least one size"));
+                } else if sizes.len() != children.len() {
+                    self.out.push(
+                        Diagnostic::error(
+                            *children_span,
+                            format!(
+                                "{} size{} but {} child{}",
+                                sizes.len(),
+                                if sizes.len() == 1 { "" } else { "s" },
+                                children.len(),
+                                if children.len() == 1 { "" } else { "ren" }
+                            ),
+                        )
+                        .with_label(*span, "this split")
+                        .with_hint("give one child per size"),
+                    );
+                }
+                let kids: Vec<Option<OpId>> = children.iter().map(|c| self.op(rule, c)).collect();
+                let children: Vec<OpId> = kids.into_iter().collect::<Option<_>>()?;
+                if !ok {
+                    return None;
+                }
+                let constant = formulas.iter().map(|f| f.constant).collect::<Option<Vec<f64>>>();
+                Op::Split { axis: *axis as u8, sizes: formulas, constant, repeat: *repeat, round: *round, children }
+            }
+            OpSyn::Fill(b) => Op::Fill(self.paint(b)?),
+            OpSyn::Void => Op::Fill(Paint::Block(AIR)),
+            OpSyn::Skip => Op::Skip,
+            OpSyn::Reorient(perm, span, then) => {
+                let mut seen = [false; 3];
+                for &p in perm {
+                    seen[p] = true;
+                }
+                if seen.contains(&false) {
+                    self.out.push(
+                        Diagnostic::error(*span, "`reorient` needs each of x, y and z exactly once")
+                            .with_hint("e.g. `reorient(z, y, x)` swaps the local x and z axes"),
+                    );
+                }
+                let then = self.op(rule, then)?;
+                Op::Reorient([perm[0] as u8, perm[1] as u8, perm[2] as u8], then)
+            }
+            OpSyn::Call(name) => match self.rule_ids.get(&name.name) {
+                Some(&target) => {
+                    self.used[rule as usize].push(target);
+                    Op::Rule(target)
+                }
+                None => {
+                    self.unknown_rule(name);
+                    return None;
+                }
+            },
+        };
+        Some(self.push(compiled))
+    }
+
+    fn paint(&mut self, b: &Ident) -> Option<Paint> {
+        if let Some(&m) = self.materials.get(&b.name) {
+            return Some(Paint::Material(m));
+        }
+        match BlockState::parse(&b.name) {
+            Ok(state) => {
+                // Any id is accepted as a block; a near miss of a material
+                // is most likely a typo.
+                if !b.name.contains([':', '['])
+                    && let Some(s) = did_you_mean(&b.name, self.materials.keys().map(String::as_str))
+                {
+                    self.out.push(
+                        Diagnostic::warning(b.span, format!("`{}` is taken as the block `{state}`", b.name))
+                            .with_hint(format!("did you mean the material `{s}`?")),
+                    );
+                }
+                Some(Paint::Block(self.block(state)))
+            }
+            Err(msg) => {
+                let mut d = Diagnostic::error(b.span, format!("`{}` is neither a material nor a block: {msg}", b.name));
+                if let Some(s) = did_you_mean(&b.name, self.materials.keys().map(String::as_str)) {
+                    d = d.with_hint(format!("did you mean the material `{s}`?"));
+                }
+                self.out.push(d);
+                None
+            }
+        }
+    }
+
+    fn unknown_rule(&mut self, name: &Ident) {
+        let mut d = Diagnostic::error(name.span, format!("unknown rule `{}`", name.name));
+        if let Some(s) = did_you_mean(&name.name, self.rule_ids.keys().map(String::as_str)) {
+            d = d.with_hint(format!("did you mean `{s}`?"));
+        } else if self.materials.contains_key(&name.name) || BlockState::parse(&name.name).is_ok() {
+            d = d.with_hint(format!("to paint the block or material write `fill {}`", name.name));
+        }
+        self.out.push(d);
+    }
+
+    fn warn_unreachable(&mut self, axiom: RuleId) {
+        let mut seen = vec![false; self.rule_spans.len()];
+        let mut stack = vec![axiom];
+        while let Some(r) = stack.pop() {
+            if std::mem::replace(&mut seen[r as usize], true) {
+                continue;
+            }
+            stack.extend(self.used[r as usize].iter().copied());
+        }
+        let mut names: Vec<(&String, &RuleId)> = self.rule_ids.iter().collect();
+        names.sort_by_key(|(_, id)| **id);
+        for (name, &id) in names {
+            if !seen[id as usize] {
+                self.out.push(Diagnostic::warning(
+                    self.rule_spans[id as usize],
+                    format!("rule `{name}` is never used (not reachable from the axiom)"),
+                ));
+            }
+        }
+    }
+}

@@ -1,0 +1,140 @@
+//! The compiled grammar: rules with guarded, weighted alternatives over an
+//! arena of operations, the blocks and materials they paint with, and the
+//! block types observers look at.
+
+use crate::formula::{Formula, Observer};
+use crate::observe::BlockType;
+use crate::split::Round;
+use genform_core::BlockState;
+use serde::{Deserialize, Serialize};
+
+pub(crate) type RuleId = u32;
+pub(crate) type OpId = u32;
+
+/// Palette entry of the grammar's air block (`void`).
+pub(crate) const AIR: u32 = 0;
+
+/// What a `fill` paints with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Paint {
+    /// One block (index into [`BoxGrammar::blocks`]).
+    Block(u32),
+    /// A weighted mix, drawn per cell (index into the materials).
+    Material(u32),
+}
+
+/// An operation on a scope.
+#[derive(Clone, Debug)]
+pub(crate) enum Op {
+    Split {
+        /// Local axis.
+        axis: u8,
+        sizes: Vec<Formula>,
+        /// The sizes when none depends on the scope.
+        constant: Option<Vec<f64>>,
+        repeat: bool,
+        round: Round,
+        children: Vec<OpId>,
+    },
+    Fill(Paint),
+    Skip,
+    /// Permute the local axes (new axis i = old axis `perm[i]`), then go on.
+    Reorient([u8; 3], OpId),
+    /// Apply a rule to the scope.
+    Rule(RuleId),
+}
+
+/// When an alternative applies.
+#[derive(Clone, Debug)]
+pub(crate) enum Guard {
+    Always,
+    When(Formula),
+    /// Only when no `Always`/`When` alternative applies.
+    Else,
+}
+
+/// One alternative of a rule.
+#[derive(Clone, Debug)]
+pub(crate) struct Alternative {
+    pub guard: Guard,
+    pub weight: f64,
+    pub op: OpId,
+    /// 1-based source line, for traces.
+    pub line: u32,
+}
+
+/// A non-terminal and its alternatives, in source order.
+#[derive(Clone, Debug)]
+pub(crate) struct Rule {
+    pub name: String,
+    pub alternatives: Vec<Alternative>,
+}
+
+/// A weighted block mix.
+#[derive(Clone, Debug)]
+pub(crate) struct Material {
+    pub blocks: Vec<u32>,
+    pub weights: Vec<f64>,
+}
+
+/// Bounds on one derivation; reaching one ends it with an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeriveLimits {
+    /// Rule applications, counting re-applications after backtracking.
+    pub applications: u64,
+    /// Backtracks (jumps back to an earlier choice).
+    pub backtracks: u64,
+    /// Rule applications nested inside each other.
+    pub depth: u32,
+}
+
+impl Default for DeriveLimits {
+    fn default() -> Self {
+        DeriveLimits { applications: 1_000_000, backtracks: 100_000, depth: 10_000 }
+    }
+}
+
+/// A compiled box-split grammar. Immutable; derive as often as needed.
+#[derive(Clone, Debug)]
+pub struct BoxGrammar {
+    pub(crate) name: String,
+    pub(crate) axiom: RuleId,
+    /// `Op::Rule(axiom)`, where derivations start.
+    pub(crate) start: OpId,
+    pub(crate) rules: Vec<Rule>,
+    pub(crate) ops: Vec<Op>,
+    /// Blocks painted; entry [`AIR`] is air.
+    pub(crate) blocks: Vec<BlockState>,
+    pub(crate) materials: Vec<Material>,
+    pub(crate) types: Vec<BlockType>,
+    /// Observer and block type of each observer slot.
+    pub(crate) slots: Vec<(Observer, u32)>,
+    pub(crate) limits: DeriveLimits,
+}
+
+impl BoxGrammar {
+    /// The name from `grammar "…";` (empty when not given).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The start rule.
+    pub fn axiom(&self) -> &str {
+        &self.rules[self.axiom as usize].name
+    }
+
+    /// Rule names in source order.
+    pub fn rule_names(&self) -> impl Iterator<Item = &str> + '_ {
+        self.rules.iter().map(|r| r.name.as_str())
+    }
+
+    /// The limits the grammar declares (defaults where it declares none).
+    pub fn limits(&self) -> DeriveLimits {
+        self.limits
+    }
+
+    /// Every block the grammar can place (air first).
+    pub fn blocks(&self) -> &[BlockState] {
+        &self.blocks
+    }
+}

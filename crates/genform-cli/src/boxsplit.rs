@@ -1,0 +1,216 @@
+//! The verbs on box-split grammars: derive in a box of a block world
+//! (optionally observing real Minecraft terrain) and write blocks.
+
+use anyhow::{Context, Result, bail};
+use genform_boxsplit::{BoxGrammar, DeriveOptions};
+use genform_core::{BlockGrid, BlockKind, Rng, Scene};
+use genform_export::minecraft::{
+    RegionFile, SchemVersion, read_terrain, region_coords, region_file_name, regions_for_box, write_region,
+};
+use genform_export::{BlockOptions, ExportOptions};
+use glam::IVec3;
+use std::path::{Path, PathBuf};
+
+use crate::args::{InfoArgs, SampleArgs};
+use crate::commands::{SAMPLE_STREAM, output_format, write_model_with};
+use genform_cli::grammar;
+use genform_cli::output::write_atomic;
+
+/// Parses `x0,y0,z0,x1,y1,z1` (two opposite corners, both inclusive, in
+/// any order) into `min..max_exclusive`.
+pub fn parse_box(text: &str) -> Result<(IVec3, IVec3)> {
+    let v: Vec<i32> = text
+        .split(',')
+        .map(|s| s.trim().parse::<i32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--box `{text}`: expected six integers x0,y0,z0,x1,y1,z1"))?;
+    let [x0, y0, z0, x1, y1, z1] = v[..] else {
+        bail!("--box `{text}`: expected six integers x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
+    };
+    let (a, b) = (IVec3::new(x0, y0, z0), IVec3::new(x1, y1, z1));
+    Ok((a.min(b), a.max(b) + IVec3::ONE))
+}
+
+/// The region files a box needs and the coordinates of those not found.
+struct World {
+    files: Vec<RegionFile>,
+    missing: Vec<(i32, i32)>,
+}
+
+/// The region files a box needs, from one `.mca` file or a folder of them.
+/// Regions the box needs that are not there are reported and left unset
+/// (they observe as air).
+fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
+    let needed = regions_for_box(min, max);
+    let mut files = Vec::new();
+    let mut missing = Vec::new();
+    let candidates: Vec<(i32, i32, PathBuf)> = if path.is_dir() {
+        // A world folder keeps its regions in `region/`.
+        let dir = if path.join("region").is_dir() { path.join("region") } else { path.to_path_buf() };
+        needed.iter().map(|&(x, z)| (x, z, dir.join(region_file_name(x, z)))).collect()
+    } else {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let Some((x, z)) = region_coords(&name) else {
+            bail!("{}: a region file is named r.X.Z.mca (or give the folder that holds them)", path.display());
+        };
+        vec![(x, z, path.to_path_buf())]
+    };
+    for &(x, z) in &needed {
+        match candidates.iter().find(|c| c.0 == x && c.1 == z) {
+            Some((_, _, p)) if p.exists() => {
+                let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+                files.push(RegionFile { x, z, bytes });
+            }
+            _ => missing.push((x, z)),
+        }
+    }
+    if files.is_empty() {
+        bail!(
+            "the box {min}..{max} needs region(s) {}, which {} does not hold",
+            needed.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", "),
+            path.display()
+        );
+    }
+    Ok(World { files, missing })
+}
+
+/// `genform sample FILE.bsg`.
+pub fn sample(a: SampleArgs) -> Result<()> {
+    let out = a.out.as_ref();
+    let to_region = out.is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("mca")));
+    if let Some(p) = out
+        && !to_region
+    {
+        output_format(p)?;
+    }
+    if to_region && a.world.is_none() {
+        bail!("writing a region file (.mca) needs --world: the blocks go into a copy of the observed region");
+    }
+    if let (true, Some(out), Some(world)) = (to_region, out, &a.world) {
+        let same = |p: &Path| p.canonicalize().ok();
+        let world_file = if world.is_dir() { None } else { same(world) };
+        if world_file.is_some() && world_file == same(out) {
+            bail!("--out {} is the observed region itself; write into a copy (another path)", out.display());
+        }
+    }
+    let grammar = grammar::load_boxsplit(&a.file)?;
+    let Some(box_text) = &a.r#box else {
+        bail!("box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
+    };
+    let (min, max) = parse_box(box_text)?;
+    let (regions, world) = match &a.world {
+        Some(path) => {
+            let World { files: regions, missing } = load_world(path, min, max)?;
+            if !missing.is_empty() {
+                eprintln!(
+                    "warning: {} not found; the box's cells there observe as air",
+                    missing.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", ")
+                );
+            }
+            let terrain = read_terrain(&regions, min, max).context("cannot read the terrain")?;
+            (regions, Some(terrain))
+        }
+        None => (Vec::new(), None),
+    };
+    let mut rng = Rng::stream(a.seed, &[SAMPLE_STREAM]);
+    let options = DeriveOptions { limits: None, trace: a.trace.is_some() };
+    let derivation = grammar.derive(world.as_ref(), min, max, &mut rng, &options);
+    let trace = match &derivation {
+        Ok(d) => d.trace.as_ref(),
+        Err(f) => Some(&f.trace),
+    };
+    if let (Some(path), Some(trace)) = (&a.trace, trace) {
+        let json = serde_json::to_string_pretty(trace).context("cannot write the trace")?;
+        write_atomic(path, json.as_bytes())?;
+    }
+    let d = match derivation {
+        Ok(d) => d,
+        Err(f) => {
+            let hint = if a.trace.is_some() { "" } else { " (--trace FILE.json records every choice and failure)" };
+            bail!("{}: the derivation failed: {}{hint}", grammar.name(), f.message);
+        }
+    };
+    let summary = format!(
+        "{} seed {}: {} applications, {} backtracks, {} blocks placed in {}..{}",
+        grammar.name(),
+        a.seed,
+        d.stats.applications,
+        d.stats.backtracks,
+        d.blocks.set_count(),
+        min,
+        max - IVec3::ONE
+    );
+    match out {
+        Some(path) if to_region => write_into_region(&regions, &d.blocks, path)?,
+        Some(path) => {
+            let mut scene = Scene::new();
+            let preview = matches!(
+                output_format(path)?,
+                genform_export::Format::Png | genform_export::Format::Glb | genform_export::Format::Obj
+            );
+            if preview && !regions.is_empty() {
+                // Show the ground around and behind the structure, cut open
+                // along the box's front (+z, towards the preview camera).
+                let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
+                let front = IVec3::new(max.x + margin.x, max.y + margin.y, max.z);
+                let around = read_terrain(&regions, min - margin, front).context("cannot read the terrain")?;
+                scene.blocks.push(terrain_context(&around, &d.blocks));
+            }
+            scene.blocks.push(d.blocks);
+            let schem_version = if a.schem_version == 3 { SchemVersion::V3 } else { SchemVersion::V2 };
+            let blocks = BlockOptions { schem_version, data_version: a.data_version };
+            write_model_with(&scene, path, &ExportOptions { blocks, ..ExportOptions::default() })?;
+        }
+        None => {}
+    }
+    match out {
+        Some(path) => eprintln!("{summary} → {}", path.display()),
+        None => println!("{summary}"),
+    }
+    Ok(())
+}
+
+/// Blocks of terrain around the box that previews show with the structure.
+const PREVIEW_MARGIN: i32 = 8;
+
+/// The observed terrain under and around a structure, for previews: the
+/// world's non-air blocks where the structure placed nothing.
+fn terrain_context(terrain: &BlockGrid, structure: &BlockGrid) -> BlockGrid {
+    let mut out = terrain.clone();
+    let mut cleared = Vec::new();
+    for (p, c) in terrain.iter_set() {
+        let placed = structure.get(p).is_some();
+        if placed || terrain.palette[c as usize].kind() == BlockKind::Air {
+            cleared.push(p);
+        }
+    }
+    for p in cleared {
+        if let Some(i) = out.index(p) {
+            out.cells[i] = BlockGrid::UNSET;
+        }
+    }
+    out
+}
+
+/// Writes the blocks into a copy of the one region file the box lies in.
+fn write_into_region(regions: &[RegionFile], blocks: &BlockGrid, out: &Path) -> Result<()> {
+    let [region] = regions else {
+        bail!(
+            "the box spans {} region files; a .mca output holds one — choose a box inside one region (512×512 blocks)",
+            regions.len()
+        );
+    };
+    let bytes = write_region(region, blocks).context("cannot write the region")?;
+    write_atomic(out, &bytes)
+}
+
+/// `genform info FILE.bsg`.
+pub fn info(a: InfoArgs) -> Result<()> {
+    let g: BoxGrammar = grammar::load_boxsplit(&a.file)?;
+    let limits = g.limits();
+    println!("box-split grammar {}: axiom `{}`", g.name(), g.axiom());
+    println!("limits: applications {}, backtracks {}, depth {}", limits.applications, limits.backtracks, limits.depth);
+    println!("rules: {}", g.rule_names().collect::<Vec<_>>().join(", "));
+    println!("blocks: {}", g.blocks().iter().map(|b| b.to_string()).collect::<Vec<_>>().join(", "));
+    Ok(())
+}

@@ -1,0 +1,115 @@
+//! End-to-end tests of box-split grammars: the real binary on the shipped
+//! `examples/boxsplit` grammars and the real terrain in `examples/terrain`.
+
+mod common;
+
+use common::{genform, root, s};
+use genform_core::BlockKind;
+use genform_export::minecraft::{RegionFile, read_litematic, read_schem, read_terrain};
+use glam::IVec3;
+use std::path::PathBuf;
+
+fn bsg(name: &str) -> PathBuf {
+    root().join("examples/boxsplit").join(format!("{name}.bsg"))
+}
+
+fn prismarine() -> PathBuf {
+    root().join("examples/terrain/prismarine-1.21.1/r.0.0.mca")
+}
+
+#[test]
+fn castle_schematics_are_deterministic_and_read_back() {
+    let tmp = tempfile::tempdir().unwrap();
+    let castle = bsg("castle");
+    for out in ["a.schem", "b.schem", "c.litematic"] {
+        genform(tmp.path(), &["sample", s(&castle), "--box", "0,0,0,47,23,47", "--seed", "4", "--out", out]).ok();
+    }
+    let a = std::fs::read(tmp.path().join("a.schem")).unwrap();
+    assert_eq!(a, std::fs::read(tmp.path().join("b.schem")).unwrap(), "same seed, same bytes");
+    let schem = read_schem(&a).unwrap();
+    assert_eq!(schem.size, glam::UVec3::new(48, 24, 48));
+    let lit = read_litematic(&std::fs::read(tmp.path().join("c.litematic")).unwrap()).unwrap();
+    assert_eq!(lit.size, schem.size);
+    let solid = |g: &genform_core::BlockGrid| {
+        g.cells.iter().filter(|&&c| c != u32::MAX && g.palette[c as usize].kind() == BlockKind::Solid).count()
+    };
+    assert!(solid(&schem) > 5000, "a castle has walls");
+    assert_eq!(solid(&schem), solid(&lit));
+    let v3 =
+        ["sample", s(&castle), "--box", "0,0,0,47,23,47", "--seed", "4", "--schem-version", "3", "--out", "d.schem"];
+    genform(tmp.path(), &v3).ok();
+    let d = std::fs::read(tmp.path().join("d.schem")).unwrap();
+    assert_ne!(d, a, "version 3 is laid out differently");
+    assert_eq!(read_schem(&d).unwrap().cells.len(), schem.cells.len());
+}
+
+#[test]
+fn bridge_on_real_terrain_goes_into_a_copy_of_the_region() {
+    let tmp = tempfile::tempdir().unwrap();
+    let world = prismarine();
+    let bridge = bsg("bridge");
+    let args = ["sample", s(&bridge), "--world", s(&world), "--box", "6,50,3,62,65,5", "--trace", "t.json"];
+    genform(tmp.path(), &[&args[..], &["--out", "r.0.0.mca"]].concat()).ok();
+    let original = RegionFile { x: 0, z: 0, bytes: std::fs::read(&world).unwrap() };
+    let copy = RegionFile { x: 0, z: 0, bytes: std::fs::read(tmp.path().join("r.0.0.mca")).unwrap() };
+    let (min, max) = (IVec3::new(6, 50, 3), IVec3::new(63, 66, 6));
+    let before = read_terrain(std::slice::from_ref(&original), min, max).unwrap();
+    let after = read_terrain(std::slice::from_ref(&copy), min, max).unwrap();
+    // The deck is on the top layers wherever the bank does not rise into it.
+    let planks = (6..63)
+        .filter(|&x| {
+            after.get(IVec3::new(x, 64, 4)).is_some_and(|b| b.id().ends_with("planks") || b.id().contains("spruce"))
+        })
+        .count();
+    assert!(planks > 40, "deck blocks: {planks}");
+    // No solid terrain block was replaced, and every placed support block
+    // stands on solid terrain or on another support block.
+    let mut supports = 0;
+    for x in 6..63 {
+        for z in 3..6 {
+            for y in 51..64 {
+                let p = IVec3::new(x, y, z);
+                let (b, a) = (before.get(p).unwrap(), after.get(p).unwrap());
+                if b.kind() == BlockKind::Solid {
+                    assert_eq!(a, b, "terrain at {p} was replaced");
+                } else if a != b {
+                    supports += 1;
+                    let q = p - IVec3::Y;
+                    let (qb, qa) = (before.get(q).unwrap(), after.get(q).unwrap());
+                    assert!(qb.kind() == BlockKind::Solid || qa != qb, "the support block at {p} floats");
+                }
+            }
+        }
+    }
+    assert!(supports > 20, "the piers reach down through the water: {supports} blocks");
+    let trace: serde_json::Value = serde_json::from_slice(&std::fs::read(tmp.path().join("t.json")).unwrap()).unwrap();
+    assert!(trace["events"].as_array().is_some_and(|e| e.len() > 100), "the trace records the choices");
+    // Chunks outside the box are untouched.
+    let far = (IVec3::new(48, 60, 48), IVec3::new(64, 70, 64));
+    assert_eq!(read_terrain(&[original], far.0, far.1).unwrap(), read_terrain(&[copy], far.0, far.1).unwrap());
+}
+
+#[test]
+fn box_split_errors_are_clear() {
+    let tmp = tempfile::tempdir().unwrap();
+    let castle = bsg("castle");
+    let err = genform(tmp.path(), &["sample", s(&castle), "--out", "c.schem"]).fails().stderr();
+    assert!(err.contains("--box"), "{err}");
+    let err = genform(tmp.path(), &["sample", s(&castle), "--box", "0,0,0,9,9,9", "--out", "c.mca"]).fails().stderr();
+    assert!(err.contains("needs --world"), "{err}");
+    let world = prismarine();
+    let err = genform(
+        tmp.path(),
+        &["sample", s(&castle), "--world", s(&world), "--box", "0,60,0,9,69,9", "--out", s(&world)],
+    )
+    .fails()
+    .stderr();
+    assert!(err.contains("observed region itself"), "{err}");
+    std::fs::write(tmp.path().join("bad.bsg"), "axiom A;\nA { when X > 100 { fill stone } }\n").unwrap();
+    let run = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3", "--trace", "t.json"]).fails();
+    assert!(run.stderr().contains("derivation failed") && run.stderr().contains('A'), "{}", run.stderr());
+    assert!(tmp.path().join("t.json").exists(), "a failed derivation still writes its trace");
+    std::fs::write(tmp.path().join("bad.bsg"), "axiom A;\nA { split q [1] { B } }\n").unwrap();
+    let err = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3"]).fails().stderr();
+    assert!(err.contains("bad.bsg:2:"), "{err}");
+}

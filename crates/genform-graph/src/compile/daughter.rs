@@ -1,0 +1,379 @@
+//! One daughter option of a production: which mother elements it keeps,
+//! deletes and adds, and the formulas of the new values.
+
+use super::Cx;
+use super::Place;
+use super::production::constant_program;
+use super::scope::ProdScope;
+use super::syntax::{Element, Formula, OptionSyn, Written};
+use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, MEdge, MVertex};
+use crate::graph::Value;
+use crate::template::Template;
+use genform_core::Rng;
+use genform_core::diag::{Diagnostic, Span};
+use genform_core::expr::vec2::Compiled;
+use genform_core::expr::{Program, did_you_mean};
+use std::sync::Arc;
+
+impl Cx {
+    /// A daughter formula: number or vector as `want_vector` says.
+    fn daughter_formula(
+        &mut self,
+        f: &Formula,
+        scope: &ProdScope,
+        new_names: &[String],
+        vector: bool,
+    ) -> Option<Compiled> {
+        let before = self.errors.len();
+        let c = self.formula(f, scope);
+        self.explain_new_names(before, new_names);
+        let c = c?;
+        match (c, vector) {
+            (Compiled::Vector(v), true) => Some(Compiled::Vector(v)),
+            (Compiled::Scalar(s), false) => Some(Compiled::Scalar(s)),
+            (_, true) => {
+                self.error(f.content_span(), "`pos` must be a vector, found a number")
+                    .hints
+                    .push("write a point such as `A + v / 2`, or `vec(x, y)`".into());
+                None
+            }
+            (_, false) => {
+                self.error(f.content_span(), "expected a number, found a vector")
+                    .hints
+                    .push("use `norm(v)` for a length, or `v.x` / `v.y` for a component".into());
+                None
+            }
+        }
+    }
+
+    /// Rewords "unknown name" errors about elements the daughter adds.
+    fn explain_new_names(&mut self, from: usize, new_names: &[String]) {
+        for d in &mut self.errors[from..] {
+            let Some(rest) = d.message.strip_prefix("unknown name `") else { continue };
+            let name = rest.trim_end_matches('`');
+            let base = name.split('.').next().unwrap_or(name);
+            if new_names.iter().any(|n| n == base) {
+                d.message = format!("`{base}` is added by this daughter; formulas read only the matched elements");
+                d.hints = vec!["compute from the mother's elements, vectors and variables".into()];
+            }
+        }
+    }
+
+    fn template(&mut self, f: &Formula, scope: &ProdScope, new_names: &[String]) -> Option<Template> {
+        let before = self.errors.len();
+        let t = Template::compile(&f.s, f.at, scope);
+        match t {
+            Ok(t) => Some(t),
+            Err(ds) => {
+                self.errors.extend(ds);
+                self.explain_new_names(before, new_names);
+                None
+            }
+        }
+    }
+
+    fn label_spec(&mut self, f: &Formula, scope: &ProdScope, new_names: &[String]) -> Option<LabelSpec> {
+        let t = self.template(f, scope, new_names)?;
+        Some(if t.is_literal() {
+            LabelSpec::Fixed(self.labels.intern(&t.text(&[], &mut Rng::from_seed(0))))
+        } else {
+            LabelSpec::Template(t)
+        })
+    }
+
+    fn attr_specs(&mut self, e: &Element, scope: &ProdScope, new_names: &[String]) -> Vec<(u32, AttrSpec)> {
+        let mut out: Vec<(u32, AttrSpec)> = Vec::new();
+        for (name, w) in &e.attrs {
+            let id = scope.attrs.get(&name.s).unwrap_or(0);
+            if out.iter().any(|(a, _)| *a == id) {
+                self.error(name.span, format!("attribute `{}` is given twice", name.s));
+                continue;
+            }
+            let spec = match w {
+                Written::Num(v, _) => AttrSpec::Value(Value::Num(*v)),
+                Written::Str(f) => match self.template(f, scope, new_names) {
+                    Some(t) if t.is_literal() => {
+                        AttrSpec::Value(Value::Text(Arc::from(t.text(&[], &mut Rng::from_seed(0)))))
+                    }
+                    Some(t) => AttrSpec::Template(t),
+                    None => continue,
+                },
+            };
+            out.push((id, spec));
+        }
+        out
+    }
+
+    fn coord(&mut self, w: &Written, scope: &ProdScope, new_names: &[String]) -> Option<Coord> {
+        match w {
+            Written::Num(v, _) => Some(Coord::Formula(constant_program(*v))),
+            Written::Str(f) => match self.daughter_formula(f, scope, new_names, false)? {
+                Compiled::Scalar(p) => Some(Coord::Formula(p)),
+                Compiled::Vector(_) => None,
+            },
+        }
+    }
+
+    pub(super) fn daughter(
+        &mut self,
+        o: &OptionSyn,
+        mv: &[MVertex],
+        me: &[MEdge],
+        scope: &ProdScope,
+        vars: Vec<(u32, Program)>,
+        pname: &str,
+    ) -> Option<Daughter> {
+        let errors_before = self.errors.len();
+        let new_names: Vec<String> = o
+            .graph
+            .vertices
+            .iter()
+            .chain(&o.graph.edges)
+            .map(Element::name)
+            .filter(|n| !mv.iter().any(|m| m.name == *n) && !me.iter().any(|m| m.name == *n))
+            .collect();
+        let mut d = Daughter {
+            vars,
+            delete_vertices: Vec::new(),
+            delete_edges: Vec::new(),
+            kept_vertices: Vec::new(),
+            kept_edges: Vec::new(),
+            new_vertices: Vec::new(),
+            new_edges: Vec::new(),
+            placement: false,
+        };
+        // Daughter vertex name → edge end; wildcards are ends without
+        // being listed.
+        let mut ends: Vec<(String, End)> =
+            mv.iter().enumerate().filter(|(_, v)| v.wildcard).map(|(i, v)| (v.name.clone(), End::Mother(i))).collect();
+        let mut kept_v: Vec<Option<Span>> = vec![None; mv.len()];
+        let mut first_auto: Option<Span> = None;
+        for v in &o.graph.vertices {
+            self.check_keys(v, Place::DaughterVertex);
+            let name = v.name();
+            let span = v.name_span();
+            if ends.iter().any(|(n, _)| *n == name) {
+                let msg = if mv.iter().any(|m| m.wildcard && m.name == name) {
+                    format!("wildcard `{name}` cannot appear in a daughter")
+                } else {
+                    format!("vertex `{name}` is listed twice in this daughter")
+                };
+                self.error(span, msg)
+                    .hints
+                    .push("a wildcard is kept unchanged; daughter edges may still connect to it".into());
+                continue;
+            }
+            let target = match &v.keep {
+                Some(k) => match mv.iter().position(|m| m.name == k.s) {
+                    Some(i) => Some(i),
+                    None => {
+                        if me.iter().any(|m| m.name == k.s) {
+                            self.error(
+                                k.span,
+                                format!("`keep: {}` names a mother edge; a vertex can keep only a vertex", k.s),
+                            );
+                        } else {
+                            let d = self
+                                .error(k.span, format!("`keep: {}` names no vertex of the mother of `{pname}`", k.s));
+                            if let Some(s) = did_you_mean(&k.s, mv.iter().map(|m| m.name.as_str())) {
+                                d.hints.push(format!("did you mean `{s}`?"));
+                            }
+                        }
+                        continue;
+                    }
+                },
+                None => {
+                    if me.iter().any(|m| m.name == name) {
+                        self.error(
+                            span,
+                            format!("`{name}` names a mother edge; a daughter vertex cannot keep an edge"),
+                        );
+                        continue;
+                    }
+                    mv.iter().position(|m| m.name == name)
+                }
+            };
+            if let Some(i) = target {
+                if mv[i].wildcard {
+                    self.error(span, format!("wildcard `{}` cannot appear in a daughter", mv[i].name))
+                        .hints
+                        .push("a wildcard is kept unchanged; daughter edges may still connect to it".into());
+                    continue;
+                }
+                if let Some(first) = kept_v[i] {
+                    self.errors.push(
+                        Diagnostic::error(span, format!("mother vertex `{}` is kept twice", mv[i].name))
+                            .with_label(first, "first kept here"),
+                    );
+                    continue;
+                }
+                kept_v[i] = Some(span);
+            }
+            // Position.
+            let mut pos = [Coord::Keep, Coord::Keep];
+            let mut given = [false; 2];
+            if let Some(f) = &v.pos {
+                if v.x.is_some() || v.y.is_some() {
+                    self.error(f.content_span(), "give either `pos` or `x`/`y`, not both");
+                }
+                if let Some(Compiled::Vector([x, y])) = self.daughter_formula(f, scope, &new_names, true) {
+                    pos = [Coord::Formula(x), Coord::Formula(y)];
+                }
+                given = [true; 2];
+            }
+            for (k, w) in [&v.x, &v.y].into_iter().enumerate() {
+                if let Some(w) = w {
+                    given[k] = true;
+                    if let Some(c) = self.coord(w, scope, &new_names) {
+                        pos[k] = c;
+                    }
+                }
+            }
+            let at = v.at.map(|a| a.0);
+            let moved = match (target, at) {
+                (None, Some(_)) => true,
+                (Some(i), Some(a)) => mv[i].at != Some(a),
+                (_, None) => false,
+            };
+            if !(given[0] && given[1]) {
+                if moved {
+                    for k in 0..2 {
+                        if !given[k] {
+                            pos[k] = Coord::Auto;
+                        }
+                    }
+                    first_auto.get_or_insert(span);
+                } else if target.is_none() {
+                    self.error(span, format!("new vertex `{name}` needs a position"))
+                        .hints
+                        .push("give `pos`, or `x` and `y`, or `at: [x, y]` to place it automatically".into());
+                }
+            }
+            let label = v.label.as_ref().and_then(|l| self.label_spec(l, scope, &new_names));
+            let attrs = self.attr_specs(v, scope, &new_names);
+            let dv = DVertex { mother: target, label, pos, at, attrs };
+            match target {
+                Some(i) => {
+                    ends.push((name, End::Mother(i)));
+                    d.kept_vertices.push(dv);
+                }
+                None => {
+                    ends.push((name, End::New(d.new_vertices.len())));
+                    d.new_vertices.push(dv);
+                }
+            }
+        }
+        if let Some(span) = first_auto {
+            d.placement = true;
+            if let Some(m) = mv.iter().find(|m| m.at.is_none()) {
+                self.error(
+                    span,
+                    format!("automatic placement needs `at: [x, y]` on every mother vertex; `{}` has none", m.name),
+                )
+                .hints
+                .push("or give this vertex `pos`, or `x` and `y`".into());
+            }
+        }
+        d.delete_vertices = (0..mv.len()).filter(|&i| kept_v[i].is_none() && !mv[i].wildcard).collect();
+
+        let mut kept_e: Vec<Option<Span>> = vec![None; me.len()];
+        let mut edge_names: Vec<String> = Vec::new();
+        for e in &o.graph.edges {
+            self.check_keys(e, Place::DaughterEdge);
+            let (Some(from), Some(to)) = (&e.from, &e.to) else {
+                self.error(e.span, "an edge needs `from` and `to`");
+                continue;
+            };
+            let name = e.name();
+            if edge_names.contains(&name) {
+                self.error(e.name_span(), format!("edge `{name}` is listed twice in this daughter"))
+                    .hints
+                    .push("name parallel edges with `name:`".into());
+                continue;
+            }
+            edge_names.push(name.clone());
+            let resolve = |cx: &mut Cx, t: &super::syntax::Text| -> Option<End> {
+                if let Some((_, end)) = ends.iter().find(|(n, _)| *n == t.s) {
+                    return Some(*end);
+                }
+                if mv.iter().any(|m| m.name == t.s) {
+                    cx.error(t.span, format!("`{}` is deleted by this daughter, so no edge can reach it", t.s))
+                        .hints
+                        .push(format!("list `{}: {{}}` under the daughter's vertices to keep it", t.s));
+                } else {
+                    let d = cx.error(t.span, format!("unknown vertex `{}` in a daughter of `{pname}`", t.s));
+                    if let Some(s) = did_you_mean(&t.s, ends.iter().map(|(n, _)| n.as_str())) {
+                        d.hints.push(format!("did you mean `{s}`?"));
+                    }
+                }
+                None
+            };
+            let (a, b) = (resolve(self, from), resolve(self, to));
+            let target = match &e.keep {
+                Some(k) => match me.iter().position(|m| m.name == k.s) {
+                    Some(i) => Some(i),
+                    None => {
+                        if mv.iter().any(|m| m.name == k.s) {
+                            self.error(
+                                k.span,
+                                format!("`keep: {}` names a mother vertex; an edge can keep only an edge", k.s),
+                            );
+                        } else {
+                            let d =
+                                self.error(k.span, format!("`keep: {}` names no edge of the mother of `{pname}`", k.s));
+                            if let Some(s) = did_you_mean(&k.s, me.iter().map(|m| m.name.as_str())) {
+                                d.hints.push(format!("did you mean `{s}`?"));
+                            }
+                        }
+                        continue;
+                    }
+                },
+                None => me.iter().position(|m| m.name == name),
+            };
+            let (Some(a), Some(b)) = (a, b) else { continue };
+            if let Some(i) = target {
+                let m = &me[i];
+                let same = matches!((a, b), (End::Mother(x), End::Mother(y))
+                    if (x, y) == (m.from, m.to) || (x, y) == (m.to, m.from));
+                if !same {
+                    self.error(
+                        e.name_span(),
+                        format!(
+                            "kept edge `{}` must join the vertices its mother edge joins (`{}` and `{}`)",
+                            m.name, mv[m.from].name, mv[m.to].name
+                        ),
+                    )
+                    .hints
+                    .push("give the daughter edge another name to delete the old edge and add a new one".into());
+                    continue;
+                }
+                if let Some(first) = kept_e[i] {
+                    self.errors.push(
+                        Diagnostic::error(e.name_span(), format!("mother edge `{}` is kept twice", m.name))
+                            .with_label(first, "first kept here"),
+                    );
+                    continue;
+                }
+                kept_e[i] = Some(e.name_span());
+            }
+            let label = e.label.as_ref().and_then(|l| self.label_spec(l, scope, &new_names));
+            let attrs = self.attr_specs(e, scope, &new_names);
+            let directed = e.directed.map(|d| d.0);
+            let de = DEdge {
+                mother: target,
+                from: a,
+                to: b,
+                directed: if target.is_some() { directed } else { Some(directed.unwrap_or(false)) },
+                label,
+                attrs,
+            };
+            if target.is_some() {
+                d.kept_edges.push(de);
+            } else {
+                d.new_edges.push(de);
+            }
+        }
+        d.delete_edges = (0..me.len()).filter(|&i| kept_e[i].is_none()).collect();
+        if self.errors.len() > errors_before { None } else { Some(d) }
+    }
+}

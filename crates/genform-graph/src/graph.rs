@@ -1,0 +1,585 @@
+//! The host graph: vertices and edges in slot arrays, rewritten in place.
+//!
+//! Slots of deleted elements go to free lists and are reused last-freed
+//! first, so the same derivation always gives the same ids. Every vertex
+//! keeps an adjacency list of its edges; every edge knows its position in
+//! both endpoint lists, so deleting an edge is O(1). The candidate indexes
+//! ([`Index`]) hold, per label, the live elements (swap-remove sets whose
+//! positions the elements store), and, when a grammar asks for "oldest"
+//! matching, the same sets split by generation.
+
+pub(crate) use crate::index::Index;
+use crate::index::{NONE, Slots, index_insert, index_remove, relabel, slot_of};
+use crate::names::Interner;
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// An attribute value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// A number.
+    Num(f64),
+    /// Text (labels are kept apart, see [`VertexRef::label`]).
+    Text(Arc<str>),
+}
+
+impl Value {
+    /// The number, if it is one.
+    pub fn as_num(&self) -> Option<f64> {
+        match self {
+            Value::Num(v) => Some(*v),
+            Value::Text(_) => None,
+        }
+    }
+
+    /// The text, if it is text.
+    pub fn as_text(&self) -> Option<&str> {
+        match self {
+            Value::Text(t) => Some(t),
+            Value::Num(_) => None,
+        }
+    }
+}
+
+/// What vertices and edges share.
+#[derive(Clone, Debug)]
+pub(crate) struct Common {
+    pub(crate) alive: bool,
+    pub(crate) label: u32,
+    pub(crate) generation: u32,
+    /// Creation order, for drawing and writing in a stable order.
+    pub(crate) birth: u64,
+    /// Sorted by attribute id.
+    pub(crate) attrs: Vec<(u32, Value)>,
+    pub(crate) slots: Slots,
+}
+
+impl Common {
+    fn new() -> Common {
+        Common { alive: false, label: 0, generation: 0, birth: 0, attrs: Vec::new(), slots: Slots::EMPTY }
+    }
+
+    /// The value of attribute `id`.
+    pub(crate) fn attr(&self, id: u32) -> Option<&Value> {
+        self.attrs.iter().find(|(a, _)| *a == id).map(|(_, v)| v)
+    }
+
+    pub(crate) fn set_attr(&mut self, id: u32, value: Value) {
+        match self.attrs.binary_search_by_key(&id, |(a, _)| *a) {
+            Ok(i) => self.attrs[i].1 = value,
+            Err(i) => self.attrs.insert(i, (id, value)),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Vertex {
+    pub(crate) c: Common,
+    pub(crate) pos: [f64; 2],
+    /// Incident edges; a self-loop is listed twice.
+    pub(crate) adj: Vec<u32>,
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Edge {
+    pub(crate) c: Common,
+    pub(crate) from: u32,
+    pub(crate) to: u32,
+    pub(crate) directed: bool,
+    /// Position in `from`'s and `to`'s adjacency lists.
+    pub(crate) adj_pos: [u32; 2],
+}
+
+/// The attributed graph being rewritten.
+#[derive(Clone, Debug)]
+pub struct Graph {
+    /// Shared with the grammar until a template makes a new label.
+    pub(crate) labels: Arc<Interner>,
+    pub(crate) attr_names: Arc<Interner>,
+    pub(crate) vertices: Vec<Vertex>,
+    pub(crate) edges: Vec<Edge>,
+    free_vertices: Vec<u32>,
+    free_edges: Vec<u32>,
+    pub(crate) vindex: Index,
+    pub(crate) eindex: Index,
+    /// Live elements per generation (only with `track_generations`).
+    pub(crate) generations: BTreeMap<u32, u32>,
+    pub(crate) track_generations: bool,
+    next_birth: u64,
+}
+
+/// A read-only view of one vertex.
+#[derive(Clone, Copy)]
+pub struct VertexRef<'g> {
+    g: &'g Graph,
+    id: u32,
+}
+
+/// A read-only view of one edge.
+#[derive(Clone, Copy)]
+pub struct EdgeRef<'g> {
+    g: &'g Graph,
+    id: u32,
+}
+
+impl<'g> VertexRef<'g> {
+    fn v(&self) -> &'g Vertex {
+        &self.g.vertices[self.id as usize]
+    }
+
+    /// The vertex's slot id (stable while it lives; reused after deletion).
+    pub fn id(&self) -> u32 {
+        self.id
+    }
+
+    /// The label (`""` when it has none).
+    pub fn label(&self) -> &'g str {
+        self.g.labels.name(self.v().c.label)
+    }
+
+    /// The position (x, y).
+    pub fn pos(&self) -> [f64; 2] {
+        self.v().pos
+    }
+
+    /// The generation: 0 for host elements, else the match's largest + 1.
+    pub fn generation(&self) -> u32 {
+        self.v().c.generation
+    }
+
+    /// Number of incident edges (a self-loop counts twice).
+    pub fn degree(&self) -> usize {
+        self.v().adj.len()
+    }
+
+    /// The attributes, in the grammar's attribute order.
+    pub fn attrs(&self) -> impl Iterator<Item = (&'g str, &'g Value)> + 'g {
+        let g = self.g;
+        self.v().c.attrs.iter().map(move |(a, v)| (g.attr_names.name(*a), v))
+    }
+
+    /// The value of attribute `name`.
+    pub fn attr(&self, name: &str) -> Option<&'g Value> {
+        self.g.attr_names.get(name).and_then(|id| self.v().c.attr(id))
+    }
+}
+
+impl<'g> EdgeRef<'g> {
+    fn e(&self) -> &'g Edge {
+        &self.g.edges[self.id as usize]
+    }
+
+    /// The edge's slot id.
+    pub fn id(&self) -> u32 {
+        self.id
+    }
+
+    /// The label (`""` when it has none).
+    pub fn label(&self) -> &'g str {
+        self.g.labels.name(self.e().c.label)
+    }
+
+    /// The source vertex id.
+    pub fn from(&self) -> u32 {
+        self.e().from
+    }
+
+    /// The target vertex id.
+    pub fn to(&self) -> u32 {
+        self.e().to
+    }
+
+    /// Whether the edge is directed.
+    pub fn directed(&self) -> bool {
+        self.e().directed
+    }
+
+    /// The generation.
+    pub fn generation(&self) -> u32 {
+        self.e().c.generation
+    }
+
+    /// The attributes, in the grammar's attribute order.
+    pub fn attrs(&self) -> impl Iterator<Item = (&'g str, &'g Value)> + 'g {
+        let g = self.g;
+        self.e().c.attrs.iter().map(move |(a, v)| (g.attr_names.name(*a), v))
+    }
+
+    /// The value of attribute `name`.
+    pub fn attr(&self, name: &str) -> Option<&'g Value> {
+        self.g.attr_names.get(name).and_then(|id| self.e().c.attr(id))
+    }
+}
+
+/// The data of a new element; `attrs` (sorted by id) is drained into the
+/// element, so the caller's buffer keeps its capacity.
+pub(crate) struct NewCommon<'a> {
+    pub(crate) label: u32,
+    pub(crate) generation: u32,
+    pub(crate) attrs: &'a mut Vec<(u32, Value)>,
+}
+
+impl Graph {
+    /// An empty graph over the given name tables.
+    pub(crate) fn empty(labels: Interner, attr_names: Arc<Interner>, track_generations: bool) -> Graph {
+        Graph {
+            labels: Arc::new(labels),
+            attr_names,
+            vertices: Vec::new(),
+            edges: Vec::new(),
+            free_vertices: Vec::new(),
+            free_edges: Vec::new(),
+            vindex: Index::default(),
+            eindex: Index::default(),
+            generations: BTreeMap::new(),
+            track_generations,
+            next_birth: 0,
+        }
+    }
+
+    /// Number of live vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.vindex.all.len()
+    }
+
+    /// Number of live edges.
+    pub fn edge_count(&self) -> usize {
+        self.eindex.all.len()
+    }
+
+    /// Vertices plus edges, the paper's element count.
+    pub fn element_count(&self) -> usize {
+        self.vertex_count() + self.edge_count()
+    }
+
+    /// The live vertices in creation order.
+    pub fn vertices(&self) -> impl Iterator<Item = VertexRef<'_>> {
+        self.sorted(&self.vindex.all, |id| self.vertices[id as usize].c.birth)
+            .into_iter()
+            .map(move |id| VertexRef { g: self, id })
+    }
+
+    /// The live edges in creation order.
+    pub fn edges(&self) -> impl Iterator<Item = EdgeRef<'_>> {
+        self.sorted(&self.eindex.all, |id| self.edges[id as usize].c.birth)
+            .into_iter()
+            .map(move |id| EdgeRef { g: self, id })
+    }
+
+    /// The vertex in slot `id`, if it is live.
+    pub fn vertex(&self, id: u32) -> Option<VertexRef<'_>> {
+        self.vertices.get(id as usize).filter(|v| v.c.alive).map(|_| VertexRef { g: self, id })
+    }
+
+    /// The edge in slot `id`, if it is live.
+    pub fn edge(&self, id: u32) -> Option<EdgeRef<'_>> {
+        self.edges.get(id as usize).filter(|e| e.c.alive).map(|_| EdgeRef { g: self, id })
+    }
+
+    fn sorted(&self, ids: &[u32], birth: impl Fn(u32) -> u64) -> Vec<u32> {
+        let mut v = ids.to_vec();
+        v.sort_unstable_by_key(|&id| birth(id));
+        v
+    }
+
+    fn take_birth(&mut self) -> u64 {
+        let b = self.next_birth;
+        self.next_birth += 1;
+        b
+    }
+
+    /// Adds a vertex; returns its id.
+    pub(crate) fn add_vertex(&mut self, pos: [f64; 2], new: NewCommon) -> u32 {
+        let birth = self.take_birth();
+        let id = match self.free_vertices.pop() {
+            Some(id) => id,
+            None => {
+                self.vertices.push(Vertex { c: Common::new(), pos: [0.0; 2], adj: Vec::new() });
+                self.vertices.len() as u32 - 1
+            }
+        };
+        let v = &mut self.vertices[id as usize];
+        v.c.alive = true;
+        v.c.label = new.label;
+        v.c.generation = new.generation;
+        v.c.birth = birth;
+        v.c.attrs.clear();
+        v.c.attrs.append(new.attrs);
+        v.pos = pos;
+        v.adj.clear();
+        index_insert(&mut self.vindex, &mut v.c, id, self.track_generations, &mut self.generations);
+        id
+    }
+
+    /// Adds an edge between live vertices; returns its id.
+    pub(crate) fn add_edge(&mut self, from: u32, to: u32, directed: bool, new: NewCommon) -> u32 {
+        let birth = self.take_birth();
+        let id = match self.free_edges.pop() {
+            Some(id) => id,
+            None => {
+                self.edges.push(Edge { c: Common::new(), from: 0, to: 0, directed: false, adj_pos: [NONE; 2] });
+                self.edges.len() as u32 - 1
+            }
+        };
+        let pf = self.vertices[from as usize].adj.len() as u32;
+        self.vertices[from as usize].adj.push(id);
+        let pt = self.vertices[to as usize].adj.len() as u32;
+        self.vertices[to as usize].adj.push(id);
+        let e = &mut self.edges[id as usize];
+        e.c.alive = true;
+        e.c.label = new.label;
+        e.c.generation = new.generation;
+        e.c.birth = birth;
+        e.c.attrs.clear();
+        e.c.attrs.append(new.attrs);
+        e.from = from;
+        e.to = to;
+        e.directed = directed;
+        e.adj_pos = [pf, pt];
+        index_insert(&mut self.eindex, &mut e.c, id, self.track_generations, &mut self.generations);
+        id
+    }
+
+    /// Deletes a live edge.
+    pub(crate) fn remove_edge(&mut self, id: u32) {
+        let (from, to, [pf, pt]) = {
+            let e = &self.edges[id as usize];
+            debug_assert!(e.c.alive);
+            (e.from, e.to, e.adj_pos)
+        };
+        // The `to` side first: for a self-loop it may sit after the `from`
+        // side in the same list, and removing the later position first
+        // keeps the earlier one valid.
+        let order = if from == to && pf > pt { [(from, pf), (to, pt)] } else { [(to, pt), (from, pf)] };
+        for (v, pos) in order {
+            self.adj_remove(v, pos);
+        }
+        let tg = self.track_generations;
+        let edges = &mut self.edges;
+        let mut c = std::mem::replace(&mut edges[id as usize].c, Common::new());
+        index_remove(&mut self.eindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
+            *slot_of(&mut edges[moved as usize].c.slots, w) = pos;
+        });
+        c.alive = false;
+        c.attrs.clear();
+        self.edges[id as usize].c = c;
+        self.free_edges.push(id);
+    }
+
+    /// Removes position `pos` from `v`'s adjacency list, updating the
+    /// position record of the edge moved into it.
+    fn adj_remove(&mut self, v: u32, pos: u32) {
+        let adj = &mut self.vertices[v as usize].adj;
+        let last = adj.len() as u32 - 1;
+        adj.swap_remove(pos as usize);
+        if pos < last {
+            let moved = adj[pos as usize];
+            let e = &mut self.edges[moved as usize];
+            // The moved entry was at `last`: find which side of `moved`
+            // recorded it there.
+            if e.from == v && e.adj_pos[0] == last {
+                e.adj_pos[0] = pos;
+            } else {
+                e.adj_pos[1] = pos;
+            }
+        }
+    }
+
+    /// Deletes a live vertex and every edge still attached to it
+    /// (single-pushout: no dangling edges).
+    pub(crate) fn remove_vertex(&mut self, id: u32) {
+        while let Some(&e) = self.vertices[id as usize].adj.last() {
+            self.remove_edge(e);
+        }
+        let tg = self.track_generations;
+        let vertices = &mut self.vertices;
+        let mut c = std::mem::replace(&mut vertices[id as usize].c, Common::new());
+        index_remove(&mut self.vindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
+            *slot_of(&mut vertices[moved as usize].c.slots, w) = pos;
+        });
+        c.alive = false;
+        c.attrs.clear();
+        self.vertices[id as usize].c = c;
+        self.free_vertices.push(id);
+    }
+
+    /// Changes a live vertex's label, moving it between index sets.
+    pub(crate) fn relabel_vertex(&mut self, id: u32, label: u32) {
+        if self.vertices[id as usize].c.label == label {
+            return;
+        }
+        let tg = self.track_generations;
+        let vertices = &mut self.vertices;
+        let mut c = std::mem::replace(&mut vertices[id as usize].c, Common::new());
+        relabel(&mut self.vindex, &mut c, id, label, tg, |w, moved, pos| {
+            *slot_of(&mut vertices[moved as usize].c.slots, w) = pos;
+        });
+        self.vertices[id as usize].c = c;
+    }
+
+    /// Changes a live edge's label, moving it between index sets.
+    pub(crate) fn relabel_edge(&mut self, id: u32, label: u32) {
+        if self.edges[id as usize].c.label == label {
+            return;
+        }
+        let tg = self.track_generations;
+        let edges = &mut self.edges;
+        let mut c = std::mem::replace(&mut edges[id as usize].c, Common::new());
+        relabel(&mut self.eindex, &mut c, id, label, tg, |w, moved, pos| {
+            *slot_of(&mut edges[moved as usize].c.slots, w) = pos;
+        });
+        self.edges[id as usize].c = c;
+    }
+
+    /// Re-points a live edge at the same two vertices in the given order.
+    pub(crate) fn orient_edge(&mut self, id: u32, from: u32, to: u32, directed: bool) {
+        let e = &mut self.edges[id as usize];
+        if e.from == to && e.to == from && from != to {
+            e.adj_pos.swap(0, 1);
+        }
+        e.from = from;
+        e.to = to;
+        e.directed = directed;
+    }
+
+    /// The label id of `name`, interning it.
+    pub(crate) fn intern_label(&mut self, name: &str) -> u32 {
+        match self.labels.get(name) {
+            Some(id) => id,
+            None => Arc::make_mut(&mut self.labels).intern(name),
+        }
+    }
+
+    /// Checks every internal invariant (tests only).
+    #[cfg(test)]
+    pub(crate) fn check(&self) {
+        let live_v: Vec<u32> = (0..self.vertices.len() as u32).filter(|&i| self.vertices[i as usize].c.alive).collect();
+        let live_e: Vec<u32> = (0..self.edges.len() as u32).filter(|&i| self.edges[i as usize].c.alive).collect();
+        assert_eq!(live_v.len(), self.vindex.all.len());
+        assert_eq!(live_e.len(), self.eindex.all.len());
+        for &e in &live_e {
+            let ed = &self.edges[e as usize];
+            for (side, v) in [ed.from, ed.to].into_iter().enumerate() {
+                assert!(self.vertices[v as usize].c.alive, "edge {e} dangles");
+                assert_eq!(self.vertices[v as usize].adj[ed.adj_pos[side] as usize], e);
+            }
+        }
+        for &v in &live_v {
+            for &e in &self.vertices[v as usize].adj {
+                assert!(self.edges[e as usize].c.alive);
+            }
+            let n = self.vertices[v as usize].adj.len();
+            let deg: usize = live_e
+                .iter()
+                .map(|&e| {
+                    let ed = &self.edges[e as usize];
+                    usize::from(ed.from == v) + usize::from(ed.to == v)
+                })
+                .sum();
+            assert_eq!(n, deg);
+        }
+        for (index, elems) in [(&self.vindex, &live_v), (&self.eindex, &live_e)] {
+            let common = |id: u32| {
+                if std::ptr::eq(index, &self.vindex) {
+                    &self.vertices[id as usize].c
+                } else {
+                    &self.edges[id as usize].c
+                }
+            };
+            for &id in elems.iter() {
+                let c = common(id);
+                assert_eq!(index.all[c.slots.all as usize], id);
+                assert_eq!(index.by_label[c.label as usize][c.slots.label as usize], id);
+                if self.track_generations {
+                    assert_eq!(index.gen_all[&c.generation][c.slots.gen_all as usize], id);
+                    assert_eq!(index.gen_label[c.label as usize][&c.generation][c.slots.gen_label as usize], id);
+                }
+            }
+            let labelled: usize = index.by_label.iter().map(Vec::len).sum();
+            assert_eq!(labelled, elems.len());
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn new(label: u32, generation: u32, attrs: &mut Vec<(u32, Value)>) -> NewCommon<'_> {
+        NewCommon { label, generation, attrs }
+    }
+
+    fn graph(track: bool) -> Graph {
+        let mut labels = Interner::default();
+        labels.intern("a");
+        labels.intern("b");
+        Graph::empty(labels, Arc::new(Interner::default()), track)
+    }
+
+    #[test]
+    fn deleting_a_vertex_deletes_its_edges() {
+        let mut none = Vec::new();
+        for track in [false, true] {
+            let mut g = graph(track);
+            let v: Vec<u32> = (0..4).map(|i| g.add_vertex([i as f64, 0.0], new(1, 0, &mut none))).collect();
+            g.add_edge(v[0], v[1], false, new(1, 0, &mut none));
+            g.add_edge(v[1], v[2], true, new(2, 1, &mut none));
+            g.add_edge(v[1], v[1], false, new(2, 1, &mut none));
+            g.add_edge(v[2], v[1], false, new(1, 0, &mut none));
+            let keep = g.add_edge(v[2], v[3], false, new(1, 0, &mut none));
+            g.check();
+            assert_eq!(g.vertex(v[1]).unwrap().degree(), 5);
+            g.remove_vertex(v[1]);
+            g.check();
+            assert_eq!((g.vertex_count(), g.edge_count()), (3, 1));
+            assert!(g.edge(keep).is_some());
+            assert_eq!(g.vertex(v[2]).unwrap().degree(), 1);
+            // Freed slots are reused, last freed first.
+            let again = g.add_vertex([9.0, 9.0], new(2, 3, &mut none));
+            assert_eq!(again, v[1]);
+            g.check();
+        }
+    }
+
+    #[test]
+    fn random_edits_keep_every_index_consistent() {
+        let mut none = Vec::new();
+        let mut rng = genform_core::Rng::from_seed(11);
+        let mut g = graph(true);
+        for _ in 0..2000 {
+            let nv = g.vertex_count();
+            match rng.index(6) {
+                0 | 1 => {
+                    g.add_vertex([0.0; 2], new(rng.index(3) as u32, rng.index(4) as u32, &mut none));
+                }
+                2 | 3 if nv > 0 => {
+                    let a = g.vindex.all[rng.index(nv)];
+                    let b = g.vindex.all[rng.index(nv)];
+                    g.add_edge(a, b, rng.bernoulli(0.5), new(rng.index(3) as u32, rng.index(4) as u32, &mut none));
+                }
+                4 if g.edge_count() > 0 => {
+                    let e = g.eindex.all[rng.index(g.edge_count())];
+                    if rng.bernoulli(0.5) {
+                        g.remove_edge(e);
+                    } else {
+                        g.relabel_edge(e, rng.index(3) as u32);
+                        let (f, t) = (g.edges[e as usize].from, g.edges[e as usize].to);
+                        g.orient_edge(e, t, f, true);
+                    }
+                }
+                5 if nv > 0 => {
+                    let v = g.vindex.all[rng.index(nv)];
+                    if rng.bernoulli(0.5) {
+                        g.remove_vertex(v);
+                    } else {
+                        g.relabel_vertex(v, rng.index(3) as u32);
+                    }
+                }
+                _ => {}
+            }
+            g.check();
+        }
+        let counted: u32 = g.generations.values().sum();
+        assert_eq!(counted as usize, g.element_count());
+    }
+}

@@ -1,0 +1,188 @@
+//! Applying a production at a match, in place (single-pushout).
+//!
+//! Every new value (variables, positions, attributes, labels) is computed
+//! first, from the match as it is; then unmatched mother elements are
+//! deleted (a deleted vertex takes its remaining edges with it), kept
+//! elements updated and daughter-only elements added. New elements get the
+//! match's largest generation + 1.
+
+use crate::choices::Choices;
+use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
+use crate::graph::{Graph, NewCommon, Value};
+use crate::placement::Similarity;
+
+/// Reused buffers of one derivation.
+#[derive(Default)]
+pub(crate) struct Scratch {
+    m_points: Vec<[f64; 2]>,
+    h_points: Vec<[f64; 2]>,
+    hints: Vec<(usize, usize)>,
+    kept_v: Vec<Pending>,
+    kept_e: Vec<Pending>,
+    new_v: Vec<Pending>,
+    new_e: Vec<Pending>,
+    new_ids: Vec<u32>,
+    text: String,
+}
+
+#[derive(Default)]
+struct Pending {
+    label: Option<u32>,
+    pos: [f64; 2],
+    attrs: Vec<(u32, Value)>,
+}
+
+/// Applies option `opt` of production `p` at the match (`mv`, `me`: host
+/// ids per mother vertex and edge); `env` holds the match's loaded values.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn apply(
+    g: &mut Graph,
+    p: &Production,
+    opt: &Daughter,
+    env: &mut [f64],
+    mv: &[u32],
+    me: &[u32],
+    choices: &mut impl Choices,
+    s: &mut Scratch,
+) {
+    for (slot, prog) in p.app_vars.iter().chain(&opt.vars) {
+        env[*slot as usize] = prog.eval_draws(env, choices);
+    }
+    let generation = 1 + mv
+        .iter()
+        .map(|&v| g.vertices[v as usize].c.generation)
+        .chain(me.iter().map(|&e| g.edges[e as usize].c.generation))
+        .max()
+        .unwrap_or(0);
+    let place = opt.placement.then(|| {
+        s.m_points.clear();
+        s.h_points.clear();
+        s.hints.clear();
+        for (i, m) in p.mv.iter().enumerate() {
+            s.m_points.push(m.at.unwrap_or_default());
+            s.h_points.push(g.vertices[mv[i] as usize].pos);
+        }
+        s.hints.extend(p.me.iter().filter(|e| e.directed && e.from != e.to).map(|e| (e.from, e.to)));
+        let n = p.mv.len();
+        for i in 0..n {
+            for j in (i + 1..n).rev() {
+                s.hints.push((i, j));
+            }
+        }
+        Similarity::fit(&s.m_points, &s.h_points, &s.hints)
+    });
+
+    // Everything new is computed before the graph changes.
+    let eval_vertex =
+        |g: &mut Graph, d: &DVertex, old: Option<[f64; 2]>, out: &mut Pending, ch: &mut _, buf: &mut String| {
+            out.label = label(g, d.label.as_ref(), env, ch, buf);
+            let auto = place.map(|t| t.apply(d.at.unwrap_or_default()));
+            for k in 0..2 {
+                out.pos[k] = match &d.pos[k] {
+                    Coord::Keep => old.map_or(0.0, |o| o[k]),
+                    Coord::Auto => auto.map_or(0.0, |a| a[k]),
+                    Coord::Formula(prog) => prog.eval_draws(env, ch),
+                };
+            }
+            attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+        };
+    resize(&mut s.kept_v, opt.kept_vertices.len());
+    for (d, out) in opt.kept_vertices.iter().zip(&mut s.kept_v) {
+        let host = mv[d.mother.expect("a kept vertex has a mother")];
+        let old = g.vertices[host as usize].pos;
+        eval_vertex(g, d, Some(old), out, choices, &mut s.text);
+    }
+    resize(&mut s.kept_e, opt.kept_edges.len());
+    for (d, out) in opt.kept_edges.iter().zip(&mut s.kept_e) {
+        edge_values(g, d, env, choices, out, &mut s.text);
+    }
+    resize(&mut s.new_v, opt.new_vertices.len());
+    for (d, out) in opt.new_vertices.iter().zip(&mut s.new_v) {
+        eval_vertex(g, d, None, out, choices, &mut s.text);
+    }
+    resize(&mut s.new_e, opt.new_edges.len());
+    for (d, out) in opt.new_edges.iter().zip(&mut s.new_e) {
+        edge_values(g, d, env, choices, out, &mut s.text);
+    }
+
+    // Delete edges first: a deleted vertex would take them along anyway.
+    for &i in &opt.delete_edges {
+        g.remove_edge(me[i]);
+    }
+    for &i in &opt.delete_vertices {
+        g.remove_vertex(mv[i]);
+    }
+    for (d, new) in opt.kept_vertices.iter().zip(&mut s.kept_v) {
+        let id = mv[d.mother.expect("a kept vertex has a mother")];
+        if let Some(l) = new.label {
+            g.relabel_vertex(id, l);
+        }
+        let v = &mut g.vertices[id as usize];
+        v.pos = new.pos;
+        for (a, val) in new.attrs.drain(..) {
+            v.c.set_attr(a, val);
+        }
+    }
+    for (d, new) in opt.kept_edges.iter().zip(&mut s.kept_e) {
+        let id = me[d.mother.expect("a kept edge has a mother")];
+        if let Some(l) = new.label {
+            g.relabel_edge(id, l);
+        }
+        let (End::Mother(a), End::Mother(b)) = (d.from, d.to) else {
+            unreachable!("kept edges join mother vertices (checked when compiling)")
+        };
+        let directed = d.directed.unwrap_or(g.edges[id as usize].directed);
+        g.orient_edge(id, mv[a], mv[b], directed);
+        let e = &mut g.edges[id as usize];
+        for (a, val) in new.attrs.drain(..) {
+            e.c.set_attr(a, val);
+        }
+    }
+    s.new_ids.clear();
+    for new in &mut s.new_v[..opt.new_vertices.len()] {
+        new.attrs.sort_by_key(|(a, _)| *a);
+        let id = g.add_vertex(new.pos, NewCommon { label: new.label.unwrap_or(0), generation, attrs: &mut new.attrs });
+        s.new_ids.push(id);
+    }
+    for (d, new) in opt.new_edges.iter().zip(&mut s.new_e) {
+        let end = |e: End| match e {
+            End::Mother(i) => mv[i],
+            End::New(i) => s.new_ids[i],
+        };
+        new.attrs.sort_by_key(|(a, _)| *a);
+        let common = NewCommon { label: new.label.unwrap_or(0), generation, attrs: &mut new.attrs };
+        g.add_edge(end(d.from), end(d.to), d.directed.unwrap_or(false), common);
+    }
+}
+
+fn resize(v: &mut Vec<Pending>, n: usize) {
+    if v.len() < n {
+        v.resize_with(n, Pending::default);
+    }
+}
+
+fn label(g: &mut Graph, spec: Option<&LabelSpec>, env: &[f64], ch: &mut impl Choices, buf: &mut String) -> Option<u32> {
+    Some(match spec? {
+        LabelSpec::Fixed(l) => *l,
+        LabelSpec::Template(t) => {
+            t.write(env, ch, buf);
+            g.intern_label(buf)
+        }
+    })
+}
+
+fn attrs(specs: &[(u32, AttrSpec)], env: &[f64], ch: &mut impl Choices, out: &mut Vec<(u32, Value)>, buf: &mut String) {
+    out.clear();
+    for (a, spec) in specs {
+        let v = match spec {
+            AttrSpec::Value(v) => v.clone(),
+            AttrSpec::Template(t) => t.eval(env, ch, buf),
+        };
+        out.push((*a, v));
+    }
+}
+
+fn edge_values(g: &mut Graph, d: &DEdge, env: &[f64], ch: &mut impl Choices, out: &mut Pending, buf: &mut String) {
+    out.label = label(g, d.label.as_ref(), env, ch, buf);
+    attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+}
