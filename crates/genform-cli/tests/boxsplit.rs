@@ -113,3 +113,23 @@ fn box_split_errors_are_clear() {
     let err = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3"]).fails().stderr();
     assert!(err.contains("bad.bsg:2:"), "{err}");
 }
+
+#[test]
+fn a_flat_box_is_drawn_as_tiles() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mosaic = bsg("mosaic");
+    genform(tmp.path(), &["sample", s(&mosaic), "--box", "0,0,0,47,0,47", "--seed", "1", "--out", "m.png"]).ok();
+    let png = std::fs::read(tmp.path().join("m.png")).unwrap();
+    let decoder = png::Decoder::new(std::io::Cursor::new(png));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let (w, h) = (info.width as usize, info.height as usize);
+    // The border is dark oak planks all round, in flat tiles (no shading):
+    // the same colour at two different places of it.
+    let px = |x: usize, y: usize| buf[(y * w + x) * 3..(y * w + x) * 3 + 3].to_vec();
+    let tile = (w / 48).min(h / 48);
+    let (ox, oy) = ((w - 48 * tile) / 2, (h - 48 * tile) / 2);
+    assert_eq!(px(ox + tile / 2, oy + tile / 2), px(ox + 47 * tile + tile / 2, oy + 20 * tile));
+    assert_ne!(px(ox + tile / 2, oy + tile / 2), px(ox + 24 * tile, oy + 24 * tile));
+}

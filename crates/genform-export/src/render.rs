@@ -124,6 +124,11 @@ pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
     {
         return (rgb, w, h);
     }
+    if opts.camera.is_none()
+        && let Some(grid) = crate::minecraft::flat_grid(scene)
+    {
+        return (crate::minecraft::render_tiles(grid, w, h, opts.background), w, h);
+    }
     let ss = if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 };
     let mut r = Raster::new(w as usize * ss, h as usize * ss, pack(opts.background));
     if !scene.is_empty() || !scene.blocks.is_empty() {

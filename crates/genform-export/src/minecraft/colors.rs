@@ -8,6 +8,7 @@ use genform_core::blocks::BlockState;
 const TABLE: &[(&str, [u8; 3])] = &[
     ("stone", [125, 125, 125]),
     ("quartz_block", [235, 229, 222]),
+    ("lapis_block", [31, 67, 140]),
     ("smooth_quartz", [236, 230, 223]),
     ("chiseled_quartz_block", [231, 226, 218]),
     ("quartz_pillar", [235, 230, 224]),

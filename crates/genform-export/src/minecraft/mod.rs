@@ -22,6 +22,7 @@ mod nbt_file;
 mod packing;
 mod region;
 mod schem;
+mod tiles;
 mod vox;
 
 use genform_core::blocks::{BlockGrid, BlockState};
@@ -33,6 +34,7 @@ pub use mesh::{BlockMesh, mesh_blocks};
 pub(crate) use mesh::{block_meshes, for_each_block_triangle, has_drawn_blocks};
 pub use region::{RegionFile, read_terrain, region_coords, region_file_name, regions_for_box, write_region};
 pub use schem::{SchemVersion, read_schem, write_schem};
+pub(crate) use tiles::{flat_grid, render_tiles};
 pub use vox::{MAX_VOX_COLORS, write_vox};
 
 /// The first DataVersion with the 1.18 chunk layout (`sections` at the
