@@ -72,3 +72,32 @@ pub fn check(file: &SourceFile, diags: &Diagnostics, comment: &str) -> Result<()
     }
     if problems.is_empty() { Ok(()) } else { Err(format!("{}\nreported:\n{}", problems.join("\n"), diags.short())) }
 }
+
+/// Checks every file in `dir` whose name ends with `suffix` (sorted by
+/// name): `compile` returns its diagnostics (warnings on success, errors on
+/// failure), which must match the file's annotations after `comment`.
+/// Returns the number of files checked, or every mismatch of every file.
+///
+/// Test support: this reads the folder it is given (the fixtures of the
+/// calling crate's tests).
+pub fn check_dir(
+    dir: &std::path::Path,
+    suffix: &str,
+    comment: &str,
+    compile: impl Fn(&SourceFile) -> Diagnostics,
+) -> Result<usize, String> {
+    let entries = std::fs::read_dir(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut files: Vec<_> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    files.retain(|p| p.file_name().is_some_and(|n| n.to_string_lossy().ends_with(suffix)));
+    files.sort();
+    let mut failures = Vec::new();
+    for path in &files {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let file = SourceFile::new(name, text);
+        if let Err(e) = check(&file, &compile(&file), comment) {
+            failures.push(e);
+        }
+    }
+    if failures.is_empty() { Ok(files.len()) } else { Err(failures.join("\n\n")) }
+}
