@@ -128,8 +128,10 @@ pub struct DeriveFailure {
     pub stats: DeriveStats,
 }
 
-/// Largest derivation box, in cells (observer tables count in `u32`).
-pub const MAX_VOLUME: u64 = 1 << 31;
+/// Largest derivation box, in cells: 2²⁷ (for example 512×256×1024), so
+/// the result grid (4 bytes a cell) and each observer table (4 bytes a cell)
+/// stay within half a gibibyte each.
+pub const MAX_VOLUME: u64 = 1 << 27;
 
 const NONE: u32 = u32::MAX;
 

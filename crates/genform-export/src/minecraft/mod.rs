@@ -47,8 +47,9 @@ pub const DATA_VERSION_1_21_1: i32 = 3955;
 /// The first DataVersion (1.20.5) whose Litematica files are format 7.
 pub const LITEMATIC_V7_DATA_VERSION: i32 = 3837;
 
-/// The largest box [`read_terrain`] fills, in cells (4 GiB of cells).
-pub const MAX_TERRAIN_CELLS: u64 = 1 << 30;
+/// The largest box [`read_terrain`] fills, in cells (2²⁷: 512 MiB of `u32`
+/// cells).
+pub const MAX_TERRAIN_CELLS: u64 = 1 << 27;
 
 /// What went wrong reading or writing Minecraft data.
 #[derive(thiserror::Error, Debug, Clone, PartialEq, Eq)]
