@@ -34,6 +34,8 @@ pub fn parse_box(text: &str) -> Result<(IVec3, IVec3)> {
 /// The region files a box needs and the coordinates of those not found.
 struct World {
     files: Vec<RegionFile>,
+    /// Where each of `files` was read from.
+    paths: Vec<PathBuf>,
     missing: Vec<(i32, i32)>,
 }
 
@@ -43,6 +45,7 @@ struct World {
 fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
     let needed = regions_for_box(min, max);
     let mut files = Vec::new();
+    let mut paths = Vec::new();
     let mut missing = Vec::new();
     let candidates: Vec<(i32, i32, PathBuf)> = if path.is_dir() {
         // A world folder keeps its regions in `region/`.
@@ -60,6 +63,7 @@ fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
             Some((_, _, p)) if p.exists() => {
                 let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
                 files.push(RegionFile { x, z, bytes });
+                paths.push(p.clone());
             }
             _ => missing.push((x, z)),
         }
@@ -71,7 +75,7 @@ fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
             path.display()
         );
     }
-    Ok(World { files, missing })
+    Ok(World { files, paths, missing })
 }
 
 /// `genform sample FILE.bsg`.
@@ -86,13 +90,6 @@ pub fn sample(a: SampleArgs) -> Result<()> {
     if to_region && a.world.is_none() {
         bail!("writing a region file (.mca) needs --world: the blocks go into a copy of the observed region");
     }
-    if let (true, Some(out), Some(world)) = (to_region, out, &a.world) {
-        let same = |p: &Path| p.canonicalize().ok();
-        let world_file = if world.is_dir() { None } else { same(world) };
-        if world_file.is_some() && world_file == same(out) {
-            bail!("--out {} is the observed region itself; write into a copy (another path)", out.display());
-        }
-    }
     let grammar = grammar::load_boxsplit(&a.file)?;
     let Some(box_text) = &a.r#box else {
         bail!("box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
@@ -100,7 +97,13 @@ pub fn sample(a: SampleArgs) -> Result<()> {
     let (min, max) = parse_box(box_text)?;
     let (regions, world) = match &a.world {
         Some(path) => {
-            let World { files: regions, missing } = load_world(path, min, max)?;
+            let World { files: regions, paths, missing } = load_world(path, min, max)?;
+            if let Some(out) = out.filter(|_| to_region) {
+                let same = |p: &Path| p.canonicalize().ok();
+                if same(out).is_some() && paths.iter().any(|p| same(p) == same(out)) {
+                    bail!("--out {} is the observed region itself; write into a copy (another path)", out.display());
+                }
+            }
             if !missing.is_empty() {
                 eprintln!(
                     "warning: {} not found; the box's cells there observe as air",
