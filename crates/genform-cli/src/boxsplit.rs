@@ -95,22 +95,38 @@ pub fn sample(a: SampleArgs) -> Result<()> {
         bail!("box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
     };
     let (min, max) = parse_box(box_text)?;
+    let preview = match out {
+        Some(path) if !to_region => matches!(
+            output_format(path)?,
+            genform_export::Format::Png | genform_export::Format::Glb | genform_export::Format::Obj
+        ),
+        _ => false,
+    };
+    // Previews show the ground around and behind the structure too, cut
+    // open along the box's front (+z, towards the preview camera): one read
+    // of that larger area serves the observers and the picture.
+    let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
+    let (read_min, read_max) =
+        if preview { (min - margin, IVec3::new(max.x + margin.x, max.y + margin.y, max.z)) } else { (min, max) };
     let (regions, world) = match &a.world {
         Some(path) => {
-            let World { files: regions, paths, missing } = load_world(path, min, max)?;
+            let World { files: regions, paths, mut missing } = load_world(path, read_min, read_max)?;
             if let Some(out) = out.filter(|_| to_region) {
                 let same = |p: &Path| p.canonicalize().ok();
                 if same(out).is_some() && paths.iter().any(|p| same(p) == same(out)) {
                     bail!("--out {} is the observed region itself; write into a copy (another path)", out.display());
                 }
             }
+            // Only regions the derivation box needs matter to the observers.
+            let needed = regions_for_box(min, max);
+            missing.retain(|r| needed.contains(r));
             if !missing.is_empty() {
                 eprintln!(
                     "warning: {} not found; the box's cells there observe as air",
                     missing.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", ")
                 );
             }
-            let terrain = read_terrain(&regions, min, max).context("cannot read the terrain")?;
+            let terrain = read_terrain(&regions, read_min, read_max).context("cannot read the terrain")?;
             (regions, Some(terrain))
         }
         None => (Vec::new(), None),
@@ -147,17 +163,8 @@ pub fn sample(a: SampleArgs) -> Result<()> {
         Some(path) if to_region => write_into_region(&regions, &d.blocks, path)?,
         Some(path) => {
             let mut scene = Scene::new();
-            let preview = matches!(
-                output_format(path)?,
-                genform_export::Format::Png | genform_export::Format::Glb | genform_export::Format::Obj
-            );
-            if preview && !regions.is_empty() {
-                // Show the ground around and behind the structure, cut open
-                // along the box's front (+z, towards the preview camera).
-                let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
-                let front = IVec3::new(max.x + margin.x, max.y + margin.y, max.z);
-                let around = read_terrain(&regions, min - margin, front).context("cannot read the terrain")?;
-                scene.blocks.push(terrain_context(&around, &d.blocks));
+            if preview && let Some(terrain) = &world {
+                scene.blocks.push(terrain_context(terrain, &d.blocks));
             }
             scene.blocks.push(d.blocks);
             let schem_version = if a.schem_version == 3 { SchemVersion::V3 } else { SchemVersion::V2 };
