@@ -183,6 +183,7 @@ impl LsGenerator {
             limits,
             out: ModuleString::default(),
             sc: Scratch::default(),
+            values: Vec::new(),
         };
         let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
         walk.axiom(root)?;
@@ -201,6 +202,8 @@ struct Walk<'a> {
     limits: &'a Limits,
     out: ModuleString,
     sc: Scratch,
+    /// The parameters of the gene being rewritten.
+    values: Vec<f64>,
 }
 
 impl Walk<'_> {
@@ -291,18 +294,25 @@ impl Walk<'_> {
         let owner = self.owner;
         let sys = &owner.system;
         let gene_sym = &owner.genes[owner.symbol_of[sym as usize].expect("rewritable") as usize];
-        let values: Vec<f64> = self.genome().gene(pos).params().collect();
+        // The gene's values are needed only until the successor is emitted,
+        // so one buffer serves every gene.
+        let mut values = std::mem::take(&mut self.values);
+        values.clear();
+        values.extend(self.genome().gene(pos).params());
         let (roulette, uniforms) =
             if gene_sym.roulette { (values.first().copied(), &values[1..]) } else { (None, &values[..]) };
         let mut draws = Stored { values: uniforms, next: 0 };
         let site = Site { sym, params, ctx: None };
-        let Some(r) = sys.choose_with(&sys.productions, &site, &mut draws, roulette, &mut self.sc) else {
+        let chosen = sys.choose_with(&sys.productions, &site, &mut draws, roulette, &mut self.sc);
+        let mut produced = ModuleString::default();
+        if let Some(r) = chosen {
+            emit(&sys.productions.rules[r as usize], &sys.alphabet, &self.sc.env, &mut produced, &mut draws);
+        }
+        self.values = values;
+        let Some(r) = chosen else {
             // No production applies: the module stays.
             return self.push(sym, params);
         };
-        let rule = &sys.productions.rules[r as usize];
-        let mut produced = ModuleString::default();
-        emit(rule, &sys.alphabet, &self.sc.env, &mut produced, &mut draws);
         for ((s, p), link) in produced.modules(&sys.alphabet).zip(&gene_sym.links[r as usize]) {
             match link {
                 Some(l) => match self.child(pos, *l, s, depth + 1)? {
@@ -344,6 +354,7 @@ impl Generator for LsGenerator {
             limits,
             out: ModuleString::default(),
             sc: Scratch::default(),
+            values: Vec::new(),
         };
         walk.axiom(GenePos(0))?;
         let truncated = match walk.genome {
