@@ -3,6 +3,7 @@
 //!
 //! - [`scene`]: the resolved geometry every generator produces and every
 //!   exporter and scorer consumes.
+//! - [`surface`]: polygon surfaces with typed edges, and preview guides.
 //! - [`camera`]: the orbit camera and its world → pixel projection, shared by
 //!   the preview renderer and the image scorers.
 //! - [`graph`]: the generator graph (symbols, parameter specs, child slots).
@@ -22,6 +23,7 @@ pub mod genome;
 pub mod graph;
 pub mod rng;
 pub mod scene;
+pub mod surface;
 
 pub use blocks::{BlockGrid, BlockKind, BlockState};
 pub use diag::{Diagnostic, Diagnostics, Severity, SourceFile, Span};
@@ -30,3 +32,4 @@ pub use genome::{Genome, GenomeError};
 pub use graph::{Distribution, GeneratorGraph, ParamSpec, SlotSpec, SymbolId, SymbolSpec};
 pub use rng::{Draws, Rng};
 pub use scene::{Instance, Mesh, MeshId, Primitive, Scene, TagId};
+pub use surface::{Guide, GuideKind, Surface, SurfaceEdge};

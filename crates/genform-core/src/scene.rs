@@ -214,6 +214,12 @@ pub struct Scene {
     /// 2D vector-drawing elements (graph grammars), drawn by the SVG and
     /// PNG exporters in order.
     pub shapes2d: Vec<Shape2d>,
+    /// Polygon surfaces with typed edges (HEMLS growth). Their faces are
+    /// part of [`Scene::for_each_triangle`].
+    pub surfaces: Vec<crate::surface::Surface>,
+    /// Context geometry previews draw faintly; not part of the model (no
+    /// exporter writes it into a model file, no scorer sees it).
+    pub guides: Vec<crate::surface::Guide>,
 }
 
 /// How finely curved primitives are tessellated.
@@ -246,6 +252,8 @@ impl Scene {
         self.polygons.clear();
         self.blocks.clear();
         self.shapes2d.clear();
+        self.surfaces.clear();
+        self.guides.clear();
     }
 
     /// The id of tag `name`, interning it on first use.
@@ -273,10 +281,11 @@ impl Scene {
             && self.polygons.is_empty()
             && self.blocks.iter().all(|g| g.set_count() == 0)
             && self.shapes2d.is_empty()
+            && self.surfaces.iter().all(|s| s.positions.is_empty())
     }
 
-    /// Calls `f(triangle, tag)` for every triangle of every instance and
-    /// polygon, in world space and counter-clockwise seen from outside
+    /// Calls `f(triangle, tag)` for every triangle of every instance,
+    /// polygon and surface face, in world space and counter-clockwise seen from outside
     /// (triangles of reflected instances are re-ordered to stay so).
     /// Polygons are split by [`triangulate_polygon`]: counter-clockwise seen
     /// from the side their points wind counter-clockwise around.
@@ -306,6 +315,13 @@ impl Scene {
             for t in triangulate_polygon(&poly.points) {
                 f(t.map(|i| poly.points[i as usize]), poly.tag);
             }
+        }
+        for surface in &self.surfaces {
+            surface.for_each_face_points(|pts| {
+                for t in triangulate_polygon(pts) {
+                    f(t.map(|i| pts[i as usize]), surface.tag);
+                }
+            });
         }
     }
 
