@@ -13,8 +13,15 @@ pub struct SurfaceEdge {
     pub a: u32,
     /// End vertex.
     pub b: u32,
-    /// Edge type.
+    /// Edge type ([`SurfaceEdge::UNTYPED`] for edges that smoothing adds
+    /// inside faces).
     pub kind: u32,
+}
+
+impl SurfaceEdge {
+    /// The type of edges that belong to no rewrite rule (e.g. the ones
+    /// Catmull–Clark subdivision adds inside faces).
+    pub const UNTYPED: u32 = u32::MAX;
 }
 
 /// A polygon surface: vertices, bounded faces as vertex loops, and typed
@@ -36,6 +43,10 @@ pub struct Surface {
     pub edges: Vec<SurfaceEdge>,
     /// Semantic tag of the faces; edges are tagged by type when exported.
     pub tag: TagId,
+    /// How many vertices ended on the wrong side of a soft boundary of the
+    /// environment the surface grew in (the soft-boundary fitness criterion
+    /// reads it; 0 without soft boundaries).
+    pub outside_soft: u32,
 }
 
 impl Surface {
