@@ -56,6 +56,16 @@ pub enum ConfigError {
     /// A tournament without contestants.
     #[error("the tournament size in selection.{0} must be at least 1")]
     Tournament(&'static str),
+    /// A codon genome's initial length range is empty or passes the cap.
+    #[error("initial_length [{a}, {b}] needs 1 ≤ {a} ≤ {b} ≤ max_length ({max})")]
+    CodonLength {
+        /// Lower end.
+        a: usize,
+        /// Upper end.
+        b: usize,
+        /// `max_length` (inclusive for codon genomes).
+        max: usize,
+    },
     /// A numeric setting outside its range.
     #[error("{name} must be {requirement}, got {value}")]
     Setting {
@@ -69,11 +79,11 @@ pub enum ConfigError {
 }
 
 /// Fails with [`ConfigError::Setting`] unless `ok(value)`.
-fn require(name: &'static str, value: f64, requirement: &'static str, ok: bool) -> Result<(), ConfigError> {
+pub(crate) fn require(name: &'static str, value: f64, requirement: &'static str, ok: bool) -> Result<(), ConfigError> {
     if ok { Ok(()) } else { Err(ConfigError::Setting { name, requirement, value }) }
 }
 
-fn probability(name: &'static str, value: f64) -> Result<(), ConfigError> {
+pub(crate) fn probability(name: &'static str, value: f64) -> Result<(), ConfigError> {
     require(name, value, "in [0, 1]", (0.0..=1.0).contains(&value))
 }
 

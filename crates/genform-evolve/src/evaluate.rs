@@ -6,8 +6,8 @@ use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
 /// A new individual; `fitness` is already known when it is an unchanged copy.
-pub(crate) struct Child {
-    pub genome: Genome,
+pub(crate) struct Child<G = Genome> {
+    pub genome: G,
     pub fitness: Option<f64>,
 }
 
@@ -15,7 +15,7 @@ pub(crate) struct Child {
 /// scratch per worker task; returns how many were evaluated and the time.
 /// Results land in the children's own slots, so the order never depends on
 /// scheduling.
-pub(crate) fn evaluate<O: Objective>(objective: &O, children: &mut [Child]) -> (u64, Duration) {
+pub(crate) fn evaluate<G: Send + Sync, O: Objective<G>>(objective: &O, children: &mut [Child<G>]) -> (u64, Duration) {
     let start = Instant::now();
     let count = children.iter().filter(|c| c.fitness.is_none()).count() as u64;
     children.par_iter_mut().for_each_init(

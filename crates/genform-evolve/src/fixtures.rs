@@ -1,5 +1,8 @@
-//! Small generator graphs and objectives for tests, benchmarks and examples.
+//! Small generator graphs and objectives for tests, benchmarks and examples:
+//! [`ship`] with [`ShipToy`] for the tree optimizers; [`SevensToy`],
+//! [`TargetToy`] and [`HalfInvalidToy`] for the codon optimizers.
 
+use crate::ge::Codons;
 use crate::objective::Objective;
 use genform_core::{Distribution, GeneratorGraph, Genome, ParamSpec, SlotSpec, SymbolSpec};
 
@@ -115,5 +118,59 @@ impl Objective for ShipToy {
         }
         let quality = if n == 0 { 0.0 } else { sum / n as f64 };
         -(genome.len() as f64 - self.target as f64).abs() / 4.0 + 4.0 * quality
+    }
+}
+
+/// A toy codon objective: how many of the first 20 codons are ≡ 0 (mod 7),
+/// 0 to 20. A random codon in 0..1000 qualifies with probability 0.143, so
+/// random genomes score about 3 and the best of thousands about 9.
+#[derive(Clone, Copy, Debug)]
+pub struct SevensToy;
+
+impl Objective<Codons> for SevensToy {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn evaluate(&self, codons: &Codons, _: &mut ()) -> f64 {
+        codons.iter().take(20).filter(|&&c| c % 7 == 0).count() as f64
+    }
+}
+
+/// A toy codon objective: match a target codon sequence.
+/// `fitness = −Σ_i |codon_i − target_i|` over the target's positions; a
+/// missing codon costs 1000. 0 is a perfect match.
+#[derive(Clone, Debug)]
+pub struct TargetToy {
+    /// The codons to match, from the first position on.
+    pub target: Vec<u32>,
+}
+
+impl Objective<Codons> for TargetToy {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn evaluate(&self, codons: &Codons, _: &mut ()) -> f64 {
+        let distance = |(i, &t): (usize, &u32)| codons.get(i).map_or(1000.0, |&c| (c as f64 - t as f64).abs());
+        -self.target.iter().enumerate().map(distance).sum::<f64>()
+    }
+}
+
+/// [`SevensToy`], but invalid (NaN) when the first codon is odd: half the
+/// random genomes, as when a GE mapping fails.
+#[derive(Clone, Copy, Debug)]
+pub struct HalfInvalidToy;
+
+impl Objective<Codons> for HalfInvalidToy {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn evaluate(&self, codons: &Codons, s: &mut ()) -> f64 {
+        match codons.first() {
+            Some(c) if c % 2 == 0 => SevensToy.evaluate(codons, s),
+            _ => f64::NAN,
+        }
     }
 }

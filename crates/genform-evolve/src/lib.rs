@@ -2,13 +2,18 @@
 //!
 //! Optimizers know genomes and the generator graph, never a formalism:
 //! they call an [`Objective`] for fitness and reshape derivation trees with
-//! the [`operators`].
+//! the [`operators`]. The framework ([`Individual`], [`Objective`],
+//! [`Optimizer`], [`run()`]) is generic over the genome type, which defaults to
+//! the derivation-tree [`Genome`](genform_core::Genome); grammatical
+//! evolution ([`ge`]) uses codon strings ([`Codons`]).
 //!
 //! - [`objective`]: the fitness interface (per-worker scratch, invalid =
 //!   non-finite).
 //! - [`operators`]: grow, cut, alter, crossover, initial individuals.
 //! - [`selection`]: roulette, tournament, uniform.
 //! - [`ga`]: the ShapeGenetics genetic algorithm.
+//! - [`ge`]: grammatical evolution over codon strings (the Genr8 EA) and
+//!   its random-search baseline.
 //! - [`random`]: the random-search baseline.
 //! - [`smc`]: SMC and SOSMC (fixed and stochastic growth order).
 //! - [`hybrid`]: SOSMC seeding, GA, then MH polishing.
@@ -27,6 +32,7 @@ pub mod config;
 mod evaluate;
 pub mod fixtures;
 pub mod ga;
+pub mod ge;
 pub mod hybrid;
 pub mod mcmc;
 pub mod objective;
@@ -43,11 +49,12 @@ pub use config::{
     ConfigError, GaConfig, GeneChoice, HybridConfig, MhConfig, RandomConfig, SelectionPair, SmcConfig, Weighting,
 };
 pub use ga::Ga;
+pub use ge::{AnyCodonOptimizer, CodonAlgorithm, CodonRandom, CodonRandomConfig, Codons, Ge, GeConfig};
 pub use hybrid::{Horizon, Hybrid};
 pub use mcmc::Mh;
 pub use objective::{FnObjective, Objective};
 pub use operators::{LengthBounds, MutationKind, MutationMix};
-pub use optimizer::{Individual, Optimizer};
+pub use optimizer::{Genotype, Individual, Optimizer};
 pub use random::RandomSearch;
 pub use run::{RunSummary, Stop, StopReason, Unbounded, run};
 pub use selection::Selection;

@@ -2,7 +2,13 @@
 
 use genform_core::Genome;
 
-/// A fitness function over genomes; larger is better.
+/// A fitness function over genomes of type `G`; larger is better.
+///
+/// `G` is the representation the optimizer searches: the packed
+/// derivation tree [`Genome`] (the default, used by the GA, MH, SMC and
+/// random search) or a codon string [`Codons`](crate::ge::Codons) (grammatical
+/// evolution). An objective for codons typically maps them through a
+/// grammar and scores the result; an optimizer never knows which.
 ///
 /// Optimizers evaluate many genomes in parallel, each worker with its own
 /// [`Objective::Scratch`] (voxel grids, scenes, buffers), so `evaluate` can
@@ -14,7 +20,7 @@ use genform_core::Genome;
 /// A non-finite result (NaN or ±∞, e.g. the genome could not be expressed)
 /// marks the individual *invalid*: it gets weight 0 in roulette selection,
 /// loses every tournament, sorts last, and is counted apart in statistics.
-pub trait Objective: Sync {
+pub trait Objective<G = Genome>: Sync {
     /// Per-worker reusable state.
     type Scratch: Send;
 
@@ -22,20 +28,21 @@ pub trait Objective: Sync {
     fn scratch(&self) -> Self::Scratch;
 
     /// The fitness of `genome`.
-    fn evaluate(&self, genome: &Genome, scratch: &mut Self::Scratch) -> f64;
+    fn evaluate(&self, genome: &G, scratch: &mut Self::Scratch) -> f64;
 }
 
 /// An [`Objective`] from a plain function (no scratch), for tests and small
-/// experiments.
+/// experiments; the closure's argument type picks the genome type, e.g.
+/// `FnObjective(|g: &Genome| …)` or `FnObjective(|c: &Codons| …)`.
 #[derive(Clone, Copy, Debug)]
 pub struct FnObjective<F>(pub F);
 
-impl<F: Fn(&Genome) -> f64 + Sync> Objective for FnObjective<F> {
+impl<G, F: Fn(&G) -> f64 + Sync> Objective<G> for FnObjective<F> {
     type Scratch = ();
 
     fn scratch(&self) {}
 
-    fn evaluate(&self, genome: &Genome, _: &mut ()) -> f64 {
+    fn evaluate(&self, genome: &G, _: &mut ()) -> f64 {
         (self.0)(genome)
     }
 }

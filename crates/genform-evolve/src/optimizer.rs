@@ -1,20 +1,40 @@
-//! What every optimizer shares: individuals and the [`Optimizer`] trait.
+//! What every optimizer shares: individuals and the [`Optimizer`] trait,
+//! both generic over the genome type (default: the derivation-tree
+//! [`Genome`]; grammatical evolution uses [`Codons`](crate::ge::Codons)).
 
 use crate::objective::Objective;
 use crate::selection::rank;
 use crate::stats::GenerationStats;
 use genform_core::{Genome, Limits};
 
+/// What statistics need to know about a genome representation.
+pub trait Genotype {
+    /// Its length: genes of a [`Genome`], codons of a codon string.
+    fn length(&self) -> usize;
+}
+
+impl Genotype for Genome {
+    fn length(&self) -> usize {
+        self.len()
+    }
+}
+
+impl Genotype for Vec<u32> {
+    fn length(&self) -> usize {
+        self.len()
+    }
+}
+
 /// A genome with its cached fitness.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Individual {
+pub struct Individual<G = Genome> {
     /// The genome.
-    pub genome: Genome,
+    pub genome: G,
     /// Its fitness; non-finite means invalid (see [`Objective`]).
     pub fitness: f64,
 }
 
-impl Individual {
+impl<G> Individual<G> {
     /// Whether the fitness is finite.
     pub fn is_valid(&self) -> bool {
         self.fitness.is_finite()
@@ -23,27 +43,29 @@ impl Individual {
 
 /// Sorts best first, stably: ties (and all invalid individuals) keep their
 /// order, so the result depends only on the input order.
-pub fn sort_population(population: &mut [Individual]) {
+pub fn sort_population<G>(population: &mut [Individual<G>]) {
     population.sort_by(|a, b| rank(a.fitness, b.fitness));
 }
 
-/// A population-based search driven one generation at a time (GA, random
-/// search; MH, SMC and SOSMC follow the same shape).
+/// A population-based search over genomes of type `G`, driven one
+/// generation at a time (GA, random search; MH, SMC and SOSMC follow the
+/// same shape; [`Ge`](crate::ge::Ge) and [`CodonRandom`](crate::ge::CodonRandom)
+/// search codon strings).
 ///
 /// The generic [`Optimizer::step`] is left out of the vtable, so drivers can
 /// hand `&dyn Optimizer` to callbacks that only read the state.
-pub trait Optimizer {
+pub trait Optimizer<G = Genome> {
     /// Runs one generation; the first call builds and evaluates generation 0.
-    fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats
+    fn step<O: Objective<G>>(&mut self, objective: &O) -> GenerationStats
     where
         Self: Sized;
 
     /// The current population, best first.
-    fn population(&self) -> &[Individual];
+    fn population(&self) -> &[Individual<G>];
 
     /// The best valid individual seen so far; `None` before the first
     /// generation or while none was valid.
-    fn best(&self) -> Option<&Individual>;
+    fn best(&self) -> Option<&Individual<G>>;
 
     /// Index of the current generation (0 = the initial one).
     fn generation(&self) -> usize;
@@ -59,7 +81,7 @@ pub trait Optimizer {
 
 /// Replaces `best` with the first valid individual of a sorted population
 /// when it is better.
-pub(crate) fn update_best(best: &mut Option<Individual>, sorted: &[Individual]) {
+pub(crate) fn update_best<G: Clone>(best: &mut Option<Individual<G>>, sorted: &[Individual<G>]) {
     if let Some(top) = sorted.first().filter(|i| i.is_valid())
         && best.as_ref().is_none_or(|b| top.fitness > b.fitness)
     {

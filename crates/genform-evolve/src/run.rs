@@ -59,11 +59,15 @@ pub struct Unbounded;
 /// generation with its statistics and the optimizer (to read the population
 /// or the best individual). An uninitialized optimizer first makes
 /// generation 0; an already advanced one continues.
-pub fn run<P: Optimizer, O: Objective>(
+///
+/// Works for any genome type `G` (inferred from the optimizer): tree
+/// optimizers with a [`Genome`](genform_core::Genome) objective, codon
+/// optimizers with a [`Codons`](crate::ge::Codons) one.
+pub fn run<G, P: Optimizer<G>, O: Objective<G>>(
     optimizer: &mut P,
     objective: &O,
     stop: &Stop,
-    mut on_generation: impl FnMut(&GenerationStats, &dyn Optimizer),
+    mut on_generation: impl FnMut(&GenerationStats, &dyn Optimizer<G>),
 ) -> Result<RunSummary, Unbounded> {
     if stop.generations.is_none() && stop.budget.is_none() && stop.evaluations.is_none() {
         return Err(Unbounded);
@@ -88,7 +92,7 @@ pub fn run<P: Optimizer, O: Objective>(
 }
 
 /// The first condition that holds, cancellation first.
-fn reached(optimizer: &impl Optimizer, stop: &Stop, start: Instant) -> Option<StopReason> {
+fn reached<G>(optimizer: &impl Optimizer<G>, stop: &Stop, start: Instant) -> Option<StopReason> {
     if stop.cancel.load(Ordering::Relaxed) {
         return Some(StopReason::Cancelled);
     }

@@ -1,7 +1,7 @@
 //! Per-generation statistics (the reference's CSV columns and more).
 
 use crate::operators::MutationKind;
-use crate::optimizer::Individual;
+use crate::optimizer::{Genotype, Individual};
 use serde::Serialize;
 use std::time::Duration;
 
@@ -122,7 +122,7 @@ pub struct GenerationStats {
     pub moves: MoveCounts,
     /// SMC: effective sample size of the resampling weights.
     pub ess: Option<f64>,
-    /// Shortest genome (genes).
+    /// Shortest genome (genes; codons for codon genomes).
     pub len_min: usize,
     /// Mean genome length.
     pub len_avg: f64,
@@ -133,9 +133,16 @@ pub struct GenerationStats {
 }
 
 impl GenerationStats {
-    /// Fitness and length statistics of a population sorted best first; the
-    /// counters and durations are left zero for the caller.
+    /// Fitness and length statistics of a population of derivation-tree
+    /// genomes sorted best first; the counters and durations are left zero
+    /// for the caller. See [`GenerationStats::summarize`] for any genome type.
     pub fn of_population(generation: usize, population: &[Individual]) -> Self {
+        Self::summarize(generation, population)
+    }
+
+    /// [`GenerationStats::of_population`] for any genome type (lengths in
+    /// the type's own unit, e.g. codons).
+    pub fn summarize<G: Genotype>(generation: usize, population: &[Individual<G>]) -> Self {
         let mut valid = 0usize;
         let (mut sum, mut max, mut min) = (0.0, f64::NEG_INFINITY, f64::INFINITY);
         let (mut len_sum, mut len_min, mut len_max) = (0usize, usize::MAX, 0usize);
@@ -146,7 +153,7 @@ impl GenerationStats {
                 max = max.max(ind.fitness);
                 min = min.min(ind.fitness);
             }
-            let len = ind.genome.len();
+            let len = ind.genome.length();
             len_sum += len;
             len_min = len_min.min(len);
             len_max = len_max.max(len);
@@ -169,7 +176,7 @@ impl GenerationStats {
             len_min: if n == 0 { 0 } else { len_min },
             len_avg: if n == 0 { 0.0 } else { len_sum as f64 / n as f64 },
             len_max,
-            best_len: population.first().map_or(0, |i| i.genome.len()),
+            best_len: population.first().map_or(0, |i| i.genome.length()),
         }
     }
 }

@@ -1,0 +1,178 @@
+//! Settings of grammatical evolution and its random-search baseline.
+//!
+//! The Genr8 paper states almost none of its EA settings (reference
+//! `genr8.md` §7); the defaults are the reference's recommended GE
+//! defaults: population 50, tournament of 3, one-point crossover at 0.9,
+//! per-codon mutation at 0.01, 1 elite, codons 0..999, initial length
+//! 50–200. The length cap (1000) is ours: variable-length crossover lets
+//! lengths drift, and the cap keeps them bounded.
+
+use crate::config::{ConfigError, probability, require};
+use crate::selection::Selection;
+use serde::{Deserialize, Serialize};
+
+/// Settings of the [`Ge`](super::Ge) optimizer. Every field has a default;
+/// unknown fields are errors.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GeConfig {
+    /// Individuals per generation.
+    pub population: usize,
+    /// Best individuals copied unchanged (with their cached fitness) into
+    /// the next generation.
+    pub elitism: usize,
+    /// Initial genome length in codons, drawn uniformly from `[a, b]`.
+    pub initial_length: [usize; 2],
+    /// Longest genome in codons (inclusive, unlike the GA's exclusive
+    /// `max_length`): crossover children past it lose their tail codons,
+    /// which the left-to-right mapping reads last (often unread introns).
+    pub max_length: usize,
+    /// Codons are drawn uniformly from `0..codon_range`. The mapper takes
+    /// them modulo a rule's production count, so the range only needs to
+    /// be well above the largest count to keep that choice near uniform.
+    pub codon_range: u32,
+    /// Parent selection. In configuration files `{ tournament = 3 }`,
+    /// `"roulette"` or `"random"`.
+    pub selection: Selection,
+    /// Probability that a pair of parents is crossed over (else both are
+    /// copied before mutation).
+    pub crossover_rate: f64,
+    /// Probability, per codon of every child, that it is redrawn uniformly.
+    pub mutation_rate: f64,
+}
+
+impl Default for GeConfig {
+    fn default() -> Self {
+        GeConfig {
+            population: 50,
+            elitism: 1,
+            initial_length: [50, 200],
+            max_length: 1000,
+            codon_range: 1000,
+            selection: Selection::Tournament(3),
+            crossover_rate: 0.9,
+            mutation_rate: 0.01,
+        }
+    }
+}
+
+impl GeConfig {
+    /// Checks every setting; the first problem is returned.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.population < 2 {
+            return Err(ConfigError::Population(self.population));
+        }
+        if self.elitism >= self.population {
+            return Err(ConfigError::Elitism { elitism: self.elitism, population: self.population });
+        }
+        check_codon_lengths(self.initial_length, self.max_length)?;
+        check_codon_range(self.codon_range)?;
+        if self.selection == Selection::Tournament(0) {
+            return Err(ConfigError::Setting { name: "selection.tournament", requirement: "at least 1", value: 0.0 });
+        }
+        probability("crossover_rate", self.crossover_rate)?;
+        probability("mutation_rate", self.mutation_rate)
+    }
+}
+
+/// Settings of the [`CodonRandom`](super::CodonRandom) baseline.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CodonRandomConfig {
+    /// Fresh genomes per generation, and individuals kept.
+    pub population: usize,
+    /// Genome length in codons, drawn uniformly from `[a, b]`.
+    pub initial_length: [usize; 2],
+    /// Codons are drawn uniformly from `0..codon_range`.
+    pub codon_range: u32,
+}
+
+impl Default for CodonRandomConfig {
+    fn default() -> Self {
+        CodonRandomConfig::like(&GeConfig::default())
+    }
+}
+
+impl CodonRandomConfig {
+    /// The random search matching a GE configuration: same batch size and
+    /// the same distribution as GE's initial genomes, for comparisons at
+    /// equal evaluations.
+    pub fn like(ge: &GeConfig) -> Self {
+        CodonRandomConfig { population: ge.population, initial_length: ge.initial_length, codon_range: ge.codon_range }
+    }
+
+    /// Checks every setting; the first problem is returned.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.population == 0 {
+            return Err(ConfigError::Population(0));
+        }
+        check_codon_lengths(self.initial_length, usize::MAX)?;
+        check_codon_range(self.codon_range)
+    }
+}
+
+fn check_codon_lengths([a, b]: [usize; 2], max: usize) -> Result<(), ConfigError> {
+    if a == 0 || a > b || b > max {
+        return Err(ConfigError::CodonLength { a, b, max });
+    }
+    Ok(())
+}
+
+fn check_codon_range(range: u32) -> Result<(), ConfigError> {
+    // A single value could never choose between two productions.
+    require("codon_range", range as f64, "at least 2", range >= 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<GeConfig, String> {
+        toml::from_str::<GeConfig>(text).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn defaults_are_the_recommended_ge_settings() {
+        let c = parse("").unwrap();
+        assert_eq!(c, GeConfig::default());
+        assert_eq!((c.population, c.elitism, c.initial_length, c.max_length), (50, 1, [50, 200], 1000));
+        assert_eq!((c.codon_range, c.selection), (1000, Selection::Tournament(3)));
+        assert_eq!((c.crossover_rate, c.mutation_rate), (0.9, 0.01));
+        c.validate().unwrap();
+        let r = CodonRandomConfig::default();
+        assert_eq!((r.population, r.initial_length, r.codon_range), (50, [50, 200], 1000));
+        r.validate().unwrap();
+    }
+
+    #[test]
+    fn parses_partial_settings_and_rejects_unknown_ones() {
+        let c = parse("population = 80\nselection = { tournament = 5 }\nmutation_rate = 0.02").unwrap();
+        assert_eq!((c.population, c.selection, c.mutation_rate), (80, Selection::Tournament(5), 0.02));
+        assert_eq!(c.crossover_rate, 0.9);
+        assert!(parse("codon_rnage = 256").unwrap_err().contains("codon_rnage"));
+    }
+
+    #[test]
+    fn validation_names_the_problem() {
+        let base = GeConfig::default();
+        let cases: Vec<(GeConfig, &str)> = vec![
+            (GeConfig { population: 1, elitism: 0, ..base.clone() }, "population must be at least 2"),
+            (GeConfig { elitism: 50, ..base.clone() }, "elitism (50) must be smaller"),
+            (GeConfig { initial_length: [0, 10], ..base.clone() }, "initial_length [0, 10]"),
+            (GeConfig { initial_length: [20, 10], ..base.clone() }, "initial_length [20, 10]"),
+            (GeConfig { max_length: 150, ..base.clone() }, "≤ max_length (150)"),
+            (GeConfig { codon_range: 1, ..base.clone() }, "codon_range must be at least 2, got 1"),
+            (GeConfig { selection: Selection::Tournament(0), ..base.clone() }, "selection.tournament"),
+            (GeConfig { crossover_rate: 1.2, ..base.clone() }, "crossover_rate must be in [0, 1], got 1.2"),
+            (GeConfig { mutation_rate: f64::NAN, ..base.clone() }, "mutation_rate"),
+        ];
+        for (c, want) in cases {
+            let e = c.validate().unwrap_err().to_string();
+            assert!(e.contains(want), "{c:?}\n→ {e}\nwanted {want}");
+        }
+        let r = CodonRandomConfig { population: 0, ..CodonRandomConfig::default() };
+        assert!(r.validate().unwrap_err().to_string().contains("population"));
+        // The cap only binds GE: the baseline draws lengths from the initial range alone.
+        CodonRandomConfig::like(&GeConfig { max_length: 200, ..base }).validate().unwrap();
+    }
+}

@@ -1,0 +1,207 @@
+//! Grammatical evolution: the Genr8 EA over codon strings.
+//!
+//! The optimizer never sees a grammar. Its genomes are [`Codons`], and an
+//! [`Objective<Codons>`](crate::Objective) (typically a GE mapper followed by a
+//! fitness) scores them; a non-finite score marks the individual invalid
+//! (e.g. the mapping ran out of codons), and it then loses every tournament
+//! and sorts last.
+//!
+//! Generation loop of [`Ge`]: sort best first; copy the `elitism` best with
+//! their cached fitness; fill the rest pair by pair, each pair from its own
+//! random stream `(seed, GE_PAIR_STREAM, generation, pair)`: select two
+//! parents; with probability `crossover_rate` cross them over
+//! ([`crossover`](operators::crossover)), else copy them; mutate every codon
+//! of each child with probability `mutation_rate`
+//! ([`mutate`](operators::mutate)). A child equal to one of its parents
+//! reuses that parent's fitness (objectives are deterministic); the others
+//! are evaluated in parallel. Pairs and evaluations are collected in index
+//! order, so a seed gives the same populations and statistics at any
+//! thread count.
+//!
+//! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
+//! - [`operators`]: random genomes, crossover, mutation.
+//! - [`random`]: [`CodonRandom`], the random-search baseline.
+//! - [`algorithm`]: [`CodonAlgorithm`], [`AnyCodonOptimizer`].
+
+pub mod algorithm;
+pub mod config;
+pub mod operators;
+pub mod random;
+mod reproduce;
+#[cfg(test)]
+mod tests;
+
+pub use algorithm::{AnyCodonOptimizer, CodonAlgorithm};
+pub use config::{CodonRandomConfig, GeConfig};
+pub use random::CodonRandom;
+
+use crate::config::ConfigError;
+use crate::evaluate::{Child, evaluate};
+use crate::objective::Objective;
+use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
+use crate::selection::Selector;
+use crate::stats::{GenerationStats, ReproductionCounts};
+use genform_core::Rng;
+use rayon::prelude::*;
+use reproduce::{Context, PairOutput, reproduce_pair};
+use std::time::{Duration, Instant};
+
+/// A codon string: the genome of grammatical evolution. Codons lie in
+/// `0..codon_range` of the optimizer's configuration.
+pub type Codons = Vec<u32>;
+
+/// Stream id of GE's initial genomes: `(seed, GE_INIT_STREAM, index)`.
+pub const GE_INIT_STREAM: u64 = 0x4745_494e_4954; // "GEINIT"
+/// Stream id of GE's reproduction: `(seed, GE_PAIR_STREAM, generation, pair)`.
+pub const GE_PAIR_STREAM: u64 = 0x4745_5041_4952; // "GEPAIR"
+
+/// The grammatical-evolution EA (Genr8's loop with the recommended GE
+/// operators; see the [module](self) documentation).
+#[derive(Clone, Debug)]
+pub struct Ge {
+    config: GeConfig,
+    seed: u64,
+    population: Vec<Individual<Codons>>,
+    generation: usize,
+    evaluations: u64,
+    best: Option<Individual<Codons>>,
+}
+
+impl Ge {
+    /// A GE run with no population yet (see [`Ge::initialize`]).
+    pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
+        config.validate()?;
+        Ok(Ge { config, seed, population: Vec::new(), generation: 0, evaluations: 0, best: None })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &GeConfig {
+        &self.config
+    }
+
+    /// The current population, best first.
+    pub fn population(&self) -> &[Individual<Codons>] {
+        &self.population
+    }
+
+    /// The best valid individual seen so far (with elitism, the population's first).
+    pub fn best(&self) -> Option<&Individual<Codons>> {
+        self.best.as_ref()
+    }
+
+    /// Index of the current generation (0 = the initial one).
+    pub fn generation(&self) -> usize {
+        self.generation
+    }
+
+    /// Objective evaluations so far.
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations
+    }
+
+    /// Builds and evaluates generation 0 (discarding any population):
+    /// individual `i` is [`random_codons`](operators::random_codons) from
+    /// stream `(seed, GE_INIT_STREAM, i)`.
+    pub fn initialize<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
+        let start = Instant::now();
+        let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
+        let mut children: Vec<Child<Codons>> = (0..self.config.population)
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = Rng::stream(seed, &[GE_INIT_STREAM, i as u64]);
+                Child { genome: operators::random_codons(length, range, &mut rng), fitness: None }
+            })
+            .collect();
+        let reproduction_time = start.elapsed();
+        let (evaluations, eval_time) = evaluate(objective, &mut children);
+        self.population.clear();
+        self.generation = 0;
+        self.evaluations = 0;
+        self.best = None;
+        self.finish(children, evaluations, eval_time, reproduction_time, ReproductionCounts::default())
+    }
+
+    /// Makes the next generation; initializes first if there is no population.
+    pub fn step<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
+        if self.population.is_empty() {
+            return self.initialize(objective);
+        }
+        let start = Instant::now();
+        let generation = self.generation + 1;
+        let fitness: Vec<f64> = self.population.iter().map(|i| i.fitness).collect();
+        let ctx = Context {
+            config: &self.config,
+            population: &self.population,
+            selector: Selector::new(self.config.selection, &fitness),
+        };
+        let wanted = self.config.population - self.config.elitism;
+        let seed = self.seed;
+        let outputs: Vec<PairOutput> = (0..wanted.div_ceil(2))
+            .into_par_iter()
+            .map(|pair| {
+                let mut rng = Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]);
+                reproduce_pair(&ctx, (wanted - 2 * pair).min(2), &mut rng)
+            })
+            .collect();
+        let mut counts = ReproductionCounts::default();
+        let mut children = Vec::with_capacity(wanted);
+        for out in outputs {
+            counts += out.counts;
+            children.extend(out.children);
+        }
+        let reproduction_time = start.elapsed();
+        let (evaluations, eval_time) = evaluate(objective, &mut children);
+        self.population.truncate(self.config.elitism);
+        self.generation = generation;
+        self.finish(children, evaluations, eval_time, reproduction_time, counts)
+    }
+
+    /// Appends the evaluated children, sorts and summarizes.
+    fn finish(
+        &mut self,
+        children: Vec<Child<Codons>>,
+        evaluations: u64,
+        eval_time: Duration,
+        reproduction_time: Duration,
+        reproduction: ReproductionCounts,
+    ) -> GenerationStats {
+        self.population.extend(
+            children
+                .into_iter()
+                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
+        );
+        sort_population(&mut self.population);
+        update_best(&mut self.best, &self.population);
+        self.evaluations += evaluations;
+        GenerationStats {
+            evaluations,
+            total_evaluations: self.evaluations,
+            eval_time,
+            reproduction_time,
+            reproduction,
+            ..GenerationStats::summarize(self.generation, &self.population)
+        }
+    }
+}
+
+impl Optimizer<Codons> for Ge {
+    fn step<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
+        Ge::step(self, objective)
+    }
+
+    fn population(&self) -> &[Individual<Codons>] {
+        Ge::population(self)
+    }
+
+    fn best(&self) -> Option<&Individual<Codons>> {
+        Ge::best(self)
+    }
+
+    fn generation(&self) -> usize {
+        Ge::generation(self)
+    }
+
+    fn evaluations(&self) -> u64 {
+        Ge::evaluations(self)
+    }
+}
