@@ -10,6 +10,7 @@ pub mod image;
 mod bits;
 pub mod error;
 pub mod grid;
+pub mod surface;
 pub mod target;
 pub mod volume;
 pub mod voxel_set;
@@ -20,6 +21,10 @@ pub use fitness::{Counts, Fitness, Form, smootherstep};
 pub use error::ScoreError;
 pub use grid::{Grid, MAX_VOXELS};
 pub use image::{Coverage, ImageError, ImageScorer, ImageScratch, ImageTarget, PngMode};
+pub use surface::{
+    SurfaceComponent, SurfaceCriterion, SurfaceError, SurfaceGoal, SurfaceMeasures, SurfaceObjective, SurfaceScore,
+    SurfaceScorer,
+};
 pub use target::TargetReport;
 pub use volume::{VolumeScorer, VolumeTarget};
 pub use voxel_set::VoxelSet;
