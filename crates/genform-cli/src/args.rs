@@ -1,7 +1,9 @@
 //! Raw command-line arguments (clap). Validation into settings happens in
-//! `commands`, so parsing stays declarative.
+//! `commands` and the formalism table, so parsing stays declarative.
 
-use clap::{Args, Parser, Subcommand};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
+use genform_cli::formalism::SampleRequest;
 use std::path::PathBuf;
 
 /// Grammar-based procedural modeling and evolutionary control.
@@ -11,6 +13,37 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// Parses the process's command line (exiting with clap's message on
+/// errors and for `--help`), noting which `sample` options were given.
+pub fn parse() -> Cli {
+    parse_from(std::env::args_os()).unwrap_or_else(|e| e.exit())
+}
+
+/// Parses `args` (the program name first) like [`parse`].
+fn parse_from<I, T>(args: I) -> Result<Cli, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let matches = Cli::command().try_get_matches_from(args)?;
+    let mut cli = Cli::from_arg_matches(&matches)?;
+    if let (Command::Sample(a), Some(("sample", sub))) = (&mut cli.command, matches.subcommand()) {
+        a.given = given_flags("sample", sub);
+    }
+    Ok(cli)
+}
+
+/// The long flags of subcommand `verb` given on the command line, in
+/// declaration order (values that only come from defaults are left out).
+fn given_flags(verb: &str, matches: &ArgMatches) -> Vec<String> {
+    let command = Cli::command();
+    let Some(sub) = command.find_subcommand(verb) else { return Vec::new() };
+    sub.get_arguments()
+        .filter(|arg| matches.value_source(arg.get_id().as_str()) == Some(ValueSource::CommandLine))
+        .filter_map(|arg| arg.get_long().map(|l| format!("--{l}")))
+        .collect()
 }
 
 /// The verbs. The formalism is chosen by the grammar file's extension.
@@ -102,6 +135,31 @@ pub struct SampleArgs {
     pub genome_out: Option<PathBuf>,
     #[command(flatten)]
     pub limits: LimitArgs,
+    /// The long flags given on the command line (filled by [`parse`], not
+    /// by clap), for the formalism table's option check.
+    #[arg(skip)]
+    pub given: Vec<String>,
+}
+
+impl SampleArgs {
+    /// What these arguments ask of the grammar's formalism.
+    pub fn request(&self) -> SampleRequest {
+        SampleRequest {
+            seed: self.seed,
+            out: self.out.clone(),
+            given: self.given.clone(),
+            genome_out: self.genome_out.clone(),
+            limits: self.limits.overrides(),
+            steps: self.steps,
+            max_modules: self.max_modules,
+            string_out: self.string_out.clone(),
+            box_corners: self.r#box.clone(),
+            world: self.world.clone(),
+            trace: self.trace.clone(),
+            schem_version: self.schem_version,
+            data_version: self.data_version,
+        }
+    }
 }
 
 /// Arguments of `genform derive`.
@@ -122,7 +180,7 @@ pub struct DeriveArgs {
 /// Arguments of `genform info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Grammar file (.sg shape grammar, .ls L-system).
+    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar).
     pub file: PathBuf,
 }
 
@@ -229,4 +287,41 @@ pub struct ScoreArgs {
     pub genome: PathBuf,
     #[command(flatten)]
     pub limits: LimitArgs,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use genform_cli::formalism::{COMMON_SAMPLE_OPTIONS, FORMALISMS};
+
+    fn sample_flags() -> Vec<String> {
+        let command = Cli::command();
+        let sample = command.find_subcommand("sample").unwrap();
+        sample.get_arguments().filter_map(|a| a.get_long().map(|l| format!("--{l}"))).collect()
+    }
+
+    #[test]
+    fn every_sample_flag_is_common_or_read_by_a_formalism_and_every_declared_one_exists() {
+        let flags = sample_flags();
+        for flag in &flags {
+            let read = FORMALISMS.iter().any(|f| f.sample_options().contains(&flag.as_str()));
+            assert!(COMMON_SAMPLE_OPTIONS.contains(&flag.as_str()) || read, "no formalism reads {flag}");
+        }
+        for f in FORMALISMS {
+            for opt in f.sample_options().iter().chain(COMMON_SAMPLE_OPTIONS) {
+                assert!(flags.iter().any(|fl| fl == opt), "{} declares {opt}, which `sample` lacks", f.name());
+            }
+        }
+    }
+
+    #[test]
+    fn given_lists_the_flags_on_the_command_line_only() {
+        let args = ["genform", "sample", "c.bsg", "--box", "0,0,0,1,1,1", "-o", "c.schem", "--schem-version", "2"];
+        let Command::Sample(a) = parse_from(args).unwrap().command else { panic!("not sample") };
+        assert_eq!(a.given, ["--out", "--box", "--schem-version"]);
+        let r = a.request();
+        assert_eq!((r.schem_version, r.data_version, r.box_corners.as_deref()), (2, 3955, Some("0,0,0,1,1,1")));
+        let Command::Sample(a) = parse_from(["genform", "sample", "a.sg"]).unwrap().command else { panic!() };
+        assert!(a.given.is_empty());
+    }
 }

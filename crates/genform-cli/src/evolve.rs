@@ -39,9 +39,7 @@ pub fn score(a: ScoreArgs) -> Result<()> {
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     let scorers = targets::build(&config)?;
-    let text = std::fs::read_to_string(&a.genome).with_context(|| format!("cannot read {}", a.genome.display()))?;
-    let genome = Genome::from_json(&text, loaded.generator.graph())
-        .with_context(|| format!("{} does not fit grammar `{}`", a.genome.display(), loaded.name))?;
+    let genome = loaded.read_genome(&a.genome)?;
     let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let c = objective.counts(&genome, &mut objective.scratch()).context("cannot build the model")?;
     println!(

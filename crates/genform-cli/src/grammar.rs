@@ -1,13 +1,15 @@
-//! Loading a grammar file into a generator, by extension.
+//! Grammars as generators: the door the genome verbs (`derive`, `evolve`,
+//! `score`, `compare`) and scene targets go through. Any formalism in
+//! [`crate::formalism::FORMALISMS`] loads here; those without a generator
+//! graph say why not.
 
-use anyhow::{Context, Result, bail};
-use genform_core::{Diagnostics, Generator, Limits, Mesh, SourceFile};
-use genform_lsystem::{LSystem, LsGenerator};
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use anyhow::{Context, Result};
+use genform_core::{Generator, Genome, Limits, Scene};
+use std::path::Path;
 
-/// A compiled grammar of any formalism.
+use crate::formalism;
+
+/// A compiled grammar that has a generator graph, whatever its formalism.
 pub struct Loaded {
     /// The generator.
     pub generator: Box<dyn Generator>,
@@ -17,100 +19,39 @@ pub struct Loaded {
     pub limits: Limits,
 }
 
-/// Reads mesh assets relative to the grammar file.
-struct FileAssets {
-    base: PathBuf,
-}
-
-impl genform_shape::AssetResolver for FileAssets {
-    fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
-        let full = self.base.join(path);
-        let text = std::fs::read_to_string(&full).map_err(|e| format!("cannot read {}: {e}", full.display()))?;
-        let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        Mesh::from_obj(&name, &text).map_err(|e| format!("{}: {e}", full.display()))
+impl Loaded {
+    /// Reads a genome JSON file and checks that it fits this grammar.
+    pub fn read_genome(&self, path: &Path) -> Result<Genome> {
+        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        Genome::from_json(&text, self.generator.graph())
+            .with_context(|| format!("{} does not fit grammar `{}`", path.display(), self.name))
     }
 }
 
-fn render(d: &Diagnostics) -> String {
-    if std::io::stderr().is_terminal() { d.render(true) } else { d.render(false) }
-}
-
-/// Whether `path` names an L-system (`.ls`).
-pub fn is_lsystem(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e == "ls")
-}
-
-fn read_source(path: &Path) -> Result<SourceFile> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read grammar {}", path.display()))?;
-    Ok(SourceFile::new(path.display().to_string(), text))
-}
-
-/// Prints warnings; turns errors into one error with every diagnostic.
-fn diagnosed<T>(result: Result<(T, Diagnostics), Diagnostics>, path: &Path) -> Result<T> {
-    match result {
-        Ok((value, warnings)) => {
-            if !warnings.items.is_empty() {
-                eprint!("{}", render(&warnings));
-            }
-            Ok(value)
-        }
-        Err(errors) => {
-            let n = errors.error_count();
-            bail!("{}{} error{} in {}", render(&errors), n, if n == 1 { "" } else { "s" }, path.display())
-        }
-    }
-}
-
-/// Whether `path` names a box-split grammar (`.bsg`).
-pub fn is_boxsplit(path: &Path) -> bool {
-    path.extension().is_some_and(|e| e == "bsg")
-}
-
-/// Compiles the box-split grammar at `path`; warnings go to stderr.
-pub fn load_boxsplit(path: &Path) -> Result<genform_boxsplit::BoxGrammar> {
-    let file = read_source(path)?;
-    diagnosed(genform_boxsplit::compile(&file), path)
-}
-
-/// Whether `path` names a graph grammar (`.gg.yaml`).
-pub fn is_graph(path: &Path) -> bool {
-    path.file_name().is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().ends_with(".gg.yaml"))
-}
-
-/// Compiles the graph grammar at `path`; warnings go to stderr.
-pub fn load_graph(path: &Path) -> Result<genform_graph::GraphGrammar> {
-    let file = read_source(path)?;
-    diagnosed(genform_graph::compile(&file), path)
-}
-
-/// Compiles the L-system at `path`; warnings go to stderr.
-pub fn load_lsystem(path: &Path) -> Result<Arc<LSystem>> {
-    let file = read_source(path)?;
-    Ok(Arc::new(diagnosed(genform_lsystem::compile(&file), path)?))
-}
-
-/// Compiles the grammar at `path` into a generator; warnings go to stderr,
-/// errors become the returned error with every diagnostic rendered.
+/// Compiles the grammar at `path` (its formalism chosen by extension from
+/// the table) into a generator; warnings go to stderr, errors become the
+/// returned error with every diagnostic rendered. A formalism without a
+/// generator graph is an error that says why.
 pub fn load(path: &Path) -> Result<Loaded> {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    match ext {
-        "sg" => {
-            let file = read_source(path)?;
-            let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-            let g = diagnosed(genform_shape::compile(&file, &FileAssets { base }), path)?;
-            Ok(Loaded { name: g.name().to_string(), limits: g.limits(), generator: Box::new(g) })
-        }
-        "ls" => {
-            let system = load_lsystem(path)?;
-            let g = LsGenerator::new(system)
-                .with_context(|| format!("{} cannot be used as a generator", path.display()))?;
-            Ok(Loaded { name: g.system().settings.name.clone(), limits: g.limits(), generator: Box::new(g) })
-        }
-        _ => bail!(
-            "don't know the grammar format of {} (extension `.{ext}`); supported: .sg (shape grammar), .ls (L-system)",
-            path.display()
-        ),
-    }
+    formalism::open(path)?.into_generator()
+}
+
+/// Expresses `genome` into a fresh Scene.
+pub fn express(generator: &dyn Generator, genome: &Genome, limits: &Limits) -> Result<Scene> {
+    let mut scene = Scene::new();
+    generator.express(genome, limits, &mut scene).context("cannot build the model")?;
+    Ok(scene)
+}
+
+/// One line about a model expressed from a genome: genes, primitives,
+/// triangles.
+pub fn genome_summary(scene: &Scene, genome: &Genome) -> String {
+    format!(
+        "{} genes, {} primitives, {} triangles",
+        genome.len(),
+        scene.instances.len() + scene.polylines.len() + scene.polygons.len(),
+        scene.triangle_count(Default::default())
+    )
 }
 
 /// Limits given on the command line or in a scene config, each replacing

@@ -1,10 +1,12 @@
 //! The library behind the `genform` binary: everything the command line
 //! does that is worth testing or benchmarking without spawning a process
-//! (loading grammars and scene configs, the objective that ties a
-//! generator to scorers, run reports). The binary itself only parses
-//! arguments and prints.
+//! (the formalism table and what each formalism does for the verbs,
+//! loading grammars and scene configs, the objective that ties a
+//! generator to scorers, run reports). The binary itself parses
+//! arguments, dispatches verbs and prints.
 
 pub mod comparison;
+pub mod formalism;
 pub mod grammar;
 pub mod objective;
 pub mod output;

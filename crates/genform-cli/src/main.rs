@@ -2,17 +2,13 @@
 //! runs generators and writes files; the libraries do no process I/O.
 
 mod args;
-mod boxsplit;
 mod commands;
 mod evolve;
-mod graph;
-mod lsystem;
 
-use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = args::Cli::parse();
+    let cli = args::parse();
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -1,9 +1,39 @@
-//! Writing result files atomically, so an interrupted run never leaves a
-//! half-written file where a good one was.
+//! Writing result files: models in the format their extension names, and
+//! atomic writes, so an interrupted run never leaves a half-written file
+//! where a good one was.
 
 use anyhow::{Context, Result};
+use genform_core::Scene;
+use genform_export::{ExportOptions, Format};
 use std::io::Write;
 use std::path::Path;
+
+/// The export format `path`'s extension names.
+pub fn output_format(path: &Path) -> Result<Format> {
+    Format::from_path(path).ok_or_else(|| unknown_format(path, &[]))
+}
+
+/// The error for an output path whose format is unknown: it lists the
+/// export formats and `extra` (extensions, with the dot, that the caller
+/// writes itself).
+pub fn unknown_format(path: &Path, extra: &[&str]) -> anyhow::Error {
+    let known = Format::extensions().iter().map(|e| format!(".{e}"));
+    let all: Vec<String> = known.chain(extra.iter().map(|e| e.to_string())).collect();
+    anyhow::anyhow!("cannot tell the output format of {}; use one of the extensions: {}", path.display(), all.join(" "))
+}
+
+/// Exports `scene` to `path` in the format its extension names.
+pub fn write_model(scene: &Scene, path: &Path) -> Result<()> {
+    write_model_with(scene, path, &ExportOptions::default())
+}
+
+/// [`write_model`] with explicit export options.
+pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<()> {
+    let format = output_format(path)?;
+    let bytes =
+        genform_export::export(scene, format, options).with_context(|| format!("cannot export {}", path.display()))?;
+    write_atomic(path, &bytes)
+}
 
 /// Writes `bytes` to `path` through a temporary file in the same folder
 /// and a rename.

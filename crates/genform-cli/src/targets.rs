@@ -2,8 +2,8 @@
 //! and pictures, voxelizing and checking them.
 
 use anyhow::{Context, Result, bail};
+use genform_core::Scene;
 use genform_core::camera::Camera;
-use genform_core::{Genome, Scene};
 use genform_score::{Grid, ImageScorer, ImageTarget, PngMode, VolumeScorer, VolumeTarget};
 use glam::Vec3;
 use std::path::Path;
@@ -70,10 +70,7 @@ pub fn read_mesh(path: &Path) -> Result<genform_core::Mesh> {
 /// The Scene a grammar makes from a fixed genome file.
 pub fn fixed_genome_scene(grammar_path: &Path, genome_path: &Path) -> Result<Scene> {
     let loaded = grammar::load(grammar_path)?;
-    let text =
-        std::fs::read_to_string(genome_path).with_context(|| format!("cannot read {}", genome_path.display()))?;
-    let genome = Genome::from_json(&text, loaded.generator.graph())
-        .with_context(|| format!("{} does not fit grammar `{}`", genome_path.display(), loaded.name))?;
+    let genome = loaded.read_genome(genome_path)?;
     let mut scene = Scene::new();
     loaded.generator.express(&genome, &loaded.limits, &mut scene).context("cannot build the target model")?;
     Ok(scene)

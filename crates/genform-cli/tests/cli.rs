@@ -116,3 +116,45 @@ fn runaway_growth_stops_at_the_gene_limit_with_a_message() {
     let r = genform(tmp.path(), &["sample", s(&example("city_filling.sg")), "--max-genes", "5", "--seed", "2"]).ok();
     assert!(r.stderr().contains("gene limit (5)"), "{}", r.stderr());
 }
+
+#[test]
+fn options_of_another_formalism_are_refused_by_the_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    let args = ["sample", s(&ship), "--box", "0,0,0,9,9,9", "--world", "w", "--out", "x.glb"];
+    let err = genform(tmp.path(), &args).fails().stderr();
+    assert!(
+        err.contains("--box and --world apply to box-split grammars (.bsg) only, not to shape grammars (.sg)"),
+        "{err}"
+    );
+    assert!(!tmp.path().join("x.glb").exists());
+    let koch = root().join("examples/graph/koch.gg.yaml");
+    let err = genform(tmp.path(), &["sample", s(&koch), "--genome-out", "g.json"]).fails().stderr();
+    assert!(err.contains("--genome-out applies to shape grammars (.sg) and L-systems (.ls) only"), "{err}");
+}
+
+#[test]
+fn grammars_without_a_generator_say_why_in_every_generator_verb() {
+    let tmp = tempfile::tempdir().unwrap();
+    let castle = root().join("examples/boxsplit/castle.bsg");
+    let err = genform(tmp.path(), &["derive", s(&castle), "--genome", "g.json", "--out", "x.obj"]).fails().stderr();
+    assert!(err.contains("cannot be used as a generator: box-split grammars have no generator graph"), "{err}");
+    let koch = root().join("examples/graph/koch.gg.yaml");
+    let scene = format!(
+        "grammar = {:?}\n[volume]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nvoxels = [4, 4, 4]\n[[volume.target]]\nmesh = \"t.obj\"\n",
+        s(&koch)
+    );
+    std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
+    let err = genform(tmp.path(), &["score", "scene.toml", "--genome", "g.json"]).fails().stderr();
+    assert!(err.contains("graph grammars have no generator graph"), "{err}");
+}
+
+#[test]
+fn unknown_grammar_extensions_list_every_formalism() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("house.dae"), "").unwrap();
+    let err = genform(tmp.path(), &["info", "house.dae"]).fails().stderr();
+    for want in [".sg (shape grammar)", ".ls (L-system)", ".bsg (box-split grammar)", ".gg.yaml (graph grammar)"] {
+        assert!(err.contains(want), "missing {want:?} in {err}");
+    }
+}

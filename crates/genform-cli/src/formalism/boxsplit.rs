@@ -1,0 +1,299 @@
+//! Box-split grammars (`.bsg`): derive in a box of a block world
+//! (optionally observing real Minecraft terrain) and write blocks, also
+//! into a copy of a region file (`.mca`).
+
+use anyhow::{Context, Result, bail};
+use genform_boxsplit::{BoxGrammar, DeriveOptions};
+use genform_core::{BlockGrid, BlockKind, Scene};
+use genform_export::minecraft::{
+    RegionFile, SchemVersion, read_terrain, region_coords, region_file_name, regions_for_box, write_region,
+};
+use genform_export::{BlockOptions, ExportOptions, Format};
+use glam::IVec3;
+use std::path::{Path, PathBuf};
+
+use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
+use crate::grammar::Loaded;
+use crate::output::{output_format, write_atomic, write_model_with};
+
+/// The box-split row of the table.
+pub struct BoxSplitGrammars;
+
+impl Formalism for BoxSplitGrammars {
+    fn name(&self) -> &'static str {
+        "box-split grammar"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &[".bsg"]
+    }
+
+    fn sample_options(&self) -> &'static [&'static str] {
+        &["--box", "--world", "--trace", "--schem-version", "--data-version"]
+    }
+
+    fn output_extensions(&self) -> &'static [&'static str] {
+        REGION
+    }
+
+    fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
+        let grammar = compile_file(path, genform_boxsplit::compile)?;
+        Ok(Box::new(BoxFile { path: path.to_path_buf(), grammar }))
+    }
+}
+
+/// The ending of region files, which samples write into a copy of the observed one.
+const REGION: &[&str] = &[".mca"];
+
+/// A compiled box-split grammar and the file it came from.
+struct BoxFile {
+    path: PathBuf,
+    grammar: BoxGrammar,
+}
+
+impl LoadedGrammar for BoxFile {
+    fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
+        let grammar = &self.grammar;
+        let out = request.out.as_deref();
+        let to_region = out.is_some_and(|p| ends_with_any(p, REGION));
+        if to_region && request.world.is_none() {
+            bail!("writing a region file (.mca) needs --world: the blocks go into a copy of the observed region");
+        }
+        let Some(box_text) = &request.box_corners else {
+            bail!("box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
+        };
+        let (min, max) = parse_box(box_text)?;
+        let preview = match out {
+            Some(path) if !to_region => is_preview(path)?,
+            _ => false,
+        };
+        // Previews show the ground around and behind the structure too, cut
+        // open along the box's front (+z, towards the preview camera): one read
+        // of that larger area serves the observers and the picture.
+        let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
+        let (read_min, read_max) =
+            if preview { (min - margin, IVec3::new(max.x + margin.x, max.y + margin.y, max.z)) } else { (min, max) };
+        let (regions, world) = match &request.world {
+            Some(path) => {
+                let World { files: regions, paths, mut missing } = load_world(path, read_min, read_max)?;
+                if let Some(out) = out.filter(|_| to_region) {
+                    let same = |p: &Path| p.canonicalize().ok();
+                    if same(out).is_some() && paths.iter().any(|p| same(p) == same(out)) {
+                        bail!(
+                            "--out {} is the observed region itself; write into a copy (another path)",
+                            out.display()
+                        );
+                    }
+                }
+                // Only regions the derivation box needs matter to the observers.
+                let needed = regions_for_box(min, max);
+                missing.retain(|r| needed.contains(r));
+                if !missing.is_empty() {
+                    eprintln!(
+                        "warning: {} not found; the box's cells there observe as air",
+                        missing.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", ")
+                    );
+                }
+                let terrain = read_terrain(&regions, read_min, read_max).context("cannot read the terrain")?;
+                (regions, Some(terrain))
+            }
+            None => (Vec::new(), None),
+        };
+        let options = DeriveOptions { limits: None, trace: request.trace.is_some() };
+        let derivation = grammar.derive(world.as_ref(), min, max, &mut request.rng(), &options);
+        let trace = match &derivation {
+            Ok(d) => d.trace.as_ref(),
+            Err(f) => Some(&f.trace),
+        };
+        if let (Some(path), Some(trace)) = (&request.trace, trace) {
+            let json = serde_json::to_string_pretty(trace).context("cannot write the trace")?;
+            write_atomic(path, json.as_bytes())?;
+        }
+        let d = match derivation {
+            Ok(d) => d,
+            Err(f) => {
+                let hint =
+                    if request.trace.is_some() { "" } else { " (--trace FILE.json records every choice and failure)" };
+                bail!("{}: the derivation failed: {}{hint}", grammar.name(), f.message);
+            }
+        };
+        let summary = format!(
+            "{} seed {}: {} applications, {} backtracks, {} blocks placed in {}..{}",
+            grammar.name(),
+            request.seed,
+            d.stats.applications,
+            d.stats.backtracks,
+            d.blocks.set_count(),
+            min,
+            max - IVec3::ONE
+        );
+        let mut scene = Scene::new();
+        scene.blocks.push(d.blocks);
+        let schem_version = if request.schem_version == 3 { SchemVersion::V3 } else { SchemVersion::V2 };
+        let blocks = BlockOptions { schem_version, data_version: request.data_version };
+        Ok(Box::new(BoxSample { scene, summary, regions, terrain: world, blocks }))
+    }
+
+    fn describe(&self) -> String {
+        let g = &self.grammar;
+        let limits = g.limits();
+        let mut out = format!("box-split grammar {}: axiom `{}`\n", g.name(), g.axiom());
+        out.push_str(&format!(
+            "limits: applications {}, backtracks {}, depth {}\n",
+            limits.applications, limits.backtracks, limits.depth
+        ));
+        out.push_str(&format!("rules: {}\n", g.rule_names().collect::<Vec<_>>().join(", ")));
+        out.push_str(&format!("blocks: {}\n", g.blocks().iter().map(|b| b.to_string()).collect::<Vec<_>>().join(", ")));
+        out
+    }
+
+    fn into_generator(self: Box<Self>) -> Result<Loaded> {
+        Err(no_generator(
+            &self.path,
+            "box-split grammars have no generator graph: they derive in a box, choosing rules against the \
+             world and backtracking as they go, so there is no genome to replay or evolve",
+        ))
+    }
+}
+
+/// Whether `out` is a picture or mesh that shows the structure in its
+/// surroundings (rather than a block file).
+fn is_preview(out: &Path) -> Result<bool> {
+    Ok(matches!(output_format(out)?, Format::Png | Format::Glb | Format::Obj))
+}
+
+/// A derived structure with what writing it needs: the observed regions
+/// (for `.mca` copies) and terrain (for previews).
+struct BoxSample {
+    /// The placed blocks.
+    scene: Scene,
+    summary: String,
+    regions: Vec<RegionFile>,
+    terrain: Option<BlockGrid>,
+    blocks: BlockOptions,
+}
+
+impl Sample for BoxSample {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    fn summary(&self) -> String {
+        self.summary.clone()
+    }
+
+    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
+        let structure = &self.scene.blocks[0];
+        if ends_with_any(out, REGION) {
+            write_into_region(&self.regions, structure, out)?;
+        } else {
+            let options = ExportOptions { blocks: self.blocks, ..ExportOptions::default() };
+            match &self.terrain {
+                Some(terrain) if is_preview(out)? => {
+                    let mut scene = Scene::new();
+                    scene.blocks.push(terrain_context(terrain, structure));
+                    scene.blocks.push(structure.clone());
+                    write_model_with(&scene, out, &options)?;
+                }
+                _ => write_model_with(&self.scene, out, &options)?,
+            }
+        }
+        Ok(vec![out.to_path_buf()])
+    }
+}
+
+/// Parses `x0,y0,z0,x1,y1,z1` (two opposite corners, both inclusive, in
+/// any order) into `min..max_exclusive`.
+pub fn parse_box(text: &str) -> Result<(IVec3, IVec3)> {
+    let v: Vec<i32> = text
+        .split(',')
+        .map(|s| s.trim().parse::<i32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--box `{text}`: expected six integers x0,y0,z0,x1,y1,z1"))?;
+    let [x0, y0, z0, x1, y1, z1] = v[..] else {
+        bail!("--box `{text}`: expected six integers x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
+    };
+    let (a, b) = (IVec3::new(x0, y0, z0), IVec3::new(x1, y1, z1));
+    Ok((a.min(b), a.max(b) + IVec3::ONE))
+}
+
+/// The region files a box needs and the coordinates of those not found.
+struct World {
+    files: Vec<RegionFile>,
+    /// Where each of `files` was read from.
+    paths: Vec<PathBuf>,
+    missing: Vec<(i32, i32)>,
+}
+
+/// The region files a box needs, from one `.mca` file or a folder of them.
+/// Regions the box needs that are not there are reported and left unset
+/// (they observe as air).
+fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
+    let needed = regions_for_box(min, max);
+    let mut files = Vec::new();
+    let mut paths = Vec::new();
+    let mut missing = Vec::new();
+    let candidates: Vec<(i32, i32, PathBuf)> = if path.is_dir() {
+        // A world folder keeps its regions in `region/`.
+        let dir = if path.join("region").is_dir() { path.join("region") } else { path.to_path_buf() };
+        needed.iter().map(|&(x, z)| (x, z, dir.join(region_file_name(x, z)))).collect()
+    } else {
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let Some((x, z)) = region_coords(&name) else {
+            bail!("{}: a region file is named r.X.Z.mca (or give the folder that holds them)", path.display());
+        };
+        vec![(x, z, path.to_path_buf())]
+    };
+    for &(x, z) in &needed {
+        match candidates.iter().find(|c| c.0 == x && c.1 == z) {
+            Some((_, _, p)) if p.exists() => {
+                let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+                files.push(RegionFile { x, z, bytes });
+                paths.push(p.clone());
+            }
+            _ => missing.push((x, z)),
+        }
+    }
+    if files.is_empty() {
+        bail!(
+            "the box {min}..{max} needs region(s) {}, which {} does not hold",
+            needed.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", "),
+            path.display()
+        );
+    }
+    Ok(World { files, paths, missing })
+}
+
+/// Blocks of terrain around the box that previews show with the structure.
+const PREVIEW_MARGIN: i32 = 8;
+
+/// The observed terrain under and around a structure, for previews: the
+/// world's non-air blocks where the structure placed nothing.
+fn terrain_context(terrain: &BlockGrid, structure: &BlockGrid) -> BlockGrid {
+    let mut out = terrain.clone();
+    let mut cleared = Vec::new();
+    for (p, c) in terrain.iter_set() {
+        let placed = structure.get(p).is_some();
+        if placed || terrain.palette[c as usize].kind() == BlockKind::Air {
+            cleared.push(p);
+        }
+    }
+    for p in cleared {
+        if let Some(i) = out.index(p) {
+            out.cells[i] = BlockGrid::UNSET;
+        }
+    }
+    out
+}
+
+/// Writes the blocks into a copy of the one region file the box lies in.
+fn write_into_region(regions: &[RegionFile], blocks: &BlockGrid, out: &Path) -> Result<()> {
+    let [region] = regions else {
+        bail!(
+            "the box spans {} region files; a .mca output holds one — choose a box inside one region (512×512 blocks)",
+            regions.len()
+        );
+    };
+    let bytes = write_region(region, blocks).context("cannot write the region")?;
+    write_atomic(out, &bytes)
+}

@@ -1,0 +1,176 @@
+//! L-systems (`.ls`): sampling derives a string and draws it with the
+//! turtle (context-sensitive systems and decomposition included); with
+//! `--genome-out` it goes through the generator instead, so `derive` can
+//! replay the genome (context-free systems only).
+
+use anyhow::{Context, Result};
+use genform_core::generator::Generator;
+use genform_core::{Limits, Rng, Scene};
+use genform_lsystem::{Command, LSystem, LsGenerator, View};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use super::{Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
+use crate::grammar::Loaded;
+use crate::output::write_atomic;
+
+/// The L-system row of the table.
+pub struct LSystems;
+
+impl Formalism for LSystems {
+    fn name(&self) -> &'static str {
+        "L-system"
+    }
+
+    fn extensions(&self) -> &'static [&'static str] {
+        &[".ls"]
+    }
+
+    fn sample_options(&self) -> &'static [&'static str] {
+        &["--steps", "--max-modules", "--string-out", "--genome-out", "--max-genes", "--max-depth", "--max-primitives"]
+    }
+
+    fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
+        let system = Arc::new(compile_file(path, genform_lsystem::compile)?);
+        Ok(Box::new(LsFile { path: path.to_path_buf(), system }))
+    }
+}
+
+/// A compiled L-system and the file it came from.
+struct LsFile {
+    path: PathBuf,
+    system: Arc<LSystem>,
+}
+
+impl LsFile {
+    /// The system as a generator, or why it cannot be one.
+    fn generator(&self) -> Result<LsGenerator, genform_lsystem::GeneratorError> {
+        LsGenerator::new(Arc::clone(&self.system))
+    }
+}
+
+impl LoadedGrammar for LsFile {
+    fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
+        let system = &self.system;
+        let st = &system.settings;
+        let steps = request.steps.unwrap_or(st.derivation);
+        let max_modules = request.max_modules.unwrap_or(st.max_modules);
+        let max_primitives = request.limits.max_primitives.unwrap_or(Limits::default().max_primitives);
+        let mut scene = Scene::new();
+        let string = if request.genome_out.is_some() {
+            // Through the generator, so `genform derive` replays the genome.
+            let generator = self
+                .generator()
+                .with_context(|| format!("--genome-out needs {} to be a generator", self.path.display()))?;
+            let base = Limits { max_depth: steps as usize, max_primitives, ..generator.limits() };
+            let limits = request.limits.apply(base);
+            let genome = sample_genome(&generator, request, &limits)?;
+            let s = generator.derive(&genome, &limits).context("cannot derive the genome")?;
+            generator.express(&genome, &limits, &mut scene).context("cannot draw the model")?;
+            s
+        } else {
+            let mut rng = request.rng();
+            let s = system.derive_limited(steps, &mut rng, max_modules, |_, _| {}).context("cannot derive")?;
+            system.interpret(&s, &mut rng, max_primitives, &mut scene).context("cannot draw the model")?;
+            s
+        };
+        if let Some(path) = &request.string_out {
+            let mut text = string.display(&system.alphabet, true);
+            text.push('\n');
+            write_atomic(path, text.as_bytes())?;
+        }
+        let summary = format!(
+            "{} seed {}, {steps} steps: {} modules, {} segments, {} polygons",
+            st.name,
+            request.seed,
+            string.len(),
+            scene.polylines.iter().map(|l| l.points.len() - 1).sum::<usize>() + scene.instances.len(),
+            scene.polygons.len()
+        );
+        Ok(Box::new(SceneSample { scene, summary }))
+    }
+
+    /// Settings, modules, rules, growth per step, and the generator graph
+    /// (or why there is none).
+    fn describe(&self) -> String {
+        let system = &self.system;
+        let st = &system.settings;
+        let mut out = String::new();
+        let view = if st.view == View::Flat { "2d" } else { "3d" };
+        out.push_str(&format!(
+            "L-system {}: derivation {}, angle {}°, step {}, width {}, view {view}\n",
+            st.name, st.derivation, st.angle, st.step, st.width
+        ));
+        out.push_str(&format!(
+            "axiom: {} ({} modules)\n",
+            system.axiom.display(&system.alphabet, true),
+            system.axiom.len()
+        ));
+        let [p, d, i] = system.rule_counts();
+        out.push_str(&format!(
+            "rules: {p} production{}{}, {d} decomposition, {i} interpretation\n",
+            if p == 1 { "" } else { "s" },
+            if system.is_context_sensitive() { " (context-sensitive)" } else { "" }
+        ));
+        out.push_str("modules:\n");
+        for s in &system.alphabet.symbols {
+            out.push_str(&format!("  {:<8} {} parameter(s)  {}\n", s.name, s.arity, command_name(s.command)));
+        }
+        // Lengths per step, as far as the module limit allows.
+        let mut lengths = vec![system.axiom.len()];
+        let result =
+            system.derive_limited(st.derivation, &mut Rng::from_seed(0), st.max_modules, |_, s| lengths.push(s.len()));
+        let shown: Vec<String> = lengths.iter().enumerate().map(|(k, n)| format!("{k}: {n}")).collect();
+        out.push_str(&format!("modules per step (seed 0): {}\n", shown.join(", ")));
+        if let Err(e) = result {
+            out.push_str(&format!("  stopped: {e}\n"));
+        }
+        match self.generator() {
+            Ok(g) => {
+                let graph = g.graph();
+                out.push_str(&format!("generator: {} symbols, growth {}\n", graph.symbols.len(), st.growth));
+                for s in &graph.symbols {
+                    let params: Vec<&str> = s.params.iter().map(|p| p.name.as_str()).collect();
+                    out.push_str(&format!(
+                        "  {:<8} params [{}], {} slot(s)\n",
+                        s.name,
+                        params.join(", "),
+                        s.slots.len()
+                    ));
+                }
+            }
+            Err(e) => out.push_str(&format!("generator: none ({e})\n")),
+        }
+        out
+    }
+
+    fn into_generator(self: Box<Self>) -> Result<Loaded> {
+        let g = self.generator().with_context(|| format!("{} cannot be used as a generator", self.path.display()))?;
+        Ok(Loaded { name: g.system().settings.name.clone(), limits: g.limits(), generator: Box::new(g) })
+    }
+}
+
+fn command_name(c: Command) -> &'static str {
+    match c {
+        Command::Draw => "draw forward",
+        Command::Move => "move forward",
+        Command::Left => "turn left",
+        Command::Right => "turn right",
+        Command::Down => "pitch down",
+        Command::Up => "pitch up",
+        Command::RollLeft => "roll left",
+        Command::RollRight => "roll right",
+        Command::TurnAround => "turn around",
+        Command::RollHorizontal => "roll horizontal",
+        Command::Push => "push",
+        Command::Pop => "pop",
+        Command::Width => "width",
+        Command::Color => "colour",
+        Command::PolygonStart => "polygon start",
+        Command::PolygonVertex => "polygon vertex",
+        Command::PolygonEnd => "polygon end",
+        Command::Sphere => "sphere",
+        Command::Cut => "cut branch",
+        Command::None => "-",
+    }
+}

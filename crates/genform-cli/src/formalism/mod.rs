@@ -1,0 +1,399 @@
+//! The formalisms the CLI knows, behind one interface ([`Formalism`]) and
+//! one table ([`FORMALISMS`]) keyed by the grammar file's extension.
+//!
+//! Every verb reaches every formalism the same way: [`for_path`] picks the
+//! row, [`Formalism::load`] compiles the file into a [`LoadedGrammar`], and
+//! the verb asks that object to sample ([`LoadedGrammar::sample`]), describe
+//! itself (`info`) or hand over its generator graph (`derive`, `evolve`,
+//! `score`, `compare`, scene targets; see [`crate::grammar::load`]).
+
+mod boxsplit;
+mod graph;
+mod lsystem;
+mod shape;
+
+use anyhow::{Context, Result, bail};
+use genform_core::{Diagnostics, Generator, Genome, Limits, Rng, Scene, SourceFile};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use crate::grammar::{LimitOverrides, Loaded};
+use crate::output::{unknown_format, write_atomic, write_model};
+
+/// Every formalism, one row each. A grammar file belongs to the row one of
+/// whose [`Formalism::extensions`] its name ends with.
+pub static FORMALISMS: &[&dyn Formalism] =
+    &[&shape::ShapeGrammars, &lsystem::LSystems, &boxsplit::BoxSplitGrammars, &graph::GraphGrammars];
+
+/// A grammar formalism: one row of [`FORMALISMS`].
+///
+/// A new formalism implements this on a unit struct in its own file in this
+/// folder and adds that struct to [`FORMALISMS`]; nothing else dispatches on
+/// formalisms. It declares which files it reads ([`extensions`]), which
+/// `genform sample` options it accepts ([`sample_options`]: the rest are
+/// refused with one message built from the table) and which `--out`
+/// extensions it writes itself ([`output_extensions`]), and it compiles a
+/// file ([`load`], diagnostics through [`compile_file`]) into a
+/// [`LoadedGrammar`], which samples models, describes itself for `info`
+/// and hands over its generator graph if it has one.
+///
+/// [`extensions`]: Formalism::extensions
+/// [`sample_options`]: Formalism::sample_options
+/// [`output_extensions`]: Formalism::output_extensions
+/// [`load`]: Formalism::load
+pub trait Formalism: Sync {
+    /// Singular name in messages, e.g. "shape grammar".
+    fn name(&self) -> &'static str;
+
+    /// Plural name in messages; the default adds an "s" to [`Formalism::name`].
+    fn plural(&self) -> String {
+        format!("{}s", self.name())
+    }
+
+    /// File-name endings with the leading dot, lowercase, e.g. `[".sg"]` or
+    /// `[".gg.yaml"]`; matched case-insensitively against the whole name.
+    fn extensions(&self) -> &'static [&'static str];
+
+    /// The long flags of `genform sample` this formalism reads, beyond
+    /// [`COMMON_SAMPLE_OPTIONS`], e.g. `["--steps", "--string-out"]`.
+    fn sample_options(&self) -> &'static [&'static str];
+
+    /// `--out` endings (with the dot, lowercase) that this formalism's
+    /// samples write themselves, beyond the Scene formats of
+    /// `genform-export`, e.g. `[".mca"]`.
+    fn output_extensions(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Compiles the grammar at `path`; warnings go to stderr, errors become
+    /// the returned error with every diagnostic rendered.
+    fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>>;
+}
+
+/// A compiled grammar of some formalism.
+pub trait LoadedGrammar {
+    /// Draws one model as `request` asks. Side files that options name
+    /// (`--genome-out`, `--string-out`, `--trace`) are written here, since
+    /// some must be written even when the derivation fails; `--out` is
+    /// written afterwards through [`Sample::write`].
+    fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>>;
+
+    /// What `genform info` prints: settings, rules, symbols, limits.
+    fn describe(&self) -> String;
+
+    /// The generator graph optimizers and `derive` work on, or an error
+    /// saying why this grammar has none.
+    fn into_generator(self: Box<Self>) -> Result<Loaded>;
+}
+
+/// One sampled model, ready to be written.
+pub trait Sample {
+    /// The model (for formalisms that grow in steps, the last step's).
+    fn scene(&self) -> &Scene;
+
+    /// One line about what was made (name, seed, counts).
+    fn summary(&self) -> String;
+
+    /// Writes the model to `out` (the format follows its extension) and
+    /// returns the files written: formalisms with their own formats
+    /// ([`Formalism::output_extensions`]) or several files (one per growth
+    /// step) override it; the default exports [`Sample::scene`].
+    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
+        write_model(self.scene(), out)?;
+        Ok(vec![out.to_path_buf()])
+    }
+}
+
+/// A [`Sample`] that is a Scene and a summary line.
+pub struct SceneSample {
+    /// The model.
+    pub scene: Scene,
+    /// The summary line.
+    pub summary: String,
+}
+
+impl Sample for SceneSample {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    fn summary(&self) -> String {
+        self.summary.clone()
+    }
+}
+
+/// Flags of `genform sample` every formalism accepts.
+pub const COMMON_SAMPLE_OPTIONS: &[&str] = &["--seed", "--out"];
+
+/// Stream id of `sample` (so other verbs' streams never coincide with it).
+const SAMPLE_STREAM: u64 = 0x5A4D_504C;
+
+/// What `genform sample` asks of a formalism: the common settings and the
+/// value of every formalism's options (each formalism reads only those it
+/// declares in [`Formalism::sample_options`]; [`check_request`] has refused
+/// the others).
+#[derive(Clone, Debug)]
+pub struct SampleRequest {
+    /// Random seed.
+    pub seed: u64,
+    /// `--out`: the model file.
+    pub out: Option<PathBuf>,
+    /// The long flags given on the command line (defaults not included).
+    pub given: Vec<String>,
+    /// `--genome-out`: where to save the genome.
+    pub genome_out: Option<PathBuf>,
+    /// `--max-genes`, `--max-depth`, `--max-primitives`.
+    pub limits: LimitOverrides,
+    /// `--steps`: derivation steps.
+    pub steps: Option<u32>,
+    /// `--max-modules`: longest string (L-systems), most elements (graph grammars).
+    pub max_modules: Option<usize>,
+    /// `--string-out`: where to write the derived string.
+    pub string_out: Option<PathBuf>,
+    /// `--box`: the box to derive in, as written.
+    pub box_corners: Option<String>,
+    /// `--world`: a region file or folder to observe.
+    pub world: Option<PathBuf>,
+    /// `--trace`: where to write the derivation trace.
+    pub trace: Option<PathBuf>,
+    /// `--schem-version`: Sponge schematic version.
+    pub schem_version: u8,
+    /// `--data-version`: Minecraft DataVersion of block files.
+    pub data_version: i32,
+}
+
+impl SampleRequest {
+    /// The random stream of this sample.
+    pub fn rng(&self) -> Rng {
+        Rng::stream(self.seed, &[SAMPLE_STREAM])
+    }
+}
+
+/// Whether `path`'s file name ends with one of `endings` (lowercase, with
+/// the dot), ignoring case.
+pub fn ends_with_any(path: &Path, endings: &[&str]) -> bool {
+    let name = path.file_name().map(|n| n.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
+    endings.iter().any(|e| name.ends_with(e))
+}
+
+/// The formalism of the grammar file at `path`, by extension.
+pub fn for_path(path: &Path) -> Result<&'static dyn Formalism> {
+    if let Some(f) = FORMALISMS.iter().find(|f| ends_with_any(path, f.extensions())) {
+        return Ok(*f);
+    }
+    let ext = match path.extension() {
+        Some(e) => format!("extension `.{}`", e.to_string_lossy()),
+        None => "no extension".to_string(),
+    };
+    let supported: Vec<String> =
+        FORMALISMS.iter().map(|f| format!("{} ({})", f.extensions().join(" "), f.name())).collect();
+    bail!("don't know the grammar format of {} ({ext}); supported: {}", path.display(), supported.join(", "))
+}
+
+/// Compiles the grammar at `path` with the formalism its extension names.
+pub fn open(path: &Path) -> Result<Box<dyn LoadedGrammar>> {
+    for_path(path)?.load(path)
+}
+
+/// Refuses what `formalism` cannot do for `request`, before anything is
+/// loaded: an `--out` extension it cannot write, options it does not read.
+pub fn check_request(formalism: &dyn Formalism, request: &SampleRequest) -> Result<()> {
+    if let Some(out) = &request.out
+        && !ends_with_any(out, formalism.output_extensions())
+        && genform_export::Format::from_path(out).is_none()
+    {
+        return Err(unknown_format(out, formalism.output_extensions()));
+    }
+    check_options(formalism, &request.given)
+}
+
+/// Refuses the flags in `given` that `formalism` does not read, naming the
+/// formalisms they apply to; flags with the same formalisms share a sentence.
+fn check_options(formalism: &dyn Formalism, given: &[String]) -> Result<()> {
+    let accepted = |f: &dyn Formalism, flag: &str| f.sample_options().contains(&flag);
+    // (the formalisms a flag applies to, the refused flags that apply to them)
+    let mut groups: Vec<(Vec<String>, Vec<String>)> = Vec::new();
+    for flag in given {
+        if COMMON_SAMPLE_OPTIONS.contains(&flag.as_str()) || accepted(formalism, flag) {
+            continue;
+        }
+        let owners: Vec<String> = FORMALISMS
+            .iter()
+            .filter(|f| accepted(**f, flag))
+            .map(|f| format!("{} ({})", f.plural(), f.extensions().join(" ")))
+            .collect();
+        match groups.iter_mut().find(|(o, _)| *o == owners) {
+            Some((_, flags)) => flags.push(flag.clone()),
+            None => groups.push((owners, vec![flag.clone()])),
+        }
+    }
+    if groups.is_empty() {
+        return Ok(());
+    }
+    let this = format!("{} ({})", formalism.plural(), formalism.extensions().join(" "));
+    let sentences: Vec<String> = groups
+        .iter()
+        .map(|(owners, flags)| {
+            let verb = if flags.len() == 1 { "applies" } else { "apply" };
+            if owners.is_empty() {
+                format!("{} {verb} to no formalism", and_list(flags))
+            } else {
+                format!("{} {verb} to {} only, not to {this}", and_list(flags), and_list(owners))
+            }
+        })
+        .collect();
+    bail!("{}", sentences.join("; "))
+}
+
+/// "a", "a and b", "a, b and c".
+fn and_list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
+}
+
+/// Reads and compiles a grammar file with `compile`: warnings go to stderr,
+/// errors become one error with every diagnostic rendered.
+pub fn compile_file<T>(
+    path: &Path,
+    compile: impl FnOnce(&SourceFile) -> Result<(T, Diagnostics), Diagnostics>,
+) -> Result<T> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read grammar {}", path.display()))?;
+    let file = SourceFile::new(path.display().to_string(), text);
+    let color = std::io::stderr().is_terminal();
+    match compile(&file) {
+        Ok((value, warnings)) => {
+            if !warnings.items.is_empty() {
+                eprint!("{}", warnings.render(color));
+            }
+            Ok(value)
+        }
+        Err(errors) => {
+            let n = errors.error_count();
+            bail!("{}{} error{} in {}", errors.render(color), n, if n == 1 { "" } else { "s" }, path.display())
+        }
+    }
+}
+
+/// Draws a genome from `generator`'s prior with the request's stream,
+/// warning when a limit truncated it, and saves it to `--genome-out`.
+pub fn sample_genome(generator: &dyn Generator, request: &SampleRequest, limits: &Limits) -> Result<Genome> {
+    let sampled = generator.sample(&mut request.rng(), limits).context("cannot sample")?;
+    if let Some(kind) = sampled.truncated {
+        eprintln!(
+            "warning: growth stopped at the {kind} limit ({}); the model is truncated (raise it with {})",
+            kind.value(limits),
+            kind.flag()
+        );
+    }
+    if let Some(path) = &request.genome_out {
+        write_atomic(path, sampled.genome.to_json(generator.graph()).as_bytes())?;
+    }
+    Ok(sampled.genome)
+}
+
+/// The error of [`LoadedGrammar::into_generator`] for a grammar without a
+/// generator graph.
+pub fn no_generator(path: &Path, why: &str) -> anyhow::Error {
+    anyhow::anyhow!("{} cannot be used as a generator: {why}", path.display())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn request(given: &[&str]) -> SampleRequest {
+        SampleRequest {
+            seed: 0,
+            out: None,
+            given: given.iter().map(|s| s.to_string()).collect(),
+            genome_out: None,
+            limits: LimitOverrides::default(),
+            steps: None,
+            max_modules: None,
+            string_out: None,
+            box_corners: None,
+            world: None,
+            trace: None,
+            schem_version: 2,
+            data_version: 3955,
+        }
+    }
+
+    fn refusal(file: &str, given: &[&str]) -> String {
+        let f = for_path(Path::new(file)).unwrap();
+        check_request(f, &request(given)).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn every_extension_finds_its_row_and_no_extension_hides_another() {
+        for f in FORMALISMS {
+            for ext in f.extensions() {
+                assert_eq!(for_path(Path::new(&format!("dir/x{ext}"))).unwrap().name(), f.name());
+                assert_eq!(for_path(Path::new(&format!("X{}", ext.to_uppercase()))).unwrap().name(), f.name());
+                let others = FORMALISMS.iter().filter(|g| g.name() != f.name()).flat_map(|g| g.extensions());
+                for other in others {
+                    assert!(!ext.ends_with(other) && !other.ends_with(ext), "{ext} and {other} overlap");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn unknown_extensions_list_the_table() {
+        let err = for_path(Path::new("a/house.dae")).err().unwrap().to_string();
+        assert!(err.contains("a/house.dae (extension `.dae`)"), "{err}");
+        for f in FORMALISMS {
+            for ext in f.extensions() {
+                assert!(err.contains(&format!("{ext} ({})", f.name())), "{err}");
+            }
+        }
+        let err = for_path(Path::new("Makefile")).err().unwrap().to_string();
+        assert!(err.contains("(no extension)"), "{err}");
+    }
+
+    #[test]
+    fn options_of_other_formalisms_are_refused_with_one_message() {
+        assert_eq!(
+            refusal("a.sg", &["--seed", "--box", "--world"]),
+            "--box and --world apply to box-split grammars (.bsg) only, not to shape grammars (.sg)"
+        );
+        assert_eq!(
+            refusal("a.bsg", &["--steps", "--string-out"]),
+            "--steps applies to L-systems (.ls) and graph grammars (.gg.yaml) only, not to box-split grammars \
+             (.bsg); --string-out applies to L-systems (.ls) only, not to box-split grammars (.bsg)"
+        );
+        assert!(refusal("a.gg.yaml", &["--genome-out"]).starts_with("--genome-out applies to shape grammars (.sg)"));
+    }
+
+    #[test]
+    fn declared_and_common_options_pass() {
+        for f in FORMALISMS {
+            let mut given: Vec<&str> = f.sample_options().to_vec();
+            given.extend(COMMON_SAMPLE_OPTIONS);
+            check_request(*f, &request(&given)).unwrap();
+        }
+    }
+
+    #[test]
+    fn outputs_a_formalism_writes_itself_pass_its_check_only() {
+        let mut r = request(&[]);
+        r.out = Some(PathBuf::from("g.YAML"));
+        check_request(for_path(Path::new("a.gg.yaml")).unwrap(), &r).unwrap();
+        let err = check_request(for_path(Path::new("a.sg")).unwrap(), &r).unwrap_err().to_string();
+        assert!(err.contains("use one of the extensions: .obj") && !err.contains(".yaml"), "{err}");
+        r.out = Some(PathBuf::from("g.dae"));
+        let err = check_request(for_path(Path::new("a.gg.yaml")).unwrap(), &r).unwrap_err().to_string();
+        assert!(err.ends_with(".vox .yaml .yml"), "{err}");
+    }
+
+    #[test]
+    fn and_lists() {
+        let l = |v: &[&str]| and_list(&v.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+        assert_eq!(l(&["a"]), "a");
+        assert_eq!(l(&["a", "b"]), "a and b");
+        assert_eq!(l(&["a", "b", "c"]), "a, b and c");
+    }
+}
