@@ -10,12 +10,13 @@ use resvg::{tiny_skia, usvg};
 const MIN_STROKE_PX: f32 = 1.5;
 
 /// Whether the scene is a non-empty drawing in the z = 0 plane with nothing
-/// solid in it: no instances, every polyline and polygon point at z = 0
+/// solid in it: no instances, blocks or surfaces, every polyline and polygon point at z = 0
 /// (2D shapes are always flat).
 pub(crate) fn is_flat(scene: &Scene) -> bool {
     (!scene.is_empty() || !scene.shapes2d.is_empty())
         && scene.instances.is_empty()
         && scene.blocks.is_empty()
+        && scene.surfaces.is_empty()
         && scene.polylines.iter().flat_map(|l| &l.points).all(|p| p.z == 0.0)
         && scene.polygons.iter().flat_map(|p| &p.points).all(|p| p.z == 0.0)
 }
@@ -142,6 +143,10 @@ mod tests {
         let mut raised = s.clone();
         raised.polylines[0].points[1].z = 0.5;
         assert!(!is_flat(&raised));
+        let mut surface = s.clone();
+        surface.surfaces.push(genform_core::Surface::new(0));
+        surface.surfaces[0].positions.push(Vec3::ZERO);
+        assert!(!is_flat(&surface), "surfaces go to the rasterizer");
         let mut solid = s.clone();
         solid.instances.push(Instance { transform: Default::default(), primitive: Primitive::Box, tag: 0 });
         assert!(!is_flat(&solid));

@@ -1,7 +1,7 @@
 //! Binary glTF 2.0 (GLB).
 
 use crate::minecraft::{block_color, block_meshes};
-use crate::palette::{srgb_to_linear, tag_color};
+use crate::palette::{edge_color, edge_type_name, srgb_to_linear, tag_color};
 use crate::shapes::{Shapes, tag_name};
 use crate::stl::face_normal;
 use genform_core::blocks::BlockState;
@@ -41,11 +41,19 @@ const MODE_LINES: u32 = 1;
 ///   per block state, named by the state (`minecraft:oak_stairs[facing=east]`);
 ///   one material per block id, named by the id, coloured by
 ///   [`crate::minecraft::block_color`].
+/// - Surfaces ([`Scene::surfaces`]) last, one world-space mesh and node
+///   each, named `<tag>_surface<k>`: a triangle primitive of the faces
+///   (split by [`triangulate_polygon`], zero-area triangles dropped) with
+///   smooth area-weighted vertex normals and the tag's double-sided
+///   material, then one `LINES` primitive per edge type in ascending order
+///   (untyped last), sharing the surface's `POSITION` accessor, with the
+///   material `edge<N>` (`edge_untyped`) coloured by [`crate::edge_color`].
+///   Guides are not written.
 ///
 /// # Panics
 ///
-/// If an instance refers to a missing mesh asset (see [`crate::export`],
-/// which checks).
+/// If an instance refers to a missing mesh asset or a surface to a missing
+/// vertex (see [`crate::export`], which checks).
 pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let shapes = Shapes::new(scene, tess);
     let mut doc = Doc::default();
@@ -111,6 +119,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     doc.world_mesh(scene, "polygons", &polygons, true);
     doc.polylines(scene);
     doc.blocks(scene);
+    doc.surfaces(scene);
     doc.finish()
 }
 
@@ -171,6 +180,7 @@ struct Doc {
     materials: Vec<Value>,
     material_of: HashMap<(TagId, bool), usize>,
     block_material_of: HashMap<String, usize>,
+    edge_material_of: HashMap<u32, usize>,
 }
 
 impl Doc {
@@ -338,6 +348,61 @@ impl Doc {
         self.materials.len() - 1
     }
 
+    /// The surfaces: per surface one mesh and node of its faces and its
+    /// edges, one `LINES` primitive per type.
+    fn surfaces(&mut self, scene: &Scene) {
+        for (k, s) in scene.surfaces.iter().enumerate() {
+            if s.positions.is_empty() || !s.positions.iter().all(|p| p.is_finite()) {
+                continue;
+            }
+            let mut tris = crate::surfaces::triangles(s);
+            tris.retain(|t| face_normal(t.map(|v| s.positions[v as usize])) != Vec3::ZERO);
+            let groups = crate::surfaces::edges_by_type(s);
+            if tris.is_empty() && groups.is_empty() {
+                continue;
+            }
+            let pos = self.vec3(&s.positions, true);
+            let mut prims = Vec::new();
+            if !tris.is_empty() {
+                let normals = crate::surfaces::vertex_normals(s, &tris);
+                let nrm = self.vec3(&normals, false);
+                let flat: Vec<u32> = tris.iter().flatten().copied().collect();
+                let idx = self.indices(&flat, s.positions.len());
+                let material = self.material(scene, s.tag, true);
+                prims.push(
+                    json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material}),
+                );
+            }
+            for (kind, pairs) in groups {
+                let flat: Vec<u32> = pairs.iter().flatten().copied().collect();
+                let idx = self.indices(&flat, s.positions.len());
+                let material = self.edge_material(kind);
+                prims.push(
+                    json!({"attributes": {"POSITION": pos}, "indices": idx, "mode": MODE_LINES, "material": material}),
+                );
+            }
+            self.named_mesh_node(&crate::surfaces::surface_name(scene, k), prims);
+        }
+    }
+
+    /// The material `edge<N>` of edge type `kind`, added on first use.
+    fn edge_material(&mut self, kind: u32) -> usize {
+        if let Some(&m) = self.edge_material_of.get(&kind) {
+            return m;
+        }
+        let rgb = edge_color(kind).map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0);
+        self.materials.push(json!({
+            "name": edge_type_name(kind),
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.8,
+            },
+        }));
+        self.edge_material_of.insert(kind, self.materials.len() - 1);
+        self.materials.len() - 1
+    }
+
     fn named_mesh_node(&mut self, name: &str, prims: Vec<Value>) {
         if prims.is_empty() {
             return;
@@ -468,7 +533,7 @@ mod tests {
                     let off = view["byteOffset"].as_u64().unwrap() as usize;
                     assert_eq!(off % 4, 0);
                     let count = a["count"].as_u64().unwrap() as usize;
-                    assert_eq!(count % 3, 0);
+                    assert_eq!(count % if prim["mode"] == MODE_LINES { 2 } else { 3 }, 0);
                     let wide = a["componentType"] == UNSIGNED_INT;
                     for k in 0..count {
                         let i = if wide {
@@ -588,6 +653,37 @@ mod tests {
         let (json, bin) = parse(&write_glb(&s, tess));
         check_accessors(&json, &bin);
         assert_eq!(json["accessors"][2]["componentType"], UNSIGNED_INT);
+    }
+
+    #[test]
+    fn surfaces_are_meshes_of_faces_and_typed_lines() {
+        let s = test_scenes::surfaces();
+        let (json, bin) = parse(&write_glb(&s, Tessellation::default()));
+        check_accessors(&json, &bin);
+        let names: Vec<&str> = json["nodes"].as_array().unwrap().iter().map(|n| n["name"].as_str().unwrap()).collect();
+        assert_eq!(names, ["hull_0", "shell_surface0", "shell_surface1"]);
+        let grid = &json["meshes"][1]["primitives"];
+        assert_eq!(grid.as_array().unwrap().len(), 3, "faces, type 1, type 2");
+        // The lines share the faces' positions: the grid's 9 vertices.
+        let pos = &grid[0]["attributes"]["POSITION"];
+        assert!((1..3).all(|i| grid[i]["attributes"]["POSITION"] == *pos && grid[i]["mode"] == MODE_LINES));
+        assert_eq!(json["accessors"][pos.as_u64().unwrap() as usize]["count"], 9);
+        let count = |p: &Value| json["accessors"][p["indices"].as_u64().unwrap() as usize]["count"].as_u64().unwrap();
+        assert_eq!([count(&grid[0]), count(&grid[1]), count(&grid[2])], [4 * 6, 8 * 2, 4 * 2]);
+        // Materials: the box, the double-sided shell, one per edge type,
+        // each edge material shared between the surfaces.
+        let mats: Vec<&str> =
+            json["materials"].as_array().unwrap().iter().map(|m| m["name"].as_str().unwrap()).collect();
+        assert_eq!(mats, ["hull", "shell (double-sided)", "edge1", "edge2", "edge_untyped"]);
+        let smooth = &json["meshes"][2]["primitives"];
+        assert_eq!(smooth[1]["material"], grid[1]["material"]);
+        assert_eq!(smooth[3]["material"], 4);
+        let rgb = crate::edge_color(2).map(|c| f64::from(srgb_to_linear(c)));
+        let factor = &json["materials"][3]["pbrMetallicRoughness"]["baseColorFactor"];
+        assert!((0..3).all(|i| (factor[i].as_f64().unwrap() - rgb[i]).abs() < 1e-4));
+        // Smooth normals: the raised middle vertex of the grid points up.
+        let normals = read_vec3(&json, &bin, grid[0]["attributes"]["NORMAL"].as_u64().unwrap() as usize);
+        assert_eq!(normals[4], Vec3::Z);
     }
 
     #[test]

@@ -7,7 +7,8 @@
 //!   ([`write_obj`]).
 //! - [`Format::Glb`]: binary glTF 2.0, one mesh per distinct primitive and one
 //!   node per instance ([`write_glb`]).
-//! - [`Format::Ply`]: binary little-endian PLY triangle soup ([`write_ply`]).
+//! - [`Format::Ply`]: binary little-endian PLY, a triangle soup plus the
+//!   surfaces' polygons and typed edges ([`write_ply`]).
 //! - [`Format::Stl`]: binary STL ([`write_stl`]).
 //! - [`Format::Svg`]: an orthographic line drawing onto the xy plane
 //!   ([`write_svg`]).
@@ -16,6 +17,14 @@
 //! - [`Format::Schem`], [`Format::Litematic`], [`Format::Vox`]: the scene's
 //!   block grids ([`Scene::blocks`]) as a Sponge schematic, a Litematica
 //!   schematic or a MagicaVoxel model ([`minecraft`]).
+//!
+//! Polygon surfaces ([`Scene::surfaces`]) keep their polygons and typed
+//! edges where the format can hold them: OBJ (`f` polygons, `l` edges
+//! grouped by type), PLY (polygon faces and an `edge` element with the
+//! type), GLB (triangles plus a `LINES` primitive per edge type, materials
+//! `edge<N>`); STL gets their triangles. The PNG and SVG previews draw the
+//! faces, the edges in the colours of [`edge_color`], and the guides
+//! ([`Scene::guides`]) faintly; no model format writes guides.
 //!
 //! Block grids are drawn by OBJ, GLB, PLY, STL and PNG as greedy meshes
 //! (one mesh per block state); region files are read and written by
@@ -39,6 +48,7 @@ mod ply;
 mod render;
 mod shapes;
 mod stl;
+mod surfaces;
 mod svg;
 
 use genform_core::scene::{Primitive, Scene, Tessellation};
@@ -49,7 +59,7 @@ use std::str::FromStr;
 pub use glb::write_glb;
 pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFormat, read_mesh};
 pub use obj::write_obj;
-pub use palette::tag_color;
+pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
 pub use render::{Camera, RenderOptions, render_png, render_rgb};
 pub use stl::write_stl;
@@ -210,6 +220,15 @@ pub enum ExportError {
         /// The mesh id it refers to.
         mesh: u32,
     },
+    /// A surface has a face or edge naming a vertex it does not have, or a
+    /// face of fewer than three corners.
+    #[error("surface {surface} is malformed: {reason}")]
+    BadSurface {
+        /// Index into [`Scene::surfaces`].
+        surface: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Some coordinate is NaN or infinite (a degenerate transform upstream).
     #[error("the scene has non-finite coordinates (NaN or infinity) in {0}")]
     NonFinite(String),
@@ -229,8 +248,10 @@ pub enum ExportError {
 /// Writes `scene` as `format` and returns the file's bytes.
 ///
 /// Checks the scene first: every [`Primitive::Mesh`] must name a valid asset
-/// (all formats), geometry formats need at least one triangle or drawn
-/// block (OBJ, GLB and SVG also accept polylines alone; SVG does not draw
+/// and every surface face and edge an existing vertex (all formats),
+/// geometry formats need at least one triangle or drawn
+/// block (OBJ, GLB and SVG also accept polylines alone, and OBJ, GLB, PLY
+/// and SVG surface edges alone; SVG does not draw
 /// blocks) and finite coordinates, and PNG needs a size within
 /// [`MAX_IMAGE_SIDE`]. An empty scene renders as a blank image.
 ///
@@ -242,6 +263,7 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
         return export_blocks(scene, format, &opts.blocks);
     }
     check_meshes(scene)?;
+    check_surfaces(scene)?;
     let tess = opts.tessellation;
     if format.is_geometry() {
         check_geometry(scene, format, tess)?;
@@ -293,6 +315,33 @@ fn check_meshes(scene: &Scene) -> Result<(), ExportError> {
     Ok(())
 }
 
+/// Every surface face has at least three corners, and every face corner
+/// and edge end names one of the surface's vertices.
+fn check_surfaces(scene: &Scene) -> Result<(), ExportError> {
+    for (k, s) in scene.surfaces.iter().enumerate() {
+        let bad = |reason: String| Err(ExportError::BadSurface { surface: k, reason });
+        let n = s.positions.len();
+        let offsets_ok = s.face_offsets.first().is_none_or(|&o| o == 0)
+            && s.face_offsets.windows(2).all(|w| w[0] <= w[1])
+            && s.face_offsets.last().is_none_or(|&o| o as usize == s.face_vertices.len());
+        if !offsets_ok {
+            return bad("its face offsets do not run from 0 to the end of the face loops".into());
+        }
+        for (f, face) in s.faces().enumerate() {
+            if face.len() < 3 {
+                return bad(format!("face {f} has {} corners (at least 3 needed)", face.len()));
+            }
+            if let Some(&v) = face.iter().find(|&&v| v as usize >= n) {
+                return bad(format!("face {f} names vertex {v}, but there are {n}"));
+            }
+        }
+        if let Some((i, e)) = s.edges.iter().enumerate().find(|(_, e)| e.a.max(e.b) as usize >= n) {
+            return bad(format!("edge {i} ({} to {}) names a vertex past the {n} there are", e.a, e.b));
+        }
+    }
+    Ok(())
+}
+
 /// Finite coordinates and something to write.
 fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(), ExportError> {
     let (mut triangles, mut finite) = (0usize, true);
@@ -310,7 +359,11 @@ fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(
         triangles += 1;
     }
     let lines = matches!(format, Format::Obj | Format::Glb | Format::Svg);
-    let mut drawable_lines = false;
+    if !scene.surfaces.iter().all(|s| s.positions.iter().all(|p| p.is_finite())) {
+        return Err(ExportError::NonFinite("a surface".into()));
+    }
+    let mut drawable_lines = matches!(format, Format::Obj | Format::Glb | Format::Ply | Format::Svg)
+        && scene.surfaces.iter().any(|s| s.edges.iter().any(|e| e.a != e.b));
     if lines {
         for l in &scene.polylines {
             if !l.points.iter().all(|p| p.is_finite()) {
@@ -344,6 +397,64 @@ pub(crate) mod test_scenes {
                 tag,
             });
         }
+        s
+    }
+
+    /// A unit box tagged `hull` at x = −3, and two surfaces tagged `shell`:
+    /// a 2×2 grid of unit quads on z = 0 (its middle vertex raised to 0.5;
+    /// 9 vertices, 12 edges, 4 faces) with boundary edges of type 1 and
+    /// inner ones of type 2, and that grid smoothed once by Catmull–Clark
+    /// and lifted by 1 (25 vertices, 40 edges (16 untyped), 16 faces). Guides:
+    /// a boundary square under them at z = −1 (tag `boundary`), an
+    /// attractor above and a repeller below.
+    pub fn surfaces() -> Scene {
+        use genform_core::surface::{Guide, GuideKind, Surface, SurfaceEdge};
+        let mut s = boxes(1);
+        s.instances[0].transform = Affine3A::from_translation(Vec3::new(-3.0, 0.0, 0.0));
+        let tag = s.tag("shell");
+        let mut grid = Surface::new(tag);
+        let id = |i: u32, j: u32| 3 * j + i;
+        for j in 0..3 {
+            for i in 0..3 {
+                let z = if (i, j) == (1, 1) { 0.5 } else { 0.0 };
+                grid.positions.push(Vec3::new(i as f32, j as f32, z));
+            }
+        }
+        for j in 0..2 {
+            for i in 0..2 {
+                grid.push_face(&[id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        for j in 0..3 {
+            for i in 0..3 {
+                if i < 2 {
+                    let kind = if j == 1 { 2 } else { 1 };
+                    grid.edges.push(SurfaceEdge { a: id(i, j), b: id(i + 1, j), kind });
+                }
+                if j < 2 {
+                    let kind = if i == 1 { 2 } else { 1 };
+                    grid.edges.push(SurfaceEdge { a: id(i, j), b: id(i, j + 1), kind });
+                }
+            }
+        }
+        let mut smooth = grid.catmull_clark(1);
+        smooth.positions.iter_mut().for_each(|p| p.z += 1.0);
+        s.surfaces.push(grid);
+        s.surfaces.push(smooth);
+        let plane = genform_core::Mesh {
+            name: "ground".into(),
+            positions: vec![
+                Vec3::new(-1.0, -1.0, -1.0),
+                Vec3::new(3.0, -1.0, -1.0),
+                Vec3::new(3.0, 3.0, -1.0),
+                Vec3::new(-1.0, 3.0, -1.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        };
+        let (b, a, r) = (s.tag("boundary"), s.tag("attractor"), s.tag("repeller"));
+        s.guides.push(Guide { kind: GuideKind::Mesh(std::sync::Arc::new(plane)), tag: b });
+        s.guides.push(Guide { kind: GuideKind::Point { at: Vec3::new(1.0, 1.0, 2.5), radius: 0.15 }, tag: a });
+        s.guides.push(Guide { kind: GuideKind::Point { at: Vec3::new(0.5, 1.5, -0.5), radius: 0.15 }, tag: r });
         s
     }
 

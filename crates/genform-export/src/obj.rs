@@ -16,6 +16,12 @@ use std::fmt::Write;
 /// last one object per block state of the block grids (`o <state>`, the
 /// greedy mesh of [`crate::minecraft::mesh_blocks`], quads as two
 /// triangles).
+///
+/// Then one object per surface (`o <tag>_surface<k>`): its vertices, its
+/// faces as polygons (`f`, counter-clockwise from the front, not
+/// triangulated), then its edges as two-point `l` lines, one group per edge
+/// type in ascending order, `g <tag>_surface<k>_edges_type<N>`, untyped
+/// edges last in `g <tag>_surface<k>_edges_untyped`. Guides are left out.
 /// No normals, texture coordinates or materials. Numbers are printed with
 /// at most 6 decimals, trailing zeros trimmed, so the text is identical
 /// from run to run.
@@ -79,6 +85,31 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
             let _ = writeln!(out, "f {a} {b} {c}");
         }
         next += m.mesh.positions.len();
+    }
+    for (k, surface) in scene.surfaces.iter().enumerate() {
+        let name = crate::surfaces::surface_name(scene, k);
+        let _ = writeln!(out, "o {name}");
+        for &p in &surface.positions {
+            vertex(&mut out, p);
+        }
+        for face in surface.faces() {
+            out.push('f');
+            for &v in face {
+                let _ = write!(out, " {}", next + v as usize);
+            }
+            out.push('\n');
+        }
+        for (kind, pairs) in crate::surfaces::edges_by_type(surface) {
+            if kind == genform_core::SurfaceEdge::UNTYPED {
+                let _ = writeln!(out, "g {name}_edges_untyped");
+            } else {
+                let _ = writeln!(out, "g {name}_edges_type{kind}");
+            }
+            for [a, b] in pairs {
+                let _ = writeln!(out, "l {} {}", next + a as usize, next + b as usize);
+            }
+        }
+        next += surface.positions.len();
     }
     out
 }
@@ -205,6 +236,34 @@ mod tests {
         assert!(text.contains("\nv 2 6 1\n"));
         let last = text.lines().rev().find(|l| l.starts_with("f ")).unwrap();
         assert!(last.split_whitespace().skip(1).all(|v| (9..=32).contains(&v.parse::<usize>().unwrap())));
+    }
+
+    #[test]
+    fn surfaces_keep_polygons_and_typed_edges() {
+        let s = test_scenes::surfaces();
+        let text = write_obj(&s, Tessellation::default());
+        // The box first, then the two surfaces.
+        assert_eq!(count(&text, "o "), 3);
+        assert_eq!(count(&text, "v "), 8 + 9 + 25);
+        assert_eq!(count(&text, "f "), 12 + 4 + 16);
+        assert_eq!(count(&text, "l "), 12 + 40);
+        let lines: Vec<&str> = text.lines().collect();
+        let at = |l: &str| lines.iter().position(|x| *x == l).unwrap_or_else(|| panic!("no `{l}`"));
+        let (o0, o1) = (at("o shell_surface0"), at("o shell_surface1"));
+        let (g1, g2) = (at("g shell_surface0_edges_type1"), at("g shell_surface0_edges_type2"));
+        let untyped = at("g shell_surface1_edges_untyped");
+        assert!(o0 < g1 && g1 < g2 && g2 < o1 && o1 < untyped);
+        // 8 boundary edges of type 1, then 4 inner ones of type 2.
+        assert!(lines[g1 + 1..g2].iter().all(|l| l.starts_with("l ")) && g2 - g1 - 1 == 8);
+        assert!(lines[g2 + 1..o1].iter().all(|l| l.starts_with("l ")) && o1 - g2 - 1 == 4);
+        // Quads are kept whole and point at the surface's own vertices
+        // (9..=17 after the box's 8).
+        let faces: Vec<&str> = lines[o0..g1].iter().copied().filter(|l| l.starts_with("f ")).collect();
+        assert_eq!(faces[0], "f 9 10 13 12");
+        assert!(lines[g1 + 1].split_whitespace().skip(1).all(|v| (9..=17).contains(&v.parse::<usize>().unwrap())));
+        assert!(text.contains("\nv 1 1 0.5\n"));
+        // Guides are not written.
+        assert!(!text.contains("boundary") && !text.contains("attractor"));
     }
 
     #[test]

@@ -1,50 +1,101 @@
 //! Binary little-endian PLY.
 
+use genform_core::SurfaceEdge;
 use genform_core::scene::{Scene, Tessellation};
 use glam::Vec3;
 
-/// Writes every triangle of `scene` (instances, polygons and block-grid
-/// meshes, in world space)
-/// as a binary little-endian PLY 1.0 file.
+/// Writes `scene` as a binary little-endian PLY 1.0 file: every triangle
+/// (instances, polygons and block-grid meshes, in world space), and the
+/// surfaces as polygons with their typed edges.
 ///
 /// The header declares `element vertex N` with `float x y z` and
-/// `element face M` with `list uchar int vertex_indices`. Vertices are not
-/// welded: each triangle has its own three, so `N = 3 M`. Polylines are
-/// left out.
+/// `element face M` with `list uchar int vertex_indices` (`list int int`
+/// when a surface face has more than 255 corners). Triangles come first;
+/// their vertices are not welded: each has its own three. Then each
+/// surface's vertices (shared by its faces) and its faces, whole and
+/// counter-clockwise from the front. When the scene has surfaces an
+/// `element edge` follows with `int vertex1`, `int vertex2` and `int type`
+/// per surface edge (`type` −1 for [`SurfaceEdge::UNTYPED`]), in surface
+/// and edge order. Polylines and guides are left out.
 ///
 /// # Panics
 ///
-/// If an instance refers to a missing mesh asset (see [`crate::export`],
-/// which checks).
+/// If an instance refers to a missing mesh asset or a surface to a missing
+/// vertex (see [`crate::export`], which checks).
 pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let mut verts: Vec<u8> = Vec::new();
-    let mut faces = 0usize;
+    let mut triangles = 0usize;
     let mut add = |t: [Vec3; 3]| {
         for p in t {
-            for c in p.to_array() {
-                verts.extend_from_slice(&c.to_le_bytes());
-            }
+            push_point(&mut verts, p);
         }
-        faces += 1;
+        triangles += 1;
     };
-    scene.for_each_triangle(tess, |t, _| add(t));
+    crate::surfaces::without_surfaces(scene).for_each_triangle(tess, |t, _| add(t));
     crate::minecraft::for_each_block_triangle(scene, |t, _| add(t));
-    let header = format!(
-        "ply\nformat binary_little_endian 1.0\ncomment genform\nelement vertex {}\n\
+    let mut vertex_count = 3 * triangles;
+    for s in &scene.surfaces {
+        s.positions.iter().for_each(|&p| push_point(&mut verts, p));
+        vertex_count += s.positions.len();
+    }
+    let faces = triangles + scene.surfaces.iter().map(|s| s.face_count()).sum::<usize>();
+    let wide = scene.surfaces.iter().flat_map(|s| s.faces()).any(|f| f.len() > usize::from(u8::MAX));
+    let mut header = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment genform\nelement vertex {vertex_count}\n\
          property float x\nproperty float y\nproperty float z\nelement face {faces}\n\
-         property list uchar int vertex_indices\nend_header\n",
-        3 * faces
+         property list {} int vertex_indices\n",
+        if wide { "int" } else { "uchar" }
     );
+    if !scene.surfaces.is_empty() {
+        let edges: usize = scene.surfaces.iter().map(|s| s.edges.len()).sum();
+        header.push_str(&format!(
+            "element edge {edges}\nproperty int vertex1\nproperty int vertex2\nproperty int type\n"
+        ));
+    }
+    header.push_str("end_header\n");
     let mut out = Vec::with_capacity(header.len() + verts.len() + faces * 13);
     out.extend_from_slice(header.as_bytes());
     out.extend_from_slice(&verts);
-    for f in 0..faces {
-        out.push(3);
+    let count = |out: &mut Vec<u8>, n: usize| {
+        if wide {
+            out.extend_from_slice(&(n as i32).to_le_bytes());
+        } else {
+            out.push(n as u8);
+        }
+    };
+    for f in 0..triangles {
+        count(&mut out, 3);
         for v in 0..3 {
             out.extend_from_slice(&((3 * f + v) as i32).to_le_bytes());
         }
     }
+    let mut base = 3 * triangles;
+    let mut bases = Vec::with_capacity(scene.surfaces.len());
+    for s in &scene.surfaces {
+        bases.push(base);
+        for face in s.faces() {
+            count(&mut out, face.len());
+            for &v in face {
+                out.extend_from_slice(&((base + v as usize) as i32).to_le_bytes());
+            }
+        }
+        base += s.positions.len();
+    }
+    for (s, base) in scene.surfaces.iter().zip(bases) {
+        for e in &s.edges {
+            let kind = if e.kind == SurfaceEdge::UNTYPED { -1 } else { e.kind as i32 };
+            for x in [(base + e.a as usize) as i32, (base + e.b as usize) as i32, kind] {
+                out.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+    }
     out
+}
+
+fn push_point(out: &mut Vec<u8>, p: Vec3) {
+    for c in p.to_array() {
+        out.extend_from_slice(&c.to_le_bytes());
+    }
 }
 
 #[cfg(test)]

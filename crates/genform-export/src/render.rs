@@ -1,9 +1,10 @@
 //! A small software rasterizer for PNG previews.
 
 use crate::minecraft::{block_color, block_meshes};
-use crate::palette::{linear_to_srgb, srgb_to_linear, tag_color};
+use crate::palette::{GuideRole, edge_color, guide_color, lighten, linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
 use genform_core::scene::{Primitive, Scene, Tessellation, triangulate_polygon};
+use genform_core::surface::{GuideKind, SurfaceEdge};
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
 
@@ -81,8 +82,21 @@ impl Default for RenderOptions {
 /// assets and polygons are two-sided, lit from whichever side faces the
 /// camera. Polylines are drawn as lines of their stroke width (at least one
 /// pixel). Block grids are drawn as their greedy meshes, each block in its
-/// [`crate::minecraft::block_color`]. With no camera given, the view is a [`Camera::fit_aspect`] 3/4
-/// view tightened to the actual geometry.
+/// [`crate::minecraft::block_color`].
+///
+/// Surfaces are two-sided (split by
+/// [`genform_core::scene::triangulate_polygon`]), their edges drawn over the faces (depth tested
+/// with a small bias) in the colours of [`crate::edge_color`], typed edges
+/// 1.5 pixels wide, untyped ones thinner. With several surfaces (a
+/// derivation's steps overlaid) earlier ones are paler and later ones win
+/// where they coincide. Guides are drawn faintly over the model: boundary
+/// meshes as translucent lit faces, points as discs of their radius (at
+/// least 6 pixels across), blue for attractors and red for repellers (tag
+/// names containing `attract` / `repel`; a `#rrggbb` tag suffix wins).
+///
+/// With no camera given, the view is a [`Camera::fit_aspect`] 3/4
+/// view tightened to the actual geometry; guides do not count for it (they
+/// may lie partly outside the image).
 ///
 /// A flat drawing (no instances, every point at z = 0, such as a 2D
 /// turtle's) with no camera given is drawn instead as [`crate::write_svg`]
@@ -95,7 +109,7 @@ impl Default for RenderOptions {
 /// # Panics
 ///
 /// If an instance refers to a missing mesh asset (see [`crate::export`],
-/// which checks).
+/// which checks). Surfaces naming missing vertices are left out.
 pub fn render_rgb(scene: &Scene, opts: &RenderOptions) -> (Vec<u8>, u32, u32) {
     render_rgb_with(scene, opts, Tessellation::default())
 }
@@ -204,10 +218,84 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
             }
         }
     }
+    draw_surfaces(r, scene, &view, ss, &colors);
+    draw_guides(r, scene, &view, ss);
+}
+
+/// The surfaces' faces (two-sided) and their edges on top.
+fn draw_surfaces(r: &mut Raster, scene: &Scene, view: &View, ss: usize, colors: &[[f32; 3]]) {
+    let n = scene.surfaces.len();
+    let mut verts: Vec<Vertex> = Vec::new();
+    for (k, s) in scene.surfaces.iter().enumerate() {
+        if !crate::surfaces::well_formed(s) {
+            continue;
+        }
+        // Earlier steps of a stack paler; later ones win depth ties. Faces
+        // a little lighter than the tag colour so the edges stand out.
+        let pale = if n > 1 { 0.6 * (n - 1 - k) as f32 / (n - 1) as f32 } else { 0.0 };
+        let tag_rgb = colors.get(s.tag as usize).copied().unwrap_or([0.5; 3]);
+        let color = tag_rgb.map(|c| c + (1.0 - c) * (0.25 + 0.75 * pale));
+        let bias = 1.0 + 2e-5 * k as f32;
+        verts.clear();
+        verts.extend(s.positions.iter().map(|&p| view.vertex(p)));
+        for t in crate::surfaces::triangles(s) {
+            view.draw_with(r, t.map(|v| &verts[v as usize]), color, false, Paint::Opaque(bias));
+        }
+        for e in &s.edges {
+            let (a, b) = (s.positions[e.a as usize], s.positions[e.b as usize]);
+            if e.a == e.b || !a.is_finite() || !b.is_finite() {
+                continue;
+            }
+            let half = if e.kind == SurfaceEdge::UNTYPED { 0.4 } else { 0.75 };
+            r.segment(view, [a, b], 0.0, half * ss as f32, pack(lighten(edge_color(e.kind), pale)));
+        }
+    }
+}
+
+/// Guides, faintly: point markers as discs, then meshes translucent.
+fn draw_guides(r: &mut Raster, scene: &Scene, view: &View, ss: usize) {
+    let name = |tag: u32| scene.tags.get(tag as usize).map_or("", String::as_str);
+    for g in &scene.guides {
+        if let GuideKind::Point { at, radius } = g.kind {
+            let c = view.to_camera(at);
+            if !(c.z >= view.near && c.is_finite()) {
+                continue;
+            }
+            let center = view.project(c);
+            let px = (radius.abs() * view.focal * center.z).max(3.0 * ss as f32);
+            let role = GuideRole::of(name(g.tag));
+            let alpha = if role == GuideRole::Other { 120 } else { 200 };
+            r.disc(center, px, pack(guide_color(name(g.tag))), alpha);
+        }
+    }
+    let mut verts: Vec<Vertex> = Vec::new();
+    for g in &scene.guides {
+        if let GuideKind::Mesh(mesh) = &g.kind {
+            let color = guide_color(name(g.tag)).map(srgb_to_linear);
+            verts.clear();
+            verts.extend(mesh.positions.iter().map(|&p| view.vertex(p)));
+            for t in &mesh.triangles {
+                if t.iter().all(|&v| (v as usize) < verts.len()) {
+                    view.draw_with(r, t.map(|v| &verts[v as usize]), color, false, Paint::Blend(56));
+                }
+            }
+        }
+    }
+}
+
+/// How [`View::draw_with`] paints.
+#[derive(Clone, Copy)]
+enum Paint {
+    /// Depth-tested and written; the inverse depth scaled by the bias
+    /// (above 1 pulls toward the eye).
+    Opaque(f32),
+    /// Depth-tested, not written: the colour mixed over what is there with
+    /// this opacity out of 256.
+    Blend(u32),
 }
 
 /// Calls `f` with every finite instance vertex (of meshes with triangles),
-/// polygon point and polyline point.
+/// polygon point, polyline point and surface vertex (guides left out).
 fn finite_points(scene: &Scene, shapes: &Shapes, mut f: impl FnMut(Vec3)) {
     let mut add = |p: Vec3| {
         if p.is_finite() {
@@ -221,7 +309,8 @@ fn finite_points(scene: &Scene, shapes: &Shapes, mut f: impl FnMut(Vec3)) {
         }
     }
     scene.polygons.iter().filter(|p| p.points.len() >= 3).flat_map(|p| p.points.iter().copied()).for_each(&mut add);
-    scene.polylines.iter().flat_map(|l| l.points.iter().copied()).for_each(add);
+    scene.polylines.iter().flat_map(|l| l.points.iter().copied()).for_each(&mut add);
+    scene.surfaces.iter().flat_map(|s| s.positions.iter().copied()).for_each(add);
 }
 
 fn pack([r, g, b]: [u8; 3]) -> u32 {
@@ -285,7 +374,12 @@ impl View {
     /// Shades and rasterizes one counter-clockwise triangle: flat Lambert
     /// from the key and fill lights plus ambient. A `closed` surface's back
     /// faces are culled; otherwise the side facing the eye is lit.
-    fn draw(&self, r: &mut Raster, [a, b, c]: [&Vertex; 3], color: [f32; 3], closed: bool) {
+    fn draw(&self, r: &mut Raster, tri: [&Vertex; 3], color: [f32; 3], closed: bool) {
+        self.draw_with(r, tri, color, closed, Paint::Opaque(1.0));
+    }
+
+    /// [`View::draw`] with a choice of paint.
+    fn draw_with(&self, r: &mut Raster, [a, b, c]: [&Vertex; 3], color: [f32; 3], closed: bool, paint: Paint) {
         let n = (b.world - a.world).cross(c.world - a.world);
         let facing = n.dot(self.eye - a.world);
         // Also rejects NaN.
@@ -295,12 +389,16 @@ impl View {
         let n = n.normalize_or_zero() * facing.signum();
         let light = 0.28 + 0.72 * n.dot(self.key).max(0.0) + 0.18 * n.dot(self.fill).max(0.0);
         let c32 = shade(color, light);
+        let mut fill = |v: [Vec3; 3]| match paint {
+            Paint::Opaque(bias) => r.triangle(v, c32, bias),
+            Paint::Blend(alpha) => r.blend_triangle(v, c32, alpha),
+        };
         if a.cam.z >= self.near && b.cam.z >= self.near && c.cam.z >= self.near {
-            r.triangle([a.screen, b.screen, c.screen], c32, 1.0);
+            fill([a.screen, b.screen, c.screen]);
         } else {
             let (pts, k) = clip_near([a.cam, b.cam, c.cam], self.near);
             for i in 1..k.saturating_sub(1) {
-                r.triangle([pts[0], pts[i], pts[i + 1]].map(|p| self.project(p)), c32, 1.0);
+                fill([pts[0], pts[i], pts[i + 1]].map(|p| self.project(p)));
             }
         }
     }
@@ -354,6 +452,16 @@ fn clip_near(t: [Vec3; 3], near: f32) -> ([Vec3; 4], usize) {
     (out, k)
 }
 
+/// A sample with `color` mixed into its colour at opacity `alpha` out of
+/// 256 (in sRGB, as previews do), its depth kept.
+fn blend(sample: u64, color: u32, alpha: u32) -> u64 {
+    let (dst, a) = (sample as u32, alpha.min(256));
+    // Red and blue side by side in one word, green apart: no overlap.
+    let rb = (((dst & 0xFF00FF) * (256 - a) + (color & 0xFF00FF) * a) >> 8) & 0xFF00FF;
+    let g = (((dst & 0xFF00) * (256 - a) + (color & 0xFF00) * a) >> 8) & 0xFF00;
+    (sample & !0xFFFF_FFFF) | u64::from(rb | g)
+}
+
 /// One buffer of samples: the inverse depth's bits in the high half, the
 /// packed color in the low half. Inverse depths are non-negative, so their
 /// bits order like the values and a depth test is an integer `max`.
@@ -373,6 +481,50 @@ impl Raster {
     /// exactly through one covers it. `bias` scales the inverse depth
     /// (above 1 pulls toward the eye).
     fn triangle(&mut self, v: [Vec3; 3], color: u32, bias: f32) {
+        let color = u64::from(color);
+        // Branch-free depth test (visibility flips are unpredictable).
+        self.scan(v, bias, |s, iz| s.max(u64::from(iz.to_bits()) << 32 | color));
+    }
+
+    /// Mixes `color` into the samples of a triangle (as [`Raster::triangle`]
+    /// places it) that it is not behind, with opacity `alpha` out of 256,
+    /// leaving their depth.
+    fn blend_triangle(&mut self, v: [Vec3; 3], color: u32, alpha: u32) {
+        self.scan(v, 1.0, |s, iz| if iz.to_bits() >= (s >> 32) as u32 { blend(s, color, alpha) } else { s });
+    }
+
+    /// Mixes `color` into the samples within `radius` of `center` (sample
+    /// x, sample y, inverse depth) with opacity `alpha` out of 256, a third
+    /// of that where the disc is behind what is drawn: a flat disc facing
+    /// the eye.
+    fn disc(&mut self, center: Vec3, radius: f32, color: u32, alpha: u32) {
+        let iz = center.z.max(0.0).to_bits();
+        let (x0, x1) = ((center.x - radius - 0.5).ceil().max(0.0), (center.x + radius - 0.5).floor());
+        let (y0, y1) = ((center.y - radius - 0.5).ceil().max(0.0), (center.y + radius - 0.5).floor());
+        let (x1, y1) = (x1.min(self.w as f32 - 1.0), y1.min(self.h as f32 - 1.0));
+        if !(x0 <= x1 && y0 <= y1) {
+            return;
+        }
+        for y in y0 as usize..=y1 as usize {
+            for x in x0 as usize..=x1 as usize {
+                let d = Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - center.truncate();
+                let s = &mut self.samples[y * self.w + x];
+                if d.length_squared() <= radius * radius {
+                    // Behind something: still there, fainter.
+                    let a = if iz >= (*s >> 32) as u32 { alpha } else { alpha / 3 };
+                    *s = blend(*s, color, a);
+                }
+            }
+        }
+    }
+
+    /// Calls `op(sample, inverse depth)` on every sample a triangle covers
+    /// and stores what it returns. The triangle is given as (sample x,
+    /// sample y, inverse depth) per vertex, either winding. Samples sit at
+    /// pixel centers; an edge passing exactly through one covers it. `bias`
+    /// scales the inverse depth.
+    #[inline(always)]
+    fn scan(&mut self, v: [Vec3; 3], bias: f32, op: impl Fn(u64, f32) -> u64) {
         let [a, mut b, mut c] = v;
         let edge = |p: Vec3, q: Vec3, x: f32, y: f32| (q.x - p.x) * (y - p.y) - (q.y - p.y) * (x - p.x);
         let mut area = edge(a, b, c.x, c.y);
@@ -419,11 +571,9 @@ impl Raster {
                 let (lo, hi) = (x0 + lo as usize, x0 + hi as usize);
                 let line = y * self.w;
                 let iz0 = row[0] * z[0] + row[1] * z[1] + row[2] * z[2] + (lo - x0) as f32 * z_dx;
-                let color = u64::from(color);
-                // Branch-free depth test (visibility flips are unpredictable).
                 for (i, s) in self.samples[line + lo..=line + hi].iter_mut().enumerate() {
                     let iz = (iz0 + i as f32 * z_dx).max(0.0);
-                    *s = (*s).max(u64::from(iz.to_bits()) << 32 | color);
+                    *s = op(*s, iz);
                 }
             }
             for k in 0..3 {
@@ -657,6 +807,113 @@ mod tests {
         let greenish =
             rgb.chunks(3).filter(|c| c[1] as u32 > c[0] as u32 + 20 && c[1] as u32 > c[2] as u32 + 20).count();
         assert!(greenish > 200, "{greenish} green pixels");
+    }
+
+    /// A flat 2×2 grid surface on y = 0 seen straight from above (+y), its
+    /// outline of type 0 and its inner cross of type 1.
+    fn grid_from_above(tag_name: &str) -> (Scene, RenderOptions) {
+        use genform_core::surface::{Surface, SurfaceEdge};
+        let mut s = Scene::new();
+        let tag = s.tag(tag_name);
+        let mut g = Surface::new(tag);
+        let id = |i: u32, j: u32| 3 * j + i;
+        for j in 0..3 {
+            for i in 0..3 {
+                g.positions.push(Vec3::new(i as f32 - 1.0, 0.0, j as f32 - 1.0));
+            }
+        }
+        for j in 0..2 {
+            for i in 0..2 {
+                // Counter-clockwise seen from +y.
+                g.push_face(&[id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]);
+            }
+        }
+        for j in 0..3 {
+            for i in 0..2 {
+                g.edges.push(SurfaceEdge { a: id(i, j), b: id(i + 1, j), kind: u32::from(j == 1) });
+                g.edges.push(SurfaceEdge { a: id(j, i), b: id(j, i + 1), kind: u32::from(j == 1) });
+            }
+        }
+        s.surfaces.push(g);
+        let top =
+            Camera { fov_deg: 40.0, phi: std::f32::consts::FRAC_PI_2, theta: 1.5, radius: 8.0, look_at: Vec3::ZERO };
+        (s, RenderOptions { width: 100, height: 100, camera: Some(top), ..Default::default() })
+    }
+
+    #[test]
+    fn surface_edges_show_over_the_faces_in_their_type_colours() {
+        let (s, opts) = grid_from_above("shell#c0c0c0");
+        let (rgb, w, _) = render_rgb(&s, &opts);
+        let close = |p: [u8; 3], c: [u8; 3]| (0..3).all(|i| (i32::from(p[i]) - i32::from(c[i])).abs() < 30);
+        // The inner cross through the centre is type 1, the outline type 0.
+        let centre_row: Vec<[u8; 3]> = (0..w).map(|x| pixel(&rgb, w, x, 50)).collect();
+        assert!(centre_row.iter().filter(|&&p| close(p, edge_color(1))).count() > 30, "{centre_row:?}");
+        let outline = (0..w).flat_map(|x| [pixel(&rgb, w, x, 50)]).chain((0..100).map(|y| pixel(&rgb, w, 50, y)));
+        assert!(outline.filter(|&p| close(p, edge_color(0))).count() >= 2);
+        // Between the edges: the face, grey, not an edge colour.
+        let face = pixel(&rgb, w, 35, 35);
+        assert!(face != opts.background && face[0].abs_diff(face[2]) < 12, "{face:?}");
+        // The same picture with the edges gone has no edge colour left.
+        let mut bare = s.clone();
+        bare.surfaces[0].edges.clear();
+        let (rgb, _, _) = render_rgb(&bare, &opts);
+        assert!(rgb.chunks(3).all(|p| !close([p[0], p[1], p[2]], edge_color(1))));
+    }
+
+    #[test]
+    fn later_surfaces_win_where_they_coincide_and_earlier_ones_are_paler() {
+        let (mut s, opts) = grid_from_above("one#3060c0");
+        let mut second = s.surfaces[0].clone();
+        second.tag = s.tag("two#c06030");
+        second.edges.clear();
+        s.surfaces[0].edges.clear();
+        s.surfaces.push(second);
+        let (rgb, w, _) = render_rgb(&s, &opts);
+        let p = pixel(&rgb, w, 35, 35);
+        assert!(p[0] > p[2] + 40, "the second (reddish) surface shows: {p:?}");
+        s.surfaces.swap(0, 1);
+        let (rgb, w, _) = render_rgb(&s, &opts);
+        let q = pixel(&rgb, w, 35, 35);
+        assert!(q[2] > q[0] + 40, "now the bluish one: {q:?}");
+    }
+
+    #[test]
+    fn guides_are_faint_and_left_out_of_the_framing() {
+        use genform_core::surface::{Guide, GuideKind};
+        let (mut s, mut opts) = grid_from_above("shell#c0c0c0");
+        // No edges, whose palette has a red and a blue too.
+        s.surfaces[0].edges.clear();
+        let plain_scene = s.clone();
+        let a = s.tag("attractor");
+        let r = s.tag("repeller");
+        // A repeller under the middle of the surface, an attractor above a
+        // corner, both seen from above.
+        s.guides.push(Guide { kind: GuideKind::Point { at: Vec3::new(0.5, -0.5, 0.5), radius: 0.2 }, tag: r });
+        s.guides.push(Guide { kind: GuideKind::Point { at: Vec3::new(-1.5, 0.5, -1.5), radius: 0.2 }, tag: a });
+        let (rgb, _, _) = render_rgb(&s, &opts);
+        let (plain, _, _) = render_rgb(&plain_scene, &opts);
+        // Hidden under the surface: a faint red tint, nowhere full red.
+        let redness = |rgb: &[u8], lo: i32, hi: i32| {
+            rgb.chunks(3).filter(|p| (lo..hi).contains(&(i32::from(p[0]) - i32::from(p[2])))).count()
+        };
+        assert_eq!(redness(&plain, 1, 255), 0);
+        assert!(redness(&rgb, 15, 80) > 20, "{}", redness(&rgb, 15, 80));
+        assert_eq!(redness(&rgb, 100, 255), 0);
+        let blue = rgb.chunks(3).filter(|p| i32::from(p[2]) > i32::from(p[0]) + 80).count();
+        assert!(blue > 20, "{blue}");
+        // Auto-framing ignores guides: a far boundary changes nothing
+        // about where the surface is drawn.
+        opts.camera = None;
+        let far = genform_core::Mesh {
+            name: "far".into(),
+            positions: vec![Vec3::new(100.0, 0.0, 0.0), Vec3::new(101.0, 0.0, 0.0), Vec3::new(100.0, 0.0, 1.0)],
+            triangles: vec![[0, 1, 2]],
+        };
+        let b = s.tag("boundary");
+        let (framed, _, _) = render_rgb(&s, &opts);
+        s.guides.push(Guide { kind: GuideKind::Mesh(std::sync::Arc::new(far)), tag: b });
+        let (again, _, _) = render_rgb(&s, &opts);
+        assert_eq!(framed, again);
     }
 
     #[test]

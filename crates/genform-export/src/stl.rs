@@ -3,19 +3,19 @@
 use genform_core::scene::{Scene, Tessellation};
 use glam::Vec3;
 
-/// Writes every triangle of `scene` (instances, polygons and block-grid
-/// meshes, in world space)
-/// as binary STL.
+/// Writes every triangle of `scene` (instances, polygons, surface faces
+/// split into triangles, and block-grid meshes, in world space) as binary
+/// STL.
 ///
 /// An 80-byte header starting with `genform` (zero padded), the triangle
 /// count, then per triangle its unit normal (computed from the vertices;
 /// zero for a degenerate triangle), the three vertices and a zero attribute
-/// word. Polylines are left out.
+/// word. Polylines, surface edges and guides are left out.
 ///
 /// # Panics
 ///
-/// If an instance refers to a missing mesh asset (see [`crate::export`],
-/// which checks).
+/// If an instance refers to a missing mesh asset or a surface to a missing
+/// vertex (see [`crate::export`], which checks).
 pub fn write_stl(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let mut out = vec![0u8; 84];
     out[..7].copy_from_slice(b"genform");

@@ -1,8 +1,9 @@
 //! SVG line drawings: the scene seen orthographically along −z.
 
-use crate::palette::tag_color;
+use crate::palette::{edge_color, lighten, tag_color};
 use crate::shapes::Shapes;
 use genform_core::scene::{Primitive, Scene, Shape2d, Shape2dKind, TagId, Tessellation};
+use genform_core::surface::{Surface, SurfaceEdge};
 use glam::Vec2;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -32,16 +33,23 @@ impl Default for SvgOptions {
 /// Writes `scene` as an SVG drawing, viewed orthographically onto the xy
 /// plane (z is dropped, +y points up).
 ///
-/// The view box fits everything drawn plus a margin of 3% of the larger
-/// extent. Draw order: instances (their triangles, filled, one `<path>` per
+/// The view box fits everything drawn but guides, plus a margin of 3% of
+/// the larger extent. Draw order: boundary guides (meshes, each one faint
+/// `<path>` of its triangles), instances (their triangles, filled, one `<path>` per
 /// tag, faces turned away from the viewer of closed primitives left out),
-/// then polygons (one filled `<polygon>` each), then polylines (stroked
+/// then polygons (one filled `<polygon>` each), then surfaces (per
+/// surface a `<path>` of its faces filled in a light shade of the tag
+/// colour, earlier surfaces of several paler, then its edges as one
+/// `<line>` each, stroked in [`crate::edge_color`] of their type: untyped
+/// edges first at the thinnest width, typed ones in ascending type at twice
+/// that), then polylines (stroked
 /// `<path>`s with round caps and joins, consecutive polylines with the same
 /// tag and stroke width sharing one element), each in scene order, so strokes
 /// stay on top, and last the 2D shapes ([`Scene::shapes2d`]) in order, one
 /// element each (`<line>`, `<circle>`, `<rect>`, `<path>`, `<image>`) with
 /// their own attributes (a shape with neither `fill` nor `stroke` gets its
-/// tag's colour). A stroke is its polyline's width in scene units, never
+/// tag's colour), and last the point guides as faint `<circle>`s of their
+/// radius (at least 3 px), blue for attractors and red for repellers. A stroke is its polyline's width in scene units, never
 /// thinner than [`SvgOptions::min_stroke_px`]. Colours are [`tag_color`]s.
 /// There is no depth sorting: it is a line-drawing view, not a renderer.
 ///
@@ -56,7 +64,7 @@ impl Default for SvgOptions {
 /// # Panics
 ///
 /// If an instance refers to a missing mesh asset (see [`crate::export`],
-/// which checks).
+/// which checks). Surfaces naming missing vertices are left out.
 pub fn write_svg(scene: &Scene, opts: &SvgOptions) -> String {
     Drawing::new(scene, Tessellation::default()).write(scene, opts)
 }
@@ -92,6 +100,9 @@ impl Drawing {
         for shape in &scene.shapes2d {
             shapes2d::bounds(shape, &mut |p, r| bounds.add(p, r));
         }
+        for surface in &scene.surfaces {
+            surface.positions.iter().filter(|p| p.is_finite()).for_each(|p| bounds.add(p.truncate(), 0.0));
+        }
         let (lo, hi) = match (bounds.lo, bounds.hi) {
             (Some(lo), Some(hi)) => (lo, hi),
             _ => (Vec2::ZERO, Vec2::ZERO),
@@ -106,7 +117,8 @@ impl Drawing {
         let physical = !scene.shapes2d.is_empty()
             && scene.instances.is_empty()
             && scene.polylines.is_empty()
-            && scene.polygons.is_empty();
+            && scene.polygons.is_empty()
+            && scene.surfaces.is_empty();
         Drawing { fills, origin, size, decimals, physical }
     }
 
@@ -153,6 +165,9 @@ impl Drawing {
             let _ = writeln!(w.out, "\" fill=\"{}\"/>", hex(bg));
         }
         let color = |tag: TagId| scene.tags.get(tag as usize).map_or([128; 3], |t| tag_color(t));
+        // The thinnest stroke, in scene units.
+        let floor = opts.min_stroke_px.max(0.0) * self.size.x / width_px as f32;
+        guides::write_meshes(&mut w, scene);
 
         for (&tag, tris) in &self.fills {
             let _ = write!(w.out, "<path fill=\"{}\" d=\"", hex(color(tag)));
@@ -182,9 +197,14 @@ impl Drawing {
             w.out.push_str("\"/>\n");
         }
 
+        let n = scene.surfaces.len();
+        for (k, surface) in scene.surfaces.iter().enumerate() {
+            let pale = if n > 1 { 0.4 * (n - 1 - k) as f32 / (n - 1) as f32 } else { 0.0 };
+            write_surface(&mut w, surface, lighten(color(surface.tag), 0.45 + pale), floor);
+        }
+
         // Strokes: consecutive polylines with the same tag and written width
         // share one path.
-        let floor = opts.min_stroke_px.max(0.0) * self.size.x / width_px as f32;
         let mut open: Option<(TagId, String)> = None;
         for line in scene.polylines.iter().filter(|l| drawable(&l.points, 2)) {
             let width = if line.width.is_finite() { line.width.max(floor) } else { floor };
@@ -210,8 +230,122 @@ impl Drawing {
             let default = scene.tags.get(shape.tag as usize).map_or([0; 3], |t| tag_color(t));
             shapes2d::write(&mut w, shape, &hex(default));
         }
+        guides::write_points(&mut w, scene, 3.0 * floor.max(self.size.x / width_px as f32));
         w.out.push_str("</svg>\n");
         w.out
+    }
+}
+
+/// A surface seen from +z: its faces as one filled path (each face turned
+/// counter-clockwise, so the fill is their union), then its edges as lines,
+/// untyped first and thinnest.
+fn write_surface(w: &mut Writer, s: &Surface, fill: [u8; 3], floor: f32) {
+    if !s.positions.iter().all(|p| p.is_finite()) || !crate::surfaces::well_formed(s) {
+        return;
+    }
+    let mut d = Writer { out: String::new(), decimals: w.decimals };
+    let mut pts: Vec<Vec2> = Vec::new();
+    for face in s.faces() {
+        pts.clear();
+        pts.extend(face.iter().map(|&v| s.positions[v as usize].truncate()));
+        let area: f32 = (0..pts.len()).map(|i| pts[i].perp_dot(pts[(i + 1) % pts.len()])).sum();
+        if area == 0.0 || !area.is_finite() {
+            continue;
+        }
+        if area < 0.0 {
+            pts.reverse();
+        }
+        d.run(pts.iter().map(|&p| flip(p)));
+        d.out.push('Z');
+    }
+    if !d.out.is_empty() {
+        let _ = writeln!(w.out, "<path fill=\"{}\" d=\"{}\"/>", hex(fill), d.out);
+    }
+    let groups = crate::surfaces::edges_by_type(s);
+    let untyped = groups.get(&SurfaceEdge::UNTYPED).into_iter().map(|e| (SurfaceEdge::UNTYPED, e));
+    let typed = groups.iter().filter(|(k, _)| **k != SurfaceEdge::UNTYPED).map(|(&k, e)| (k, e));
+    for (kind, pairs) in untyped.chain(typed) {
+        let width = w.format(if kind == SurfaceEdge::UNTYPED { floor } else { 2.0 * floor }, w.decimals + 2);
+        let stroke = hex(edge_color(kind));
+        for &[a, b] in pairs {
+            let (a, b) = (flip(s.positions[a as usize].truncate()), flip(s.positions[b as usize].truncate()));
+            w.out.push_str("<line x1=\"");
+            w.num(a.x);
+            w.out.push_str("\" y1=\"");
+            w.num(a.y);
+            w.out.push_str("\" x2=\"");
+            w.num(b.x);
+            w.out.push_str("\" y2=\"");
+            w.num(b.y);
+            let _ = writeln!(w.out, "\" stroke=\"{stroke}\" stroke-width=\"{width}\" stroke-linecap=\"round\"/>");
+        }
+    }
+}
+
+/// Guides, faint: boundary meshes under everything, points over it.
+mod guides {
+    use super::{Writer, flip, hex};
+    use crate::palette::guide_color;
+    use genform_core::scene::Scene;
+    use genform_core::surface::GuideKind;
+    use glam::Vec2;
+    use std::fmt::Write;
+
+    fn tag(scene: &Scene, tag: u32) -> &str {
+        scene.tags.get(tag as usize).map_or("", String::as_str)
+    }
+
+    /// Each mesh guide as one path of its projected triangles (turned
+    /// counter-clockwise, so the fill is their union), fill opacity 0.2.
+    pub(super) fn write_meshes(w: &mut Writer, scene: &Scene) {
+        for g in &scene.guides {
+            let GuideKind::Mesh(mesh) = &g.kind else { continue };
+            let mut d = Writer { out: String::new(), decimals: w.decimals };
+            for t in &mesh.triangles {
+                let Some(pts) = t
+                    .iter()
+                    .map(|&v| mesh.positions.get(v as usize).map(|p| p.truncate()))
+                    .collect::<Option<Vec<Vec2>>>()
+                else {
+                    continue;
+                };
+                let area = (pts[1] - pts[0]).perp_dot(pts[2] - pts[0]);
+                if area == 0.0 || !area.is_finite() {
+                    continue;
+                }
+                let order = if area > 0.0 { [0, 1, 2] } else { [0, 2, 1] };
+                d.run(order.iter().map(|&i| flip(pts[i])));
+                d.out.push('Z');
+            }
+            if !d.out.is_empty() {
+                let color = hex(guide_color(tag(scene, g.tag)));
+                let _ = writeln!(w.out, "<path fill=\"{color}\" fill-opacity=\"0.2\" d=\"{}\"/>", d.out);
+            }
+        }
+    }
+
+    /// Each point guide as a circle of its radius (at least `min_radius`),
+    /// half-transparent fill, outlined.
+    pub(super) fn write_points(w: &mut Writer, scene: &Scene, min_radius: f32) {
+        for g in &scene.guides {
+            let GuideKind::Point { at, radius } = g.kind else { continue };
+            if !(at.is_finite() && radius.is_finite()) {
+                continue;
+            }
+            let c = flip(at.truncate());
+            let color = hex(guide_color(tag(scene, g.tag)));
+            w.out.push_str("<circle cx=\"");
+            w.num(c.x);
+            w.out.push_str("\" cy=\"");
+            w.num(c.y);
+            w.out.push_str("\" r=\"");
+            w.num(radius.abs().max(min_radius));
+            let stroke = w.format(min_radius / 3.0, w.decimals + 2);
+            let _ = writeln!(
+                w.out,
+                "\" fill=\"{color}\" fill-opacity=\"0.45\" stroke=\"{color}\" stroke-opacity=\"0.8\" stroke-width=\"{stroke}\"/>"
+            );
+        }
     }
 }
 

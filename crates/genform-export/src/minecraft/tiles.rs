@@ -11,7 +11,8 @@ pub(crate) fn flat_grid(scene: &Scene) -> Option<&BlockGrid> {
     let only_blocks = scene.instances.is_empty()
         && scene.polylines.is_empty()
         && scene.polygons.is_empty()
-        && scene.shapes2d.is_empty();
+        && scene.shapes2d.is_empty()
+        && scene.surfaces.is_empty();
     match scene.blocks.as_slice() {
         [g] if only_blocks && g.size.min_element() == 1 && g.size.max_element() > 1 => Some(g),
         _ => None,
