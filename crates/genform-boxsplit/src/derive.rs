@@ -25,13 +25,13 @@ use crate::grammar::{BoxGrammar, DeriveLimits, Guard, Op, OpId, Paint, RuleId};
 use crate::observe::World;
 use crate::split::{Piece, Scratch, SplitError, split_with};
 use crate::trace::{Trace, TraceEvent, TraceScope};
-use genform_core::{BlockGrid, Rng};
+use genform_core::{BlockGrid, CodonSource, Rng};
 use glam::IVec3;
 use serde::{Deserialize, Serialize};
 
 /// The source of every random choice of a derivation: which alternative
 /// of a rule, which block of a material mix. Implemented for
-/// [`Rng`]; a genome can implement it to steer derivations.
+/// [`Rng`] and for a GE codon genome ([`CodonSource`]).
 pub trait Choices {
     /// An index into `weights` (at least one is positive, none negative),
     /// drawn with probability proportional to its weight.
@@ -41,6 +41,17 @@ pub trait Choices {
 impl Choices for Rng {
     fn choose(&mut self, weights: &[f64]) -> usize {
         self.weighted_index(weights).unwrap_or(0)
+    }
+}
+
+/// Grammatical evolution: each choice reads one codon and draws by weight
+/// with it (see [`CodonSource::choose`]); a zero-weight alternative is never
+/// taken. A derivation that exhausts the codons still ends (every later
+/// choice is the first positive weight); check
+/// [`CodonSource::exhausted`] afterwards.
+impl Choices for CodonSource<'_> {
+    fn choose(&mut self, weights: &[f64]) -> usize {
+        CodonSource::choose(self, weights)
     }
 }
 

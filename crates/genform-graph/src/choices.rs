@@ -1,12 +1,12 @@
 //! The source of every random decision of a derivation.
 
-use genform_core::Rng;
 use genform_core::rng::Draws;
+use genform_core::{CodonSource, Rng};
 
 /// Where a derivation takes its random decisions from: the order in which
 /// productions of one priority are tried, the match, the daughter option
-/// and the formulas' random draws. An [`Rng`] is one; a codon genome can
-/// be another (each call consumes a codon).
+/// and the formulas' random draws. An [`Rng`] is one; a codon genome
+/// ([`CodonSource`]) another (each call consumes a codon).
 pub trait Choices: Draws {
     /// A uniform integer in `0..n`; `n` ≥ 1.
     fn below(&mut self, n: usize) -> usize;
@@ -15,6 +15,17 @@ pub trait Choices: Draws {
 impl Choices for Rng {
     fn below(&mut self, n: usize) -> usize {
         self.index(n)
+    }
+}
+
+/// Grammatical evolution: every decision reads one codon — `codon mod n`
+/// for an order or a match, `(codon + 0.5) / range` for a daughter option's
+/// weighted draw and a formula's random draw. A derivation that exhausts
+/// the codons still ends (every later decision reads codon 0); check
+/// [`CodonSource::exhausted`] afterwards.
+impl Choices for CodonSource<'_> {
+    fn below(&mut self, n: usize) -> usize {
+        CodonSource::below(self, n)
     }
 }
 

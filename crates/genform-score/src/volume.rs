@@ -10,6 +10,11 @@
 //! - `outside` = held lattice voxels outside the grid (see [`crate::voxelize`])
 //! - `target = Σ_i max(w_i, 0) · |V_i|`, the most `good` can reach.
 //!
+//! The model is every instance of the Scene and every non-air cell of its
+//! block structures ([`Scene::blocks`], unit boxes on the integer grid), so
+//! box-split buildings can be steered towards a voxel target; see
+//! [`crate::voxelize`] for which voxels each holds.
+//!
 //! Weights are used as given, so a negative `w_i` turns a target into a
 //! volume to stay out of, as in the thesis' `s_vol`; such targets add
 //! nothing to `target`. The reference implementation's "avoid" scenes
@@ -304,6 +309,79 @@ mod tests {
             let want = scorer.counts_of(&oracle::voxelize(&grid, &scene));
             assert_eq!(scorer.counts(&scene, s), want, "seed {seed}");
         }
+    }
+
+    /// A block structure of `size` cells at `origin`, stone where `f` says.
+    fn blocks(origin: glam::IVec3, size: glam::UVec3, f: impl Fn(glam::IVec3) -> bool) -> Scene {
+        let mut g = genform_core::BlockGrid::new(origin, size);
+        for y in 0..size.y as i32 {
+            for z in 0..size.z as i32 {
+                for x in 0..size.x as i32 {
+                    let p = glam::IVec3::new(x, y, z);
+                    let id = if f(p) { "stone" } else { "air" };
+                    g.set(origin + p, &genform_core::BlockState::new(id));
+                }
+            }
+        }
+        let mut s = Scene::new();
+        s.blocks.push(g);
+        s
+    }
+
+    /// Half-unit voxels over [0, 8]³; target = the box [2, 6] × [0, 4] × [1, 5]
+    /// (8 × 8 × 8 voxels).
+    fn block_target() -> VolumeScorer {
+        let grid = Grid::new(Vec3::ZERO, Vec3::splat(8.0), [16; 3]).unwrap();
+        let mut t = VoxelSet::new(&grid);
+        for x in 4..12 {
+            for y in 0..8 {
+                for z in 2..10 {
+                    t.insert([x, y, z]);
+                }
+            }
+        }
+        VolumeScorer::new(grid, vec![VolumeTarget::new(t)]).unwrap()
+    }
+
+    #[test]
+    fn blocks_filling_the_target_score_the_maximum() {
+        let scorer = block_target();
+        let fitness = crate::Fitness::default();
+        let mut s = scorer.scratch();
+        let (origin, size) = (glam::IVec3::new(2, 0, 1), glam::UVec3::splat(4));
+        let full = scorer.counts(&blocks(origin, size, |_| true), &mut s);
+        assert_eq!(full, Counts { good: 512.0, target: 512.0, ..Counts::default() });
+        assert_eq!(fitness.eval(&full, 0), fitness.good, "the most a model can score");
+        // The lower half: half the target, nothing else — a lower score.
+        let half = scorer.counts(&blocks(origin, size, |p| p.y < 2), &mut s);
+        assert_eq!(half, Counts { good: 256.0, target: 512.0, ..Counts::default() });
+        assert!(fitness.eval(&half, 0) < fitness.eval(&full, 0));
+        // One cell further along x: a slab of the target missed, one outside it covered.
+        let shifted = scorer.counts(&blocks(origin + glam::IVec3::X, size, |_| true), &mut s);
+        assert_eq!((shifted.good, shifted.bad), (384.0, 128.0));
+        assert!(fitness.eval(&shifted, 0) < fitness.eval(&full, 0));
+        // The scratch is left clear: the full structure counts as before.
+        assert_eq!(scorer.counts(&blocks(origin, size, |_| true), &mut s), full);
+    }
+
+    #[test]
+    fn blocks_count_like_the_box_they_fill() {
+        let scorer = block_target();
+        let mut s = scorer.scratch();
+        let (origin, size) = (glam::IVec3::new(5, -1, 3), glam::UVec3::new(4, 2, 8));
+        let structure = blocks(origin, size, |_| true);
+        let centre = origin.as_vec3() + size.as_vec3() * 0.5;
+        let boxed = boxes(&[(centre, size.as_vec3())]);
+        assert_eq!(scorer.model_voxels(&structure, &mut s), scorer.model_voxels(&boxed, &mut s));
+        let c = scorer.counts(&structure, &mut s);
+        assert_eq!(c, scorer.counts(&boxed, &mut s));
+        assert_eq!(c, scorer.counts_of(&oracle::voxelize(scorer.grid(), &structure)));
+        assert!(c.good > 0.0 && c.bad > 0.0 && c.outside > 0.0, "{c:?}");
+        // Blocks and an instance over the same place overlap.
+        let mut both = structure.clone();
+        both.instances.extend(boxed.instances);
+        let c2 = scorer.counts(&both, &mut s);
+        assert_eq!((c2.good, c2.bad, c2.overlap), (c.good, c.bad, c.good + c.bad));
     }
 
     #[test]

@@ -12,6 +12,10 @@
 //!   lines through edges and vertices follow the tie rule of `crossing`).
 //! - A voxel held by two or more instances is an *overlap* voxel; one
 //!   instance never overlaps itself.
+//! - A block structure ([`Scene::blocks`](genform_core::Scene::blocks))
+//!   holds the voxel centres inside its non-air cells, each cell the
+//!   half-open box `[x, x+1) × [y, y+1) × [z, z+1)`, decided exactly (see
+//!   `blocks`); each block grid counts as one instance.
 //! - `outside` counts, per instance, the held centres of the infinite
 //!   lattice that lie outside the grid. It is exact unless an instance's
 //!   bounding box spans more than 2²⁰ lattice rows; then only rows inside
@@ -39,6 +43,7 @@
 //! new held, overlap and target voxels as it marks them and remembers the
 //! rows it touched, so that clearing visits only those.
 
+mod blocks;
 mod crossing;
 mod mesh_rows;
 pub mod oracle;
@@ -119,7 +124,7 @@ fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
     }
 }
 
-/// Voxelizes every instance of `scene` into `s` (which must be clear),
+/// Voxelizes every instance and block grid of `scene` into `s` (which must be clear),
 /// counting held voxels that are set in `target` (a [`crate::bits::BitRows`]
 /// layout of the lattice, or empty).
 pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, target: &[u64]) {
@@ -137,6 +142,7 @@ pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, tar
         s.outside = s.outside.saturating_add(p.outside(tally.in_grid, tally.outside));
     }
     s.put_verts(verts);
+    blocks::rasterize_blocks(lat, scene, s, target);
 }
 
 #[cfg(test)]

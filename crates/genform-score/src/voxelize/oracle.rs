@@ -2,12 +2,14 @@
 //!
 //! For every lattice voxel centre in each instance's bounding box it maps
 //! the centre to the unit frame and asks the primitive's predicate, or, for
-//! meshes, counts the triangles the row ray crosses beyond the centre. It
+//! meshes, counts the triangles the row ray crosses beyond the centre; for
+//! block structures it tests every centre near each solid cell. It
 //! shares only the per-instance set-up, the predicates and the crossing
 //! rule with the fast voxelizer, none of the span logic. Its cost is the
 //! bounding-box volume (times the triangle count for meshes): use it on
 //! small grids.
 
+use super::blocks::oracle_cells;
 use super::prepare::{Body, prepare};
 use super::{Voxelized, crossing};
 use crate::bits::BitRows;
@@ -62,6 +64,17 @@ pub fn voxelize(grid: &Grid, scene: &Scene) -> Voxelized {
             }
         }
         outside = outside.saturating_add(p.outside(in_grid, out));
+    }
+    for g in &scene.blocks {
+        let mut out = 0u64;
+        oracle_cells(&lat, g, |i, j, k| match lat.row(j, k) {
+            Some(r) if (0..lat.dims[0]).contains(&i) => {
+                let h = &mut hits[r * lat.words * 64 + i as usize];
+                *h = (*h + 1).min(2);
+            }
+            _ => out += 1,
+        });
+        outside = outside.saturating_add(out);
     }
     let plane = |min: u8| {
         let mut b = BitRows::new(lat.words, lat.rows);

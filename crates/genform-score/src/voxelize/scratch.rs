@@ -100,6 +100,8 @@ pub struct VolumeScratch {
     counts: PlaneCounts,
     verts: Vec<Vec3>,
     crossings: Vec<(u32, f64)>,
+    /// Block cells not yet covered by a box (block structures).
+    cells: Vec<bool>,
 }
 
 impl VolumeScratch {
@@ -119,6 +121,7 @@ impl VolumeScratch {
             counts: PlaneCounts::default(),
             verts: Vec::new(),
             crossings: Vec::new(),
+            cells: Vec::new(),
         }
     }
 
@@ -334,6 +337,14 @@ impl VolumeScratch {
 
     pub(crate) fn put_crossings(&mut self, c: Vec<(u32, f64)>) {
         self.crossings = c;
+    }
+
+    pub(crate) fn take_cells(&mut self) -> Vec<bool> {
+        std::mem::take(&mut self.cells)
+    }
+
+    pub(crate) fn put_cells(&mut self, c: Vec<bool>) {
+        self.cells = c;
     }
 }
 

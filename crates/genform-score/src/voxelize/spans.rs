@@ -138,21 +138,39 @@ pub(super) fn separable_box(lat: &Lattice, p: &Prepared, solid: &Solid, perm: [u
     ) else {
         return;
     };
-    // Rows outside the grid only add to `outside`: count them in bulk.
-    let (gj0, gj1) = (j0.max(0), j1.min(lat.dims[1] - 1));
-    let (gk0, gk1) = (k0.max(0), k1.min(lat.dims[2] - 1));
-    let len = (i1 - i0 + 1) as u64;
-    let rows = ((j1 - j0 + 1) * (k1 - k0 + 1)) as u64;
-    let grid_rows = if gj0 <= gj1 && gk0 <= gk1 { ((gj1 - gj0 + 1) * (gk1 - gk0 + 1)) as u64 } else { 0 };
-    out.tally.outside += (rows - grid_rows) * len;
-    let (a, b) = (i0.max(0), i1.min(lat.dims[0] - 1));
-    if grid_rows == 0 || a > b {
-        out.tally.outside += grid_rows * len;
+    lattice_box(lat, (i0, i1), (j0, j1), (k0, k1), out);
+}
+
+/// Holds every lattice voxel of the index box `[i0, i1] × [j0, j1] × [k0, k1]`
+/// (lattice order; empty ranges hold nothing): the spans of its rows in the
+/// grid, and the rest counted as outside in bulk.
+pub(super) fn lattice_box(
+    lat: &Lattice,
+    (i0, i1): (i64, i64),
+    (j0, j1): (i64, i64),
+    (k0, k1): (i64, i64),
+    out: &mut Out,
+) {
+    if i0 > i1 || j0 > j1 || k0 > k1 {
         return;
     }
-    let held = (b - a + 1) as u64;
-    out.tally.in_grid += grid_rows * held;
-    out.tally.outside += grid_rows * (len - held);
+    // In u128: block structures may span ±2³¹ lattice voxels along each axis.
+    let span = |a: i64, b: i64| (b - a + 1) as u128;
+    let sat = |n: u128| u64::try_from(n).unwrap_or(u64::MAX);
+    let (gj0, gj1) = (j0.max(0), j1.min(lat.dims[1] - 1));
+    let (gk0, gk1) = (k0.max(0), k1.min(lat.dims[2] - 1));
+    let len = span(i0, i1);
+    let rows = span(j0, j1) * span(k0, k1);
+    let grid_rows = if gj0 <= gj1 && gk0 <= gk1 { span(gj0, gj1) * span(gk0, gk1) } else { 0 };
+    let (a, b) = (i0.max(0), i1.min(lat.dims[0] - 1));
+    let held = if grid_rows == 0 || a > b { 0 } else { span(a, b) };
+    // Rows outside the grid, and the parts of grid rows outside it, only add
+    // to `outside`.
+    out.tally.outside = out.tally.outside.saturating_add(sat((rows - grid_rows) * len + grid_rows * (len - held)));
+    if held == 0 {
+        return;
+    }
+    out.tally.in_grid += sat(grid_rows * held);
     for k in gk0..=gk1 {
         let first = (k * lat.dims[1] + gj0) as usize;
         out.s.write_rows(first, (gj1 - gj0 + 1) as usize, a as usize, b as usize, out.target);

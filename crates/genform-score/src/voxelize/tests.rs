@@ -342,3 +342,162 @@ fn separable_strategy_reaches_the_interesting_cases() {
     }
     assert!(held > 70 && over > 15 && out > 60, "held {held}, overlap {over}, outside {out}");
 }
+
+/// A block grid of `size` at `origin` with the block `f(x, y, z)` (local
+/// coordinates; `None` leaves the cell unset).
+fn block_grid(
+    origin: glam::IVec3,
+    size: glam::UVec3,
+    f: impl Fn(i32, i32, i32) -> Option<&'static str>,
+) -> genform_core::BlockGrid {
+    let mut g = genform_core::BlockGrid::new(origin, size);
+    for x in 0..size.x as i32 {
+        for y in 0..size.y as i32 {
+            for z in 0..size.z as i32 {
+                if let Some(id) = f(x, y, z) {
+                    g.set(origin + glam::IVec3::new(x, y, z), &genform_core::BlockState::new(id));
+                }
+            }
+        }
+    }
+    g
+}
+
+/// Random block grids (unset, air, water and solid cells) near a random
+/// grid, with a random box or sphere beside them.
+fn blocks_strategy() -> impl Strategy<Value = (Grid, Scene)> {
+    let ids = [None, Some("air"), Some("stone"), Some("stone"), Some("oak_planks"), Some("water")];
+    let cells = prop::collection::vec(0usize..ids.len(), 1..=216);
+    // Placed at a fraction of the grid (less a cell or two), so that most
+    // structures reach into the grid and many stick out of it.
+    let block = (prop::array::uniform3(-0.2f32..1.0), prop::array::uniform3(1u32..7), cells, 0u64..4);
+    // Grids aligned with the cells too: voxels of 1/4, 1/2 or 1 cell, centres
+    // on cell faces or not.
+    let aligned = (prop::array::uniform3(0u32..3), prop::array::uniform3(-8i32..1), prop::array::uniform3(2u32..14))
+        .prop_map(|(k, lo, dims)| {
+            let size = Vec3::from_array(k.map(|k| 0.25 * (1 << k) as f32));
+            let min = Vec3::from_array(lo.map(|l| l as f32 * 0.25));
+            Grid::new(min, min + size * Vec3::from_array(dims.map(|d| d as f32)), dims).unwrap()
+        });
+    let grid = prop_oneof![grid_strategy(), aligned];
+    (
+        grid,
+        prop::collection::vec(block, 1..4),
+        prop::collection::vec((transform_strategy(), primitive_strategy()), 0..2),
+    )
+        .prop_map(move |(grid, blocks, items)| {
+            let ext = grid.max() - grid.min();
+            let mut scene = scene_of(
+                items.into_iter().map(|((m, t), p)| (Affine3A::from_mat3_translation(m, grid.min() + t * ext), p)),
+            );
+            for (frac, size, cells, stride) in blocks {
+                let size = glam::UVec3::from_array(size);
+                let origin = (grid.min() + Vec3::from_array(frac) * ext).floor().as_ivec3() - glam::IVec3::ONE;
+                let n = cells.len();
+                let at = |x: i32, y: i32, z: i32| {
+                    let i = ((y * size.z as i32 + z) * size.x as i32 + x) as u64;
+                    ids[cells[((i * (stride + 1)) % n as u64) as usize]]
+                };
+                scene.blocks.push(block_grid(origin, size, at));
+            }
+            (grid, scene)
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn blocks_match_the_oracle((grid, scene) in blocks_strategy()) {
+        check(&grid, &scene);
+    }
+}
+
+/// Grids whose centres the cell faces hit (or not) with exact arithmetic.
+fn exact_grids() -> Vec<Grid> {
+    let g = |min: [f32; 3], size: [f32; 3], dims: [u32; 3]| {
+        let min = Vec3::from_array(min);
+        Grid::new(min, min + Vec3::from_array(size) * Vec3::from_array(dims.map(|d| d as f32)), dims).unwrap()
+    };
+    vec![
+        g([0.0; 3], [1.0; 3], [8; 3]),
+        g([-0.5; 3], [1.0; 3], [8; 3]),                      // centres on cell faces
+        g([0.25, 0.0, -1.0], [0.5, 0.25, 1.0], [16, 40, 9]), // rows along y; ties along x
+        g([-2.0, 1.0, 0.0], [2.0, 0.5, 0.25], [3, 12, 30]),  // voxels larger than cells along x
+    ]
+}
+
+#[test]
+fn blocks_voxelize_like_the_box_they_fill() {
+    // Power-of-two extents: the box's unit coordinates are exact too.
+    for grid in exact_grids() {
+        for (origin, size) in [([1, 2, 0], [4, 2, 4]), ([-3, 0, 2], [8, 4, 2]), ([1, -1, -2], [2, 8, 16])] {
+            let (o, s) = (glam::IVec3::from_array(origin), glam::UVec3::from_array(size));
+            let mut blocks = Scene::new();
+            blocks.blocks.push(block_grid(o, s, |_, _, _| Some("stone")));
+            let centre = o.as_vec3() + s.as_vec3() * 0.5;
+            let boxed = scene_of([(
+                Affine3A::from_scale_rotation_translation(s.as_vec3(), Quat::IDENTITY, centre),
+                Primitive::Box,
+            )]);
+            let (a, b) = (voxelize(&grid, &blocks), voxelize(&grid, &boxed));
+            assert!(a.occupancy.count() > 0, "{grid:?} {origin:?}");
+            assert_eq!(a, b, "{grid:?} {origin:?}");
+            check(&grid, &blocks);
+        }
+    }
+}
+
+#[test]
+fn neighbouring_blocks_share_no_voxel() {
+    // Unit voxels centred on the integers: every centre on a cell face
+    // belongs to exactly one of the cells sharing it.
+    let grid = Grid::new(Vec3::splat(-0.5), Vec3::splat(7.5), [8; 3]).unwrap();
+    let mut scene = Scene::new();
+    let ids = ["stone", "dirt", "oak_planks", "glass"];
+    scene.blocks.push(block_grid(glam::IVec3::ZERO, glam::UVec3::splat(4), |x, y, z| {
+        Some(ids[((x + 2 * y + 3 * z) % 4) as usize])
+    }));
+    let v = voxelize(&grid, &scene);
+    assert_eq!((v.occupancy.count(), v.overlap.count(), v.outside), (64, 0, 0));
+    // Another grid over the same cells overlaps it; air and unset cells hold nothing.
+    scene
+        .blocks
+        .push(block_grid(glam::IVec3::new(3, 0, 0), glam::UVec3::new(2, 1, 1), |x, _, _| (x == 0).then_some("stone")));
+    scene.blocks.push(block_grid(glam::IVec3::new(0, 5, 0), glam::UVec3::splat(2), |_, _, _| Some("air")));
+    let v = voxelize(&grid, &scene);
+    assert_eq!((v.occupancy.count(), v.overlap.count(), v.outside), (64, 1, 0));
+    check(&grid, &scene);
+}
+
+#[test]
+fn blocks_outside_the_grid_count_as_outside() {
+    let grid = Grid::new(Vec3::ZERO, Vec3::splat(4.0), [8; 3]).unwrap();
+    let mut scene = Scene::new();
+    // 6×1×1 cells from x = -1: 2 cells out (16 voxels of 1/8 each), 4 in.
+    scene.blocks.push(block_grid(glam::IVec3::new(-1, 0, 0), glam::UVec3::new(6, 1, 1), |_, _, _| Some("stone")));
+    // A far-away structure: all outside.
+    scene.blocks.push(block_grid(glam::IVec3::new(1000, 0, 0), glam::UVec3::splat(2), |_, _, _| Some("stone")));
+    let v = voxelize(&grid, &scene);
+    assert_eq!(v.occupancy.count(), 4 * 8);
+    assert_eq!(v.outside, 2 * 8 + 8 * 8);
+    check(&grid, &scene);
+}
+
+/// The random block scenes often hold voxels, overlap and stick out.
+#[test]
+fn blocks_strategy_reaches_the_interesting_cases() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = blocks_strategy();
+    let (mut held, mut over, mut out) = (0, 0, 0);
+    for _ in 0..96 {
+        let (grid, mut scene) = strategy.new_tree(&mut runner).unwrap().current();
+        scene.instances.clear();
+        let v = voxelize(&grid, &scene);
+        held += usize::from(v.occupancy.count() > 0);
+        over += usize::from(v.overlap.count() > 0);
+        out += usize::from(v.outside > 0);
+    }
+    assert!(held > 70 && over > 15 && out > 60, "held {held}, overlap {over}, outside {out}");
+}
