@@ -5,7 +5,7 @@
 use anyhow::{Result, bail};
 use std::path::PathBuf;
 
-use crate::args::{Cli, Command, DeriveArgs, InfoArgs, SampleArgs};
+use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs};
 use genform_cli::formalism;
 use genform_cli::grammar::{self, express, genome_summary};
 use genform_cli::output::{output_format, write_model};
@@ -19,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
         Command::Compare(a) => crate::evolve::compare(a),
+        Command::Map(a) => map(a),
     }
 }
 
@@ -79,5 +80,63 @@ mod tests {
         let p = |s: &str| PathBuf::from(s);
         assert_eq!(shown(&[p("a.obj")]), "a.obj");
         assert_eq!(shown(&[p("s0.obj"), p("s1.obj"), p("s2.obj")]), "s0.obj … s2.obj (3 files)");
+    }
+}
+
+fn map(a: MapArgs) -> Result<()> {
+    let bnf = formalism::compile_file(&a.grammar, genform_ge::compile)?;
+    let mut options = if a.genr8 { genform_ge::MapOptions::genr8() } else { genform_ge::MapOptions::default() };
+    if let Some(w) = a.max_wraps {
+        options.max_wraps = w;
+    }
+    if let Some(d) = a.max_depth {
+        match &mut options.genr8 {
+            Some(g) => g.max_depth = Some(d),
+            None => options.max_tree_depth = Some(d),
+        }
+    }
+    let m = genform_ge::map(&bnf, &a.genome, &options)
+        .map_err(|e| anyhow::anyhow!("cannot map with {}: {e}", a.grammar.display()))?;
+    let mut out = String::new();
+    if a.json {
+        out = serde_json::to_string(&m)? + "\n";
+    } else {
+        for s in &m.steps {
+            let step = describe_step(s);
+            out += &format!("codon {:>3} = {:>4}  {:<18} {} of {} → {step}\n", s.pos, s.codon, s.nt, s.choice, s.n);
+        }
+        out += &match (&m.phenotype, &m.fail) {
+            (Some(p), _) => format!("valid: {} codons read, {} wraps\n{p}\n", m.used_codons, m.wraps),
+            (None, fail) => {
+                let why = fail
+                    .as_ref()
+                    .and_then(|f| serde_json::to_value(f).ok())
+                    .and_then(|v| v.as_str().map(String::from))
+                    .unwrap_or_default();
+                format!("invalid ({why}): {} codons read, {} wraps\n", m.used_codons, m.wraps)
+            }
+        };
+    }
+    print_all(&out)
+}
+
+/// Writes `text` to stdout; a closed pipe (`| head`) is not an error.
+fn print_all(text: &str) -> Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+/// What a step decided, in words.
+fn describe_step(s: &genform_ge::Step) -> String {
+    use genform_ge::StepKind;
+    match s.kind {
+        StepKind::Expand => format!("production {}", s.choice),
+        StepKind::Limited => format!("production {} (depth limit: terminal-only choices)", s.choice),
+        StepKind::Repeat => (if s.choice + 2 > s.n { "repeat" } else { "stop" }).to_string(),
+        StepKind::Option => (if s.choice == 1 { "include" } else { "leave out" }).to_string(),
+        StepKind::Edge => format!("Edge{}", s.choice),
     }
 }

@@ -9,6 +9,7 @@
 
 mod boxsplit;
 mod graph;
+pub(crate) mod hemls;
 mod lsystem;
 mod shape;
 
@@ -23,7 +24,7 @@ use crate::output::{unknown_format, write_atomic, write_model};
 /// Every formalism, one row each. A grammar file belongs to the row one of
 /// whose [`Formalism::extensions`] its name ends with.
 pub static FORMALISMS: &[&dyn Formalism] =
-    &[&shape::ShapeGrammars, &lsystem::LSystems, &boxsplit::BoxSplitGrammars, &graph::GraphGrammars];
+    &[&shape::ShapeGrammars, &lsystem::LSystems, &boxsplit::BoxSplitGrammars, &graph::GraphGrammars, &hemls::Hemls];
 
 /// A grammar formalism: one row of [`FORMALISMS`].
 ///
@@ -126,7 +127,7 @@ impl Sample for SceneSample {
 pub const COMMON_SAMPLE_OPTIONS: &[&str] = &["--seed", "--out"];
 
 /// Stream id of `sample` (so other verbs' streams never coincide with it).
-const SAMPLE_STREAM: u64 = 0x5A4D_504C;
+pub(crate) const SAMPLE_STREAM: u64 = 0x5A4D_504C;
 
 /// What `genform sample` asks of a formalism: the common settings and the
 /// value of every formalism's options (each formalism reads only those it
@@ -160,6 +161,12 @@ pub struct SampleRequest {
     pub schem_version: u8,
     /// `--data-version`: Minecraft DataVersion of block files.
     pub data_version: i32,
+    /// `--env`: a growth environment file (HEMLS).
+    pub env: Option<PathBuf>,
+    /// `--every-step`: write every derivation step (HEMLS).
+    pub every_step: bool,
+    /// `--smooth`: Catmull–Clark steps on the final surface (HEMLS).
+    pub smooth: Option<u32>,
 }
 
 impl SampleRequest {
@@ -319,6 +326,9 @@ mod tests {
             trace: None,
             schem_version: 2,
             data_version: 3955,
+            env: None,
+            every_step: false,
+            smooth: None,
         }
     }
 
