@@ -88,7 +88,7 @@ fn resolve_items(
                 Some(&id) => Item::NonTerminal(RuleId(id)),
                 None => {
                     let mut d = Diagnostic::error(*span, format!("undefined non-terminal `{name}`"));
-                    if let Some(near) = nearest(name, ids.keys()) {
+                    if let Some(near) = genform_core::expr::did_you_mean(name, ids.keys().map(String::as_str)) {
                         d = d.with_hint(format!("did you mean `{near}`?"));
                     } else {
                         d = d.with_hint(format!("define it with a line `{name} ::= …`"));
@@ -105,26 +105,6 @@ fn resolve_items(
         .collect()
 }
 
-/// The defined name closest to `name` by edit distance, if close enough.
-fn nearest<'a>(name: &str, names: impl Iterator<Item = &'a String>) -> Option<&'a String> {
-    let limit = (name.chars().count() / 3).max(1);
-    names.map(|n| (edit_distance(name, n), n)).filter(|(d, _)| *d <= limit).min().map(|(_, n)| n)
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
-}
 
 /// Whether every item of `items` can finish, given the rules known to
 /// finish. Groups can always finish (zero times); undefined names are
@@ -238,11 +218,4 @@ pub(crate) fn check_unused(bnf: &Bnf, diags: &mut Vec<Diagnostic>) {
 mod tests {
     use super::*;
 
-    #[test]
-    fn edit_distance_counts_single_edits() {
-        assert_eq!(edit_distance("<expr>", "<expr>"), 0);
-        assert_eq!(edit_distance("<exp>", "<expr>"), 1);
-        assert_eq!(edit_distance("<epxr>", "<expr>"), 2);
-        assert_eq!(edit_distance("", "ab"), 2);
-    }
 }

@@ -649,27 +649,7 @@ fn describe(v: &DeValue<'_>) -> &'static str {
     }
 }
 
-/// The allowed key within edit distance 2 of `name` (typos, `repellor`).
+/// The allowed key closest to `name` (typos, `repellor`).
 fn closest<'a>(name: &str, allowed: &[&'a str]) -> Option<&'a str> {
-    allowed
-        .iter()
-        .map(|&k| (edit_distance(name, k), k))
-        .filter(|&(d, _)| d <= 2)
-        .min_by_key(|&(d, _)| d)
-        .map(|(_, k)| k)
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
+    genform_core::expr::did_you_mean(name, allowed.iter().copied())
 }

@@ -150,3 +150,12 @@ fn trivial_programs_describe_themselves() {
         assert_eq!(trivial(src), None, "{src}");
     }
 }
+
+#[test]
+fn did_you_mean_counts_a_swap_as_one_typo() {
+    assert_eq!(super::did_you_mean("stpes", ["steps", "scale"]), Some("steps"));
+    assert_eq!(super::did_you_mean("repellor", ["repeller", "attractor"]), Some("repeller"));
+    assert_eq!(super::did_you_mean("xyzzy", ["steps", "scale"]), None);
+    assert_eq!(super::edit_distance("ab", "ba"), 1);
+    assert_eq!(super::edit_distance("", "ab"), 2);
+}
