@@ -61,6 +61,35 @@ pub enum Command {
     Score(ScoreArgs),
     /// Run several algorithms on a scene with equal time budgets and compare them.
     Compare(CompareArgs),
+    /// Map a codon genome through a BNF grammar (grammatical evolution) and
+    /// show the phenotype and every codon read.
+    Map(MapArgs),
+}
+
+/// Arguments of `genform map`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    /// BNF grammar (.bnf).
+    pub grammar: PathBuf,
+    /// The codons, comma-separated (e.g. `12,7,200`).
+    #[arg(long, value_name = "C1,C2,…", value_delimiter = ',', required = true, num_args = 1..)]
+    pub genome: Vec<u32>,
+    /// How often reading may wrap back to the first codon (default 0; 4 with --genr8).
+    #[arg(long, value_name = "N")]
+    pub max_wraps: Option<u32>,
+    /// Derivation-tree depth limit (root = 1); deeper is invalid. With --genr8:
+    /// the depth from which only productions without non-terminals are chosen.
+    #[arg(long, value_name = "D")]
+    pub max_depth: Option<u32>,
+    /// Genr8's extensions: `{ }` repetition and `[ ]` options decided by
+    /// codons, Edge IDs, EdgeX/Y/Z binding, depth-limited choice, repair of
+    /// edge types without a rule, spaced tokens (for examples/ge/genr8*.bnf).
+    #[arg(long)]
+    pub genr8: bool,
+    /// Print the whole trace as JSON (fields `valid`, `fail`, `phenotype`,
+    /// `used_codons`, `wraps`, `choices`, `steps`).
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Overrides of the grammar's derivation limits.
@@ -91,7 +120,8 @@ impl LimitArgs {
 /// Arguments of `genform sample`.
 #[derive(Debug, Args)]
 pub struct SampleArgs {
-    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar).
+    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar,
+    /// .gr8 HEMLS surface grammar).
     pub file: PathBuf,
     /// Random seed; the same seed gives the same model.
     #[arg(long, default_value_t = 0)]
@@ -100,7 +130,8 @@ pub struct SampleArgs {
     /// block grammars also .schem .litematic .vox .mca; graph grammars .yaml).
     #[arg(long, short)]
     pub out: Option<PathBuf>,
-    /// L-systems and graph grammars: derivation steps (default: the file's `derivation:`).
+    /// L-systems, graph grammars and HEMLS: derivation steps (default: the
+    /// file's `derivation:`; HEMLS: the environment's `steps`, else 4).
     #[arg(long, value_name = "N")]
     pub steps: Option<u32>,
     /// L-systems: longest string a derivation may produce (default: the
@@ -133,6 +164,17 @@ pub struct SampleArgs {
     /// Also save the derivation tree (genome) as JSON, for `genform derive`.
     #[arg(long, value_name = "G.json")]
     pub genome_out: Option<PathBuf>,
+    /// HEMLS (.gr8): the environment file (TOML: growth settings, charges,
+    /// gravity, boundaries); without it the surface grows with Genr8's defaults.
+    #[arg(long, value_name = "ENV.toml")]
+    pub env: Option<PathBuf>,
+    /// HEMLS (.gr8): write every derivation step, one mesh per step
+    /// (`name-step0.obj` …) and, for .png/.svg, all steps overlaid in one picture.
+    #[arg(long)]
+    pub every_step: bool,
+    /// HEMLS (.gr8): apply K Catmull–Clark subdivision steps to the final surface (at most 6).
+    #[arg(long, value_name = "K")]
+    pub smooth: Option<u32>,
     #[command(flatten)]
     pub limits: LimitArgs,
     /// The long flags given on the command line (filled by [`parse`], not
@@ -158,6 +200,9 @@ impl SampleArgs {
             trace: self.trace.clone(),
             schem_version: self.schem_version,
             data_version: self.data_version,
+            env: self.env.clone(),
+            every_step: self.every_step,
+            smooth: self.smooth,
         }
     }
 }
@@ -199,17 +244,43 @@ pub enum Algorithm {
     Hybrid,
     /// Random search: fresh random individuals, keep the best (a baseline).
     Random,
+    /// Grammatical evolution over codon genomes (codon scenes: .bnf, .bsg, .gg.yaml grammars).
+    Ge,
 }
 
-impl From<Algorithm> for genform_evolve::Algorithm {
-    fn from(a: Algorithm) -> Self {
-        match a {
+impl Algorithm {
+    /// Lower-case name, as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Algorithm::Ga => "ga",
+            Algorithm::Mh => "mh",
+            Algorithm::Smc => "smc",
+            Algorithm::Sosmc => "sosmc",
+            Algorithm::Hybrid => "hybrid",
+            Algorithm::Random => "random",
+            Algorithm::Ge => "ge",
+        }
+    }
+
+    /// The optimizer over derivation trees, or `None` for `ge`.
+    pub fn tree(self) -> Option<genform_evolve::Algorithm> {
+        Some(match self {
             Algorithm::Ga => genform_evolve::Algorithm::Ga,
             Algorithm::Mh => genform_evolve::Algorithm::Mh,
             Algorithm::Smc => genform_evolve::Algorithm::Smc,
             Algorithm::Sosmc => genform_evolve::Algorithm::Sosmc,
             Algorithm::Hybrid => genform_evolve::Algorithm::Hybrid,
             Algorithm::Random => genform_evolve::Algorithm::Random,
+            Algorithm::Ge => return None,
+        })
+    }
+
+    /// The optimizer over codon genomes, or `None` for the tree algorithms.
+    pub fn codon(self) -> Option<genform_evolve::CodonAlgorithm> {
+        match self {
+            Algorithm::Ge => Some(genform_evolve::CodonAlgorithm::Ge),
+            Algorithm::Random => Some(genform_evolve::CodonAlgorithm::Random),
+            _ => None,
         }
     }
 }
@@ -237,9 +308,9 @@ pub struct EvolveArgs {
     /// Output folder for the best model, genome, statistics and plots.
     #[arg(long, short, default_value = "evolve-out")]
     pub out: PathBuf,
-    /// Search algorithm.
-    #[arg(long, value_enum, default_value_t = Algorithm::Ga)]
-    pub algorithm: Algorithm,
+    /// Search algorithm (default: ga for tree scenes, ge for codon scenes).
+    #[arg(long, value_enum)]
+    pub algorithm: Option<Algorithm>,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -258,8 +329,9 @@ pub struct CompareArgs {
     /// Runs per algorithm; run r uses seed `--seed` + r.
     #[arg(long, value_name = "N", default_value_t = 5)]
     pub runs: usize,
-    /// Algorithms to compare, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc])]
+    /// Algorithms to compare, comma-separated (default: ga,mh,smc,sosmc for
+    /// tree scenes, ge,random for codon scenes).
+    #[arg(long, value_enum, value_delimiter = ',')]
     pub algorithms: Vec<Algorithm>,
     /// Seed of the first run.
     #[arg(long, default_value_t = 1)]
@@ -282,7 +354,8 @@ pub struct CompareArgs {
 pub struct ScoreArgs {
     /// Scene config (.toml).
     pub scene: PathBuf,
-    /// Genome JSON (e.g. `best-genome.json` of an evolve run).
+    /// Genome JSON (e.g. `best-genome.json` of an evolve run; for codon
+    /// scenes `best-codons.json` or a JSON list of codons).
     #[arg(long, value_name = "G.json")]
     pub genome: PathBuf,
     #[command(flatten)]

@@ -71,18 +71,6 @@ fn info(a: InfoArgs) -> Result<()> {
     Ok(())
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn written_files_are_shown_by_name_or_as_a_range() {
-        let p = |s: &str| PathBuf::from(s);
-        assert_eq!(shown(&[p("a.obj")]), "a.obj");
-        assert_eq!(shown(&[p("s0.obj"), p("s1.obj"), p("s2.obj")]), "s0.obj … s2.obj (3 files)");
-    }
-}
-
 fn map(a: MapArgs) -> Result<()> {
     let bnf = formalism::compile_file(&a.grammar, genform_ge::compile)?;
     let mut options = if a.genr8 { genform_ge::MapOptions::genr8() } else { genform_ge::MapOptions::default() };
@@ -138,5 +126,17 @@ fn describe_step(s: &genform_ge::Step) -> String {
         StepKind::Repeat => (if s.choice + 2 > s.n { "repeat" } else { "stop" }).to_string(),
         StepKind::Option => (if s.choice == 1 { "include" } else { "leave out" }).to_string(),
         StepKind::Edge => format!("Edge{}", s.choice),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn written_files_are_shown_by_name_or_as_a_range() {
+        let p = |s: &str| PathBuf::from(s);
+        assert_eq!(shown(&[p("a.obj")]), "a.obj");
+        assert_eq!(shown(&[p("s0.obj"), p("s1.obj"), p("s2.obj")]), "s0.obj … s2.obj (3 files)");
     }
 }

@@ -91,6 +91,7 @@ pub fn color(algorithm: &str) -> &'static str {
         "smc" => "#d62728",
         "sosmc" => "#ff7f0e",
         "hybrid" => "#9467bd",
+        "ge" => "#17becf",
         _ => "#7f7f7f",
     }
 }

@@ -20,6 +20,8 @@ use std::time::{Duration, Instant};
 
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, ScoreArgs};
 
+mod codon;
+
 /// How often results are written during a run, so a crash loses little.
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(10);
 
@@ -33,8 +35,22 @@ fn scene_limits(config: &SceneConfig, grammar: Limits, flags: LimitOverrides) ->
     flags.or(scene).apply(grammar)
 }
 
+/// The tree optimizer `alg` names; `ge` is refused with the reason.
+fn tree_algorithm(alg: Algorithm, scene: &Path) -> Result<genform_evolve::Algorithm> {
+    alg.tree().ok_or_else(|| {
+        anyhow::anyhow!(
+            "--algorithm ge evolves codon genomes, but {} is a tree scene (its grammar's genomes are derivation \
+             trees); use ga, mh, smc, sosmc, hybrid or random, or a scene whose grammar is .bnf, .bsg or .gg.yaml",
+            scene.display()
+        )
+    })
+}
+
 /// Runs `genform score`: one genome's counts and fitness against a scene.
 pub fn score(a: ScoreArgs) -> Result<()> {
+    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+        return codon::score(a);
+    }
     let LoadedScene { config, .. } = SceneConfig::load(&a.scene)?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
@@ -58,7 +74,11 @@ pub fn score(a: ScoreArgs) -> Result<()> {
 
 /// Runs `genform evolve`.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
+    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+        return codon::evolve(a);
+    }
     let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
+    let algorithm = tree_algorithm(a.algorithm.unwrap_or(Algorithm::Ga), &scene_path)?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     if config.ga.max_length > limits.max_genes + 1 {
@@ -86,6 +106,7 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
     let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let ctx = RunContext {
         args: &a,
+        algorithm,
         scene_path: &scene_path,
         config: &config,
         generator: loaded.generator.as_ref(),
@@ -95,19 +116,18 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
         threads: pool.current_num_threads(),
     };
     let horizon = Horizon { generations, budget, evaluations };
-    let opt =
-        AnyOptimizer::new(a.algorithm.into(), loaded.generator.graph(), &limits, &config.settings(), a.seed, horizon)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", section(a.algorithm)))?;
+    let opt = AnyOptimizer::new(algorithm, loaded.generator.graph(), &limits, &config.settings(), a.seed, horizon)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", section(algorithm)))?;
     pool.install(|| ctx.drive(opt, &objective))
 }
 
 /// The scene section holding an algorithm's settings, for error messages.
-fn section(a: Algorithm) -> &'static str {
+fn section(a: genform_evolve::Algorithm) -> &'static str {
     match a {
-        Algorithm::Ga | Algorithm::Random => "[ga]",
-        Algorithm::Mh => "[mh]",
-        Algorithm::Smc | Algorithm::Sosmc => "[smc]",
-        Algorithm::Hybrid => "[hybrid]",
+        genform_evolve::Algorithm::Ga | genform_evolve::Algorithm::Random => "[ga]",
+        genform_evolve::Algorithm::Mh => "[mh]",
+        genform_evolve::Algorithm::Smc | genform_evolve::Algorithm::Sosmc => "[smc]",
+        genform_evolve::Algorithm::Hybrid => "[hybrid]",
     }
 }
 
@@ -130,6 +150,9 @@ fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
 /// Runs `genform compare`: every algorithm `runs` times with the same
 /// wall-clock budget, one run after another on the same worker pool.
 pub fn compare(a: CompareArgs) -> Result<()> {
+    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+        return codon::compare(a);
+    }
     let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
@@ -138,16 +161,22 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     if a.runs == 0 {
         bail!("--runs must be at least 1");
     }
-    let mut algorithms: Vec<Algorithm> = Vec::new();
-    for alg in &a.algorithms {
-        if !algorithms.contains(alg) {
-            algorithms.push(*alg);
+    let given = if a.algorithms.is_empty() {
+        vec![Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc]
+    } else {
+        a.algorithms.clone()
+    };
+    let mut algorithms: Vec<genform_evolve::Algorithm> = Vec::new();
+    for alg in given {
+        let alg = tree_algorithm(alg, &scene_path)?;
+        if !algorithms.contains(&alg) {
+            algorithms.push(alg);
         }
     }
     let settings = config.settings();
     let horizon = Horizon { budget: Some(budget), ..Horizon::default() };
     for alg in &algorithms {
-        AnyOptimizer::new((*alg).into(), loaded.generator.graph(), &limits, &settings, a.seed, horizon)
+        AnyOptimizer::new(*alg, loaded.generator.graph(), &limits, &settings, a.seed, horizon)
             .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
@@ -159,11 +188,11 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     let spacing = budget.as_secs_f64() / 200.0;
     let mut traces: Vec<Trace> = Vec::new();
     'all: for alg in &algorithms {
-        let name = genform_evolve::Algorithm::from(*alg).name();
+        let name = alg.name();
         let mut best: Option<Individual> = None;
         for r in 0..a.runs {
             let seed = a.seed + r as u64;
-            let mut opt = AnyOptimizer::new((*alg).into(), loaded.generator.graph(), &limits, &settings, seed, horizon)
+            let mut opt = AnyOptimizer::new(*alg, loaded.generator.graph(), &limits, &settings, seed, horizon)
                 .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
             let mut trace = Trace::new(name, r, seed);
             let start = Instant::now();
@@ -224,6 +253,7 @@ pub fn compare(a: CompareArgs) -> Result<()> {
 
 struct RunContext<'a> {
     args: &'a EvolveArgs,
+    algorithm: genform_evolve::Algorithm,
     scene_path: &'a Path,
     config: &'a SceneConfig,
     generator: &'a dyn Generator,
@@ -353,7 +383,7 @@ impl RunContext<'_> {
         let run = serde_json::json!({
             "genform": env!("CARGO_PKG_VERSION"),
             "scene": self.scene_path.display().to_string(),
-            "algorithm": genform_evolve::Algorithm::from(self.args.algorithm).name(),
+            "algorithm": self.algorithm.name(),
             "seed": self.args.seed,
             "threads": self.threads,
             "stopped_by": reason,

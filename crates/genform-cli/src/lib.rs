@@ -5,6 +5,9 @@
 //! generator to scorers, run reports). The binary itself parses
 //! arguments, dispatches verbs and prints.
 
+pub mod codon_objective;
+pub mod codon_report;
+pub mod codon_scene;
 pub mod comparison;
 pub mod formalism;
 pub mod grammar;

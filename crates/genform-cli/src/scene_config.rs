@@ -221,24 +221,15 @@ impl SceneConfig {
     /// Reads, parses and checks the config at `path`.
     pub fn load(path: &Path) -> Result<LoadedScene> {
         let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
-        let mut config: SceneConfig = toml::from_str(&text).map_err(|e| {
-            let at = e
-                .span()
-                .map(|s| {
-                    let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
-                    let col = s.start - text[..s.start.min(text.len())].rfind('\n').map_or(0, |i| i + 1) + 1;
-                    format!(":{line}:{col}")
-                })
-                .unwrap_or_default();
-            anyhow::anyhow!("{}{at}: {}", path.display(), e.message())
-        })?;
+        let mut config: SceneConfig = parse_toml(path, &text)?;
         let base = path.parent().unwrap_or(Path::new("."));
         config.resolve(base);
         config.check().with_context(|| format!("in scene {}", path.display()))?;
         Ok(LoadedScene { path: path.to_path_buf(), config })
     }
 
-    fn resolve(&mut self, base: &Path) {
+    /// Makes every path absolute against `base` (the scene's folder).
+    pub(crate) fn resolve(&mut self, base: &Path) {
         let fix = |p: &mut PathBuf| *p = base.join(&*p);
         fix(&mut self.grammar);
         if let Some(v) = &mut self.volume {
@@ -253,7 +244,8 @@ impl SceneConfig {
         }
     }
 
-    fn check(&self) -> Result<()> {
+    /// Checks the targets, fitness constants, stop rules and algorithm settings.
+    pub(crate) fn check(&self) -> Result<()> {
         if self.volume.is_none() && self.image.is_empty() {
             bail!("no target: add a [volume] section or an [[image]] section");
         }
@@ -344,6 +336,22 @@ impl SceneConfig {
             length_to: to,
         }
     }
+}
+
+/// Parses scene TOML `text` read from `path`; errors (unknown keys, wrong
+/// types) name the file and the `line:col` of the offending key.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
+    toml::from_str(text).map_err(|e| {
+        let at = e
+            .span()
+            .map(|s| {
+                let line = text[..s.start.min(text.len())].matches('\n').count() + 1;
+                let col = s.start - text[..s.start.min(text.len())].rfind('\n').map_or(0, |i| i + 1) + 1;
+                format!(":{line}:{col}")
+            })
+            .unwrap_or_default();
+        anyhow::anyhow!("{}{at}: {}", path.display(), e.message())
+    })
 }
 
 /// Parses "30s", "2m", "1.5h", "500ms" or a bare number of seconds.

@@ -139,14 +139,15 @@ fn grammars_without_a_generator_say_why_in_every_generator_verb() {
     let castle = root().join("examples/boxsplit/castle.bsg");
     let err = genform(tmp.path(), &["derive", s(&castle), "--genome", "g.json", "--out", "x.obj"]).fails().stderr();
     assert!(err.contains("cannot be used as a generator: box-split grammars have no generator graph"), "{err}");
-    let koch = root().join("examples/graph/koch.gg.yaml");
+    // (Graph and box-split grammars in scenes are codon scenes, see tests/ge.rs.)
+    let koch = root().join("examples/hemls/koch.gr8");
     let scene = format!(
         "grammar = {:?}\n[volume]\nmin = [0, 0, 0]\nmax = [1, 1, 1]\nvoxels = [4, 4, 4]\n[[volume.target]]\nmesh = \"t.obj\"\n",
         s(&koch)
     );
     std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
     let err = genform(tmp.path(), &["score", "scene.toml", "--genome", "g.json"]).fails().stderr();
-    assert!(err.contains("graph grammars have no generator graph"), "{err}");
+    assert!(err.contains("cannot be used as a generator: HEMLS grammars"), "{err}");
 }
 
 #[test]

@@ -105,7 +105,6 @@ fn resolve_items(
         .collect()
 }
 
-
 /// Whether every item of `items` can finish, given the rules known to
 /// finish. Groups can always finish (zero times); undefined names are
 /// already reported and count as finishing.
@@ -214,8 +213,3 @@ pub(crate) fn check_unused(bnf: &Bnf, diags: &mut Vec<Diagnostic>) {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-}

@@ -372,8 +372,9 @@ mod tests {
         );
         assert_eq!(
             refusal("a.bsg", &["--steps", "--string-out"]),
-            "--steps applies to L-systems (.ls) and graph grammars (.gg.yaml) only, not to box-split grammars \
-             (.bsg); --string-out applies to L-systems (.ls) only, not to box-split grammars (.bsg)"
+            "--steps applies to L-systems (.ls), graph grammars (.gg.yaml) and HEMLS surface grammars (.gr8) only, \
+             not to box-split grammars (.bsg); --string-out applies to L-systems (.ls) only, not to box-split \
+             grammars (.bsg)"
         );
         assert!(refusal("a.gg.yaml", &["--genome-out"]).starts_with("--genome-out applies to shape grammars (.sg)"));
     }
