@@ -176,7 +176,9 @@ impl Environment {
         }
         let mut q = p;
         for b in &self.boundaries {
-            if b.behaviour != Behaviour::Soft {
+            // The side test first: it is cheap, and almost every point
+            // passes it, so the clearance (a square root) is rarely needed.
+            if b.behaviour != Behaviour::Soft && b.is_wrong_side(q) {
                 q = b.settle(q, skin(q));
             }
         }
