@@ -87,6 +87,18 @@ pub(crate) fn probability(name: &'static str, value: f64) -> Result<(), ConfigEr
     require(name, value, "in [0, 1]", (0.0..=1.0).contains(&value))
 }
 
+/// An elitist EA's sizes: at least one pair to reproduce, and room for
+/// children beside the elites.
+pub(crate) fn check_elitism(population: usize, elitism: usize) -> Result<(), ConfigError> {
+    if population < 2 {
+        return Err(ConfigError::Population(population));
+    }
+    if elitism >= population {
+        return Err(ConfigError::Elitism { elitism, population });
+    }
+    Ok(())
+}
+
 /// The selector for each parent of a pair.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -156,12 +168,7 @@ impl GaConfig {
 
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if self.population < 2 {
-            return Err(ConfigError::Population(self.population));
-        }
-        if self.elitism >= self.population {
-            return Err(ConfigError::Elitism { elitism: self.elitism, population: self.population });
-        }
+        check_elitism(self.population, self.elitism)?;
         check_lengths(self.min_length, self.max_length, self.initial_length)?;
         if !(0.0..=1.0).contains(&self.mutation_rate) {
             return Err(ConfigError::MutationRate(self.mutation_rate));

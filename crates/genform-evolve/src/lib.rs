@@ -38,6 +38,7 @@ pub mod mcmc;
 pub mod objective;
 pub mod operators;
 pub mod optimizer;
+mod population;
 pub mod random;
 pub mod run;
 pub mod selection;

@@ -6,14 +6,12 @@
 //! `population` individuals seen so far.
 
 use crate::config::{ConfigError, RandomConfig};
-use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::initial;
-use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
-use crate::stats::{GenerationStats, ReproductionCounts};
-use genform_core::{GeneratorGraph, Limits, Rng};
-use rayon::prelude::*;
-use std::time::Instant;
+use crate::optimizer::{Individual, Optimizer};
+use crate::population::Population;
+use crate::stats::GenerationStats;
+use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 
 /// Stream id of random search: `(seed, RANDOM_STREAM, generation, index)`.
 pub const RANDOM_STREAM: u64 = 0x5241_4e44; // "RAND"
@@ -25,10 +23,7 @@ pub struct RandomSearch {
     limits: Limits,
     config: RandomConfig,
     seed: u64,
-    population: Vec<Individual>,
-    generation: usize,
-    evaluations: u64,
-    best: Option<Individual>,
+    state: Population<Genome>,
 }
 
 impl RandomSearch {
@@ -36,50 +31,16 @@ impl RandomSearch {
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: RandomConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
         let limits = crate::optimizer::length_capped(limits, config.max_length);
-        Ok(RandomSearch {
-            graph: graph.clone(),
-            limits,
-            config,
-            seed,
-            population: Vec::new(),
-            generation: 0,
-            evaluations: 0,
-            best: None,
-        })
+        Ok(RandomSearch { graph: graph.clone(), limits, config, seed, state: Population::default() })
     }
 
     /// Samples and evaluates one batch; the first call is generation 0.
     pub fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats {
-        let generation = if self.population.is_empty() { 0 } else { self.generation + 1 };
-        let start = Instant::now();
+        let generation = self.state.next_generation() as u64;
         let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
-        let mut batch: Vec<Child> = (0..self.config.population)
-            .into_par_iter()
-            .map(|i| {
-                let mut rng = Rng::stream(seed, &[RANDOM_STREAM, generation as u64, i as u64]);
-                Child { genome: initial(graph, limits, length, &mut rng), fitness: None }
-            })
-            .collect();
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut batch);
-        self.population.extend(
-            batch
-                .into_iter()
-                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
-        );
-        sort_population(&mut self.population);
-        self.population.truncate(self.config.population);
-        update_best(&mut self.best, &self.population);
-        self.generation = generation;
-        self.evaluations += evaluations;
-        GenerationStats {
-            evaluations,
-            total_evaluations: self.evaluations,
-            eval_time,
-            reproduction_time,
-            reproduction: ReproductionCounts::default(),
-            ..GenerationStats::of_population(generation, &self.population)
-        }
+        self.state.keep_best(objective, self.config.population, |i| {
+            initial(graph, limits, length, &mut Rng::stream(seed, &[RANDOM_STREAM, generation, i as u64]))
+        })
     }
 }
 
@@ -89,19 +50,19 @@ impl Optimizer for RandomSearch {
     }
 
     fn population(&self) -> &[Individual] {
-        &self.population
+        self.state.members()
     }
 
     fn best(&self) -> Option<&Individual> {
-        self.best.as_ref()
+        self.state.best()
     }
 
     fn generation(&self) -> usize {
-        self.generation
+        self.state.generation()
     }
 
     fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.state.evaluations()
     }
 }
 

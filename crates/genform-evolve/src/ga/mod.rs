@@ -16,16 +16,15 @@ mod reproduce;
 mod tests;
 
 use crate::config::{ConfigError, GaConfig};
-use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::initial;
-use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
+use crate::optimizer::{Individual, Optimizer, sort_population};
+use crate::population::{Population, breed};
 use crate::selection::Selector;
-use crate::stats::{GenerationStats, ReproductionCounts};
-use genform_core::{GeneratorGraph, Limits, Rng};
-use rayon::prelude::*;
-use reproduce::{Context, PairOutput, reproduce_pair};
-use std::time::{Duration, Instant};
+use crate::stats::GenerationStats;
+use genform_core::{GeneratorGraph, Genome, Limits, Rng};
+use reproduce::{Context, reproduce_pair};
+use std::time::Instant;
 
 /// Stream id of the initial individuals: `(seed, INIT_STREAM, index)`.
 pub const INIT_STREAM: u64 = 0x4741_494e_4954; // "GAINIT"
@@ -41,10 +40,7 @@ pub struct Ga {
     limits: Limits,
     config: GaConfig,
     seed: u64,
-    population: Vec<Individual>,
-    generation: usize,
-    evaluations: u64,
-    best: Option<Individual>,
+    state: Population<Genome>,
 }
 
 impl Ga {
@@ -53,16 +49,7 @@ impl Ga {
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: GaConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
         let limits = crate::optimizer::length_capped(limits, config.max_length);
-        Ok(Ga {
-            graph: graph.clone(),
-            limits,
-            config,
-            seed,
-            population: Vec::new(),
-            generation: 0,
-            evaluations: 0,
-            best: None,
-        })
+        Ok(Ga { graph: graph.clone(), limits, config, seed, state: Population::default() })
     }
 
     /// A GA whose generation 0 is `individuals` (with the fitness they
@@ -85,9 +72,7 @@ impl Ga {
         }
         sort_population(&mut individuals);
         let n = ga.config.population;
-        ga.population = individuals.iter().cycle().take(n).cloned().collect();
-        sort_population(&mut ga.population);
-        update_best(&mut ga.best, &ga.population);
+        ga.state = Population::seeded(individuals.iter().cycle().take(n).cloned().collect());
         Ok(ga)
     }
 
@@ -103,111 +88,57 @@ impl Ga {
 
     /// The current population, best first.
     pub fn population(&self) -> &[Individual] {
-        &self.population
+        self.state.members()
     }
 
     /// The best valid individual seen so far (with elitism, the population's first).
     pub fn best(&self) -> Option<&Individual> {
-        self.best.as_ref()
+        self.state.best()
     }
 
     /// Index of the current generation (0 = the initial one).
     pub fn generation(&self) -> usize {
-        self.generation
+        self.state.generation()
     }
 
     /// Objective evaluations so far.
     pub fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.state.evaluations()
     }
 
     /// Builds and evaluates generation 0 (discarding any population):
     /// individual `i` is [`initial`] from stream `(seed, INIT_STREAM, i)`.
     pub fn initialize<O: Objective>(&mut self, objective: &O) -> GenerationStats {
-        let start = Instant::now();
         let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
-        let mut children: Vec<Child> = (0..self.config.population)
-            .into_par_iter()
-            .map(|i| Child {
-                genome: initial(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64])),
-                fitness: None,
-            })
-            .collect();
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut children);
-        self.population.clear();
-        self.generation = 0;
-        self.evaluations = 0;
-        self.best = None;
-        self.finish(children, evaluations, eval_time, reproduction_time, ReproductionCounts::default())
+        self.state.initialize(objective, self.config.population, |i| {
+            initial(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64]))
+        })
     }
 
     /// Makes the next generation; initializes first if there is no population.
     pub fn step<O: Objective>(&mut self, objective: &O) -> GenerationStats {
-        if self.population.is_empty() {
+        if self.state.is_empty() {
             return self.initialize(objective);
         }
-        let start = Instant::now();
-        let generation = self.generation + 1;
-        let fitness: Vec<f64> = self.population.iter().map(|i| i.fitness).collect();
+        let started = Instant::now();
+        let generation = self.state.generation() + 1;
+        let fitness = self.state.fitness();
         let ctx = Context {
             graph: &self.graph,
             limits: &self.limits,
             bounds: self.config.length_bounds(),
             config: &self.config,
-            population: &self.population,
+            population: self.state.members(),
             selectors: [
                 Selector::new(self.config.selection.first, &fitness),
                 Selector::new(self.config.selection.second, &fitness),
             ],
         };
-        let wanted = self.config.population - self.config.elitism;
         let seed = self.seed;
-        let outputs: Vec<PairOutput> = (0..wanted.div_ceil(2))
-            .into_par_iter()
-            .map(|pair| {
-                let mut rng = Rng::stream(seed, &[PAIR_STREAM, generation as u64, pair as u64]);
-                reproduce_pair(&ctx, (wanted - 2 * pair).min(2), &mut rng)
-            })
-            .collect();
-        let mut counts = ReproductionCounts::default();
-        let mut children = Vec::with_capacity(wanted);
-        for out in outputs {
-            counts += out.counts;
-            children.extend(out.children);
-        }
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut children);
-        self.population.truncate(self.config.elitism);
-        self.generation = generation;
-        self.finish(children, evaluations, eval_time, reproduction_time, counts)
-    }
-
-    /// Appends the evaluated children, sorts and summarizes.
-    fn finish(
-        &mut self,
-        children: Vec<Child>,
-        evaluations: u64,
-        eval_time: Duration,
-        reproduction_time: Duration,
-        reproduction: ReproductionCounts,
-    ) -> GenerationStats {
-        self.population.extend(
-            children
-                .into_iter()
-                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
-        );
-        sort_population(&mut self.population);
-        update_best(&mut self.best, &self.population);
-        self.evaluations += evaluations;
-        GenerationStats {
-            evaluations,
-            total_evaluations: self.evaluations,
-            eval_time,
-            reproduction_time,
-            reproduction,
-            ..GenerationStats::of_population(self.generation, &self.population)
-        }
+        let (children, counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+            reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[PAIR_STREAM, generation as u64, pair as u64]))
+        });
+        self.state.advance(objective, self.config.elitism, children, counts, started)
     }
 }
 

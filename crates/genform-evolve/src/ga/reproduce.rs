@@ -4,19 +4,14 @@ use crate::config::GaConfig;
 use crate::evaluate::Child;
 use crate::operators::{LengthBounds, crossover, mutate};
 use crate::optimizer::Individual;
+use crate::population::PairOutput;
 use crate::selection::Selector;
 use crate::stats::ReproductionCounts;
-use genform_core::{GeneratorGraph, Limits, Rng};
+use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 
 /// Reproduction attempts per pair (each selects new parents) before the
 /// missing children are copied from the last parents.
 const PAIR_ATTEMPTS: usize = 5;
-
-/// What one pair contributed.
-pub(crate) struct PairOutput {
-    pub children: Vec<Child>,
-    pub counts: ReproductionCounts,
-}
 
 /// Everything reproduction reads.
 pub(crate) struct Context<'a> {
@@ -33,7 +28,7 @@ pub(crate) struct Context<'a> {
 /// `mutation_rate` mutate a copy of each, otherwise cross them over. Only
 /// children within the length bounds are kept; missing ones come from new
 /// attempts, and after [`PAIR_ATTEMPTS`] from copies of the last parents.
-pub(crate) fn reproduce_pair(ctx: &Context, need: usize, rng: &mut Rng) -> PairOutput {
+pub(crate) fn reproduce_pair(ctx: &Context, need: usize, rng: &mut Rng) -> PairOutput<Genome> {
     let mut children = Vec::with_capacity(need);
     let mut counts = ReproductionCounts::default();
     let mut parents = [0usize; 2];

@@ -7,7 +7,7 @@
 //! 50–200. The length cap (1000) is ours: variable-length crossover lets
 //! lengths drift, and the cap keeps them bounded.
 
-use crate::config::{ConfigError, probability, require};
+use crate::config::{ConfigError, check_elitism, probability, require};
 use crate::selection::Selection;
 use serde::{Deserialize, Serialize};
 
@@ -59,12 +59,7 @@ impl Default for GeConfig {
 impl GeConfig {
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if self.population < 2 {
-            return Err(ConfigError::Population(self.population));
-        }
-        if self.elitism >= self.population {
-            return Err(ConfigError::Elitism { elitism: self.elitism, population: self.population });
-        }
+        check_elitism(self.population, self.elitism)?;
         check_codon_lengths(self.initial_length, self.max_length)?;
         check_codon_range(self.codon_range)?;
         if self.selection == Selection::Tournament(0) {

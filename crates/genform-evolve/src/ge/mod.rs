@@ -36,15 +36,14 @@ pub use config::{CodonRandomConfig, GeConfig};
 pub use random::CodonRandom;
 
 use crate::config::ConfigError;
-use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
-use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
+use crate::optimizer::{Individual, Optimizer};
+use crate::population::{Population, breed};
 use crate::selection::Selector;
-use crate::stats::{GenerationStats, ReproductionCounts};
+use crate::stats::GenerationStats;
 use genform_core::Rng;
-use rayon::prelude::*;
-use reproduce::{Context, PairOutput, reproduce_pair};
-use std::time::{Duration, Instant};
+use reproduce::{Context, reproduce_pair};
+use std::time::Instant;
 
 /// A codon string: the genome of grammatical evolution. Codons lie in
 /// `0..codon_range` of the optimizer's configuration.
@@ -61,17 +60,14 @@ pub const GE_PAIR_STREAM: u64 = 0x4745_5041_4952; // "GEPAIR"
 pub struct Ge {
     config: GeConfig,
     seed: u64,
-    population: Vec<Individual<Codons>>,
-    generation: usize,
-    evaluations: u64,
-    best: Option<Individual<Codons>>,
+    state: Population<Codons>,
 }
 
 impl Ge {
     /// A GE run with no population yet (see [`Ge::initialize`]).
     pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(Ge { config, seed, population: Vec::new(), generation: 0, evaluations: 0, best: None })
+        Ok(Ge { config, seed, state: Population::default() })
     }
 
     /// The configuration.
@@ -81,106 +77,52 @@ impl Ge {
 
     /// The current population, best first.
     pub fn population(&self) -> &[Individual<Codons>] {
-        &self.population
+        self.state.members()
     }
 
     /// The best valid individual seen so far (with elitism, the population's first).
     pub fn best(&self) -> Option<&Individual<Codons>> {
-        self.best.as_ref()
+        self.state.best()
     }
 
     /// Index of the current generation (0 = the initial one).
     pub fn generation(&self) -> usize {
-        self.generation
+        self.state.generation()
     }
 
     /// Objective evaluations so far.
     pub fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.state.evaluations()
     }
 
     /// Builds and evaluates generation 0 (discarding any population):
     /// individual `i` is [`random_codons`](operators::random_codons) from
     /// stream `(seed, GE_INIT_STREAM, i)`.
     pub fn initialize<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
-        let start = Instant::now();
         let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
-        let mut children: Vec<Child<Codons>> = (0..self.config.population)
-            .into_par_iter()
-            .map(|i| {
-                let mut rng = Rng::stream(seed, &[GE_INIT_STREAM, i as u64]);
-                Child { genome: operators::random_codons(length, range, &mut rng), fitness: None }
-            })
-            .collect();
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut children);
-        self.population.clear();
-        self.generation = 0;
-        self.evaluations = 0;
-        self.best = None;
-        self.finish(children, evaluations, eval_time, reproduction_time, ReproductionCounts::default())
+        self.state.initialize(objective, self.config.population, |i| {
+            operators::random_codons(length, range, &mut Rng::stream(seed, &[GE_INIT_STREAM, i as u64]))
+        })
     }
 
     /// Makes the next generation; initializes first if there is no population.
     pub fn step<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
-        if self.population.is_empty() {
+        if self.state.is_empty() {
             return self.initialize(objective);
         }
-        let start = Instant::now();
-        let generation = self.generation + 1;
-        let fitness: Vec<f64> = self.population.iter().map(|i| i.fitness).collect();
+        let started = Instant::now();
+        let generation = self.state.generation() + 1;
+        let fitness = self.state.fitness();
         let ctx = Context {
             config: &self.config,
-            population: &self.population,
+            population: self.state.members(),
             selector: Selector::new(self.config.selection, &fitness),
         };
-        let wanted = self.config.population - self.config.elitism;
         let seed = self.seed;
-        let outputs: Vec<PairOutput> = (0..wanted.div_ceil(2))
-            .into_par_iter()
-            .map(|pair| {
-                let mut rng = Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]);
-                reproduce_pair(&ctx, (wanted - 2 * pair).min(2), &mut rng)
-            })
-            .collect();
-        let mut counts = ReproductionCounts::default();
-        let mut children = Vec::with_capacity(wanted);
-        for out in outputs {
-            counts += out.counts;
-            children.extend(out.children);
-        }
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut children);
-        self.population.truncate(self.config.elitism);
-        self.generation = generation;
-        self.finish(children, evaluations, eval_time, reproduction_time, counts)
-    }
-
-    /// Appends the evaluated children, sorts and summarizes.
-    fn finish(
-        &mut self,
-        children: Vec<Child<Codons>>,
-        evaluations: u64,
-        eval_time: Duration,
-        reproduction_time: Duration,
-        reproduction: ReproductionCounts,
-    ) -> GenerationStats {
-        self.population.extend(
-            children
-                .into_iter()
-                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
-        );
-        sort_population(&mut self.population);
-        update_best(&mut self.best, &self.population);
-        self.evaluations += evaluations;
-        GenerationStats {
-            evaluations,
-            total_evaluations: self.evaluations,
-            eval_time,
-            reproduction_time,
-            reproduction,
-            ..GenerationStats::summarize(self.generation, &self.population)
-        }
+        let (children, counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+            reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]))
+        });
+        self.state.advance(objective, self.config.elitism, children, counts, started)
     }
 }
 

@@ -9,13 +9,11 @@
 use super::config::CodonRandomConfig;
 use super::{Codons, operators};
 use crate::config::ConfigError;
-use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
-use crate::optimizer::{Individual, Optimizer, sort_population, update_best};
+use crate::optimizer::{Individual, Optimizer};
+use crate::population::Population;
 use crate::stats::GenerationStats;
 use genform_core::Rng;
-use rayon::prelude::*;
-use std::time::Instant;
 
 /// Stream id of codon random search: `(seed, CODON_RANDOM_STREAM, generation, index)`.
 pub const CODON_RANDOM_STREAM: u64 = 0x4745_5241_4e44; // "GERAND"
@@ -25,17 +23,14 @@ pub const CODON_RANDOM_STREAM: u64 = 0x4745_5241_4e44; // "GERAND"
 pub struct CodonRandom {
     config: CodonRandomConfig,
     seed: u64,
-    population: Vec<Individual<Codons>>,
-    generation: usize,
-    evaluations: u64,
-    best: Option<Individual<Codons>>,
+    state: Population<Codons>,
 }
 
 impl CodonRandom {
     /// A search with nothing sampled yet.
     pub fn new(config: CodonRandomConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(CodonRandom { config, seed, population: Vec::new(), generation: 0, evaluations: 0, best: None })
+        Ok(CodonRandom { config, seed, state: Population::default() })
     }
 
     /// The configuration.
@@ -45,35 +40,12 @@ impl CodonRandom {
 
     /// Samples and evaluates one batch; the first call is generation 0.
     pub fn step<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
-        let generation = if self.population.is_empty() { 0 } else { self.generation + 1 };
-        let start = Instant::now();
+        let generation = self.state.next_generation() as u64;
         let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
-        let mut batch: Vec<Child<Codons>> = (0..self.config.population)
-            .into_par_iter()
-            .map(|i| {
-                let mut rng = Rng::stream(seed, &[CODON_RANDOM_STREAM, generation as u64, i as u64]);
-                Child { genome: operators::random_codons(length, range, &mut rng), fitness: None }
-            })
-            .collect();
-        let reproduction_time = start.elapsed();
-        let (evaluations, eval_time) = evaluate(objective, &mut batch);
-        self.population.extend(
-            batch
-                .into_iter()
-                .map(|c| Individual { genome: c.genome, fitness: c.fitness.expect("every child is evaluated") }),
-        );
-        sort_population(&mut self.population);
-        self.population.truncate(self.config.population);
-        update_best(&mut self.best, &self.population);
-        self.generation = generation;
-        self.evaluations += evaluations;
-        GenerationStats {
-            evaluations,
-            total_evaluations: self.evaluations,
-            eval_time,
-            reproduction_time,
-            ..GenerationStats::summarize(generation, &self.population)
-        }
+        self.state.keep_best(objective, self.config.population, |i| {
+            let mut rng = Rng::stream(seed, &[CODON_RANDOM_STREAM, generation, i as u64]);
+            operators::random_codons(length, range, &mut rng)
+        })
     }
 }
 
@@ -83,19 +55,19 @@ impl Optimizer<Codons> for CodonRandom {
     }
 
     fn population(&self) -> &[Individual<Codons>] {
-        &self.population
+        self.state.members()
     }
 
     fn best(&self) -> Option<&Individual<Codons>> {
-        self.best.as_ref()
+        self.state.best()
     }
 
     fn generation(&self) -> usize {
-        self.generation
+        self.state.generation()
     }
 
     fn evaluations(&self) -> u64 {
-        self.evaluations
+        self.state.evaluations()
     }
 }
 

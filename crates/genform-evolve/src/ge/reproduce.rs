@@ -4,15 +4,10 @@ use super::operators::{crossover, mutate};
 use super::{Codons, GeConfig};
 use crate::evaluate::Child;
 use crate::optimizer::Individual;
+use crate::population::PairOutput;
 use crate::selection::Selector;
 use crate::stats::ReproductionCounts;
 use genform_core::Rng;
-
-/// What one pair contributed.
-pub(crate) struct PairOutput {
-    pub children: Vec<Child<Codons>>,
-    pub counts: ReproductionCounts,
-}
 
 /// Everything reproduction reads.
 pub(crate) struct Context<'a> {
@@ -26,7 +21,7 @@ pub(crate) struct Context<'a> {
 /// Counts: `crossovers` (pairs crossed), `mutations.alter` (children with
 /// a changed codon), `copies` (children equal to a parent, which reuse its
 /// fitness instead of being evaluated).
-pub(crate) fn reproduce_pair(ctx: &Context, need: usize, rng: &mut Rng) -> PairOutput {
+pub(crate) fn reproduce_pair(ctx: &Context, need: usize, rng: &mut Rng) -> PairOutput<Codons> {
     let config = ctx.config;
     let parents = [ctx.selector.select(rng), ctx.selector.select(rng)].map(|p| &ctx.population[p]);
     let mut counts = ReproductionCounts::default();

@@ -3,6 +3,7 @@ use crate::fixtures::{HalfInvalidToy, SevensToy, TargetToy};
 use crate::objective::FnObjective;
 use crate::run::{Stop, StopReason, run};
 use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
 /// Best fitness of `algorithm` after `evaluations` objective calls (the run
 /// may pass the count by less than one generation; random search's
