@@ -62,27 +62,7 @@ fn criterion_color(name: &str) -> &'static str {
 /// surface scenes the best individual's contribution of every criterion
 /// and their total by generation; fitness by time.
 pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow]) -> String {
-    let base = |x: &dyn Fn(&Row) -> f64| {
-        [
-            ("max", "#d62728", (|r: &Row| r.0.max) as fn(&Row) -> f64),
-            ("avg", "#2ca02c", |r| r.0.avg),
-            ("min", "#1f77b4", |r| r.0.min),
-        ]
-        .into_iter()
-        .map(|(name, color, y)| Series {
-            name: name.into(),
-            color: color.into(),
-            points: rows.iter().map(|r| (x(r), y(r))).collect(),
-            band: Vec::new(),
-        })
-        .collect::<Vec<_>>()
-    };
-    let mut charts = vec![Chart {
-        title: format!("{title}: fitness by generation"),
-        x_label: "generation".into(),
-        y_label: "fitness".into(),
-        series: base(&|r| r.0.generation as f64),
-    }];
+    let mut charts = vec![report::fitness_by_generation(title, rows)];
     if let Some(first) = criteria.first() {
         let mut series: Vec<Series> = first
             .contributions
@@ -111,12 +91,7 @@ pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow]) -> Strin
             series,
         });
     }
-    charts.push(Chart {
-        title: "fitness by time".into(),
-        x_label: "seconds".into(),
-        y_label: "fitness".into(),
-        series: base(&|r| r.1),
-    });
+    charts.push(report::fitness_by_time(rows));
     charts_svg(&charts)
 }
 

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use crate::formalism::ends_with_any;
-use crate::scene_config::{FitnessConfig, ImageConfig, RunConfig, SceneConfig, VolumeConfig, parse_toml};
+use crate::scene_config::{FitnessConfig, ImageConfig, RunConfig, SceneConfig, VolumeConfig, read_scene};
 
 /// Grammar endings that make a codon scene.
 pub const CODON_GRAMMARS: &[&str] = &[".bnf", ".bsg", ".gg.yaml"];
@@ -186,9 +186,7 @@ pub fn box_bounds(c: [i32; 6]) -> (glam::IVec3, glam::IVec3) {
 impl CodonSceneConfig {
     /// Reads, parses and checks the codon scene at `path`.
     pub fn load(path: &Path) -> Result<LoadedCodonScene> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
-        let mut config: CodonSceneConfig = parse_toml(path, &text)?;
-        let base = path.parent().unwrap_or(Path::new("."));
+        let (mut config, base) = read_scene::<CodonSceneConfig>(path)?;
         config.resolve(base);
         let kind = config.check().with_context(|| format!("in scene {}", path.display()))?;
         Ok(LoadedCodonScene { path: path.to_path_buf(), kind, config })
@@ -322,9 +320,7 @@ impl CodonSceneConfig {
                 bail!("[limits] {k} must be at least 1");
             }
         }
-        if let Some(b) = &self.run.budget {
-            crate::scene_config::parse_duration(b).context("[run] budget")?;
-        }
+        self.run.check()?;
         self.ge.validate().map_err(|e| anyhow::anyhow!("[ge]: {e}"))?;
         Ok(kind)
     }

@@ -1,5 +1,9 @@
 //! `genform evolve`: run an optimizer on a scene config and write the
 //! results (best model, genome, statistics, plots) to a folder.
+//!
+//! Tree scenes live here, codon scenes in [`codon`]; both go through the
+//! same run loop ([`drive`], with a [`Session`] for what differs) and the
+//! same `compare` loop ([`race`], with a [`Contest`]).
 
 use anyhow::{Context, Result, bail};
 use genform_cli::comparison::{self, Trace, TracePoint};
@@ -7,11 +11,14 @@ use genform_cli::grammar::{self, LimitOverrides};
 use genform_cli::objective::{SceneObjective, Scorers};
 use genform_cli::output::write_atomic;
 use genform_cli::report::{self, Row};
-use genform_cli::scene_config::{LoadedScene, SceneConfig, parse_duration};
+use genform_cli::scene_config::{LoadedScene, RunConfig, SceneConfig, parse_duration};
 use genform_cli::targets;
 use genform_core::{Generator, Genome, Limits, Scene};
-use genform_evolve::{AnyOptimizer, Horizon, Individual, Objective, Optimizer, Stop, StopReason, run};
-use genform_export::{Camera, ExportOptions, Format, RenderOptions};
+use genform_evolve::{
+    AnyOptimizer, GenerationStats, Genotype, Horizon, Individual, Objective, Optimizer, Settings, Stop, StopReason, run,
+};
+use genform_export::{ExportOptions, Format, RenderOptions};
+use genform_score::ImageScorer;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::sync::Arc;
@@ -72,6 +79,29 @@ pub fn score(a: ScoreArgs) -> Result<()> {
     Ok(())
 }
 
+/// The stop rules of `evolve`: the command line's replace the scene's
+/// `[run]` as a whole; at least one is needed.
+fn stop_rules(a: &EvolveArgs, scene: &RunConfig) -> Result<Horizon> {
+    let cli_stops = a.generations.is_some() || a.budget.is_some() || a.evaluations.is_some();
+    let (generations, budget, evaluations) = if cli_stops {
+        (a.generations, a.budget.clone(), a.evaluations)
+    } else {
+        (scene.generations, scene.budget.clone(), scene.evaluations)
+    };
+    let budget = budget.map(|b| parse_duration(&b)).transpose().context("budget")?;
+    if generations.is_none() && budget.is_none() && evaluations.is_none() {
+        bail!(
+            "nothing tells the run when to stop: give --generations, --budget or --evaluations (or [run] in the scene)"
+        );
+    }
+    Ok(Horizon { generations, budget, evaluations })
+}
+
+/// [`Stop`] for `horizon`, cancelled by `cancel`.
+fn stop_at(horizon: Horizon, cancel: &AtomicBool) -> Stop<'_> {
+    Stop { generations: horizon.generations, budget: horizon.budget, evaluations: horizon.evaluations, cancel }
+}
+
 /// Runs `genform evolve`.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
     if genform_cli::codon_scene::is_codon_scene(&a.scene) {
@@ -88,37 +118,26 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
         );
     }
     let scorers = targets::build(&config)?;
-    // Command-line stop rules replace the scene's [run] as a whole.
-    let cli_stops = a.generations.is_some() || a.budget.is_some() || a.evaluations.is_some();
-    let (generations, budget, evaluations) = if cli_stops {
-        (a.generations, a.budget.clone(), a.evaluations)
-    } else {
-        (config.run.generations, config.run.budget.clone(), config.run.evaluations)
-    };
-    let budget = budget.map(|b| parse_duration(&b)).transpose().context("budget")?;
-    if generations.is_none() && budget.is_none() && evaluations.is_none() {
-        bail!(
-            "nothing tells the run when to stop: give --generations, --budget or --evaluations (or [run] in the scene)"
-        );
-    }
+    let horizon = stop_rules(&a, &config.run)?;
     let pool = worker_pool(a.threads)?;
     let cancel = cancel_on_ctrl_c();
     let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let ctx = RunContext {
-        args: &a,
-        algorithm,
-        scene_path: &scene_path,
+        common: Common {
+            args: &a,
+            algorithm: algorithm.name(),
+            scene_path: &scene_path,
+            stop: stop_at(horizon, &cancel),
+            threads: pool.current_num_threads(),
+        },
         config: &config,
         generator: loaded.generator.as_ref(),
         limits,
         scorers: &scorers,
-        stop: Stop { generations, budget, evaluations, cancel: &cancel },
-        threads: pool.current_num_threads(),
     };
-    let horizon = Horizon { generations, budget, evaluations };
     let opt = AnyOptimizer::new(algorithm, loaded.generator.graph(), &limits, &config.settings(), a.seed, horizon)
         .map_err(|e| anyhow::anyhow!("{}: {e}", section(algorithm)))?;
-    pool.install(|| ctx.drive(opt, &objective))
+    pool.install(|| drive(&ctx, opt, &objective))
 }
 
 /// The scene section holding an algorithm's settings, for error messages.
@@ -147,6 +166,21 @@ fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
     cancel
 }
 
+/// The scene file's name without its ending, for plot titles.
+fn title(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
+}
+
+/// The `stopped_by` word of `run.json` for `reason`.
+fn stop_reason_name(reason: StopReason) -> &'static str {
+    match reason {
+        StopReason::Generations => "generations",
+        StopReason::Budget => "budget",
+        StopReason::Evaluations => "evaluations",
+        StopReason::Cancelled => "interrupted",
+    }
+}
+
 /// Runs `genform compare`: every algorithm `runs` times with the same
 /// wall-clock budget, one run after another on the same worker pool.
 pub fn compare(a: CompareArgs) -> Result<()> {
@@ -157,52 +191,127 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     let scorers = targets::build(&config)?;
+    let budget = race_budget(&a)?;
+    let default = [Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc];
+    let algorithms = distinct(&a.algorithms, &default, |alg| tree_algorithm(alg, &scene_path))?;
+    let contest = TreeContest {
+        generator: loaded.generator.as_ref(),
+        limits,
+        settings: config.settings(),
+        horizon: Horizon { budget: Some(budget), ..Horizon::default() },
+    };
+    for alg in &algorithms {
+        contest.start(*alg, a.seed)?;
+    }
+    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
+    race(&a, &scene_path, budget, &algorithms, &objective, &contest)
+}
+
+/// The `--budget` of `compare`, once `--runs` is checked too.
+fn race_budget(a: &CompareArgs) -> Result<Duration> {
     let budget = parse_duration(&a.budget).context("--budget")?;
     if a.runs == 0 {
         bail!("--runs must be at least 1");
     }
-    let given = if a.algorithms.is_empty() {
-        vec![Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc]
-    } else {
-        a.algorithms.clone()
-    };
-    let mut algorithms: Vec<genform_evolve::Algorithm> = Vec::new();
+    Ok(budget)
+}
+
+/// The algorithms `given` names (`default` when none), each once, as
+/// `check` turns them into the scene's kind of algorithm.
+fn distinct<A: PartialEq>(
+    given: &[Algorithm],
+    default: &[Algorithm],
+    check: impl Fn(Algorithm) -> Result<A>,
+) -> Result<Vec<A>> {
+    let given = if given.is_empty() { default } else { given };
+    let mut algorithms: Vec<A> = Vec::new();
     for alg in given {
-        let alg = tree_algorithm(alg, &scene_path)?;
+        let alg = check(*alg)?;
         if !algorithms.contains(&alg) {
             algorithms.push(alg);
         }
     }
-    let settings = config.settings();
-    let horizon = Horizon { budget: Some(budget), ..Horizon::default() };
-    for alg in &algorithms {
-        AnyOptimizer::new(*alg, loaded.generator.graph(), &limits, &settings, a.seed, horizon)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
+    Ok(algorithms)
+}
+
+/// What differs between tree and codon runs of `compare`.
+trait Contest<G> {
+    /// An algorithm to race.
+    type Alg: Copy;
+    /// Its optimizer.
+    type Opt: Optimizer<G> + Send;
+    /// The algorithm's name in logs, tables and file names.
+    fn name(&self, alg: Self::Alg) -> &'static str;
+    /// A fresh optimizer for one run.
+    fn start(&self, alg: Self::Alg, seed: u64) -> Result<Self::Opt>;
+    /// What a run's log line adds at its end.
+    fn run_tail(&self) -> String;
+    /// Writes into `out` the best individual algorithm `name` found in all its runs.
+    fn save_best(&self, out: &Path, name: &str, best: &Individual<G>) -> Result<()>;
+}
+
+/// Tree scenes in `compare`.
+struct TreeContest<'a> {
+    generator: &'a dyn Generator,
+    limits: Limits,
+    settings: Settings,
+    horizon: Horizon,
+}
+
+impl Contest<Genome> for TreeContest<'_> {
+    type Alg = genform_evolve::Algorithm;
+    type Opt = AnyOptimizer;
+
+    fn name(&self, alg: Self::Alg) -> &'static str {
+        alg.name()
     }
+
+    fn start(&self, alg: Self::Alg, seed: u64) -> Result<AnyOptimizer> {
+        AnyOptimizer::new(alg, self.generator.graph(), &self.limits, &self.settings, seed, self.horizon)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", section(alg)))
+    }
+
+    fn run_tail(&self) -> String {
+        String::new()
+    }
+
+    fn save_best(&self, out: &Path, name: &str, best: &Individual<Genome>) -> Result<()> {
+        let path = out.join(format!("best-{name}-genome.json"));
+        write_atomic(&path, best.genome.to_json(self.generator.graph()).as_bytes())
+    }
+}
+
+/// The shared loop of `compare`: every algorithm `a.runs` times for
+/// `budget`, with the traces, the best individual of each algorithm, the
+/// table and the plot written to `a.out`.
+fn race<G: Clone + Send, C: Contest<G>, O: Objective<G> + Sync>(
+    a: &CompareArgs,
+    scene_path: &Path,
+    budget: Duration,
+    algorithms: &[C::Alg],
+    objective: &O,
+    contest: &C,
+) -> Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
     let pool = worker_pool(a.threads)?;
     let cancel = cancel_on_ctrl_c();
-    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let stop = Stop { generations: None, budget: Some(budget), evaluations: None, cancel: &cancel };
-    let title = scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let spacing = budget.as_secs_f64() / 200.0;
     let mut traces: Vec<Trace> = Vec::new();
-    'all: for alg in &algorithms {
-        let name = alg.name();
-        let mut best: Option<Individual> = None;
+    'all: for alg in algorithms {
+        let name = contest.name(*alg);
+        let mut best: Option<Individual<G>> = None;
         for r in 0..a.runs {
             let seed = a.seed + r as u64;
-            let mut opt = AnyOptimizer::new(*alg, loaded.generator.graph(), &limits, &settings, seed, horizon)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", section(*alg)))?;
+            let mut opt = contest.start(*alg, seed)?;
             let mut trace = Trace::new(name, r, seed);
             let start = Instant::now();
             let summary = pool.install(|| {
-                run(&mut opt, &objective, &stop, |stats, o| {
-                    let best = o.best().map_or(f64::NAN, |b| b.fitness);
+                run(&mut opt, objective, &stop, |stats, o| {
                     let point = TracePoint {
                         seconds: start.elapsed().as_secs_f64(),
                         evaluations: stats.total_evaluations,
-                        best,
+                        best: o.best().map_or(f64::NAN, |b| b.fitness),
                     };
                     trace.record(point, spacing);
                 })
@@ -214,12 +323,13 @@ pub fn compare(a: CompareArgs) -> Result<()> {
             }
             if !a.quiet {
                 eprintln!(
-                    "{name} run {}/{}: best {:.6} after {} evaluations in {:.1} s",
+                    "{name} run {}/{}: best {:.6} after {} evaluations in {:.1} s{}",
                     r + 1,
                     a.runs,
                     opt.best().map_or(f64::NAN, |b| b.fitness),
                     opt.evaluations(),
-                    summary.elapsed.as_secs_f64()
+                    summary.elapsed.as_secs_f64(),
+                    contest.run_tail()
                 );
             }
             let cancelled = summary.reason == StopReason::Cancelled;
@@ -233,12 +343,11 @@ pub fn compare(a: CompareArgs) -> Result<()> {
             }
         }
         if let Some(b) = best {
-            let path = a.out.join(format!("best-{name}-genome.json"));
-            write_atomic(&path, b.genome.to_json(loaded.generator.graph()).as_bytes())?;
+            contest.save_best(&a.out, name, &b)?;
         }
     }
     write_atomic(&a.out.join("comparison.csv"), comparison::csv(&traces).as_bytes())?;
-    let svg = comparison::svg(&title, &traces, budget.as_secs_f64());
+    let svg = comparison::svg(&title(scene_path), &traces, budget.as_secs_f64());
     write_atomic(&a.out.join("comparison.svg"), svg.as_bytes())?;
     print!("{}", comparison::summary(&traces));
     eprintln!(
@@ -251,95 +360,206 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     Ok(())
 }
 
-struct RunContext<'a> {
+/// What every `evolve` run knows, tree or codon.
+struct Common<'a> {
     args: &'a EvolveArgs,
-    algorithm: genform_evolve::Algorithm,
+    /// The algorithm's name.
+    algorithm: &'static str,
     scene_path: &'a Path,
-    config: &'a SceneConfig,
-    generator: &'a dyn Generator,
-    limits: Limits,
-    scorers: &'a Scorers,
     stop: Stop<'a>,
     threads: usize,
 }
 
-impl RunContext<'_> {
-    fn progress(&self) -> ProgressBar {
-        let bar = match self.stop.generations {
-            Some(g) => ProgressBar::new(g as u64),
-            None => ProgressBar::new(self.stop.budget.map_or(0, |b| b.as_millis() as u64)),
-        };
-        if self.args.quiet {
-            bar.set_draw_target(ProgressDrawTarget::hidden());
-        }
-        let template = if self.stop.generations.is_some() {
-            "{elapsed_precise} [{bar:30}] gen {pos}/{len} · {msg}"
-        } else {
-            "{elapsed_precise} [{bar:30}] {msg}"
-        };
-        bar.set_style(ProgressStyle::with_template(template).expect("valid template").progress_chars("=> "));
-        bar
-    }
+/// How a run ended.
+#[derive(Clone, Copy)]
+struct Ended {
+    /// The `stopped_by` word.
+    reason: &'static str,
+    elapsed: Duration,
+}
 
-    fn drive<Opt: Optimizer, O: Objective>(&self, mut opt: Opt, objective: &O) -> Result<()> {
-        let out = &self.args.out;
-        std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
-        let bar = self.progress();
-        let mut rows: Vec<Row> = Vec::new();
-        let mut last_checkpoint = Instant::now();
-        let mut failed = None;
-        let start = Instant::now();
-        let summary = run(&mut opt, objective, &self.stop, |stats, opt| {
-            let secs = start.elapsed().as_secs_f64();
-            rows.push((stats.clone(), secs));
-            let best = opt.best().map_or(f64::NAN, |b| b.fitness);
-            let rate = stats.total_evaluations as f64 / secs.max(1e-9);
-            if self.stop.generations.is_some() {
-                bar.set_position(stats.generation as u64);
-                bar.set_message(format!("best {best:.4} · {rate:.0} evals/s"));
-            } else {
-                bar.set_position((secs * 1000.0) as u64);
-                bar.set_message(format!("gen {} · best {best:.4} · {rate:.0} evals/s", stats.generation));
-            }
-            if failed.is_none() && last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
-                if let Err(e) = self.write_progress(opt, &rows) {
-                    failed = Some(e);
-                    self.stop.cancel.store(true, Ordering::SeqCst);
-                }
-                last_checkpoint = Instant::now();
-            }
-        })?;
-        if let Some(e) = failed {
-            return Err(e);
+impl Common<'_> {
+    /// Writes `run.json`: the keys every run has, then `own` (an object
+    /// with the kind's own keys).
+    fn write_run_json<G: Genotype>(
+        &self,
+        opt: &dyn Optimizer<G>,
+        rows: &[Row],
+        ended: Ended,
+        max_reachable: f64,
+        own: serde_json::Value,
+    ) -> Result<()> {
+        let best = opt.best();
+        let elapsed = ended.elapsed.as_secs_f64();
+        let mut run = serde_json::json!({
+            "genform": env!("CARGO_PKG_VERSION"),
+            "scene": self.scene_path.display().to_string(),
+            "algorithm": self.algorithm,
+            "seed": self.args.seed,
+            "threads": self.threads,
+            "stopped_by": ended.reason,
+            "generations": opt.generation(),
+            "evaluations": opt.evaluations(),
+            "seconds": elapsed,
+            "evaluations_per_second": opt.evaluations() as f64 / elapsed.max(1e-9),
+            "eval_seconds": rows.iter().map(|(r, _)| r.eval_time.as_secs_f64()).sum::<f64>(),
+            "reproduction_seconds": rows.iter().map(|(r, _)| r.reproduction_time.as_secs_f64()).sum::<f64>(),
+            "best_fitness": best.map(|b| b.fitness),
+            "best_length": best.map(|b| b.genome.length()),
+            "max_reachable_fitness": max_reachable,
+        });
+        if let (Some(all), serde_json::Value::Object(own)) = (run.as_object_mut(), own) {
+            all.extend(own);
         }
-        bar.finish_and_clear();
-        let reason = match summary.reason {
-            StopReason::Generations => "generations",
-            StopReason::Budget => "budget",
-            StopReason::Evaluations => "evaluations",
-            StopReason::Cancelled => {
-                eprintln!("interrupted: writing the results of generation {}", opt.generation());
-                "interrupted"
-            }
-        };
-        self.write_all(&opt, &rows, reason, summary.elapsed)?;
-        let best = opt.best().map_or(f64::NAN, |b| b.fitness);
-        eprintln!(
-            "{}: {} generations, {} evaluations in {:.1} s ({:.0}/s); best fitness {best:.6} (max reachable {:.4}) → {}",
-            self.scene_path.display(),
-            opt.generation(),
-            opt.evaluations(),
-            summary.elapsed.as_secs_f64(),
-            opt.evaluations() as f64 / summary.elapsed.as_secs_f64().max(1e-9),
-            self.scorers.fitness.max_reachable(self.config.ga.min_length),
-            out.display()
-        );
-        Ok(())
+        let text = serde_json::to_string_pretty(&run).context("cannot encode run.json")?;
+        write_atomic(&self.args.out.join("run.json"), text.as_bytes())
     }
+}
 
+/// What differs between tree and codon runs of `evolve`; [`drive`] does the rest.
+trait Session<G> {
+    /// What the run records per generation beside the statistics rows.
+    type Record: Default;
+    /// What every run knows.
+    fn common(&self) -> &Common<'_>;
+    /// The fitness the shortest genome could reach, for the summary line.
+    fn max_reachable(&self) -> f64;
+    /// Records one generation; returns what the progress message adds at
+    /// its end. `log`: whether the run logs each generation on stderr (no
+    /// bar shows it and the run is not quiet).
+    fn record(&self, rec: &mut Self::Record, stats: &GenerationStats, opt: &dyn Optimizer<G>, log: bool) -> String;
     /// Checkpoint: the files that matter if the run dies.
-    fn write_progress(&self, opt: &dyn Optimizer, rows: &[Row]) -> Result<()> {
-        let out = &self.args.out;
+    fn write_progress(&self, opt: &dyn Optimizer<G>, rows: &[Row], rec: &Self::Record) -> Result<()>;
+    /// Every result file.
+    fn write_all(&self, opt: &dyn Optimizer<G>, rows: &[Row], rec: &Self::Record, ended: Ended) -> Result<()>;
+    /// What the summary line adds before the output folder.
+    fn summary_tail(&self, rec: &Self::Record) -> String;
+}
+
+/// The progress bar of a run: generations when they bound it, else the
+/// time budget in milliseconds.
+fn progress(stop: &Stop, quiet: bool) -> ProgressBar {
+    let bar = match stop.generations {
+        Some(g) => ProgressBar::new(g as u64),
+        None => ProgressBar::new(stop.budget.map_or(0, |b| b.as_millis() as u64)),
+    };
+    if quiet {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    let template = if stop.generations.is_some() {
+        "{elapsed_precise} [{bar:30}] gen {pos}/{len} · {msg}"
+    } else {
+        "{elapsed_precise} [{bar:30}] {msg}"
+    };
+    bar.set_style(ProgressStyle::with_template(template).expect("valid template").progress_chars("=> "));
+    bar
+}
+
+/// The run loop of `evolve`: the progress bar, checkpoints, Ctrl-C, the
+/// result files and the summary line.
+fn drive<G, S: Session<G>, P: Optimizer<G>, O: Objective<G>>(session: &S, mut opt: P, objective: &O) -> Result<()> {
+    let c = session.common();
+    let out = &c.args.out;
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    let bar = progress(&c.stop, c.args.quiet);
+    let mut rows: Vec<Row> = Vec::new();
+    let mut rec = S::Record::default();
+    let mut last_checkpoint = Instant::now();
+    let mut failed = None;
+    let start = Instant::now();
+    let summary = run(&mut opt, objective, &c.stop, |stats, opt| {
+        let secs = start.elapsed().as_secs_f64();
+        rows.push((stats.clone(), secs));
+        let tail = session.record(&mut rec, stats, opt, !c.args.quiet && bar.is_hidden());
+        let best = opt.best().map_or(f64::NAN, |b| b.fitness);
+        let rate = stats.total_evaluations as f64 / secs.max(1e-9);
+        let msg = format!("best {best:.4} · {rate:.0} evals/s{tail}");
+        if c.stop.generations.is_some() {
+            bar.set_position(stats.generation as u64);
+            bar.set_message(msg);
+        } else {
+            bar.set_position((secs * 1000.0) as u64);
+            bar.set_message(format!("gen {} · {msg}", stats.generation));
+        }
+        if failed.is_none() && last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+            if let Err(e) = session.write_progress(opt, &rows, &rec) {
+                failed = Some(e);
+                c.stop.cancel.store(true, Ordering::SeqCst);
+            }
+            last_checkpoint = Instant::now();
+        }
+    })?;
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    bar.finish_and_clear();
+    if summary.reason == StopReason::Cancelled {
+        eprintln!("interrupted: writing the results of generation {}", opt.generation());
+    }
+    let ended = Ended { reason: stop_reason_name(summary.reason), elapsed: summary.elapsed };
+    session.write_all(&opt, &rows, &rec, ended)?;
+    eprintln!(
+        "{}: {} generations, {} evaluations in {:.1} s ({:.0}/s); best fitness {:.6} (max reachable {:.4}){} → {}",
+        c.scene_path.display(),
+        opt.generation(),
+        opt.evaluations(),
+        summary.elapsed.as_secs_f64(),
+        opt.evaluations() as f64 / summary.elapsed.as_secs_f64().max(1e-9),
+        opt.best().map_or(f64::NAN, |b| b.fitness),
+        session.max_reachable(),
+        session.summary_tail(&rec),
+        out.display()
+    );
+    Ok(())
+}
+
+/// `best.glb` and `best.obj` of `scene`.
+fn write_models(out: &Path, scene: &Scene) -> Result<()> {
+    for (name, format) in [("best.glb", Format::Glb), ("best.obj", Format::Obj)] {
+        let bytes = genform_export::export(scene, format, &ExportOptions::default())
+            .with_context(|| format!("cannot export {name}"))?;
+        write_atomic(&out.join(name), &bytes)?;
+    }
+    Ok(())
+}
+
+/// `best-silhouette.png` (then `-2`, `-3`, …): `scene` over each image target.
+fn write_silhouettes(out: &Path, images: &[ImageScorer], scene: &Scene) -> Result<()> {
+    for (i, img) in images.iter().enumerate() {
+        let (rgba, w, h) = img.silhouette(scene);
+        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        let name = if i == 0 { "best-silhouette.png".to_string() } else { format!("best-silhouette-{}.png", i + 1) };
+        write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
+    }
+    Ok(())
+}
+
+/// One `evolve` run of a tree scene.
+struct RunContext<'a> {
+    common: Common<'a>,
+    config: &'a SceneConfig,
+    generator: &'a dyn Generator,
+    limits: Limits,
+    scorers: &'a Scorers,
+}
+
+impl Session<Genome> for RunContext<'_> {
+    type Record = ();
+
+    fn common(&self) -> &Common<'_> {
+        &self.common
+    }
+
+    fn max_reachable(&self) -> f64 {
+        self.scorers.fitness.max_reachable(self.config.ga.min_length)
+    }
+
+    fn record(&self, _: &mut (), _: &GenerationStats, _: &dyn Optimizer, _: bool) -> String {
+        String::new()
+    }
+
+    fn write_progress(&self, opt: &dyn Optimizer, rows: &[Row], _: &()) -> Result<()> {
+        let out = &self.common.args.out;
         write_atomic(&out.join("stats.csv"), report::stats_csv(rows).as_bytes())?;
         if let Some(best) = opt.best() {
             write_atomic(&out.join("best-genome.json"), best.genome.to_json(self.generator.graph()).as_bytes())?;
@@ -347,60 +567,40 @@ impl RunContext<'_> {
         Ok(())
     }
 
-    fn express(&self, genome: &Genome) -> Result<Scene> {
-        let mut scene = Scene::new();
-        self.generator.express(genome, &self.limits, &mut scene).context("cannot build the best model")?;
-        Ok(scene)
-    }
-
-    fn write_all(&self, opt: &dyn Optimizer, rows: &[Row], reason: &str, elapsed: Duration) -> Result<()> {
-        let out = &self.args.out;
-        self.write_progress(opt, rows)?;
-        let title = self.scene_path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    fn write_all(&self, opt: &dyn Optimizer, rows: &[Row], rec: &(), ended: Ended) -> Result<()> {
+        let out = &self.common.args.out;
+        self.write_progress(opt, rows, rec)?;
+        let title = title(self.common.scene_path);
         write_atomic(&out.join("fitness.svg"), report::fitness_svg(&title, rows).as_bytes())?;
         if let Some(best) = opt.best() {
             let scene = self.express(&best.genome)?;
-            for (name, format) in [("best.glb", Format::Glb), ("best.obj", Format::Obj)] {
-                let bytes = genform_export::export(&scene, format, &ExportOptions::default())
-                    .with_context(|| format!("cannot export {name}"))?;
-                write_atomic(&out.join(name), &bytes)?;
-            }
+            write_models(out, &scene)?;
             // A fitted 3/4 view: the reference's image frame is mirrored
             // (see genform_core::camera), so previews through a target's
             // camera would show the model flipped against the target picture;
             // best-silhouette.png shows the true overlay.
             write_atomic(&out.join("best.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
-            for (i, img) in self.scorers.images.iter().enumerate() {
-                let (rgba, w, h) = img.silhouette(&scene);
-                let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-                let name =
-                    if i == 0 { "best-silhouette.png".to_string() } else { format!("best-silhouette-{}.png", i + 1) };
-                write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
-            }
+            write_silhouettes(out, &self.scorers.images, &scene)?;
         }
         write_atomic(&out.join("gallery.png"), &self.gallery(opt.population())?)?;
-        let best = opt.best();
-        let run = serde_json::json!({
-            "genform": env!("CARGO_PKG_VERSION"),
-            "scene": self.scene_path.display().to_string(),
-            "algorithm": self.algorithm.name(),
-            "seed": self.args.seed,
-            "threads": self.threads,
-            "stopped_by": reason,
-            "generations": opt.generation(),
-            "evaluations": opt.evaluations(),
-            "seconds": elapsed.as_secs_f64(),
-            "evaluations_per_second": opt.evaluations() as f64 / elapsed.as_secs_f64().max(1e-9),
-            "eval_seconds": rows.iter().map(|(r, _)| r.eval_time.as_secs_f64()).sum::<f64>(),
-            "reproduction_seconds": rows.iter().map(|(r, _)| r.reproduction_time.as_secs_f64()).sum::<f64>(),
-            "best_fitness": best.map(|b| b.fitness),
-            "best_length": best.map(|b| b.genome.len()),
-            "max_reachable_fitness": self.scorers.fitness.max_reachable(self.config.ga.min_length),
-            "limits": { "genes": self.limits.max_genes, "depth": self.limits.max_depth, "primitives": self.limits.max_primitives },
+        let l = &self.limits;
+        let own = serde_json::json!({
+            "limits": { "genes": l.max_genes, "depth": l.max_depth, "primitives": l.max_primitives },
             "config": self.config,
         });
-        let text = serde_json::to_string_pretty(&run).context("cannot encode run.json")?;
-        write_atomic(&out.join("run.json"), text.as_bytes())
+        self.common.write_run_json(opt, rows, ended, self.max_reachable(), own)
+    }
+
+    fn summary_tail(&self, _: &()) -> String {
+        String::new()
+    }
+}
+
+impl RunContext<'_> {
+    fn express(&self, genome: &Genome) -> Result<Scene> {
+        let mut scene = Scene::new();
+        self.generator.express(genome, &self.limits, &mut scene).context("cannot build the best model")?;
+        Ok(scene)
     }
 
     /// The 16 best distinct individuals, rendered with one shared camera.
@@ -416,8 +616,6 @@ impl RunContext<'_> {
         }
         let scenes: Vec<(Scene, f64)> =
             picked.iter().map(|i| Ok((self.express(&i.genome)?, i.fitness))).collect::<Result<_>>()?;
-        let bounds = scenes.iter().filter_map(|(s, _)| s.bounds(Default::default()));
-        let camera = bounds.reduce(|(a, b), (c, d)| (a.min(c), b.max(d))).map(Camera::fit);
-        Ok(report::gallery_png(&scenes, camera))
+        Ok(report::gallery_png(&scenes))
     }
 }

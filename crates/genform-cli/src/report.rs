@@ -48,40 +48,53 @@ pub fn stats_csv(rows: &[Row]) -> String {
 
 /// `fitness.svg`: max/avg/min fitness over generations and over seconds.
 pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
-    let series = |x: &dyn Fn(&Row) -> f64| {
-        [
-            ("max", "#d62728", (|r: &Row| r.0.max) as fn(&Row) -> f64),
-            ("avg", "#2ca02c", |r| r.0.avg),
-            ("min", "#1f77b4", |r| r.0.min),
-        ]
-        .into_iter()
-        .map(|(name, color, y)| Series {
-            name: name.into(),
-            color: color.into(),
-            points: rows.iter().map(|r| (x(r), y(r))).collect(),
-            band: Vec::new(),
-        })
-        .collect::<Vec<_>>()
-    };
-    charts_svg(&[
-        Chart {
-            title: format!("{title}: fitness by generation"),
-            x_label: "generation".into(),
-            y_label: "fitness".into(),
-            series: series(&|r| r.0.generation as f64),
-        },
-        Chart {
-            title: "fitness by time".into(),
-            x_label: "seconds".into(),
-            y_label: "fitness".into(),
-            series: series(&|r| r.1),
-        },
-    ])
+    charts_svg(&[fitness_by_generation(title, rows), fitness_by_time(rows)])
+}
+
+/// The max/avg/min fitness of `rows` against `x`.
+fn fitness_series(rows: &[Row], x: &dyn Fn(&Row) -> f64) -> Vec<Series> {
+    [
+        ("max", "#d62728", (|r: &Row| r.0.max) as fn(&Row) -> f64),
+        ("avg", "#2ca02c", |r| r.0.avg),
+        ("min", "#1f77b4", |r| r.0.min),
+    ]
+    .into_iter()
+    .map(|(name, color, y)| Series {
+        name: name.into(),
+        color: color.into(),
+        points: rows.iter().map(|r| (x(r), y(r))).collect(),
+        band: Vec::new(),
+    })
+    .collect()
+}
+
+/// The first panel of `fitness.svg`: max/avg/min fitness by generation,
+/// titled after the scene.
+pub fn fitness_by_generation(title: &str, rows: &[Row]) -> Chart {
+    Chart {
+        title: format!("{title}: fitness by generation"),
+        x_label: "generation".into(),
+        y_label: "fitness".into(),
+        series: fitness_series(rows, &|r| r.0.generation as f64),
+    }
+}
+
+/// The last panel of `fitness.svg`: max/avg/min fitness by seconds.
+pub fn fitness_by_time(rows: &[Row]) -> Chart {
+    Chart {
+        title: "fitness by time".into(),
+        x_label: "seconds".into(),
+        y_label: "fitness".into(),
+        series: fitness_series(rows, &|r| r.1),
+    }
 }
 
 /// `gallery.png`: the given scenes in a 4-column grid of 256×256 previews,
-/// each captioned with its rank and fitness.
-pub fn gallery_png(scenes: &[(Scene, f64)], camera: Option<Camera>) -> Vec<u8> {
+/// each captioned with its rank and fitness, all seen through one camera
+/// fitted to them all (so sizes compare).
+pub fn gallery_png(scenes: &[(Scene, f64)]) -> Vec<u8> {
+    let bounds = scenes.iter().filter_map(|(s, _)| s.bounds(Default::default()));
+    let camera = bounds.reduce(|(a, b), (c, d)| (a.min(c), b.max(d))).map(Camera::fit);
     let tiles: Vec<Tile> = scenes
         .iter()
         .enumerate()

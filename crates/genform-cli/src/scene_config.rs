@@ -168,6 +168,16 @@ pub struct RunConfig {
     pub evaluations: Option<u64>,
 }
 
+impl RunConfig {
+    /// Checks that the budget, if any, is a duration.
+    pub fn check(&self) -> Result<()> {
+        if let Some(b) = &self.budget {
+            parse_duration(b).context("[run] budget")?;
+        }
+        Ok(())
+    }
+}
+
 /// `[limits]`: derivation limits overriding the grammar's.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -220,9 +230,7 @@ pub struct LoadedScene {
 impl SceneConfig {
     /// Reads, parses and checks the config at `path`.
     pub fn load(path: &Path) -> Result<LoadedScene> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
-        let mut config: SceneConfig = parse_toml(path, &text)?;
-        let base = path.parent().unwrap_or(Path::new("."));
+        let (mut config, base) = read_scene::<SceneConfig>(path)?;
         config.resolve(base);
         config.check().with_context(|| format!("in scene {}", path.display()))?;
         Ok(LoadedScene { path: path.to_path_buf(), config })
@@ -287,9 +295,7 @@ impl SceneConfig {
                 bail!("[fitness] `{k}` must be a finite number");
             }
         }
-        if let Some(b) = &self.run.budget {
-            parse_duration(b).with_context(|| "[run] budget")?;
-        }
+        self.run.check()?;
         self.ga.validate().map_err(|e| anyhow::anyhow!("[ga]: {e}"))?;
         let settings = self.settings();
         settings.mh.validate().map_err(|e| anyhow::anyhow!("[mh]: {e}"))?;
@@ -336,6 +342,14 @@ impl SceneConfig {
             length_to: to,
         }
     }
+}
+
+/// Reads and parses the scene file at `path`; returns it with the folder
+/// its relative paths start from.
+pub(crate) fn read_scene<T: serde::de::DeserializeOwned>(path: &Path) -> Result<(T, &Path)> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
+    let config = parse_toml(path, &text)?;
+    Ok((config, path.parent().unwrap_or(Path::new("."))))
 }
 
 /// Parses scene TOML `text` read from `path`; errors (unknown keys, wrong

@@ -2,43 +2,10 @@
 //! of the shipped scenes, in a temporary folder.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
-}
-
-fn show(out: &Output) -> String {
-    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr))
-}
-
-fn genform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_genform")).current_dir(dir).args(args).output().unwrap()
-}
-
-fn ok(dir: &Path, args: &[&str]) -> Output {
-    let out = genform(dir, args);
-    assert!(out.status.success(), "genform {args:?} failed\n{}", show(&out));
-    out
-}
-
-/// A shipped scene shrunk for tests: smaller grid, population and run.
-fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
-    let src = root().join("examples/scenes").join(name);
-    let mut text = std::fs::read_to_string(&src).unwrap();
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no `{from}`");
-        text = text.replace(from, to);
-    }
-    // Paths in the scene are relative to its folder: point them back there.
-    let scenes = root().join("examples/scenes");
-    text = text.replace("\"../shape/", &format!("\"{}/../shape/", scenes.display()));
-    text = text.replace("\"targets/", &format!("\"{}/targets/", scenes.display()));
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
+mod common;
+use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, scored, small_scene};
 
 fn ship(dir: &Path) -> PathBuf {
     small_scene(
@@ -56,17 +23,6 @@ fn ship(dir: &Path) -> PathBuf {
     )
 }
 
-fn fitness_columns(csv: &str) -> Vec<String> {
-    // generation, evaluations, then max/avg/min fitness, invalid, and the
-    // lengths: everything but the timing columns.
-    csv.lines()
-        .map(|l| {
-            let c: Vec<&str> = l.split(',').collect();
-            [&c[0..2], &c[3..7], &c[9..]].concat().join(",")
-        })
-        .collect()
-}
-
 #[test]
 fn evolve_writes_every_result_file() {
     let tmp = tempfile::tempdir().unwrap();
@@ -81,8 +37,7 @@ fn evolve_writes_every_result_file() {
     }
     let csv = std::fs::read_to_string(run.join("stats.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 7, "header + generations 0..=6:\n{csv}");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(run.join("run.json")).unwrap()).unwrap();
+    let json = json(&run.join("run.json"));
     assert_eq!(json["generations"], 6);
     assert_eq!(json["stopped_by"], "generations");
     assert_eq!(json["seed"], 3);
@@ -94,9 +49,7 @@ fn evolve_writes_every_result_file() {
     ok(tmp.path(), &["derive", ship_sg.to_str().unwrap(), "--genome", "run/best-genome.json", "--out", "replay.obj"]);
     assert_eq!(std::fs::read(run.join("best.obj")).unwrap(), std::fs::read(tmp.path().join("replay.obj")).unwrap());
     // `genform score` re-evaluates it to the same fitness.
-    let out = ok(tmp.path(), &["score", scene.to_str().unwrap(), "--genome", "run/best-genome.json"]);
-    let text = String::from_utf8_lossy(&out.stdout);
-    let scored: f64 = text.split_whitespace().nth(1).unwrap().parse().unwrap();
+    let (scored, text) = scored(tmp.path(), &scene, "run/best-genome.json");
     assert_eq!(scored, best, "{text}");
 }
 
@@ -138,8 +91,7 @@ fn random_search_runs_on_the_same_scene() {
         tmp.path(),
         &["evolve", scene.to_str().unwrap(), "--algorithm", "random", "--evaluations", "60", "--out", "r", "-q"],
     );
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("r/run.json")).unwrap()).unwrap();
+    let json = json(&tmp.path().join("r/run.json"));
     assert_eq!(json["algorithm"], "random");
     assert!(json["evaluations"].as_u64().unwrap() >= 60);
 }
@@ -148,45 +100,26 @@ fn random_search_runs_on_the_same_scene() {
 fn config_mistakes_name_the_file_and_the_key() {
     let tmp = tempfile::tempdir().unwrap();
     let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("population = 150", "populaton = 150")]);
-    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
     assert!(err.contains("spaceship_volume.toml:") && err.contains("populaton"), "{err}");
 
     let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("elitism = 30", "elitism = 150")]);
-    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("elitism"), "{err}");
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    assert!(err.contains("elitism"), "{err}");
 
     let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("targets/spaceship_target.obj", "targets/nope.obj")]);
-    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("nope.obj"), "{err}");
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    assert!(err.contains("nope.obj"), "{err}");
 }
 
 #[test]
 fn ctrl_c_ends_the_run_and_writes_the_results() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = ship(tmp.path());
-    let child = Command::new(env!("CARGO_BIN_EXE_genform"))
-        .current_dir(tmp.path())
-        .args(["evolve", scene.to_str().unwrap(), "--budget", "10m", "--out", "run", "-q"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // Wait until the run has started generating (the first checkpoint is
-    // not guaranteed, so just give it time to load and run a generation).
-    std::thread::sleep(Duration::from_millis(1500));
-    let started = Instant::now();
-    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(kill.success());
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "Ctrl-C should end the run cleanly\n{}", show(&out));
-    assert!(started.elapsed() < Duration::from_secs(30), "the run must stop soon after Ctrl-C");
-    let json: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("run/run.json")).unwrap()).unwrap();
-    assert_eq!(json["stopped_by"], "interrupted");
+    // Give it time to load and run a generation (the first checkpoint is
+    // not guaranteed).
+    interrupt_evolve(tmp.path(), &scene, Duration::from_millis(1500));
+    assert_eq!(json(&tmp.path().join("run/run.json"))["stopped_by"], "interrupted");
     assert!(tmp.path().join("run/best-genome.json").exists());
 }
 
@@ -205,7 +138,7 @@ fn every_algorithm_runs_from_the_cli_and_is_deterministic() {
         }
         assert_eq!(read(&one, "best-genome.json"), read(&two, "best-genome.json"), "{alg}");
         assert_eq!(fitness_columns(&read(&one, "stats.csv")), fitness_columns(&read(&two, "stats.csv")), "{alg}");
-        let json: serde_json::Value = serde_json::from_str(&read(&one, "run.json")).unwrap();
+        let json = json(&tmp.path().join(&one).join("run.json"));
         assert_eq!(json["algorithm"], alg);
         assert!(json["evaluations"].as_u64().unwrap() >= 600, "{alg}");
         assert!(json["best_fitness"].as_f64().is_some(), "{alg}");
@@ -229,7 +162,7 @@ fn compare_writes_the_table_the_csv_and_the_plot() {
         "c",
     ];
     let out = ok(tmp.path(), &args);
-    let table = String::from_utf8_lossy(&out.stdout);
+    let table = out.stdout();
     let rows: Vec<&str> = table.lines().collect();
     assert_eq!(rows.len(), 3, "{table}");
     assert!(rows[1].starts_with("ga ") && rows[2].starts_with("sosmc "), "{table}");
@@ -252,12 +185,10 @@ fn compare_writes_the_table_the_csv_and_the_plot() {
 fn mcmc_and_smc_settings_are_checked() {
     let tmp = tempfile::tempdir().unwrap();
     let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("chains = 70", "chains = 70\njump = 2")]);
-    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap(), "--algorithm", "mh"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("[mh]") && err.contains("jump must be in [0, 1], got 2"), "{err}");
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap(), "--algorithm", "mh"]);
+    assert!(err.contains("[mh]") && err.contains("jump must be in [0, 1], got 2"), "{err}");
     let bad =
         small_scene(tmp.path(), "spaceship_volume.toml", &[("particles = 500", "particles = 500\nweight = \"exp\"")]);
-    let out = genform(tmp.path(), &["evolve", bad.to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success() && err.contains("spaceship_volume.toml:") && err.contains("exp"), "{err}");
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    assert!(err.contains("spaceship_volume.toml:") && err.contains("exp"), "{err}");
 }

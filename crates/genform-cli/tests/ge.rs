@@ -2,58 +2,14 @@
 //! `.ls` phenotypes, codon-driven box-split and graph grammars): the real
 //! binary on small versions of the shipped scenes, in a temporary folder.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::path::Path;
+use std::time::Duration;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
-}
-
-fn show(out: &Output) -> String {
-    format!("stdout:\n{}\nstderr:\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr))
-}
-
-fn genform(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_genform")).current_dir(dir).args(args).output().unwrap()
-}
-
-fn ok(dir: &Path, args: &[&str]) -> Output {
-    let out = genform(dir, args);
-    assert!(out.status.success(), "genform {args:?} failed\n{}", show(&out));
-    out
-}
-
-fn fails(dir: &Path, args: &[&str]) -> String {
-    let out = genform(dir, args);
-    assert!(!out.status.success(), "genform {args:?} should fail\n{}", show(&out));
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
-/// A shipped scene with `edits`, its relative paths made absolute, written
-/// into `dir`.
-fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
-    let scenes = root().join("examples/scenes");
-    let mut text = std::fs::read_to_string(scenes.join(name)).unwrap();
-    for (from, to) in edits {
-        assert!(text.contains(from), "{name} has no `{from}`");
-        text = text.replace(from, to);
-    }
-    for rel in ["../ge/", "../hemls/", "../boxsplit/", "../graph/", "targets/"] {
-        text = text.replace(&format!("\"{rel}"), &format!("\"{}/{rel}", scenes.display()));
-    }
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
+mod common;
+use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, scored, small_scene};
 
 /// Edits that shrink any GE scene's run.
 const FEW: &[(&str, &str)] = &[("population = 100", "population = 14"), ("generations = 100", "generations = 3")];
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap_or_else(|_| panic!("{} missing", path.display())))
-        .unwrap()
-}
 
 /// Runs `scene` into `dir/out` and checks that every result file is there.
 fn run_and_check(dir: &Path, scene: &Path, grammar_file: Option<&str>, generations: usize) -> serde_json::Value {
@@ -81,12 +37,19 @@ fn run_and_check(dir: &Path, scene: &Path, grammar_file: Option<&str>, generatio
     r
 }
 
-/// The fitness `genform score` prints for a genome.
-fn scored(dir: &Path, scene: &Path, genome: &str) -> (f64, String) {
-    let out = ok(dir, &["score", scene.to_str().unwrap(), "--genome", genome]);
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    let value = text.split_whitespace().nth(1).unwrap().parse().unwrap();
-    (value, text)
+/// `genform sample` of `args` (the run's `best.gr8` or `best.ls`) writes
+/// the very `run/best.obj` the run wrote.
+fn regrows_into_best(dir: &Path, args: &[&str]) {
+    ok(dir, &[&["sample"], args, &["--out", "again.obj"]].concat());
+    assert_eq!(std::fs::read(dir.join("again.obj")).unwrap(), std::fs::read(dir.join("run/best.obj")).unwrap());
+}
+
+/// `genform score` of the run's `best-codons.json` gives the run's best
+/// fitness `r` to the bit; returns what it printed.
+fn rescores_exactly(dir: &Path, scene: &Path, r: &serde_json::Value) -> String {
+    let (fitness, text) = scored(dir, scene, "run/best-codons.json");
+    assert_eq!(fitness.to_bits(), r["best_fitness"].as_f64().unwrap().to_bits(), "{text}");
+    text
 }
 
 #[test]
@@ -100,14 +63,9 @@ fn genr8_canopy_runs_regrows_and_rescores() {
     let sum: f64 = parts.iter().map(|c| c["contribution"].as_f64().unwrap()).sum();
     assert!((sum - r["best_fitness"].as_f64().unwrap()).abs() < 1e-12);
     // best.gr8 re-grows into the same surface (the scene grows 4 steps, no environment).
-    ok(tmp.path(), &["sample", "run/best.gr8", "--steps", "4", "--out", "again.obj"]);
-    assert_eq!(
-        std::fs::read(tmp.path().join("again.obj")).unwrap(),
-        std::fs::read(tmp.path().join("run/best.obj")).unwrap()
-    );
+    regrows_into_best(tmp.path(), &["run/best.gr8", "--steps", "4"]);
     // `score` gives the run's best fitness exactly, and every criterion.
-    let (fitness, text) = scored(tmp.path(), &scene, "run/best-codons.json");
-    assert_eq!(fitness.to_bits(), r["best_fitness"].as_f64().unwrap().to_bits(), "{text}");
+    let text = rescores_exactly(tmp.path(), &scene, &r);
     for c in ["size", "smoothness", "subdivisions", "symmetry"] {
         assert!(text.contains(c), "{text}");
     }
@@ -121,13 +79,8 @@ fn genr8_in_an_environment_regrows_with_the_environment() {
     let scene = small_scene(tmp.path(), "genr8_undulating_box.toml", FEW);
     let r = run_and_check(tmp.path(), &scene, Some("gr8"), 3);
     let env = root().join("examples/hemls/boxes_attractors.toml");
-    ok(tmp.path(), &["sample", "run/best.gr8", "--env", env.to_str().unwrap(), "--out", "again.obj"]);
-    assert_eq!(
-        std::fs::read(tmp.path().join("again.obj")).unwrap(),
-        std::fs::read(tmp.path().join("run/best.obj")).unwrap()
-    );
-    let (fitness, _) = scored(tmp.path(), &scene, "run/best-codons.json");
-    assert_eq!(fitness.to_bits(), r["best_fitness"].as_f64().unwrap().to_bits());
+    regrows_into_best(tmp.path(), &["run/best.gr8", "--env", env.to_str().unwrap()]);
+    rescores_exactly(tmp.path(), &scene, &r);
 }
 
 #[test]
@@ -149,13 +102,8 @@ fn ge_lsystem_scene_writes_an_ls_that_samples_into_the_same_model() {
     let scene = small_scene(tmp.path(), "ge_lsystem_tree.toml", &edits);
     let r = run_and_check(tmp.path(), &scene, Some("ls"), 3);
     assert!(r["best_components"]["good"].as_f64().is_some());
-    ok(tmp.path(), &["sample", "run/best.ls", "--out", "again.obj"]);
-    assert_eq!(
-        std::fs::read(tmp.path().join("again.obj")).unwrap(),
-        std::fs::read(tmp.path().join("run/best.obj")).unwrap()
-    );
-    let (fitness, text) = scored(tmp.path(), &scene, "run/best-codons.json");
-    assert_eq!(fitness.to_bits(), r["best_fitness"].as_f64().unwrap().to_bits(), "{text}");
+    regrows_into_best(tmp.path(), &["run/best.ls"]);
+    let text = rescores_exactly(tmp.path(), &scene, &r);
     assert!(text.contains("good") && text.contains("target"), "{text}");
 }
 
@@ -166,8 +114,7 @@ fn codon_box_split_scene_runs() {
     let scene = small_scene(tmp.path(), "ge_castle_volume.toml", &edits);
     let r = run_and_check(tmp.path(), &scene, None, 2);
     assert_eq!(r["kind"], "box-split");
-    let (fitness, _) = scored(tmp.path(), &scene, "run/best-codons.json");
-    assert_eq!(fitness.to_bits(), r["best_fitness"].as_f64().unwrap().to_bits());
+    rescores_exactly(tmp.path(), &scene, &r);
 }
 
 #[test]
@@ -192,16 +139,7 @@ fn comparable(dir: &Path) -> Vec<(String, Vec<u8>)> {
         let bytes = std::fs::read(&path).unwrap();
         let bytes = match name.as_str() {
             "fitness.svg" => continue,
-            "stats.csv" => String::from_utf8(bytes)
-                .unwrap()
-                .lines()
-                .map(|l| {
-                    let c: Vec<&str> = l.split(',').collect();
-                    [&c[0..2], &c[3..7], &c[9..]].concat().join(",")
-                })
-                .collect::<Vec<_>>()
-                .join("\n")
-                .into_bytes(),
+            "stats.csv" => fitness_columns(&String::from_utf8(bytes).unwrap()).join("\n").into_bytes(),
             "run.json" => {
                 let mut v: serde_json::Value = serde_json::from_slice(&bytes).unwrap();
                 let o = v.as_object_mut().unwrap();
@@ -345,7 +283,7 @@ fn compare_races_ge_and_random_search() {
             "-q",
         ],
     );
-    let table = String::from_utf8_lossy(&out.stdout);
+    let table = out.stdout();
     assert!(table.lines().any(|l| l.starts_with("ge ")) && table.lines().any(|l| l.starts_with("random ")), "{table}");
     let csv = std::fs::read_to_string(tmp.path().join("cmp/comparison.csv")).unwrap();
     assert!(csv.lines().any(|l| l.starts_with("ge,1,")) && csv.lines().any(|l| l.starts_with("random,0,")), "{csv}");
@@ -358,19 +296,7 @@ fn compare_races_ge_and_random_search() {
 fn ctrl_c_ends_a_codon_run_and_writes_the_results() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = small_scene(tmp.path(), "genr8_canopy.toml", &[]);
-    let child = Command::new(env!("CARGO_BIN_EXE_genform"))
-        .current_dir(tmp.path())
-        .args(["evolve", scene.to_str().unwrap(), "--budget", "10m", "--out", "run", "-q"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(1000));
-    let started = Instant::now();
-    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "Ctrl-C should end the run cleanly\n{}", show(&out));
-    assert!(started.elapsed() < Duration::from_secs(30));
+    interrupt_evolve(tmp.path(), &scene, Duration::from_millis(1000));
     assert_eq!(json(&tmp.path().join("run/run.json"))["stopped_by"], "interrupted");
     assert!(tmp.path().join("run/best.gr8").exists());
 }

@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
@@ -18,6 +19,10 @@ pub struct Run {
 }
 
 impl Run {
+    /// Everything the run printed, for assertion messages.
+    pub fn show(&self) -> String {
+        format!("stdout:\n{}\nstderr:\n{}", self.stdout(), self.stderr())
+    }
     pub fn stdout(&self) -> String {
         String::from_utf8_lossy(&self.out.stdout).into_owned()
     }
@@ -46,4 +51,77 @@ pub fn genform(dir: &Path, args: &[&str]) -> Run {
 
 pub fn s(p: &Path) -> &str {
     p.to_str().unwrap()
+}
+
+/// Runs `genform args` in `dir` and asserts it succeeded.
+pub fn ok(dir: &Path, args: &[&str]) -> Run {
+    let run = genform(dir, args);
+    assert!(run.out.status.success(), "genform {args:?} failed\n{}", run.show());
+    run
+}
+
+/// Runs `genform args` in `dir`, asserts it failed and returns its stderr.
+pub fn fails(dir: &Path, args: &[&str]) -> String {
+    let run = genform(dir, args);
+    assert!(!run.out.status.success(), "genform {args:?} should fail\n{}", run.show());
+    run.stderr()
+}
+
+/// A shipped scene of `examples/scenes` with `edits` (each `from` must
+/// occur), its relative paths made absolute, written into `dir`.
+pub fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let scenes = root().join("examples/scenes");
+    let mut text = std::fs::read_to_string(scenes.join(name)).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{name} has no `{from}`");
+        text = text.replace(from, to);
+    }
+    for rel in ["../", "targets/"] {
+        text = text.replace(&format!("\"{rel}"), &format!("\"{}/{rel}", scenes.display()));
+    }
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The JSON file at `path`.
+pub fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap_or_else(|_| panic!("{} missing", path.display())))
+        .unwrap()
+}
+
+/// The fitness `genform score` prints for `genome` in `scene`, with all it printed.
+pub fn scored(dir: &Path, scene: &Path, genome: &str) -> (f64, String) {
+    let text = ok(dir, &["score", s(scene), "--genome", genome]).stdout();
+    let value = text.split_whitespace().nth(1).unwrap().parse().unwrap();
+    (value, text)
+}
+
+/// Each line of a `stats.csv` without its timing columns (seconds,
+/// eval_seconds, reproduction_seconds), so runs can be compared.
+pub fn fitness_columns(csv: &str) -> Vec<String> {
+    csv.lines()
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            [&c[0..2], &c[3..7], &c[9..]].concat().join(",")
+        })
+        .collect()
+}
+
+/// Starts `genform evolve scene` into `dir/run` with a long budget, sends
+/// it Ctrl-C after `after`, and asserts that it ends cleanly and soon.
+pub fn interrupt_evolve(dir: &Path, scene: &Path, after: Duration) {
+    let child = Command::new(env!("CARGO_BIN_EXE_genform"))
+        .current_dir(dir)
+        .args(["evolve", s(scene), "--budget", "10m", "--out", "run", "-q"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(after);
+    let started = Instant::now();
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let run = Run { out: child.wait_with_output().unwrap() };
+    assert!(run.out.status.success(), "Ctrl-C should end the run cleanly\n{}", run.show());
+    assert!(started.elapsed() < Duration::from_secs(30), "the run must stop soon after Ctrl-C");
 }
