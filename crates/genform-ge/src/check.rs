@@ -212,4 +212,3 @@ pub(crate) fn check_unused(bnf: &Bnf, diags: &mut Vec<Diagnostic>) {
         }
     }
 }
-
