@@ -15,4 +15,5 @@ pub mod objective;
 pub mod output;
 pub mod report;
 pub mod scene_config;
+pub mod source_text;
 pub mod targets;

@@ -12,8 +12,8 @@ fn main() -> ExitCode {
     match commands::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            // Grammar diagnostics are already rendered in full by `{e}`.
-            eprintln!("error: {e:#}");
+            // Diagnostics print with their own `Error:` headers; only the summary gets `error:`.
+            eprint!("{}", genform_cli::source_text::report(&e));
             ExitCode::FAILURE
         }
     }

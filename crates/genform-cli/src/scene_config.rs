@@ -347,7 +347,7 @@ impl SceneConfig {
 /// Reads and parses the scene file at `path`; returns it with the folder
 /// its relative paths start from.
 pub(crate) fn read_scene<T: serde::de::DeserializeOwned>(path: &Path) -> Result<(T, &Path)> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read scene {}", path.display()))?;
+    let text = crate::source_text::read_text(path, "scene")?;
     let config = parse_toml(path, &text)?;
     Ok((config, path.parent().unwrap_or(Path::new("."))))
 }

@@ -287,7 +287,22 @@ impl<'a> Parser<'a> {
             }
             return Err(f);
         }
-        let body = self.block()?;
+        let open = self.tok.span;
+        // A body that does not parse ends the file (statements recover up to
+        // its end), so the rule is still declared, with an empty body: the
+        // syntax error is the one to fix, and references to the rule must
+        // not add "unknown rule" errors to it.
+        let body = match self.block() {
+            Ok(body) => body,
+            Err(Fail) => {
+                if !self.aborted
+                    && let Some(d) = self.errors.last_mut()
+                {
+                    d.labels.push((open, format!("the body of rule `{name}` starts here")));
+                }
+                Vec::new()
+            }
+        };
         Ok(Rule { name, span, template, args, body })
     }
 
@@ -692,6 +707,15 @@ mod tests {
         assert_eq!(e.len(), 3, "{e:?}");
         assert!(e[0].contains("expected `;`"), "{e:?}");
         assert!(e[1].contains("expected `)`"), "{e:?}");
+    }
+
+    #[test]
+    fn an_unterminated_body_still_declares_its_rule() {
+        let (items, errs) = parse_file("axiom S;\nS {\n  box;\n");
+        assert_eq!(errs.len(), 1, "{errs:?}");
+        assert!(errs[0].message.contains("expected `}`"), "{errs:?}");
+        assert_eq!(errs[0].labels, vec![(Span::new(11, 12), "the body of rule `S` starts here".to_string())]);
+        assert!(items.iter().any(|i| matches!(i, Item::Rule(r) if r.name == "S" && r.body.is_empty())));
     }
 
     #[test]

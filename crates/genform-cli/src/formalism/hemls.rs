@@ -2,7 +2,7 @@
 //! from a seed polygon in an environment (`--env`), optionally write every
 //! derivation step and smooth the result.
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use genform_core::{Scene, SourceFile, Surface};
 use genform_hemls::{Environment, GrowError, Settings};
 use glam::Vec3;
@@ -43,12 +43,9 @@ impl Formalism for Hemls {
 /// Reads an environment file (`--env`) into growth settings and an
 /// environment; mesh boundaries are read relative to the file.
 pub fn load_environment(path: &Path) -> Result<(Settings, Environment)> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read environment {}", path.display()))?;
+    let text = crate::source_text::read_text(path, "environment")?;
     let file = SourceFile::new(path.display().to_string(), text);
-    let spec = genform_hemls::parse_env(&file).map_err(|d| {
-        let n = d.error_count();
-        anyhow!("{}{n} error{} in {}", d.render(false), if n == 1 { "" } else { "s" }, path.display())
-    })?;
+    let spec = genform_hemls::parse_env(&file).map_err(|d| crate::source_text::SourceErrors::new(&d, false))?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut load_mesh = |rel: &str| -> Result<genform_core::Mesh, String> {
         let full = base.join(rel);

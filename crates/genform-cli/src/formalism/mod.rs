@@ -20,6 +20,7 @@ use std::path::{Path, PathBuf};
 
 use crate::grammar::{LimitOverrides, Loaded};
 use crate::output::{unknown_format, write_atomic, write_model};
+use crate::source_text::{SourceErrors, read_text};
 
 /// Every formalism, one row each. A grammar file belongs to the row one of
 /// whose [`Formalism::extensions`] its name ends with.
@@ -267,7 +268,7 @@ pub fn compile_file<T>(
     path: &Path,
     compile: impl FnOnce(&SourceFile) -> Result<(T, Diagnostics), Diagnostics>,
 ) -> Result<T> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read grammar {}", path.display()))?;
+    let text = read_text(path, "grammar")?;
     let file = SourceFile::new(path.display().to_string(), text);
     let color = std::io::stderr().is_terminal();
     match compile(&file) {
@@ -277,10 +278,7 @@ pub fn compile_file<T>(
             }
             Ok(value)
         }
-        Err(errors) => {
-            let n = errors.error_count();
-            bail!("{}{} error{} in {}", errors.render(color), n, if n == 1 { "" } else { "s" }, path.display())
-        }
+        Err(errors) => Err(SourceErrors::new(&errors, color).into()),
     }
 }
 
