@@ -1,6 +1,7 @@
 //! From syntax tree to [`BoxGrammar`]: names resolved, formulas compiled,
 //! operations flattened into an arena, every problem reported.
 
+use crate::derive::MAX_VOLUME;
 use crate::formula::Formulas;
 use crate::grammar::{AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId};
 use crate::observe::TypeTable;
@@ -8,6 +9,7 @@ use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn};
 use genform_core::diag::{Diagnostic, SourceFile, Span};
 use genform_core::expr::did_you_mean;
 use genform_core::{BlockState, Diagnostics};
+use glam::IVec3;
 use std::collections::HashMap;
 
 /// Compiles a `.bsg` file. Returns the grammar and its warnings, or every
@@ -23,7 +25,7 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
         file,
         out: Vec::new(),
         types: TypeTable::new(),
-        formulas: Formulas::default(),
+        formulas: Formulas::for_file(file),
         rule_ids: HashMap::new(),
         rule_spans: Vec::new(),
         materials: HashMap::new(),
@@ -69,6 +71,8 @@ impl Compiler<'_> {
         let mut name = String::new();
         let mut axiom: Option<&Ident> = None;
         let mut limits = DeriveLimits::default();
+        let mut default_box: Option<(Option<(IVec3, IVec3)>, Span)> = None;
+        let mut default_world: Option<(&String, Span)> = None;
         let rules: Vec<&RuleSyn> =
             items.iter().filter_map(|i| if let Item::Rule(r) = i { Some(r) } else { None }).collect();
         for r in &rules {
@@ -100,6 +104,26 @@ impl Compiler<'_> {
                     axiom = Some(a);
                 }
                 Item::Limits(list) => self.limits(list, &mut limits),
+                Item::Box(corners, span) => {
+                    if let Some((_, prev)) = default_box {
+                        self.out
+                            .push(Diagnostic::error(*span, "the box is given twice").with_label(prev, "first here"));
+                    }
+                    default_box = Some((self.default_box(corners, *span), *span));
+                }
+                Item::World(path, span) => {
+                    if let Some((_, prev)) = default_world {
+                        self.out
+                            .push(Diagnostic::error(*span, "the world is given twice").with_label(prev, "first here"));
+                    }
+                    if path.trim().is_empty() {
+                        self.out.push(
+                            Diagnostic::error(*span, "the world's path is empty")
+                                .with_hint("name a region file (r.X.Z.mca) or a folder of them"),
+                        );
+                    }
+                    default_world = Some((path, *span));
+                }
                 Item::Group(n, members) => {
                     if self.rule_ids.contains_key(&n.name) {
                         self.out.push(Diagnostic::error(n.span, format!("`{}` is already a rule", n.name)));
@@ -152,7 +176,50 @@ impl Compiler<'_> {
             types: self.types.types.clone(),
             slots: self.formulas.slots.clone(),
             limits,
+            default_box: default_box.and_then(|b| b.0),
+            default_world: default_world.map(|w| w.0.clone()),
         })
+    }
+
+    /// Checks the corners of `box …;`: six whole numbers making a box of at
+    /// most [`MAX_VOLUME`] cells.
+    fn default_box(&mut self, corners: &[(f64, Span)], span: Span) -> Option<(IVec3, IVec3)> {
+        if corners.len() != 6 {
+            self.out.push(
+                Diagnostic::error(span, format!("a box has six corner coordinates, found {}", corners.len()))
+                    .with_hint("write `box x0, y0, z0, x1, y1, z1;` (two opposite corners, inclusive)"),
+            );
+            return None;
+        }
+        let mut v = [0i32; 6];
+        for (out, &(c, cs)) in v.iter_mut().zip(corners) {
+            // Within ±2^30 so that sizes and `max + 1` stay in i32.
+            if c.fract() != 0.0 || c.abs() > (1 << 30) as f64 {
+                self.out
+                    .push(Diagnostic::error(cs, "a corner coordinate must be a whole number (at most 2^30 in size)"));
+                return None;
+            }
+            *out = c as i32;
+        }
+        let (a, b) = (IVec3::new(v[0], v[1], v[2]), IVec3::new(v[3], v[4], v[5]));
+        let (min, max) = (a.min(b), a.max(b) + IVec3::ONE);
+        let size = (max - min).as_i64vec3();
+        // Up to 2^31 a side: the product needs 128 bits.
+        let volume = size.x as u128 * size.y as u128 * size.z as u128;
+        if volume > MAX_VOLUME as u128 {
+            self.out.push(
+                Diagnostic::error(
+                    span,
+                    format!(
+                        "the box of {}×{}×{} = {volume} cells is larger than the {MAX_VOLUME} cells supported",
+                        size.x, size.y, size.z
+                    ),
+                )
+                .with_hint("the result and each observer table take 4 bytes a cell; choose a smaller box"),
+            );
+            return None;
+        }
+        Some((min, max))
     }
 
     fn limits(&mut self, list: &[(Ident, f64, Span)], limits: &mut DeriveLimits) {

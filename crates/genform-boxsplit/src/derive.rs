@@ -109,6 +109,8 @@ pub enum FailureKind {
     Depth,
     /// The derivation box is empty or too large.
     InvalidBox,
+    /// A formula divided by zero (`/`, `//` or `%`).
+    DivisionByZero,
 }
 
 /// A rule failure: the rule, where, and why.
@@ -201,6 +203,8 @@ enum Stop {
     Fail { parent: u32, rule: RuleId, scope: Scope, reason: Reason },
     /// The end.
     Abort(FailureKind),
+    /// A formula of `rule` at `scope` divided by zero: the end.
+    DivisionByZero { rule: RuleId, scope: Scope, at: String, text: String },
 }
 
 enum Reason {
@@ -317,6 +321,17 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
             match self.task(task) {
                 Ok(()) => {}
                 Err(Stop::Abort(kind)) => return Err(self.failure(kind)),
+                Err(Stop::DivisionByZero { rule, scope, at, text }) => {
+                    let rule = &self.g.rules[rule as usize].name;
+                    let message = format!(
+                        "rule `{rule}` at {}: the formula at {at} divides by zero (`{text}`); \
+                         guard it with a condition on the scope, e.g. `when X > 4 {{ … }}`",
+                        scope.trace()
+                    );
+                    let mut f = self.failure(FailureKind::DivisionByZero);
+                    f.message = message;
+                    return Err(f);
+                }
                 Err(Stop::Fail { parent, rule, scope, reason }) => {
                     pending = Some(self.backtrack(parent, rule, scope, reason)?);
                 }
@@ -339,7 +354,7 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
                     }
                     self.count_application()?;
                     self.stats.max_depth = self.stats.max_depth.max(depth);
-                    self.candidates(r, &scope);
+                    self.candidates(r, &scope)?;
                     if self.cands.is_empty() {
                         return Err(Stop::Fail { parent, rule: r, scope, reason: Reason::NoAlternative });
                     }
@@ -381,6 +396,10 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
                             self.set_env(&scope);
                             for f in sizes {
                                 self.observe(&f.observers, &scope);
+                                if let Some(d) = f.zero_divisor(&self.env) {
+                                    let (at, text) = (d.at.clone(), d.text.clone());
+                                    return Err(Stop::DivisionByZero { rule: owner, scope, at, text });
+                                }
                                 self.sizes.push(f.program.eval(&self.env));
                             }
                         }
@@ -417,7 +436,7 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
     }
 
     /// The applicable alternatives of `rule` at `scope` into `self.cands`.
-    fn candidates(&mut self, rule: RuleId, scope: &Scope) {
+    fn candidates(&mut self, rule: RuleId, scope: &Scope) -> Result<(), Stop> {
         let alts = &self.g.rules[rule as usize].alternatives;
         self.cands.clear();
         let mut env_ready = false;
@@ -435,6 +454,10 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
                         env_ready = true;
                     }
                     self.observe(&f.observers, scope);
+                    if let Some(d) = f.zero_divisor(&self.env) {
+                        let (at, text) = (d.at.clone(), d.text.clone());
+                        return Err(Stop::DivisionByZero { rule, scope: *scope, at, text });
+                    }
                     let v = f.program.eval(&self.env);
                     v != 0.0 && !v.is_nan()
                 }
@@ -448,6 +471,7 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
         {
             self.cands.push(i as u16);
         }
+        Ok(())
     }
 
     /// Draws one of `cands` by weight and removes it. Zero weights are
@@ -601,6 +625,7 @@ impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
                 self.limits.depth, self.limits.depth
             ),
             FailureKind::InvalidBox => "invalid derivation box".to_string(),
+            FailureKind::DivisionByZero => "a formula divided by zero".to_string(),
         };
         let mut trace = Trace { events: self.trace.take().unwrap_or_default() };
         if trace.events.is_empty()

@@ -6,6 +6,7 @@ use crate::formula::{Formula, Observer};
 use crate::observe::BlockType;
 use crate::split::Round;
 use genform_core::BlockState;
+use glam::IVec3;
 use serde::{Deserialize, Serialize};
 
 pub(crate) type RuleId = u32;
@@ -110,6 +111,10 @@ pub struct BoxGrammar {
     /// Observer and block type of each observer slot.
     pub(crate) slots: Vec<(Observer, u32)>,
     pub(crate) limits: DeriveLimits,
+    /// `box …;`: the default derivation box, `min..max_exclusive`.
+    pub(crate) default_box: Option<(IVec3, IVec3)>,
+    /// `world "…";`: the default world, as written.
+    pub(crate) default_world: Option<String>,
 }
 
 impl BoxGrammar {
@@ -133,8 +138,40 @@ impl BoxGrammar {
         self.limits
     }
 
+    /// The box the grammar declares with `box x0, y0, z0, x1, y1, z1;`, as
+    /// `(min, max_exclusive)` (the corners are inclusive and in any order),
+    /// or `None`. A caller's own box takes precedence.
+    pub fn default_box(&self) -> Option<(IVec3, IVec3)> {
+        self.default_box
+    }
+
+    /// The world the grammar declares with `world "…";`, exactly as written
+    /// (a path the caller resolves, relative to the grammar file), or `None`.
+    pub fn default_world(&self) -> Option<&str> {
+        self.default_world.as_deref()
+    }
+
     /// Every block the grammar can place (air first).
     pub fn blocks(&self) -> &[BlockState] {
         &self.blocks
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use genform_core::SourceFile;
+    use glam::IVec3;
+
+    fn compile(src: &str) -> super::BoxGrammar {
+        crate::compile(&SourceFile::new("t.bsg", src)).unwrap().0
+    }
+
+    #[test]
+    fn declared_box_is_normalized_to_min_and_max_exclusive() {
+        let g = compile("box 9, -2, 5, 0, 3, -5;\nworld \"../terrain/r.0.0.mca\";\nA { fill stone }\n");
+        assert_eq!(g.default_box(), Some((IVec3::new(0, -2, -5), IVec3::new(10, 4, 6))));
+        assert_eq!(g.default_world(), Some("../terrain/r.0.0.mca"));
+        let g = compile("A { fill stone }\n");
+        assert_eq!((g.default_box(), g.default_world()), (None, None));
     }
 }

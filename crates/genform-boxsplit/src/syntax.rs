@@ -28,6 +28,11 @@ pub(crate) enum Item {
     Grammar(String, Span),
     Axiom(Ident),
     Limits(Vec<(Ident, f64, Span)>),
+    /// `box x0, y0, z0, x1, y1, z1;`: the corners as written (sign applied)
+    /// and the whole declaration's span.
+    Box(Vec<(f64, Span)>, Span),
+    /// `world "…";`: the path and the string's span.
+    World(String, Span),
     Group(Ident, Vec<Ident>),
     Material(Ident, Vec<MixEntry>),
     Let(Ident, Expr),
@@ -82,11 +87,11 @@ pub(crate) enum OpSyn {
 
 /// Keywords, never rule names.
 pub(crate) const KEYWORDS: &[&str] = &[
-    "grammar", "axiom", "limits", "group", "material", "let", "when", "else", "weight", "split", "repeat", "round",
-    "fill", "void", "skip", "reorient", "and", "or", "not",
+    "grammar", "axiom", "limits", "box", "world", "group", "material", "let", "when", "else", "weight", "split",
+    "repeat", "round", "fill", "void", "skip", "reorient", "and", "or", "not",
 ];
 
-const DECLARATIONS: &[&str] = &["grammar", "axiom", "limits", "group", "material", "let"];
+const DECLARATIONS: &[&str] = &["grammar", "axiom", "limits", "box", "world", "group", "material", "let"];
 
 /// Deepest nesting of formulas and split children accepted.
 const MAX_NESTING: usize = 100;
@@ -214,7 +219,7 @@ impl<'a> Parser<'a> {
         if self.tok.tok != Tok::Ident {
             return Err(self
                 .error_here("a declaration or a rule")
-                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `group`, `material` or `let`; a rule is `Name { … }`"));
+                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `group`, `material` or `let`; a rule is `Name { … }`"));
         }
         let word = self.text(self.tok.span);
         Ok(Some(match word {
@@ -254,6 +259,36 @@ impl<'a> Parser<'a> {
                 self.end_declaration("the limits");
                 Item::Limits(limits)
             }
+            "box" => {
+                let start = self.bump().span;
+                let mut corners = Vec::new();
+                loop {
+                    corners.push(self.signed_number("a whole number (a corner coordinate)")?);
+                    if matches!(self.tok.tok, Tok::Num(_) | Tok::Minus) {
+                        return Err(self
+                            .error_here("`,` between the corner coordinates")
+                            .with_hint("write `box x0, y0, z0, x1, y1, z1;` (two opposite corners, inclusive)"));
+                    }
+                    if self.tok.tok != Tok::Comma {
+                        break;
+                    }
+                    self.bump();
+                }
+                let end = corners.last().map_or(start, |c| c.1);
+                self.end_declaration("the box's corners");
+                Item::Box(corners, start.to(end))
+            }
+            "world" => {
+                self.bump();
+                if self.tok.tok != Tok::Str {
+                    return Err(self
+                        .error_here("the world's path in quotes")
+                        .with_hint("write `world \"../terrain/r.0.0.mca\";` (relative to the grammar file)"));
+                }
+                let t = self.bump();
+                self.end_declaration("the world's path");
+                Item::World(string_value(self.src, t.span), t.span)
+            }
             "group" => {
                 self.bump();
                 let name = self.name("the group's name")?;
@@ -288,6 +323,23 @@ impl<'a> Parser<'a> {
             }
             _ => Item::Rule(self.rule()?),
         }))
+    }
+
+    /// A number with an optional leading `-`, and its span (sign included).
+    fn signed_number(&mut self, what: &str) -> PResult<(f64, Span)> {
+        let start = self.tok.span;
+        let sign = if self.tok.tok == Tok::Minus {
+            self.bump();
+            -1.0
+        } else {
+            1.0
+        };
+        match self.tok.tok {
+            Tok::Num(v) => Ok((sign * v, start.to(self.bump().span))),
+            _ => Err(self
+                .error_here(what)
+                .with_hint("write `box x0, y0, z0, x1, y1, z1;` (two opposite corners, inclusive)")),
+        }
     }
 
     fn mix_entry(&mut self) -> PResult<MixEntry> {

@@ -372,3 +372,35 @@ fn the_trace_round_trips_through_json() {
     assert!(json.contains("\"rule\": \"B\""), "{json}");
     assert!(json.contains("\"min\""), "{json}");
 }
+
+#[test]
+fn a_division_by_zero_in_a_constraint_stops_the_derivation_naming_rule_and_formula() {
+    let src = "axiom A;\nA {\n  when X // (X - 4) > 1 { fill stone }\n  else { void }\n}\n";
+    // X = 5: the divisor is 1, the derivation runs.
+    assert!(derive_in(src, None, IVec3::new(5, 1, 1), false).is_ok());
+    let e = derive_in(src, None, IVec3::new(4, 1, 1), false).unwrap_err();
+    assert_eq!(e.kind, FailureKind::DivisionByZero);
+    assert!(e.message.contains("rule `A`"), "{}", e.message);
+    assert!(e.message.contains("test.bsg:3:8") && e.message.contains("`X // (X - 4)`"), "{}", e.message);
+}
+
+#[test]
+fn a_zero_divisor_in_a_split_size_or_a_remainder_is_an_error_too() {
+    let src = "axiom A;\nA { split x [Y % (Z - 1), -1] { fill stone, void } }\n";
+    let e = derive_in(src, None, IVec3::new(4, 2, 1), false).unwrap_err();
+    assert_eq!(e.kind, FailureKind::DivisionByZero);
+    assert!(e.message.contains("test.bsg:2:14") && e.message.contains("`Y % (Z - 1)`"), "{}", e.message);
+}
+
+#[test]
+fn a_division_guarded_by_and_or_if_is_not_evaluated_when_the_guard_fails() {
+    let src = "axiom A;\nA {\n  when X != 4 && 8 / (X - 4) > 1 { fill stone }\n  when if(X == 4, 1, 1 / (X - 4)) > 0 { void }\n}\n";
+    let d = derive_in(src, None, IVec3::new(4, 1, 1), false).unwrap();
+    assert_eq!(at(&d, 0, 0, 0), "air");
+}
+
+#[test]
+fn a_constant_division_by_zero_is_a_compile_error() {
+    let e = compile(&SourceFile::new("t.bsg", "let k = 3 // 0;\naxiom A;\nA { fill stone }\n")).unwrap_err();
+    assert!(e.to_string().contains("division by zero"), "{e}");
+}

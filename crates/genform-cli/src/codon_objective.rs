@@ -626,7 +626,7 @@ impl Objective<Codons> for CodonObjective {
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a
 /// bare JSON array of codons.
 pub fn read_codons(path: &std::path::Path) -> Result<Codons> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::source_text::read_text(path, "genome")?;
     let value: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     let list = match &value {

@@ -22,7 +22,7 @@ pub struct Loaded {
 impl Loaded {
     /// Reads a genome JSON file and checks that it fits this grammar.
     pub fn read_genome(&self, path: &Path) -> Result<Genome> {
-        let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let text = crate::source_text::read_text(path, "genome")?;
         Genome::from_json(&text, self.generator.graph())
             .with_context(|| format!("{} does not fit grammar `{}`", path.display(), self.name))
     }

@@ -93,8 +93,9 @@ fn bridge_on_real_terrain_goes_into_a_copy_of_the_region() {
 fn box_split_errors_are_clear() {
     let tmp = tempfile::tempdir().unwrap();
     let castle = bsg("castle");
-    let err = genform(tmp.path(), &["sample", s(&castle), "--out", "c.schem"]).fails().stderr();
-    assert!(err.contains("--box"), "{err}");
+    std::fs::write(tmp.path().join("nobox.bsg"), "A { fill stone }\n").unwrap();
+    let err = genform(tmp.path(), &["sample", "nobox.bsg", "--out", "c.schem"]).fails().stderr();
+    assert!(err.contains("--box") && err.contains("box x0, y0, z0, x1, y1, z1;"), "{err}");
     let err = genform(tmp.path(), &["sample", s(&castle), "--box", "0,0,0,9,9,9", "--out", "c.mca"]).fails().stderr();
     assert!(err.contains("needs --world"), "{err}");
     let world = prismarine();

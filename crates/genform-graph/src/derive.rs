@@ -75,6 +75,19 @@ pub enum DeriveError {
         /// The step.
         step: usize,
     },
+    /// A daughter vertex position evaluated to NaN or an infinity.
+    #[error(
+        "production `{production}` placed a vertex at a coordinate that is {value} at step {step}; \
+         check its `pos:` formulas for a division by zero or an overflow"
+    )]
+    NonFinitePosition {
+        /// The production.
+        production: String,
+        /// The coordinate, as text (`NaN`, `inf`, `-inf`).
+        value: String,
+        /// The step (0-based, as in the other errors).
+        step: usize,
+    },
     /// No step limit was set and productions still matched.
     #[error("no step limit is set and the derivation was still going after {steps} steps; add `steps:` to the grammar")]
     NoTermination {
@@ -278,7 +291,9 @@ impl GraphGrammar {
             if g.element_count() + opt.new_vertices.len() + opt.new_edges.len() > max_elements {
                 return Err(DeriveError::TooManyElements { limit: max_elements, step: steps });
             }
-            apply(&mut g, p, opt, &mut envs[pi], &mv[..p.mv.len()], &me[..p.me.len()], choices, &mut scratch);
+            apply(&mut g, p, opt, &mut envs[pi], &mv[..p.mv.len()], &me[..p.me.len()], choices, &mut scratch).map_err(
+                |v| DeriveError::NonFinitePosition { production: p.name.clone(), value: v.to_string(), step: steps },
+            )?;
             group_counts[gi] += 1;
             applications[pi] += 1;
             steps += 1;

@@ -34,6 +34,8 @@ struct Pending {
 
 /// Applies option `opt` of production `p` at the match (`mv`, `me`: host
 /// ids per mother vertex and edge); `env` holds the match's loaded values.
+/// A daughter position that is not a finite number is the error (its
+/// value), and the graph is then left unchanged.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn apply(
     g: &mut Graph,
@@ -44,7 +46,7 @@ pub(crate) fn apply(
     me: &[u32],
     choices: &mut impl Choices,
     s: &mut Scratch,
-) {
+) -> Result<(), f64> {
     for (slot, prog) in p.app_vars.iter().chain(&opt.vars) {
         env[*slot as usize] = prog.eval_draws(env, choices);
     }
@@ -104,6 +106,11 @@ pub(crate) fn apply(
     for (d, out) in opt.new_edges.iter().zip(&mut s.new_e) {
         edge_values(g, d, env, choices, out, &mut s.text);
     }
+    // A NaN or infinite position would silently vanish from the drawing.
+    let placed = s.kept_v[..opt.kept_vertices.len()].iter().chain(&s.new_v[..opt.new_vertices.len()]);
+    if let Some(bad) = placed.flat_map(|v| v.pos).find(|c| !c.is_finite()) {
+        return Err(bad);
+    }
 
     // Delete edges first: a deleted vertex would take them along anyway.
     for &i in &opt.delete_edges {
@@ -153,6 +160,7 @@ pub(crate) fn apply(
         let common = NewCommon { label: new.label.unwrap_or(0), generation, attrs: &mut new.attrs };
         g.add_edge(end(d.from), end(d.to), d.directed.unwrap_or(false), common);
     }
+    Ok(())
 }
 
 fn resize(v: &mut Vec<Pending>, n: usize) {

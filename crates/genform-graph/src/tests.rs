@@ -558,3 +558,18 @@ mod props {
         }
     }
 }
+
+#[test]
+fn a_non_finite_daughter_position_is_an_error_naming_production_and_step() {
+    let src = |a: u32| {
+        format!(
+            "host:\n  vertices: {{r: {{label: r, a: {a}}}}}\nproductions:\n  - name: split\n    mother: {{vertices: {{R: {{label: r}}}}}}\n    daughter: {{vertices: {{R: {{label: s}}, N: {{label: s, x: \"1 / (R.a - 1)\", y: 0}}}}}}\n"
+        )
+    };
+    let e = grammar(&src(1)).derive(&mut Rng::from_seed(1), Some(5), 100).unwrap_err();
+    assert_eq!(e, crate::DeriveError::NonFinitePosition { production: "split".into(), value: "inf".into(), step: 0 });
+    assert!(e.to_string().contains("production `split`") && e.to_string().contains("step 0"), "{e}");
+    // With a = 2 the vertex lands at x = 1.
+    let d = grammar(&src(2)).derive(&mut Rng::from_seed(1), Some(5), 100).unwrap();
+    assert_eq!(d.graph.element_count(), 2);
+}

@@ -26,6 +26,8 @@ pub struct LSystem {
     pub(crate) ignored: Vec<bool>,
     /// Per symbol: is `[`, is `]`.
     pub(crate) brackets: [Vec<bool>; 2],
+    /// The file it was compiled from, to locate rules in run-time errors.
+    pub(crate) source: Option<genform_core::SourceFile>,
 }
 
 /// Names visible in a production: its formal parameters (variables) and the
@@ -112,6 +114,7 @@ pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Di
             interpretation,
             ignored,
             brackets,
+            source: None,
         };
         Ok((system, c.warnings))
     } else {
@@ -281,14 +284,52 @@ impl Compiler {
             let s = self.sym(&call.name, call.args.len(), call.span);
             out.syms.push(s);
             for a in &call.args {
-                if let Some(v) = self.constant(a, "an axiom parameter") {
-                    out.params.push(v);
-                } else {
-                    out.params.push(f64::NAN);
+                match self.constant(a, "an axiom parameter") {
+                    Some(v) if v.is_finite() => out.params.push(v),
+                    Some(_) => {
+                        self.errors.push(Diagnostic::error(
+                            a.ast.span.shift(a.at),
+                            "this axiom parameter is not a finite number",
+                        ));
+                        out.params.push(f64::NAN);
+                    }
+                    None => out.params.push(f64::NAN),
                 }
             }
         }
+        self.balanced(calls, &out.syms, "the axiom");
         out
+    }
+
+    /// Reports brackets of `calls` (interned as `syms`) that do not pair
+    /// up: a `]` that closes nothing, or `[`s left open. Branches must
+    /// close where they open, or the turtle pops states that were never
+    /// pushed and contexts see a different tree than the one drawn.
+    fn balanced(&mut self, calls: &[Call], syms: &[Sym], what: &str) {
+        let mut open: Vec<Span> = Vec::new();
+        for (call, &s) in calls.iter().zip(syms) {
+            match self.alphabet.command(s) {
+                Command::Push => open.push(call.span),
+                Command::Pop if open.pop().is_none() => {
+                    self.errors.push(
+                        Diagnostic::error(call.span, format!("this `]` in {what} closes no branch"))
+                            .with_hint("every `]` needs a `[` before it in the same axiom or successor"),
+                    );
+                    return;
+                }
+                _ => {}
+            }
+        }
+        if let Some(&first) = open.first() {
+            let n = open.len();
+            self.errors.push(
+                Diagnostic::error(
+                    first,
+                    format!("{what} opens {n} branch{} with `[` that it never closes", if n == 1 { "" } else { "es" }),
+                )
+                .with_hint("add the missing `]`: a branch must close in the axiom or successor that opens it"),
+            );
+        }
     }
 
     fn pattern(&mut self, p: &Pattern, formals: &mut Vec<String>) -> Sym {
@@ -349,6 +390,7 @@ impl Compiler {
                 succ_args.push(Arg::of(prog));
             }
         }
+        self.balanced(&p.successor, &succ_syms, "the successor");
         if (p.cond.is_some() && cond.is_none()) || (p.weight.is_some() && weight.is_none()) {
             return None;
         }

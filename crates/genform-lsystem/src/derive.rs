@@ -42,6 +42,33 @@ pub enum DeriveError {
         /// Modules the whole derivation may write.
         limit: u64,
     },
+    /// A production computed a parameter that is not a finite number
+    /// (a division by zero, an overflow): drawing it would silently drop
+    /// or misplace geometry.
+    #[error(
+        "step {step} of {steps}: the production at {at} (`{rule}`) gave a module parameter that is {value}; \
+         guard the formula with a condition (e.g. `A(x) : x != 0 -> …`) or change it"
+    )]
+    NonFinite {
+        /// The step where it happened (1-based).
+        step: u32,
+        /// Steps asked for.
+        steps: u32,
+        /// `file:line:col` of the production.
+        at: String,
+        /// The production's text.
+        rule: String,
+        /// The value, as text (`inf`, `-inf`, `NaN`).
+        value: String,
+    },
+}
+
+/// Why one rewriting pass stopped early.
+pub(crate) enum Stop {
+    /// The string outgrew the module limit.
+    Full,
+    /// Rule `.0` of the table gave the non-finite parameter `.1`.
+    NonFinite(u32, f64),
 }
 
 /// Modules a derivation may write over all its steps, per module of the
@@ -58,6 +85,9 @@ pub(crate) struct Scratch {
     pub(crate) env: Vec<f64>,
     found: Vec<usize>,
     candidates: Vec<(u32, f64)>,
+    /// The first rule (and value) that emitted a non-finite parameter
+    /// during an [`LSystem::expand`].
+    pub(crate) non_finite: Option<(u32, f64)>,
 }
 
 /// A module being rewritten and what its contexts can see.
@@ -93,13 +123,31 @@ impl LSystem {
         let budget = (max_modules as u64).saturating_mul(WORK_FACTOR);
         let mut written = 0u64;
         for step in 1..=steps {
-            let ok = match &fast {
-                Some(table) => rewrite_fast(table, &cur.syms, &mut next.syms, max_modules),
+            let rewritten = match &fast {
+                Some(table) => {
+                    if rewrite_fast(table, &cur.syms, &mut next.syms, max_modules) {
+                        Ok(())
+                    } else {
+                        Err(Stop::Full)
+                    }
+                }
                 None => self.rewrite(&self.productions, &cur, &mut next, rng, max_modules, &mut scratch),
             };
-            let ok = ok && (self.decomposition.is_empty() || self.decompose(&mut next, rng, max_modules));
-            if !ok {
-                return Err(DeriveError::TooLong { step, steps, limit: max_modules, previous: cur.len() });
+            let done = rewritten.map_err(|stop| (stop, &self.productions)).and_then(|()| {
+                if self.decomposition.is_empty() {
+                    Ok(())
+                } else {
+                    self.decompose(&mut next, rng, max_modules).map_err(|stop| (stop, &self.decomposition))
+                }
+            });
+            match done {
+                Ok(()) => {}
+                Err((Stop::Full, _)) => {
+                    return Err(DeriveError::TooLong { step, steps, limit: max_modules, previous: cur.len() });
+                }
+                Err((Stop::NonFinite(r, v), table)) => {
+                    return Err(self.non_finite(&table.rules[r as usize], v, step, steps));
+                }
             }
             if has_cut {
                 self.cut(&mut next);
@@ -143,7 +191,7 @@ impl LSystem {
         rng: &mut Rng,
         cap: usize,
         sc: &mut Scratch,
-    ) -> bool {
+    ) -> Result<(), Stop> {
         out.syms.clear();
         out.params.clear();
         let mut partners = std::mem::take(&mut sc.partners);
@@ -165,27 +213,45 @@ impl LSystem {
             pop: &self.brackets[1],
         };
         let mut off = 0usize;
-        let mut ok = true;
+        let mut done = Ok(());
         for (i, &sym) in cur.syms.iter().enumerate() {
             let n = self.alphabet.arity(sym);
             let params = &cur.params[off..off + n];
             off += n;
             let site = Site { sym, params, ctx: table.context.then_some((i, &view, &offsets[..], &cur.params[..])) };
             match self.choose(table, &site, rng, sc) {
-                Some(r) => emit(&table.rules[r as usize], &self.alphabet, &sc.env, out, rng),
+                Some(r) => {
+                    if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, &sc.env, out, rng) {
+                        done = Err(Stop::NonFinite(r, v));
+                        break;
+                    }
+                }
                 None => {
                     out.syms.push(sym);
                     out.params.extend_from_slice(params);
                 }
             }
             if !within(out, cap) {
-                ok = false;
+                done = Err(Stop::Full);
                 break;
             }
         }
         sc.partners = partners;
         sc.offsets = offsets;
-        ok
+        done
+    }
+
+    /// The error for rule `rule` having emitted the non-finite `value` at
+    /// `step`, located in the source file when the system has one.
+    pub(crate) fn non_finite(&self, rule: &Rule, value: f64, step: u32, steps: u32) -> DeriveError {
+        let (at, text) = match &self.source {
+            Some(f) => {
+                let text = f.text.get(rule.span.start as usize..rule.span.end as usize).unwrap_or("");
+                (f.location(rule.span.start), text.lines().next().unwrap_or("").trim().to_string())
+            }
+            None => (format!("byte {}", rule.span.start), String::new()),
+        };
+        DeriveError::NonFinite { step, steps, at, rule: text, value: value.to_string() }
     }
 
     /// The rule applied at `site`, its parameters bound in `sc.env`: the
@@ -276,8 +342,9 @@ impl LSystem {
     }
 
     /// Applies the decomposition rules to every module of `s`, recursively
-    /// up to their depth; false when the result exceeds `cap`.
-    fn decompose(&self, s: &mut ModuleString, rng: &mut Rng, cap: usize) -> bool {
+    /// up to their depth; stops when the result exceeds `cap` or a rule
+    /// computes a non-finite parameter.
+    fn decompose(&self, s: &mut ModuleString, rng: &mut Rng, cap: usize) -> Result<(), Stop> {
         let mut out = ModuleString::default();
         let mut sc = Scratch::default();
         let ok = s.modules(&self.alphabet).all(|(sym, params)| {
@@ -285,10 +352,14 @@ impl LSystem {
                 out.syms.push(sym);
                 out.params.extend_from_slice(p);
                 within(&out, cap)
-            })
+            }) && sc.non_finite.is_none()
         });
         *s = out;
-        ok
+        match sc.non_finite {
+            Some((r, v)) => Err(Stop::NonFinite(r, v)),
+            None if !ok => Err(Stop::Full),
+            None => Ok(()),
+        }
     }
 
     /// Rewrites one module with a context-free `table` again and again (up
@@ -312,7 +383,9 @@ impl LSystem {
             return sink(sym, params);
         };
         let mut produced = ModuleString::default();
-        emit(&table.rules[r as usize], &self.alphabet, &sc.env, &mut produced, draws);
+        if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, &sc.env, &mut produced, draws) {
+            sc.non_finite.get_or_insert((r, v));
+        }
         produced.modules(&self.alphabet).all(|(s, p)| self.expand(table, (s, p), depth + 1, draws, sc, sink))
     }
 
@@ -354,26 +427,34 @@ pub(crate) fn within(s: &ModuleString, cap: usize) -> bool {
     s.syms.len() <= cap && s.params.len() <= cap.saturating_mul(4)
 }
 
-/// Appends `rule`'s successor, its parameters evaluated on `env`.
+/// Appends `rule`'s successor, its parameters evaluated on `env`; the
+/// first non-finite parameter as the error (the successor is still
+/// appended whole).
 pub(crate) fn emit(
     rule: &Rule,
     alphabet: &crate::alphabet::Alphabet,
     env: &[f64],
     out: &mut ModuleString,
     draws: &mut impl Draws,
-) {
+) -> Result<(), f64> {
     if rule.succ_args.is_empty() {
         out.syms.extend_from_slice(&rule.succ_syms);
-        return;
+        return Ok(());
     }
     let mut a = 0;
+    let mut bad = None;
     for &s in &rule.succ_syms {
         out.syms.push(s);
         for _ in 0..alphabet.arity(s) {
-            out.params.push(rule.succ_args[a].eval(env, draws));
+            let v = rule.succ_args[a].eval(env, draws);
+            if !v.is_finite() {
+                bad.get_or_insert(v);
+            }
+            out.params.push(v);
             a += 1;
         }
     }
+    bad.map_or(Ok(()), Err)
 }
 
 /// Roulette choice among weighted candidates; the first candidate when

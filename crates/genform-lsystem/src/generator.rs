@@ -305,10 +305,15 @@ impl Walk<'_> {
         let site = Site { sym, params, ctx: None };
         let chosen = sys.choose_with(&sys.productions, &site, &mut draws, roulette, &mut self.sc);
         let mut produced = ModuleString::default();
+        let mut emitted = Ok(());
         if let Some(r) = chosen {
-            emit(&sys.productions.rules[r as usize], &sys.alphabet, &self.sc.env, &mut produced, &mut draws);
+            emitted = emit(&sys.productions.rules[r as usize], &sys.alphabet, &self.sc.env, &mut produced, &mut draws);
         }
         self.values = values;
+        if let (Some(r), Err(v)) = (chosen, emitted) {
+            let e = sys.non_finite(&sys.productions.rules[r as usize], v, depth as u32, sys.settings.derivation);
+            return Err(ExpressError::Eval(e.to_string()));
+        }
         let Some(r) = chosen else {
             // No production applies: the module stays.
             return self.push(sym, params);

@@ -64,6 +64,7 @@ pub fn compile(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics>
     }
     match compile::compile(&parsed) {
         Ok((mut system, warnings)) => {
+            system.source = Some(file.clone());
             if system.settings.name.is_empty() {
                 let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
                 system.settings.name = stem.unwrap_or_default().trim_end_matches(".ls").to_string();

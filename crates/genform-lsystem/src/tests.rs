@@ -3,7 +3,7 @@
 
 use crate::compile::{LSystem, compile_text};
 use crate::string::ModuleString;
-use genform_core::{Rng, Scene};
+use genform_core::{Rng, Scene, SourceFile};
 use glam::DVec3;
 
 fn system(text: &str) -> LSystem {
@@ -435,4 +435,34 @@ mod properties {
             }
         }
     }
+}
+
+#[test]
+fn a_non_finite_parameter_stops_the_derivation_naming_the_production_and_step() {
+    let text = "axiom: A(1)\nproduction:\nA(x) : x < 3 -> A(x+1)\nA(x) -> A(x/0)F(x)\n";
+    let (s, _) = crate::compile(&SourceFile::new("div.ls", text)).unwrap();
+    // Steps 1 and 2 rewrite with the first production; step 3 divides by zero.
+    assert_eq!(s.derive(2, &mut Rng::from_seed(1)).unwrap().params, vec![3.0]);
+    let e = s.derive(5, &mut Rng::from_seed(1)).unwrap_err();
+    match &e {
+        crate::DeriveError::NonFinite { step, at, rule, value, .. } => {
+            assert_eq!(
+                (*step, at.as_str(), rule.as_str(), value.as_str()),
+                (3, "div.ls:4:1", "A(x) -> A(x/0)F(x)", "inf")
+            );
+        }
+        other => panic!("expected NonFinite, got {other}"),
+    }
+    assert!(e.to_string().starts_with("step 3 of 5: the production at div.ls:4:1"), "{e}");
+}
+
+#[test]
+fn a_non_finite_parameter_in_a_decomposition_rule_is_an_error_too() {
+    let text = "axiom: A(0)\nproduction:\nA(x) -> A(x)\ndecomposition:\nA(x) -> B(0/x)\n";
+    let (s, _) = crate::compile(&SourceFile::new("dec.ls", text)).unwrap();
+    let e = s.derive(1, &mut Rng::from_seed(1)).unwrap_err();
+    assert!(
+        matches!(&e, crate::DeriveError::NonFinite { step: 1, at, value, .. } if at == "dec.ls:5:1" && value == "NaN"),
+        "{e:?}"
+    );
 }

@@ -56,13 +56,23 @@ impl LoadedGrammar for BoxFile {
         let grammar = &self.grammar;
         let out = request.out.as_deref();
         let to_region = out.is_some_and(|p| ends_with_any(p, REGION));
-        if to_region && request.world.is_none() {
+        // --world and --box override what the grammar declares; a declared
+        // world is relative to the grammar file.
+        let world_path = request
+            .world
+            .clone()
+            .or_else(|| grammar.default_world().map(|w| self.path.parent().unwrap_or(Path::new("")).join(w)));
+        if to_region && world_path.is_none() {
             bail!("writing a region file (.mca) needs --world: the blocks go into a copy of the observed region");
         }
-        let Some(box_text) = &request.box_corners else {
-            bail!("box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
+        let (min, max) = match (&request.box_corners, grammar.default_box()) {
+            (Some(text), _) => parse_box(text)?,
+            (None, Some(declared)) => declared,
+            (None, None) => bail!(
+                "box-split grammars derive in a box: give --box x0,y0,z0,x1,y1,z1 (two opposite corners, \
+                 inclusive), or declare one in the grammar: `box x0, y0, z0, x1, y1, z1;`"
+            ),
         };
-        let (min, max) = parse_box(box_text)?;
         let preview = match out {
             Some(path) if !to_region => is_preview(path)?,
             _ => false,
@@ -73,7 +83,7 @@ impl LoadedGrammar for BoxFile {
         let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
         let (read_min, read_max) =
             if preview { (min - margin, IVec3::new(max.x + margin.x, max.y + margin.y, max.z)) } else { (min, max) };
-        let (regions, world) = match &request.world {
+        let (regions, world) = match &world_path {
             Some(path) => {
                 let World { files: regions, paths, mut missing } = load_world(path, read_min, read_max)?;
                 if let Some(out) = out.filter(|_| to_region) {
@@ -142,6 +152,13 @@ impl LoadedGrammar for BoxFile {
             "limits: applications {}, backtracks {}, depth {}\n",
             limits.applications, limits.backtracks, limits.depth
         ));
+        if let Some((min, max)) = g.default_box() {
+            let max = max - IVec3::ONE;
+            out.push_str(&format!("box: {},{},{},{},{},{}\n", min.x, min.y, min.z, max.x, max.y, max.z));
+        }
+        if let Some(world) = g.default_world() {
+            out.push_str(&format!("world: {world}\n"));
+        }
         out.push_str(&format!("rules: {}\n", g.rule_names().collect::<Vec<_>>().join(", ")));
         out.push_str(&format!("blocks: {}\n", g.blocks().iter().map(|b| b.to_string()).collect::<Vec<_>>().join(", ")));
         out

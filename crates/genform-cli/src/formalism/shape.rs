@@ -40,7 +40,7 @@ struct FileAssets {
 impl genform_shape::AssetResolver for FileAssets {
     fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
         let full = self.base.join(path);
-        let text = std::fs::read_to_string(&full).map_err(|e| format!("cannot read {}: {e}", full.display()))?;
+        let text = crate::source_text::read_text(&full, "mesh").map_err(|e| format!("{e:#}"))?;
         let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
         Mesh::from_obj(&name, &text).map_err(|e| format!("{}: {e}", full.display()))
     }
