@@ -4,6 +4,7 @@
 use crate::derive::MAX_VOLUME;
 use crate::formula::Formulas;
 use crate::grammar::{AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId};
+use crate::known_blocks::{self, BlockCheck, Known};
 use crate::observe::TypeTable;
 use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn};
 use genform_core::diag::{Diagnostic, SourceFile, Span};
@@ -21,8 +22,11 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
         diags.items = errors;
         return Err(diags);
     }
+    // The opt-out applies to the whole file, wherever it is written.
+    let allow = items.iter().find_map(|i| if let Item::AllowUnknownBlocks(s) = i { Some(*s) } else { None });
     let mut c = Compiler {
         file,
+        check: BlockCheck::new(allow),
         out: Vec::new(),
         types: TypeTable::new(),
         formulas: Formulas::for_file(file),
@@ -37,6 +41,11 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
     };
     c.block_ids.insert(BlockState::air(), AIR);
     let grammar = c.run(&items);
+    // Ids named by groups and observers, first use of each spelling.
+    for (state, span) in std::mem::take(&mut c.types.named_ids) {
+        c.check.check(&state, span, &mut c.out);
+    }
+    c.check.finish(&mut c.out);
     diags.items = c.out;
     match grammar {
         Some(g) if !diags.has_errors() => Ok((g, diags)),
@@ -46,6 +55,8 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
 
 struct Compiler<'f> {
     file: &'f SourceFile,
+    /// Block ids against Minecraft's lists.
+    check: BlockCheck,
     out: Vec<Diagnostic>,
     types: TypeTable,
     formulas: Formulas,
@@ -73,6 +84,7 @@ impl Compiler<'_> {
         let mut limits = DeriveLimits::default();
         let mut default_box: Option<(Option<(IVec3, IVec3)>, Span)> = None;
         let mut default_world: Option<(&String, Span)> = None;
+        let mut allow_unknown: Option<Span> = None;
         let rules: Vec<&RuleSyn> =
             items.iter().filter_map(|i| if let Item::Rule(r) = i { Some(r) } else { None }).collect();
         for r in &rules {
@@ -123,6 +135,15 @@ impl Compiler<'_> {
                         );
                     }
                     default_world = Some((path, *span));
+                }
+                Item::AllowUnknownBlocks(span) => {
+                    if let Some(prev) = allow_unknown {
+                        self.out.push(
+                            Diagnostic::error(*span, "`allow_unknown_blocks` is given twice")
+                                .with_label(prev, "first here"),
+                        );
+                    }
+                    allow_unknown = Some(*span);
                 }
                 Item::Group(n, members) => {
                     if self.rule_ids.contains_key(&n.name) {
@@ -268,6 +289,7 @@ impl Compiler<'_> {
             }
             match BlockState::parse(&e.block.name) {
                 Ok(b) => {
+                    self.check.check(&b, e.block.span, &mut self.out);
                     m.blocks.push(self.block(b));
                     m.weights.push(e.weight);
                 }
@@ -458,16 +480,25 @@ impl Compiler<'_> {
         }
         match BlockState::parse(&b.name) {
             Ok(state) => {
-                // Any id is accepted as a block; a near miss of a material
-                // is most likely a typo.
+                // A near miss of a material is most likely a typo: an error
+                // when the id is no block either, else a warning.
                 if !b.name.contains([':', '['])
                     && let Some(s) = did_you_mean(&b.name, self.materials.keys().map(String::as_str))
                 {
+                    let hint = format!("did you mean the material `{s}`?");
+                    if known_blocks::lookup(state.id()) == Known::Unknown && !self.check.allows_unknown() {
+                        self.out.push(
+                            Diagnostic::error(b.span, format!("`{}` is neither a material nor a known block", b.name))
+                                .with_hint(hint),
+                        );
+                        return None;
+                    }
                     self.out.push(
                         Diagnostic::warning(b.span, format!("`{}` is taken as the block `{state}`", b.name))
-                            .with_hint(format!("did you mean the material `{s}`?")),
+                            .with_hint(hint),
                     );
                 }
+                self.check.check(&state, b.span, &mut self.out);
                 Some(Paint::Block(self.block(state)))
             }
             Err(msg) => {

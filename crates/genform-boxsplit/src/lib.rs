@@ -36,6 +36,7 @@ mod compile;
 mod derive;
 mod formula;
 mod grammar;
+mod known_blocks;
 mod lex;
 mod observe;
 pub mod split;

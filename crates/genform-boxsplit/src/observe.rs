@@ -6,7 +6,7 @@
 //! 3D summed-area table per type, built once per derivation on first use.
 
 use crate::syntax::Ident;
-use genform_core::diag::Diagnostic;
+use genform_core::diag::{Diagnostic, Span};
 use genform_core::expr::did_you_mean;
 use genform_core::{BlockGrid, BlockKind, BlockState};
 use glam::IVec3;
@@ -60,12 +60,15 @@ impl BlockType {
 pub(crate) struct TypeTable {
     pub types: Vec<BlockType>,
     by_name: HashMap<String, u32>,
+    /// Block ids named by groups and observers (first use of each
+    /// spelling), for the compiler's check against Minecraft's lists.
+    pub named_ids: Vec<(BlockState, Span)>,
 }
 
 impl TypeTable {
     /// The four kinds.
     pub(crate) fn new() -> TypeTable {
-        let mut t = TypeTable { types: Vec::new(), by_name: HashMap::new() };
+        let mut t = TypeTable { types: Vec::new(), by_name: HashMap::new(), named_ids: Vec::new() };
         for (i, n) in KIND_NAMES.iter().enumerate() {
             let mut ty = BlockType::empty(n);
             ty.kinds[i] = true;
@@ -118,6 +121,7 @@ impl TypeTable {
             return Err(d);
         }
         let state = BlockState::parse(&arg.name).map_err(|m| Diagnostic::error(arg.span, m))?;
+        self.named_ids.push((state.clone(), arg.span));
         let key = state.to_string();
         if let Some(&id) = self.by_name.get(&key) {
             self.by_name.insert(arg.name.clone(), id);

@@ -33,6 +33,8 @@ pub(crate) enum Item {
     Box(Vec<(f64, Span)>, Span),
     /// `world "…";`: the path and the string's span.
     World(String, Span),
+    /// `allow_unknown_blocks;`: the statement's span.
+    AllowUnknownBlocks(Span),
     Group(Ident, Vec<Ident>),
     Material(Ident, Vec<MixEntry>),
     Let(Ident, Expr),
@@ -86,12 +88,14 @@ pub(crate) enum OpSyn {
 }
 
 /// Keywords, never rule names.
+#[rustfmt::skip] // one long keyword would otherwise put each on its own line
 pub(crate) const KEYWORDS: &[&str] = &[
-    "grammar", "axiom", "limits", "box", "world", "group", "material", "let", "when", "else", "weight", "split",
-    "repeat", "round", "fill", "void", "skip", "reorient", "and", "or", "not",
+    "grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let", "when",
+    "else", "weight", "split", "repeat", "round", "fill", "void", "skip", "reorient", "and", "or", "not",
 ];
 
-const DECLARATIONS: &[&str] = &["grammar", "axiom", "limits", "box", "world", "group", "material", "let"];
+const DECLARATIONS: &[&str] =
+    &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let"];
 
 /// Deepest nesting of formulas and split children accepted.
 const MAX_NESTING: usize = 100;
@@ -219,7 +223,7 @@ impl<'a> Parser<'a> {
         if self.tok.tok != Tok::Ident {
             return Err(self
                 .error_here("a declaration or a rule")
-                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `group`, `material` or `let`; a rule is `Name { … }`"));
+                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `allow_unknown_blocks`, `group`, `material` or `let`; a rule is `Name { … }`"));
         }
         let word = self.text(self.tok.span);
         Ok(Some(match word {
@@ -288,6 +292,11 @@ impl<'a> Parser<'a> {
                 let t = self.bump();
                 self.end_declaration("the world's path");
                 Item::World(string_value(self.src, t.span), t.span)
+            }
+            "allow_unknown_blocks" => {
+                let span = self.bump().span;
+                self.end_declaration("`allow_unknown_blocks`");
+                Item::AllowUnknownBlocks(span)
             }
             "group" => {
                 self.bump();
