@@ -33,8 +33,22 @@ pub enum Command {
     Pop,
     /// `!`: set (with a parameter) or decrease the width.
     Width,
-    /// `'`: set (with a parameter) or increment the colour index.
+    /// `_` (L-Py's IncWidth): set (with a parameter) or increase the width.
+    WidthUp,
+    /// `'` and `;`: set (with a parameter) or increment the colour index.
     Color,
+    /// `,` (L-Py's DecColor): set (with a parameter) or decrement the
+    /// colour index.
+    ColorDown,
+    /// `@R(hx, hy, hz, ux, uy, uz)` (L-Py's SetHead): set the heading and up
+    /// vectors.
+    SetHead,
+    /// `@D(s)` (L-Py's SetScale): set the turtle's scale.
+    SetScale,
+    /// `@Di(f)` (L-Py's MultScale): multiply the scale.
+    MultScale,
+    /// `@Dd(f)` (L-Py's DivScale): divide the scale.
+    DivScale,
     /// `{`: start a polygon.
     PolygonStart,
     /// `.`: record a polygon vertex.
@@ -66,7 +80,13 @@ impl Command {
             "[" => Command::Push,
             "]" => Command::Pop,
             "!" => Command::Width,
-            "'" => Command::Color,
+            "_" => Command::WidthUp,
+            "'" | ";" => Command::Color,
+            "," => Command::ColorDown,
+            "@R" => Command::SetHead,
+            "@D" => Command::SetScale,
+            "@Di" => Command::MultScale,
+            "@Dd" => Command::DivScale,
             "{" => Command::PolygonStart,
             "." => Command::PolygonVertex,
             "}" => Command::PolygonEnd,
@@ -75,6 +95,37 @@ impl Command {
             _ => Command::None,
         }
     }
+}
+
+/// What a turtle-looking module genform does not draw means in L-Py/cpfg,
+/// or `None` when the name is not such a command (a plain symbol, or one
+/// the turtle implements). Used to warn instead of staying silent.
+pub fn unsupported(name: &str) -> Option<&'static str> {
+    Some(match name {
+        "~" => "predefined surface",
+        "@Gc" => "generalized cylinder start",
+        "@Ge" => "generalized cylinder end",
+        "@M" => "move to a position",
+        "@v" => "roll to vertical",
+        "@B" => "box",
+        "@b" => "quad",
+        "@o" => "circle",
+        "@L" => "text label",
+        "@g" => "PlantGL shape",
+        "@Ts" => "elasticity",
+        "@Tp" => "tropism",
+        "@2D" => "screen projection",
+        "@3D" => "world projection",
+        "?P" => "position query",
+        "?H" => "heading query",
+        "?U" => "up-vector query",
+        "?L" => "left-vector query",
+        "?R" => "right-vector query",
+        "?F" => "frame query",
+        "?I" => "iterator query",
+        _ if name.starts_with('@') && Command::of(name) == Command::None => "turtle command",
+        _ => return None,
+    })
 }
 
 /// One symbol.

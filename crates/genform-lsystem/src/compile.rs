@@ -1,7 +1,7 @@
 //! From the syntax tree to rule tables: symbols interned, formulas compiled
 //! against their production's parameters and the file's constants.
 
-use crate::alphabet::{Alphabet, Command, Sym};
+use crate::alphabet::{self, Alphabet, Command, Sym};
 use crate::rules::{Arg, Entry, Rule, Table};
 use crate::settings::{Heading, Settings, View};
 use crate::string::ModuleString;
@@ -54,12 +54,19 @@ struct Compiler {
     defines: HashMap<String, f64>,
     errors: Vec<Diagnostic>,
     warnings: Vec<Diagnostic>,
+    /// First use of each turtle-looking module genform does not draw.
+    unsupported: HashMap<String, Span>,
 }
 
 /// Compiles a parsed file. Returns the system and warnings, or every error.
 pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
-    let mut c =
-        Compiler { alphabet: Alphabet::default(), defines: HashMap::new(), errors: Vec::new(), warnings: Vec::new() };
+    let mut c = Compiler {
+        alphabet: Alphabet::default(),
+        defines: HashMap::new(),
+        errors: Vec::new(),
+        warnings: Vec::new(),
+        unsupported: HashMap::new(),
+    };
     for (name, span, e) in &file.defines {
         if let Some(v) = c.constant(e, &format!("`define {name}`")) {
             if c.defines.insert(name.clone(), v).is_some() {
@@ -102,6 +109,7 @@ pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Di
     let decomposition = Table::new(dec, n, depth(0, 1));
     let interpretation = Table::new(interp, n, depth(1, 1));
     c.unused_predecessors(&productions, &axiom, [&decomposition, &interpretation]);
+    c.undrawn_commands(&interpretation);
     if c.errors.is_empty() {
         let is = |cmd: Command| c.alphabet.symbols.iter().map(|s| s.command == cmd).collect::<Vec<bool>>();
         let brackets = [is(Command::Push), is(Command::Pop)];
@@ -182,6 +190,14 @@ impl Compiler {
                 "step" => st.step = self.number(s).unwrap_or(st.step),
                 "width" => st.width = self.non_negative(s).unwrap_or(st.width),
                 "width_factor" => st.width_factor = self.number(s).unwrap_or(st.width_factor),
+                "width_unit" => match self.number(s) {
+                    Some(u) if u > 0.0 => st.width_unit = u,
+                    Some(_) => self.errors.push(
+                        Diagnostic::error(value_span(s), "`width_unit` must be positive")
+                            .with_hint("every width is multiplied by it, e.g. `width_unit: 0.01` for pixel widths"),
+                    ),
+                    None => {}
+                },
                 "elasticity" => st.elasticity = self.number(s).unwrap_or(st.elasticity),
                 "growth" => match self.number(s) {
                     Some(g) if (0.0..=1.0).contains(&g) => st.growth = g,
@@ -268,6 +284,12 @@ impl Compiler {
     }
 
     fn sym(&mut self, name: &str, arity: usize, span: Span) -> Sym {
+        if alphabet::unsupported(name).is_some() {
+            let first = self.unsupported.entry(name.to_string()).or_insert(span);
+            if span.start < first.start {
+                *first = span;
+            }
+        }
         match self.alphabet.intern(name, arity) {
             Some(s) => s,
             None => {
@@ -416,6 +438,29 @@ impl Compiler {
             out[i] = !bracket && (listed != *consider);
         }
         out
+    }
+
+    /// Warns once per turtle-looking module that genform does not draw
+    /// (`~`, `@Gc`, `?P`, …), at its first use, unless an interpretation
+    /// rule gives it a drawing: silence would hide a missing surface or
+    /// cylinder.
+    fn undrawn_commands(&mut self, interpretation: &Table) {
+        let mut found: Vec<(String, Span)> = self.unsupported.drain().collect();
+        found.sort_by_key(|(_, s)| s.start);
+        for (name, span) in found {
+            let interpreted =
+                interpretation.rules.iter().any(|r| self.alphabet.symbols[r.strict as usize].name == name);
+            let Some(what) = alphabet::unsupported(&name) else { continue };
+            if !interpreted {
+                self.warnings.push(
+                    Diagnostic::warning(
+                        span,
+                        format!("`{name}` ({what}) is not drawn by genform; it is kept as a plain module"),
+                    )
+                    .with_hint(format!("give it a drawing with an interpretation rule (`{name} -> …`) or remove it")),
+                );
+            }
+        }
     }
 
     fn unused_predecessors(&mut self, productions: &Table, axiom: &ModuleString, others: [&Table; 2]) {

@@ -75,6 +75,10 @@ pub struct Settings {
     /// What `!` without a parameter multiplies the width by
     /// (`width_factor:`, default 0.7).
     pub width_factor: f64,
+    /// What every width given in the file (`width:`, `!(w)`, `_(w)`) is
+    /// multiplied by (`width_unit:`, default 1); `0.01` reads pixel widths
+    /// of ABOP/cpfg files drawn with steps of about 1 % of the figure.
+    pub width_unit: f64,
     /// Initial heading (`heading:`, default +y).
     pub heading: Heading,
     /// Lines or solids (`view: 2d | 3d`, default 2d).
@@ -104,6 +108,7 @@ impl Default for Settings {
             step: 1.0,
             width: 0.0,
             width_factor: 0.7,
+            width_unit: 1.0,
             heading: Heading::PlusY,
             view: View::Flat,
             tropism: None,

@@ -112,6 +112,7 @@ pub const KEYS: &[&str] = &[
     "step",
     "width",
     "width_factor",
+    "width_unit",
     "heading",
     "view",
     "tropism",
@@ -138,7 +139,12 @@ const SECTIONS: &[(&str, Section)] = &[
 pub const MAX_RULE_DEPTH: u32 = 1000;
 
 /// Characters that are syntax, never module names.
-const RESERVED: &[char] = &['(', ')', ',', '<', '>', ':', '=', '#'];
+/// (`,` is L-Py's DecColor module outside parentheses.)
+const RESERVED: &[char] = &['(', ')', '<', '>', ':', '=', '#'];
+
+/// L-Py/cpfg command names of three characters, read as one module (before
+/// the two-character `@X` rule).
+const LONG_COMMANDS: &[&str] = &["@Gc", "@Ge", "@Dd", "@Di", "@Ts", "@Tp", "@2D", "@3D"];
 
 /// Reads `text` into a [`File`], collecting every error.
 pub fn parse(text: &str) -> (File, Vec<Diagnostic>) {
@@ -374,9 +380,12 @@ impl Parser {
             }
             let declared =
                 self.file.modules.iter().filter(|(n, _)| text[i..].starts_with(n.as_str())).map(|(n, _)| n.len()).max();
-            // `@O`-style names (L-Py's sphere) are one module.
+            // `@O`-style names (L-Py's sphere) and `?P`-style queries are
+            // one module; so are L-Py's three-character `@` commands.
+            let long = LONG_COMMANDS.iter().find(|n| text[i..].starts_with(**n)).map(|n| n.len());
             let at_name = c == '@' && text[i + 1..].starts_with(|n: char| n.is_ascii_alphabetic());
-            let len = declared.unwrap_or(if at_name { 2 } else { c.len_utf8() });
+            let query = c == '?' && text[i + 1..].starts_with(|n: char| n.is_ascii_uppercase());
+            let len = declared.or(long).unwrap_or(if at_name || query { 2 } else { c.len_utf8() });
             let name = &text[i..i + len];
             let start = i;
             i += len;

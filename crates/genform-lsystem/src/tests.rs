@@ -466,3 +466,68 @@ fn a_non_finite_parameter_in_a_decomposition_rule_is_an_error_too() {
         "{e:?}"
     );
 }
+
+/// Draws the axiom of `text` into a fresh scene.
+fn scene_of(text: &str) -> (Scene, DVec3) {
+    let s = system(text);
+    let mut scene = Scene::new();
+    let end = s.interpret(&s.axiom, &mut Rng::from_seed(0), 1000, &mut scene).unwrap();
+    (scene, end.position)
+}
+
+#[test]
+fn underscore_increases_the_width_as_the_inverse_of_bang() {
+    // 0.49 / 0.7 = 0.7; `_(2)` sets 2; `!` then gives 1.4.
+    let (scene, _) = scene_of("width: 0.49\naxiom: F _ F _(2) F ! F\n");
+    let widths: Vec<f32> = scene.polylines.iter().map(|l| l.width).collect();
+    let want = [0.49f32, 0.7, 2.0, 1.4];
+    assert_eq!(widths.len(), want.len(), "{widths:?}");
+    for (w, e) in widths.iter().zip(want) {
+        assert!((w - e).abs() < 1e-6, "{widths:?}");
+    }
+}
+
+#[test]
+fn semicolon_and_comma_step_the_colour_index() {
+    // `,` is a module now, not a parse error; it never goes below 0.
+    let (scene, _) = scene_of("axiom: F ; F ; F , F , , F ;(3) F ,(1) F\n");
+    let colors: Vec<&str> =
+        scene.polylines.iter().map(|l| scene.tags[l.tag as usize].split('#').next().unwrap()).collect();
+    assert_eq!(colors, ["color0", "color1", "color2", "color1", "color0", "color3", "color1"]);
+}
+
+#[test]
+fn set_head_orients_the_frame() {
+    // From +y, `@R(1,0,0, 0,0,1)` heads along +x: F ends at (1, 0, 0).
+    let (_, end) = scene_of("axiom: @R(1, 0, 0, 0, 0, 1) F\n");
+    assert!((end - DVec3::X).length() < 1e-12, "{end}");
+    // H = (0,0,2)/2 = +z; U = (0,1,1) made perpendicular = +y; L = U × H =
+    // +x, so `+(90)` turns H to +x: (0,0,1) + (1,0,0).
+    let (_, end) = scene_of("axiom: @R(0, 0, 2, 0, 1, 1) F +(90) F\n");
+    assert!((end - DVec3::new(1.0, 0.0, 1.0)).length() < 1e-12, "{end}");
+    // A degenerate frame leaves the turtle as it was.
+    let (_, end) = scene_of("axiom: @R(1, 0, 0, 2, 0, 0) F\n");
+    assert!((end - DVec3::Y).length() < 1e-12, "{end}");
+}
+
+#[test]
+fn scale_multiplies_lengths_and_widths_and_is_branch_local() {
+    // L-Py's @D / @Di / @Dd: 2 + 2·0.5 + (1/4)·1 along +x.
+    let (_, end) = scene_of("heading: +x\naxiom: @D(2) F @Di(0.5) F @Dd(4) F\n");
+    assert!((end - DVec3::new(3.25, 0.0, 0.0)).length() < 1e-12, "{end}");
+    let (scene, end) = scene_of("heading: +x\nwidth: 0.5\naxiom: [@D(3) F] F\n");
+    assert!((end - DVec3::X).length() < 1e-12, "the scale is popped with the branch: {end}");
+    assert_eq!(scene.polylines.iter().map(|l| l.width).collect::<Vec<_>>(), [1.5, 0.5]);
+}
+
+#[test]
+fn width_unit_multiplies_every_given_width() {
+    // 10 px · 0.01 = 0.1; !(20) → 0.2; `!` → 0.14; `_(5)` → 0.05.
+    let (scene, _) = scene_of("width_unit: 0.01\nwidth: 10\naxiom: F !(20) F ! F _(5) F\n");
+    let widths: Vec<f32> = scene.polylines.iter().map(|l| l.width).collect();
+    for (w, e) in widths.iter().zip([0.1f32, 0.2, 0.14, 0.05]) {
+        assert!((w - e).abs() < 1e-6, "{widths:?}");
+    }
+    assert_eq!(widths.len(), 4);
+    assert!(compile_text("width_unit: 0\naxiom: F\n").is_err());
+}

@@ -22,6 +22,14 @@ use glam::{Affine3A, DMat3, DVec3, Vec3};
 const DEFAULT_COLORS: [[u8; 3]; 5] =
     [[0x22, 0x22, 0x22], [0x2e, 0x7d, 0x32], [0xc6, 0x28, 0x28], [0xf9, 0xa8, 0x25], [0x6d, 0x4c, 0x41]];
 
+/// The largest colour index (keeps the tag table small).
+const MAX_COLOR: usize = 1 << 16;
+
+/// A colour index from a parameter: negative or non-finite values give 0.
+fn color_index(c: f64) -> usize {
+    if c.is_finite() && c >= 0.0 { (c as usize).min(MAX_COLOR) } else { 0 }
+}
+
 /// Why a drawing stopped.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum TurtleError {
@@ -54,6 +62,9 @@ struct State {
     /// Width the last segment of this branch ended with (for taper).
     drawn: Option<f64>,
     color: usize,
+    /// L-Py's turtle scale (`@D`): multiplies move lengths, drawn widths
+    /// and sphere radii.
+    scale: f64,
 }
 
 struct Turtle<'a> {
@@ -86,7 +97,16 @@ impl LSystem {
         let mut t = Turtle {
             sys: self,
             scene,
-            state: State { pos: DVec3::ZERO, h, l, u, width: st.width, drawn: None, color: 0 },
+            state: State {
+                pos: DVec3::ZERO,
+                h,
+                l,
+                u,
+                width: st.width * st.width_unit,
+                drawn: None,
+                color: 0,
+                scale: 1.0,
+            },
             stack: Vec::new(),
             polygons: Vec::new(),
             open_line: None,
@@ -146,11 +166,11 @@ impl Turtle<'_> {
         let s = &mut self.state;
         match self.sys.alphabet.command(sym) {
             Command::Draw => {
-                let len = arg.unwrap_or(st.step);
+                let len = arg.unwrap_or(st.step) * s.scale;
                 self.segment(len);
             }
             Command::Move => {
-                s.pos += s.h * arg.unwrap_or(st.step);
+                s.pos += s.h * arg.unwrap_or(st.step) * s.scale;
                 self.open_line = None;
                 self.vertex();
             }
@@ -183,18 +203,48 @@ impl Turtle<'_> {
                 }
                 self.open_line = None;
             }
-            Command::Width => {
+            Command::Width | Command::WidthUp => {
+                let up = self.sys.alphabet.command(sym) == Command::WidthUp;
                 s.width = match arg {
-                    Some(w) => w.max(0.0),
+                    Some(w) => (w * st.width_unit).max(0.0),
+                    None if up && st.width_factor > 0.0 => s.width / st.width_factor,
+                    None if up => s.width,
                     None => s.width * st.width_factor,
                 };
             }
-            Command::Color => {
+            Command::Color | Command::ColorDown => {
+                let down = self.sys.alphabet.command(sym) == Command::ColorDown;
                 s.color = match arg {
-                    Some(c) if c.is_finite() && c >= 0.0 => (c as usize).min(1 << 16),
-                    Some(_) => 0,
-                    None => (s.color + 1).min(1 << 16),
+                    Some(c) => color_index(c),
+                    None if down => s.color.saturating_sub(1),
+                    None => (s.color + 1).min(MAX_COLOR),
                 };
+            }
+            Command::SetHead => {
+                // L-Py's defaults: H = +z, U = +x.
+                let p = |i: usize, d: f64| params.get(i).copied().unwrap_or(d);
+                let h = DVec3::new(p(0, 0.0), p(1, 0.0), p(2, 1.0));
+                let u = DVec3::new(p(3, 1.0), p(4, 0.0), p(5, 0.0));
+                // U is made perpendicular to H; a degenerate pair leaves
+                // the frame as it was.
+                let h = h.normalize_or_zero();
+                let u = (u - h * u.dot(h)).normalize_or_zero();
+                if h != DVec3::ZERO && u != DVec3::ZERO && h.is_finite() && u.is_finite() {
+                    s.h = h;
+                    s.u = u;
+                    s.l = u.cross(h);
+                }
+            }
+            Command::SetScale | Command::MultScale | Command::DivScale => {
+                let f = arg.unwrap_or(1.0);
+                let next = match self.sys.alphabet.command(sym) {
+                    Command::SetScale => f,
+                    Command::MultScale => s.scale * f,
+                    _ => s.scale / f,
+                };
+                if next.is_finite() && next > 0.0 {
+                    s.scale = next;
+                }
             }
             Command::PolygonStart => {
                 self.polygons.push(Vec::new());
@@ -215,7 +265,7 @@ impl Turtle<'_> {
                 }
             }
             Command::Sphere => {
-                let r = arg.unwrap_or(s.width * 0.5);
+                let r = arg.unwrap_or(s.width * 0.5) * s.scale;
                 if r > 0.0 && r.is_finite() {
                     let transform = Affine3A::from_scale_rotation_translation(
                         Vec3::splat(2.0 * r as f32),
@@ -247,7 +297,7 @@ impl Turtle<'_> {
         let st = &self.sys.settings;
         let from = self.state.pos;
         let to = from + self.state.h * len;
-        let width = self.state.width;
+        let width = self.state.width * self.state.scale;
         let tag = self.tag(self.state.color);
         self.segments += 1;
         if st.view == View::Solid && width > 0.0 && len != 0.0 {
