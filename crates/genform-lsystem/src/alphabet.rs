@@ -57,6 +57,11 @@ pub enum Command {
     PolygonEnd,
     /// `@O`: a sphere of the given radius (default: half the width).
     Sphere,
+    /// `@Gc` (L-Py's StartGC): start a generalized cylinder; the `F`s that
+    /// follow on the branch are swept into one mesh.
+    CylinderStart,
+    /// `@Ge` (L-Py's EndGC): end the generalized cylinder.
+    CylinderEnd,
     /// `%`: cut the rest of the branch (during derivation).
     Cut,
     /// No drawing meaning.
@@ -92,6 +97,8 @@ impl Command {
             "}" => Command::PolygonEnd,
             "%" => Command::Cut,
             "@O" => Command::Sphere,
+            "@Gc" => Command::CylinderStart,
+            "@Ge" => Command::CylinderEnd,
             _ => Command::None,
         }
     }
@@ -103,8 +110,6 @@ impl Command {
 pub fn unsupported(name: &str) -> Option<&'static str> {
     Some(match name {
         "~" => "predefined surface",
-        "@Gc" => "generalized cylinder start",
-        "@Ge" => "generalized cylinder end",
         "@M" => "move to a position",
         "@v" => "roll to vertical",
         "@B" => "box",

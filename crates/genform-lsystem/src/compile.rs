@@ -354,6 +354,35 @@ impl Compiler {
         }
     }
 
+    fn is_bracket(&self, s: Sym) -> bool {
+        matches!(self.alphabet.command(s), Command::Push | Command::Pop)
+    }
+
+    /// Reports the first bracket of a right context that does not pair up:
+    /// a bracketed sub-pattern matches one whole branch, so it must close.
+    fn balanced_context(&mut self, patterns: &[Pattern], syms: &[Sym]) {
+        let mut open: Vec<Span> = Vec::new();
+        for (m, &s) in patterns.iter().zip(syms) {
+            match self.alphabet.command(s) {
+                Command::Push => open.push(m.span),
+                Command::Pop if open.pop().is_none() => {
+                    self.errors.push(
+                        Diagnostic::error(m.span, "this `]` in the right context closes no branch")
+                            .with_hint("a branch in a context is written whole: `A > [B]C`"),
+                    );
+                    return;
+                }
+                _ => {}
+            }
+        }
+        if let Some(&first) = open.first() {
+            self.errors.push(
+                Diagnostic::error(first, "this `[` in the right context is never closed")
+                    .with_hint("a branch in a context is written whole: `A > [B]C`"),
+            );
+        }
+    }
+
     fn pattern(&mut self, p: &Pattern, formals: &mut Vec<String>) -> Sym {
         for (f, span) in &p.formals {
             if formals.contains(f) {
@@ -388,15 +417,15 @@ impl Compiler {
         let left: Vec<Sym> = p.left.iter().map(|m| self.pattern(m, &mut formals)).collect();
         let strict = self.pattern(&p.strict, &mut formals);
         let right: Vec<Sym> = p.right.iter().map(|m| self.pattern(m, &mut formals)).collect();
-        for &s in left.iter().chain(&right) {
-            if matches!(self.alphabet.command(s), Command::Push | Command::Pop) {
-                self.errors.push(
-                    Diagnostic::error(p.span, "brackets cannot be part of a context")
-                        .with_hint("contexts skip over branches by themselves: `A < B` finds A past `[…]` siblings"),
-                );
-                break;
-            }
+        // ABOP §1.8 (and cpfg): the left context is a path towards the root,
+        // so it has no branches; the right context is an axial tree.
+        if let Some(m) = left.iter().zip(&p.left).find(|(s, _)| self.is_bracket(**s)).map(|(_, m)| m) {
+            self.errors.push(
+                Diagnostic::error(m.span, "brackets cannot be part of a left context")
+                    .with_hint("it is the path to the root (ABOP §1.8) and skips branches by itself"),
+            );
         }
+        self.balanced_context(&p.right, &right);
         let defines = self.defines.clone();
         let scope = RuleScope { formals: &formals, defines: &defines };
         let cond = p.cond.as_ref().and_then(|e| self.program(e, &scope));
@@ -441,7 +470,7 @@ impl Compiler {
     }
 
     /// Warns once per turtle-looking module that genform does not draw
-    /// (`~`, `@Gc`, `?P`, …), at its first use, unless an interpretation
+    /// (`~`, `@M`, `?P`, …), at its first use, unless an interpretation
     /// rule gives it a drawing: silence would hide a missing surface or
     /// cylinder.
     fn undrawn_commands(&mut self, interpretation: &Table) {

@@ -1,7 +1,8 @@
 //! Bracket-aware context matching (ABOP §1.8, L-Py): the left context skips
 //! whole sibling branches and steps out to the parent at `[`; the right
-//! context skips lateral branches and fails at `]`; ignored modules are
-//! passed over; nothing matches past the string's ends.
+//! context skips lateral branches and fails at `]`, and its bracketed
+//! sub-patterns match branches; ignored modules are passed over; nothing
+//! matches past the string's ends.
 
 use crate::alphabet::{Alphabet, Command, Sym};
 
@@ -70,10 +71,24 @@ impl Context<'_> {
     }
 
     /// Matches `pattern` to the right of position `i`; pushes the matched
-    /// positions to `found`.
+    /// positions (in pattern order) to `found`. The pattern is an axial
+    /// tree (ABOP §1.8): a bracketed sub-pattern `[…]` must match one of the
+    /// branches that grow from the current node (the first that fits, in
+    /// string order; the rest of that branch is not looked at), and the
+    /// pattern goes on along the axis after it. Brackets in `pattern` are
+    /// balanced (the compiler checks).
     pub(crate) fn right(&self, i: usize, pattern: &[Sym], found: &mut Vec<usize>) -> bool {
         let mut pos = i;
-        for &want in pattern {
+        let mut k = 0;
+        while k < pattern.len() {
+            let want = pattern[k];
+            if self.push[want as usize] {
+                let close = k + pattern_close(&pattern[k..], self.push, self.pop);
+                return self.branch(pos, &pattern[k + 1..close], &pattern[(close + 1).min(pattern.len())..], found);
+            }
+            if self.pop[want as usize] {
+                return false;
+            }
             loop {
                 pos += 1;
                 if pos >= self.syms.len() {
@@ -95,7 +110,56 @@ impl Context<'_> {
                 return false;
             }
             found.push(pos);
+            k += 1;
         }
         true
     }
+
+    /// Tries `inner` against each branch growing from the node after `pos`
+    /// (only ignored modules may stand between), then `rest` after the first
+    /// branch that fits. No backtracking is needed: `rest` finds the same
+    /// axis modules after any of the branches and has the most branches
+    /// left after the earliest, so if the first fit fails, every later fit
+    /// does too (and matching stays linear in the string).
+    fn branch(&self, pos: usize, inner: &[Sym], rest: &[Sym], found: &mut Vec<usize>) -> bool {
+        let mark = found.len();
+        let mut at = pos + 1;
+        while at < self.syms.len() {
+            let s = self.syms[at] as usize;
+            if self.ignored[s] {
+                at += 1;
+                continue;
+            }
+            if !self.push[s] {
+                return false;
+            }
+            let close = self.partners[at] as usize;
+            if close >= self.syms.len() {
+                return false;
+            }
+            if self.right(at, inner, found) {
+                return self.right(close, rest, found);
+            }
+            found.truncate(mark);
+            at = close + 1;
+        }
+        false
+    }
+}
+
+/// Index in `pattern` (which starts with `[`) of the `]` closing it, or
+/// the pattern's length if none does.
+fn pattern_close(pattern: &[Sym], push: &[bool], pop: &[bool]) -> usize {
+    let mut depth = 0usize;
+    for (k, &s) in pattern.iter().enumerate() {
+        if push[s as usize] {
+            depth += 1;
+        } else if pop[s as usize] {
+            depth -= 1;
+            if depth == 0 {
+                return k;
+            }
+        }
+    }
+    pattern.len()
 }

@@ -102,6 +102,58 @@ fn left_context_skips_sibling_branches_and_right_context_stops_at_branch_end() {
     assert_eq!(m.display(&s.alphabet, false), "A[X]");
 }
 
+/// One step of `rules` on `axiom`, displayed without parameters.
+fn step(axiom: &str, rules: &str) -> String {
+    let (s, m) = derive(&format!("axiom: {axiom}\nproduction:\n{rules}\n"), 1);
+    m.display(&s.alphabet, false)
+}
+
+#[test]
+fn bracketed_right_context_matches_a_branch_then_the_axis() {
+    // ABOP §1.8: `[B]` must match a branch at that node, `C` the axis after it.
+    assert_eq!(step("A[B]C", "A > [B]C -> X"), "X[B]C");
+    assert_eq!(step("A[B]C", "A > C -> Y"), "Y[B]C", "a plain context skips the branch");
+    assert_eq!(step("A[B]C", "A > [C] -> Z"), "A[B]C", "C is on the axis, not in a branch");
+    assert_eq!(step("A[B]C", "A > [C] -> Z\nA > [B]C -> X"), "X[B]C", "the first rule fails, the second applies");
+    // Non-matching branches are skipped; branches match in string order.
+    assert_eq!(step("A[D][B]C", "A > [B]C -> X"), "X[D][B]C");
+    assert_eq!(step("A[D][B]C", "A > [D][B]C -> X"), "X[D][B]C");
+    assert_eq!(step("A[D][B]C", "A > [B][D] -> X"), "A[D][B]C");
+    // The branch must grow from A's end node, not further along the axis.
+    assert_eq!(step("AD[B]", "A > [B] -> X"), "AD[B]");
+    // Nested branches; a branch ends at its `]`.
+    assert_eq!(step("A[B[C]]", "A > [B[C]] -> X"), "X[B[C]]");
+    assert_eq!(step("A[B[D]]", "A > [B[C]] -> X"), "A[B[D]]");
+    assert_eq!(step("A[B]C", "A > [BC] -> X"), "A[B]C");
+}
+
+#[test]
+fn abop_axial_tree_context_example() {
+    // ABOP §1.8: BC < S > G[H]M applies to S in ABC[DE][SG[HI[JK]L]MNO];
+    // `[H]` matches the larger branch [HI[JK]L].
+    assert_eq!(step("ABC[DE][SG[HI[JK]L]MNO]", "BC < S > G[H]M -> X"), "ABC[DE][XG[HI[JK]L]MNO]");
+    assert_eq!(step("ABC[DE][SG[HI[JK]L]MNO]", "BC < S > G[I]M -> X"), "ABC[DE][SG[HI[JK]L]MNO]");
+}
+
+#[test]
+fn ignore_and_consider_apply_inside_bracketed_contexts() {
+    assert_eq!(step("A[+B]C", "A > [B]C -> X"), "A[+B]C", "`+` blocks the branch's first module");
+    let ignoring = |axiom: &str| {
+        let (s, m) = derive(&format!("ignore: + f\naxiom: {axiom}\nproduction:\nA > [B]C -> X\n"), 1);
+        m.display(&s.alphabet, false)
+    };
+    assert_eq!(ignoring("A[+B]C"), "X[+B]C");
+    assert_eq!(ignoring("Af[+fB]fC"), "Xf[+fB]fC");
+    let (s, m) = derive("consider: A B C\naxiom: A+[-B]DC\nproduction:\nA > [B]C -> X\n", 1);
+    assert_eq!(m.display(&s.alphabet, false), "X+[-B]DC");
+}
+
+#[test]
+fn bracketed_context_binds_parameters_in_pattern_order() {
+    let (s, m) = derive("axiom: A(1)[B(2)]C(3)\nproduction:\nA(x) > [B(y)]C(z) -> X(x + 10*y + 100*z)\n", 1);
+    assert_eq!(m.display(&s.alphabet, true), "X(321)[B(2)]C(3)");
+}
+
 #[test]
 fn consider_matches_only_listed_modules() {
     let (s, m) = derive("consider: A B\naxiom: A+-fB\nproduction:\nA < B -> X\n", 1);

@@ -6,16 +6,24 @@
 //! −U), `\`/`/` roll about H (`/` right: L towards U), `|` turns around,
 //! `$` rolls L horizontal (perpendicular to +y). Polygons: `{` starts one
 //! at the current position, every move inside it (and `.`) adds a vertex,
-//! `}` closes it. Modules without a drawing meaning are ignored.
+//! `}` closes it. Generalized cylinders: in the solid view, `@Gc` starts
+//! one at the current position, every `F` on the same branch adds a ring
+//! instead of drawing a frustum, and `@Ge` (or the end of the branch, or of
+//! the string) closes it into one mesh (see [`cylinder`]). Modules without
+//! a drawing meaning are ignored.
+
+mod cylinder;
 
 use crate::alphabet::{Command, Sym};
 use crate::compile::LSystem;
 use crate::derive::Scratch;
 use crate::settings::View;
 use crate::string::ModuleString;
+use cylinder::Cylinder;
 use genform_core::Rng;
 use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene, TagId};
 use glam::{Affine3A, DMat3, DVec3, Vec3};
+use std::sync::Arc;
 
 /// Colours used when the file gives no `colors:` table: near-black lines,
 /// then green, red, yellow, brown.
@@ -65,6 +73,9 @@ struct State {
     /// L-Py's turtle scale (`@D`): multiplies move lengths, drawn widths
     /// and sphere radii.
     scale: f64,
+    /// The generalized cylinder this branch is tracing, by index into
+    /// `Turtle::cylinders`; `[` starts a branch without one.
+    cylinder: Option<usize>,
 }
 
 struct Turtle<'a> {
@@ -76,6 +87,11 @@ struct Turtle<'a> {
     /// The polyline being extended, by index into `scene.polylines`.
     open_line: Option<usize>,
     tags: Vec<Option<TagId>>,
+    /// Generalized cylinders being traced (`None` once emitted).
+    cylinders: Vec<Option<Cylinder>>,
+    /// Rings added to cylinders by `F`: each counts as a primitive, like
+    /// the frustum it replaces (the cylinder's instance counts once more).
+    rings: usize,
     segments: usize,
     limit: usize,
     over: bool,
@@ -106,11 +122,14 @@ impl LSystem {
                 drawn: None,
                 color: 0,
                 scale: 1.0,
+                cylinder: None,
             },
             stack: Vec::new(),
             polygons: Vec::new(),
             open_line: None,
             tags: Vec::new(),
+            cylinders: Vec::new(),
+            rings: 0,
             segments: 0,
             limit: max_primitives,
             over: false,
@@ -129,6 +148,13 @@ impl LSystem {
                 return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
             }
         }
+        // Cylinders still open (no `@Ge`, or an unclosed `[`) end with the string.
+        for k in 0..t.cylinders.len() {
+            t.finish_cylinder(k);
+        }
+        if t.over {
+            return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+        }
         Ok(TurtleEnd { position: t.state.pos, segments: t.segments })
     }
 }
@@ -141,7 +167,7 @@ fn rotate(a: DVec3, b: DVec3, deg: f64) -> (DVec3, DVec3) {
 
 impl Turtle<'_> {
     fn primitives(&self) -> usize {
-        self.scene.instances.len() + self.scene.polylines.len() + self.scene.polygons.len()
+        self.scene.instances.len() + self.scene.polylines.len() + self.scene.polygons.len() + self.rings
     }
 
     fn tag(&mut self, color: usize) -> TagId {
@@ -173,6 +199,11 @@ impl Turtle<'_> {
                 s.pos += s.h * arg.unwrap_or(st.step) * s.scale;
                 self.open_line = None;
                 self.vertex();
+                // A cylinder does not bridge a jump: the part before it is
+                // closed and a new one starts here.
+                if self.state.cylinder.is_some() {
+                    self.start_cylinder();
+                }
             }
             Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg.unwrap_or(st.angle)),
             Command::Right => (s.h, s.l) = rotate(s.h, s.l, -arg.unwrap_or(st.angle)),
@@ -195,13 +226,24 @@ impl Turtle<'_> {
             Command::Push => {
                 self.stack.push(*s);
                 s.drawn = None;
+                s.cylinder = None;
                 self.open_line = None;
             }
             Command::Pop => {
                 if let Some(prev) = self.stack.pop() {
-                    *s = prev;
+                    // A cylinder started in the branch ends with it.
+                    if let Some(k) = s.cylinder {
+                        self.finish_cylinder(k);
+                    }
+                    self.state = prev;
                 }
                 self.open_line = None;
+            }
+            Command::CylinderStart => self.start_cylinder(),
+            Command::CylinderEnd => {
+                if let Some(k) = s.cylinder.take() {
+                    self.finish_cylinder(k);
+                }
             }
             Command::Width | Command::WidthUp => {
                 let up = self.sys.alphabet.command(sym) == Command::WidthUp;
@@ -300,7 +342,15 @@ impl Turtle<'_> {
         let width = self.state.width * self.state.scale;
         let tag = self.tag(self.state.color);
         self.segments += 1;
-        if st.view == View::Solid && width > 0.0 && len != 0.0 {
+        if let (Some(k), View::Solid) = (self.state.cylinder, st.view) {
+            if len != 0.0
+                && let Some(Some(c)) = self.cylinders.get_mut(k)
+            {
+                c.add(to, self.state.h, 0.5 * width);
+                self.rings += 1;
+            }
+            self.open_line = None;
+        } else if st.view == View::Solid && width > 0.0 && len != 0.0 {
             let bottom = self.state.drawn.filter(|&d| d > width).unwrap_or(width);
             // Unit frustum: axis along +y from y = −½ to ½, radius ½ at the
             // bottom; x → U, y → H, z → L keeps the transform a rotation.
@@ -334,6 +384,38 @@ impl Turtle<'_> {
         self.over |= self.primitives() > self.limit;
     }
 
+    /// Starts a generalized cylinder at the turtle (closing the branch's
+    /// open one first). Only the solid view sweeps cylinders; the flat view
+    /// draws their segments as lines.
+    fn start_cylinder(&mut self) {
+        if let Some(k) = self.state.cylinder.take() {
+            self.finish_cylinder(k);
+        }
+        if self.sys.settings.view != View::Solid {
+            return;
+        }
+        let s = self.state;
+        let tag = self.tag(s.color);
+        let radius = 0.5 * s.width * s.scale;
+        self.cylinders.push(Some(Cylinder::start(s.pos, s.h, s.u, radius, tag)));
+        self.state.cylinder = Some(self.cylinders.len() - 1);
+    }
+
+    /// Emits cylinder `k` (if still open) as a mesh asset placed by an
+    /// identity instance; a cylinder with no segment emits nothing.
+    fn finish_cylinder(&mut self, k: usize) {
+        let Some(c) = self.cylinders.get_mut(k).and_then(Option::take) else { return };
+        if let Some(mesh) = c.mesh() {
+            let id = self.scene.mesh(&Arc::new(mesh));
+            self.scene.instances.push(Instance {
+                transform: Affine3A::IDENTITY,
+                primitive: Primitive::Mesh(id),
+                tag: c.tag,
+            });
+        }
+        self.over |= self.primitives() > self.limit;
+    }
+
     /// Bends H towards T about H × T by e·|H × T| (ABOP p. 58).
     fn tropism(&mut self) {
         let st = &self.sys.settings;
@@ -351,5 +433,135 @@ impl Turtle<'_> {
         s.h = (rot * s.h).normalize();
         s.l = (rot * s.l).normalize();
         s.u = s.h.cross(s.l);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::cylinder::RING_SEGMENTS;
+    use crate::compile::compile_text;
+    use genform_core::Rng;
+    use genform_core::scene::{Mesh, Primitive, Scene};
+    use glam::DVec3;
+
+    /// Draws the axiom of `text` (3D, width 0.4) with at most `limit` primitives.
+    fn draw(text: &str, limit: usize) -> Result<Scene, super::TurtleError> {
+        let (s, _) = compile_text(&format!("view: 3d\nwidth: 0.4\n{text}")).unwrap();
+        let mut scene = Scene::new();
+        s.interpret(&s.axiom, &mut Rng::from_seed(0), limit, &mut scene)?;
+        Ok(scene)
+    }
+
+    /// The cylinder meshes, in the order their instances were placed.
+    fn cylinders(scene: &Scene) -> Vec<&Mesh> {
+        scene
+            .instances
+            .iter()
+            .filter_map(|i| match i.primitive {
+                Primitive::Mesh(id) => {
+                    assert_eq!(i.transform, glam::Affine3A::IDENTITY);
+                    Some(&*scene.meshes[id as usize])
+                }
+                _ => None,
+            })
+            .collect()
+    }
+
+    fn frusta(scene: &Scene) -> usize {
+        scene.instances.iter().filter(|i| matches!(i.primitive, Primitive::Frustum { .. })).count()
+    }
+
+    /// The vertices of ring `k`.
+    fn ring(m: &Mesh, k: usize) -> Vec<DVec3> {
+        let n = RING_SEGMENTS as usize;
+        m.positions[k * n..(k + 1) * n].iter().map(|p| p.as_dvec3()).collect()
+    }
+
+    fn centre(ring: &[DVec3]) -> DVec3 {
+        ring.iter().sum::<DVec3>() / ring.len() as f64
+    }
+
+    #[test]
+    fn a_straight_cylinder_has_one_ring_per_joint_on_the_axis() {
+        let scene = draw("axiom: @Gc F F F @Ge\n", 1000).unwrap();
+        assert_eq!(frusta(&scene), 0, "the segments are swept, not drawn as frusta");
+        let meshes = cylinders(&scene);
+        assert_eq!(meshes.len(), 1);
+        let m = meshes[0];
+        assert_eq!(m.positions.len(), 4 * RING_SEGMENTS as usize, "4 rings");
+        for k in 0..4 {
+            let r = ring(m, k);
+            let c = centre(&r);
+            assert!((c - DVec3::new(0.0, k as f64, 0.0)).length() < 1e-6, "ring {k} centre {c}");
+            for v in &r {
+                assert!(((*v - c).length() - 0.2).abs() < 1e-6, "radius = width / 2");
+                assert!((v.y - k as f64).abs() < 1e-6, "ring {k} is perpendicular to the axis");
+            }
+        }
+    }
+
+    #[test]
+    fn a_bent_cylinder_joint_lies_in_the_bisecting_plane() {
+        let scene = draw("angle: 60\naxiom: @Gc F + F @Ge\n", 1000).unwrap();
+        let m = cylinders(&scene)[0];
+        let [c0, c1, c2] = [0, 1, 2].map(|k| centre(&ring(m, k)));
+        let (h1, h2) = ((c1 - c0).normalize(), (c2 - c1).normalize());
+        assert!((h1.dot(h2) - 0.5).abs() < 1e-6, "a 60° turn");
+        let n = (h1 + h2).normalize();
+        for v in ring(m, 1) {
+            assert!((v - c1).dot(n).abs() < 1e-6, "the middle ring's normal is the bisector");
+        }
+        // The end rings are perpendicular to their segments.
+        for v in ring(m, 2) {
+            assert!((v - c2).dot(h2).abs() < 1e-6);
+        }
+    }
+
+    #[test]
+    fn a_branch_inside_a_cylinder_adds_no_rings_to_it() {
+        let scene = draw("axiom: @Gc F [+F] F @Ge\n", 1000).unwrap();
+        assert_eq!(frusta(&scene), 1, "the branch is drawn normally");
+        assert_eq!(cylinders(&scene)[0].positions.len(), 3 * RING_SEGMENTS as usize);
+        // A branch with its own `@Gc` sweeps its own cylinder, closed at `]`.
+        let scene = draw("axiom: @Gc F [+@Gc F F] F @Ge\n", 1000).unwrap();
+        let meshes = cylinders(&scene);
+        assert_eq!(frusta(&scene), 0);
+        assert_eq!(meshes.len(), 2);
+        assert!(meshes.iter().all(|m| m.positions.len() == 3 * RING_SEGMENTS as usize));
+    }
+
+    #[test]
+    fn an_unfinished_cylinder_is_closed_at_the_end_of_the_string() {
+        let scene = draw("axiom: @Gc F F\n", 1000).unwrap();
+        assert_eq!(cylinders(&scene)[0].positions.len(), 3 * RING_SEGMENTS as usize);
+    }
+
+    #[test]
+    fn a_move_breaks_the_cylinder_and_an_empty_one_emits_nothing() {
+        let scene = draw("axiom: @Gc F f F @Ge @Gc @Ge\n", 1000).unwrap();
+        let meshes = cylinders(&scene);
+        assert_eq!(meshes.len(), 2);
+        assert!(meshes.iter().all(|m| m.positions.len() == 2 * RING_SEGMENTS as usize));
+    }
+
+    #[test]
+    fn the_flat_view_draws_cylinder_segments_as_lines() {
+        let (s, _) = compile_text("axiom: @Gc F F @Ge\n").unwrap();
+        let mut scene = Scene::new();
+        s.interpret(&s.axiom, &mut Rng::from_seed(0), 1000, &mut scene).unwrap();
+        assert!(scene.meshes.is_empty());
+        assert_eq!(scene.polylines.len(), 1);
+    }
+
+    #[test]
+    fn cylinder_rings_count_towards_the_primitive_limit() {
+        assert!(draw("axiom: @Gc F F F F @Ge\n", 3).is_err());
+        assert!(draw("axiom: @Gc F F F F @Ge\n", 5).is_ok());
+    }
+
+    #[test]
+    fn cylinder_commands_are_not_warned_about() {
+        let (_, warnings) = compile_text("view: 3d\naxiom: @Gc F @Ge\n").unwrap();
+        assert!(warnings.iter().all(|w| !w.message.contains("@G")), "{warnings:?}");
     }
 }

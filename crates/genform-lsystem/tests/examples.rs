@@ -44,6 +44,9 @@ const GOLDEN: &[Golden] = &[
     Golden { name: "abop_1_24f", length: 6263, counts: &[("F", 1488), ("X", 1024), ("[", 1023)], ymax: Some(80.1663) },
     Golden { name: "hogeweg", length: 6910, counts: &[("F", 2501), ("[", 636)], ymax: None },
     Golden { name: "koch_parametric", length: 2388, counts: &[("F", 1024)], ymax: None },
+    // By hand: the block made at step j has age a = 8 - j and 2a + 10
+    // modules (a F under its leaf, a I in its bud branch), plus the apex.
+    Golden { name: "branch_context", length: 137, counts: &[("F", 28), ("[", 16)], ymax: None },
 ];
 
 #[test]

@@ -3,8 +3,8 @@
 //! on the stable toolchain: no panic, and every failed .ls file reports each
 //! error at a `file:line:col`.
 
-use genform_core::{Rng, Scene};
 use genform_core::{Diagnostics, Severity, SourceFile};
+use genform_core::{Rng, Scene};
 use std::path::Path;
 
 /// Every file of the corpus, as the fuzz target sees it (lossy UTF-8).

@@ -176,6 +176,8 @@ fn command_name(c: Command) -> &'static str {
         Command::PolygonVertex => "polygon vertex",
         Command::PolygonEnd => "polygon end",
         Command::Sphere => "sphere",
+        Command::CylinderStart => "cylinder start",
+        Command::CylinderEnd => "cylinder end",
         Command::Cut => "cut branch",
         Command::None => "-",
     }
