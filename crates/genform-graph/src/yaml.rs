@@ -210,7 +210,11 @@ pub(crate) fn content_offset(text: &str, node: usize, value: &str) -> usize {
     // value nearby.
     let first = value.lines().next().unwrap_or("").trim();
     if !first.is_empty() {
-        let window = &rest[..rest.len().min(value.len() * 2 + 256)];
+        let mut end = rest.len().min(value.len() * 2 + 256);
+        while !rest.is_char_boundary(end) {
+            end -= 1;
+        }
+        let window = &rest[..end];
         if let Some(i) = window.find(first) {
             let lead = value.len() - value.trim_start().len();
             return (node + i).saturating_sub(lead);

@@ -159,9 +159,10 @@ pub fn parse_env(file: &SourceFile) -> Result<EnvSpec, Diagnostics> {
     let (root, errors) = DeTable::parse_recoverable(&file.text);
     if !errors.is_empty() {
         for e in errors {
-            let span = e.span().map(|r| Span::new(r.start, r.end));
+            // Errors without a place (the parser's recursion limit) go at the file's start.
+            let span = e.span().map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
             let message = format!("invalid TOML: {}", e.message().trim());
-            diags.push(Diagnostic { span, ..Diagnostic::error(Span::default(), message) });
+            diags.push(Diagnostic::error(span, message));
         }
         return Err(diags);
     }

@@ -1,0 +1,3 @@
+# Error: 1:1 no axiom
+production:
+F -> FF
