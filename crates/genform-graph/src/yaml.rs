@@ -235,6 +235,15 @@ mod tests {
     }
 
     #[test]
+    fn the_search_window_never_cuts_a_character() {
+        // A fuzzer's find: the window after a node ended inside a two-byte
+        // character (every odd offset here is a boundary, 258 is not).
+        let text = format!("a{}", "é".repeat(200));
+        assert_eq!(content_offset(&text, 0, "x"), 0);
+        assert_eq!(content_offset(&text, 0, "éé"), 1);
+    }
+
+    #[test]
     fn values_keep_their_byte_spans() {
         let src = "name: k\nv:\n  a: {x: 1, when: \"A.x > 2\"}\n  b: [1, 'q', true, ~]\n";
         let root = parse(src).unwrap();
