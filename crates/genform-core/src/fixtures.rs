@@ -101,3 +101,33 @@ pub fn check_dir(
     }
     if failures.is_empty() { Ok(files.len()) } else { Err(failures.join("\n\n")) }
 }
+
+/// Every file of a cargo-fuzz corpus folder as its fuzz target sees it
+/// (lossy UTF-8), each named `name` (so diagnostics print `name:L:C`) and
+/// paired with its path. Panics when the folder holds fewer than 10 inputs:
+/// a corpus that shrank that far no longer covers its front end.
+pub fn fuzz_corpus(dir: &std::path::Path, name: &str) -> Vec<(String, SourceFile)> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap_or_else(|e| panic!("corpus folder {}: {e}", dir.display())) {
+        let path = entry.unwrap().path();
+        let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+        files.push((path.display().to_string(), SourceFile::new(name, text)));
+    }
+    files.sort_by(|a, b| a.0.cmp(&b.0));
+    assert!(files.len() >= 10, "{} has only {} inputs", dir.display(), files.len());
+    files
+}
+
+/// Asserts that a failed compile of `input` reported at least one error and
+/// that every error has a location inside the file (what the fuzz targets
+/// check).
+pub fn assert_located(input: &str, diags: &Diagnostics) {
+    assert!(diags.has_errors(), "{input}: a failed compile reported no error");
+    let len = diags.file.text.len() as u32;
+    for d in diags.items.iter().filter(|d| d.severity == Severity::Error) {
+        let span = d.span.unwrap_or_else(|| panic!("{input}: error without a location: {}", d.message));
+        assert!(span.start <= span.end && span.start <= len, "{input}: span {span:?} outside the file");
+    }
+    let name = &diags.file.name;
+    assert!(diags.short().lines().all(|l| l.starts_with(&format!("{name}:")) || l.starts_with("  ")), "{input}");
+}

@@ -3,34 +3,17 @@
 //! stable toolchain: no panic, every failed file reports each error at a
 //! `file:line:col`, and whatever compiles grows two steps under small limits.
 
-use genform_core::{Diagnostics, Rng, Severity, SourceFile};
+use genform_core::fixtures::{assert_located, fuzz_corpus};
+use genform_core::{Rng, SourceFile};
 use genform_hemls::{Environment, GrowthLimits, Settings};
 use std::path::Path;
 
 const LIMITS: GrowthLimits = GrowthLimits { max_vertices: 2000, max_edges: 4000, max_faces: 2000 };
 const KOCH: &str = "Edge0 + Edge0 + Edge0\nEdge0 -> Edge0 - Edge0 + + Edge0 - Edge0\nAngle 60\n";
 
-/// Every file of a corpus, as the fuzz target sees it (lossy UTF-8).
+/// The committed corpus of fuzz target `target`, each input named `name`.
 fn corpus(target: &str, name: &str) -> Vec<(String, SourceFile)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus").join(target);
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(&dir).expect("corpus folder") {
-        let path = entry.unwrap().path();
-        let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
-        files.push((path.display().to_string(), SourceFile::new(name, text)));
-    }
-    assert!(files.len() >= 10, "{target} has only {} inputs", files.len());
-    files
-}
-
-/// At least one error, each starting inside the file.
-fn assert_located(input: &str, diags: &Diagnostics) {
-    assert!(diags.has_errors(), "{input}: a failed compile reported no error");
-    let len = diags.file.text.len() as u32;
-    for d in diags.items.iter().filter(|d| d.severity == Severity::Error) {
-        let span = d.span.unwrap_or_else(|| panic!("{input}: error without a location: {}", d.message));
-        assert!(span.start <= span.end && span.start <= len, "{input}: span {span:?} outside the file");
-    }
+    fuzz_corpus(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus").join(target), name)
 }
 
 #[test]

@@ -3,39 +3,19 @@
 //! on the stable toolchain: no panic, and every failed .ls file reports each
 //! error at a `file:line:col`.
 
-use genform_core::{Diagnostics, Severity, SourceFile};
+use genform_core::fixtures::{assert_located, fuzz_corpus};
 use genform_core::{Rng, Scene};
 use std::path::Path;
 
-/// Every file of the corpus, as the fuzz target sees it (lossy UTF-8).
-fn corpus() -> Vec<(String, SourceFile)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus/parse_ls");
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(&dir).expect("corpus folder") {
-        let path = entry.unwrap().path();
-        let bytes = std::fs::read(&path).unwrap();
-        let text = String::from_utf8_lossy(&bytes).into_owned();
-        files.push((path.display().to_string(), SourceFile::new("fuzz.ls", text)));
-    }
-    assert!(files.len() >= 10, "corpus has only {} inputs", files.len());
-    files
-}
-
-/// At least one error, each starting inside the file.
-fn assert_located(input: &str, diags: &Diagnostics) {
-    assert!(diags.has_errors(), "{input}: a failed compile reported no error");
-    let len = diags.file.text.len() as u32;
-    for d in diags.items.iter().filter(|d| d.severity == Severity::Error) {
-        let span = d.span.unwrap_or_else(|| panic!("{input}: error without a location: {}", d.message));
-        assert!(span.start <= span.end && span.start <= len, "{input}: span {span:?} outside the file");
-    }
-    assert!(diags.short().lines().all(|l| l.starts_with("fuzz.ls:") || l.starts_with("  hint:")));
+/// The committed corpus of fuzz target `target`, each input named `name`.
+fn corpus(target: &str, name: &str) -> Vec<(String, genform_core::SourceFile)> {
+    fuzz_corpus(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus").join(target), name)
 }
 
 #[test]
 fn fuzz_corpus_never_panics_and_locates_every_error() {
     let (mut ok, mut failed) = (0, 0);
-    for (input, file) in corpus() {
+    for (input, file) in corpus("parse_ls", "fuzz.ls") {
         match genform_lsystem::compile(&file) {
             Ok((sys, _)) => {
                 ok += 1;
