@@ -173,6 +173,18 @@ impl<'a> Parser<'a> {
         if self.tok.tok == tok { Ok(self.bump().span) } else { Err(self.error_here(what)) }
     }
 
+    /// The keyword just seen, then `"…";`: the string's value and span
+    /// (`grammar "castle";`, `world "r.0.0.mca";`). `what` names the string.
+    fn quoted_declaration(&mut self, what: &str, hint: &str) -> PResult<(String, Span)> {
+        self.bump();
+        if self.tok.tok != Tok::Str {
+            return Err(self.error_here(format!("{what} in quotes")).with_hint(hint));
+        }
+        let t = self.bump();
+        self.end_declaration(what);
+        Ok((string_value(self.src, t.span), t.span))
+    }
+
     /// A `;` that ends a declaration; a missing one is reported without
     /// skipping anything (the declaration itself was complete).
     fn end_declaration(&mut self, what: &str) {
@@ -228,15 +240,8 @@ impl<'a> Parser<'a> {
         let word = self.text(self.tok.span);
         Ok(Some(match word {
             "grammar" => {
-                self.bump();
-                if self.tok.tok != Tok::Str {
-                    return Err(self
-                        .error_here("the grammar's name in quotes")
-                        .with_hint("write `grammar \"castle\";`"));
-                }
-                let t = self.bump();
-                self.end_declaration("the grammar's name");
-                Item::Grammar(string_value(self.src, t.span), t.span)
+                let (name, span) = self.quoted_declaration("the grammar's name", "write `grammar \"castle\";`")?;
+                Item::Grammar(name, span)
             }
             "axiom" => {
                 self.bump();
@@ -283,15 +288,11 @@ impl<'a> Parser<'a> {
                 Item::Box(corners, start.to(end))
             }
             "world" => {
-                self.bump();
-                if self.tok.tok != Tok::Str {
-                    return Err(self
-                        .error_here("the world's path in quotes")
-                        .with_hint("write `world \"../terrain/r.0.0.mca\";` (relative to the grammar file)"));
-                }
-                let t = self.bump();
-                self.end_declaration("the world's path");
-                Item::World(string_value(self.src, t.span), t.span)
+                let (path, span) = self.quoted_declaration(
+                    "the world's path",
+                    "write `world \"../terrain/r.0.0.mca\";` (relative to the grammar file)",
+                )?;
+                Item::World(path, span)
             }
             "allow_unknown_blocks" => {
                 let span = self.bump().span;

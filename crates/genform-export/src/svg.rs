@@ -269,14 +269,7 @@ fn write_surface(w: &mut Writer, s: &Surface, fill: [u8; 3], floor: f32) {
         let stroke = hex(edge_color(kind));
         for &[a, b] in pairs {
             let (a, b) = (flip(s.positions[a as usize].truncate()), flip(s.positions[b as usize].truncate()));
-            w.out.push_str("<line x1=\"");
-            w.num(a.x);
-            w.out.push_str("\" y1=\"");
-            w.num(a.y);
-            w.out.push_str("\" x2=\"");
-            w.num(b.x);
-            w.out.push_str("\" y2=\"");
-            w.num(b.y);
+            w.line_open(a, b);
             let _ = writeln!(w.out, "\" stroke=\"{stroke}\" stroke-width=\"{width}\" stroke-linecap=\"round\"/>");
         }
     }
@@ -436,6 +429,18 @@ impl Writer {
         self.out.push_str(&s);
     }
 
+    /// `<line x1="…" y1="…" x2="…" y2="…` (attributes still open).
+    fn line_open(&mut self, a: Vec2, b: Vec2) {
+        self.out.push_str("<line x1=\"");
+        self.num(a.x);
+        self.out.push_str("\" y1=\"");
+        self.num(a.y);
+        self.out.push_str("\" x2=\"");
+        self.num(b.x);
+        self.out.push_str("\" y2=\"");
+        self.num(b.y);
+    }
+
     fn point(&mut self, p: Vec2) {
         self.num(p.x);
         self.out.push(' ');
@@ -537,14 +542,7 @@ mod shapes2d {
         match &shape.kind {
             Shape2dKind::Line { from, to } => {
                 let (a, b) = (flip(*from), flip(*to));
-                w.out.push_str("<line x1=\"");
-                w.num(a.x);
-                w.out.push_str("\" y1=\"");
-                w.num(a.y);
-                w.out.push_str("\" x2=\"");
-                w.num(b.x);
-                w.out.push_str("\" y2=\"");
-                w.num(b.y);
+                w.line_open(a, b);
                 w.out.push('"');
             }
             Shape2dKind::Circle { center, radius } => {
