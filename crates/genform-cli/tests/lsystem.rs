@@ -103,3 +103,20 @@ fn evolve_steers_the_lsystem_tree() {
     assert!(run["best_fitness"].as_f64().unwrap() > 0.0, "{run}");
     assert!(tmp.path().join("run/best.glb").exists());
 }
+
+#[test]
+fn declared_surfaces_load_meshes_beside_the_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mesh = "v -0.5 0 0\nv 0.5 0 0\nv 0 1 0\nf 1 2 3\n";
+    std::fs::write(tmp.path().join("petal.obj"), mesh).unwrap();
+    let file = tmp.path().join("petals.ls");
+    std::fs::write(&file, "surface petal = \"petal.obj\"\naxiom: F ~petal(2) + ~petal\n").unwrap();
+    genform(tmp.path(), &["sample", s(&file), "--out", "p.obj"]).ok();
+    let obj = String::from_utf8(read(&tmp, "p.obj")).unwrap();
+    // Two placed copies of the one-triangle petal.
+    assert!(obj.lines().filter(|l| l.starts_with("f ")).count() >= 2, "{obj}");
+    let missing = tmp.path().join("missing.ls");
+    std::fs::write(&missing, "surface petal = \"nope.obj\"\naxiom: ~petal\n").unwrap();
+    let run = genform(tmp.path(), &["sample", s(&missing), "--out", "m.obj"]).fails();
+    assert!(run.stderr().contains("missing.ls:1:"), "{}", run.stderr());
+}

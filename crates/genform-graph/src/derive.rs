@@ -77,12 +77,14 @@ pub enum DeriveError {
     },
     /// A daughter vertex position evaluated to NaN or an infinity.
     #[error(
-        "production `{production}` placed a vertex at a coordinate that is {value} at step {step}; \
+        "production `{production}` placed a vertex at a coordinate that is {value} at step {step} ({at}); \
          check its `pos:` formulas for a division by zero or an overflow"
     )]
     NonFinitePosition {
         /// The production.
         production: String,
+        /// `file:line:col` of the position formula that gave it.
+        at: String,
         /// The coordinate, as text (`NaN`, `inf`, `-inf`).
         value: String,
         /// The step (0-based, as in the other errors).
@@ -292,7 +294,12 @@ impl GraphGrammar {
                 return Err(DeriveError::TooManyElements { limit: max_elements, step: steps });
             }
             apply(&mut g, p, opt, &mut envs[pi], &mv[..p.mv.len()], &me[..p.me.len()], choices, &mut scratch).map_err(
-                |v| DeriveError::NonFinitePosition { production: p.name.clone(), value: v.to_string(), step: steps },
+                |(v, span)| DeriveError::NonFinitePosition {
+                    production: p.name.clone(),
+                    at: self.source.location(span.unwrap_or_default().start),
+                    value: v.to_string(),
+                    step: steps,
+                },
             )?;
             group_counts[gi] += 1;
             applications[pi] += 1;

@@ -17,6 +17,8 @@ pub struct GraphGrammar {
     pub(crate) productions: Vec<Production>,
     /// Global formulas evaluated once per run, in file order.
     pub(crate) globals: Vec<Program>,
+    /// The file it was compiled from, to locate run-time errors.
+    pub(crate) source: genform_core::SourceFile,
 }
 
 impl GraphGrammar {
@@ -154,6 +156,9 @@ pub(crate) struct DVertex {
     pub(crate) mother: Option<usize>,
     pub(crate) label: Option<LabelSpec>,
     pub(crate) pos: [Coord; 2],
+    /// Where each coordinate's formula is written (`pos:`, `x:`, `y:`), to
+    /// locate a non-finite result.
+    pub(crate) pos_spans: [Option<genform_core::diag::Span>; 2],
     pub(crate) at: Option<[f64; 2]>,
     pub(crate) attrs: Vec<(u32, AttrSpec)>,
 }

@@ -35,7 +35,8 @@ struct Pending {
 /// Applies option `opt` of production `p` at the match (`mv`, `me`: host
 /// ids per mother vertex and edge); `env` holds the match's loaded values.
 /// A daughter position that is not a finite number is the error (its
-/// value), and the graph is then left unchanged.
+/// value and where its formula is written), and the graph is then left
+/// unchanged.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn apply(
     g: &mut Graph,
@@ -46,7 +47,7 @@ pub(crate) fn apply(
     me: &[u32],
     choices: &mut impl Choices,
     s: &mut Scratch,
-) -> Result<(), f64> {
+) -> Result<(), (f64, Option<genform_core::diag::Span>)> {
     for (slot, prog) in p.app_vars.iter().chain(&opt.vars) {
         env[*slot as usize] = prog.eval_draws(env, choices);
     }
@@ -108,8 +109,11 @@ pub(crate) fn apply(
     }
     // A NaN or infinite position would silently vanish from the drawing.
     let placed = s.kept_v[..opt.kept_vertices.len()].iter().chain(&s.new_v[..opt.new_vertices.len()]);
-    if let Some(bad) = placed.flat_map(|v| v.pos).find(|c| !c.is_finite()) {
-        return Err(bad);
+    let specs = opt.kept_vertices.iter().chain(&opt.new_vertices);
+    for (v, d) in placed.zip(specs) {
+        if let Some(k) = (0..2).find(|&k| !v.pos[k].is_finite()) {
+            return Err((v.pos[k], d.pos_spans[k]));
+        }
     }
 
     // Delete edges first: a deleted vertex would take them along anyway.

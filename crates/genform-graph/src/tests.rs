@@ -567,7 +567,18 @@ fn a_non_finite_daughter_position_is_an_error_naming_production_and_step() {
         )
     };
     let e = grammar(&src(1)).derive(&mut Rng::from_seed(1), Some(5), 100).unwrap_err();
-    assert_eq!(e, crate::DeriveError::NonFinitePosition { production: "split".into(), value: "inf".into(), step: 0 });
+    // The position is the `x:` formula's, in the file.
+    let text = src(1);
+    let col = text.lines().nth(5).unwrap().find("1 / (R.a").unwrap() + 1;
+    assert_eq!(
+        e,
+        crate::DeriveError::NonFinitePosition {
+            production: "split".into(),
+            at: format!("test.gg.yaml:6:{col}"),
+            value: "inf".into(),
+            step: 0
+        }
+    );
     assert!(e.to_string().contains("production `split`") && e.to_string().contains("step 0"), "{e}");
     // With a = 2 the vertex lands at x = 1.
     let d = grammar(&src(2)).derive(&mut Rng::from_seed(1), Some(5), 100).unwrap();

@@ -2,13 +2,17 @@
 //! against their production's parameters and the file's constants.
 
 use crate::alphabet::{self, Alphabet, Command, Sym};
+use crate::body::{Body, Op};
 use crate::rules::{Arg, Entry, Rule, Table};
 use crate::settings::{Heading, Settings, View};
 use crate::string::ModuleString;
-use crate::syntax::{self, Call, Expr, Pattern, Section, Setting};
+use crate::surface::{self, SurfaceAssets};
+use crate::syntax::{self, Call, Expr, Pattern, Section, Setting, Stmt};
+use genform_core::Mesh;
 use genform_core::diag::{Diagnostic, Span};
 use genform_core::expr::{self, Program, Scope};
 use std::collections::HashMap;
+use std::sync::Arc;
 
 /// A compiled L-system.
 #[derive(Clone, Debug)]
@@ -28,41 +32,78 @@ pub struct LSystem {
     pub(crate) brackets: [Vec<bool>; 2],
     /// The file it was compiled from, to locate rules in run-time errors.
     pub(crate) source: Option<genform_core::SourceFile>,
+    /// The global state before the derivation: `iteration` (0), then the
+    /// `global` variables' declared values.
+    pub(crate) initial_state: Vec<f64>,
+    /// Names of the global state's slots (`iteration` first).
+    pub(crate) state_names: Vec<String>,
+    /// Statements of the Start, StartEach, EndEach and End hooks.
+    pub(crate) hooks: [Vec<Op>; 4],
+    /// Per symbol: the surface a `~name` module draws, by index into
+    /// `surfaces`.
+    pub(crate) surface_of: Vec<Option<u32>>,
+    /// The meshes of the built-in and declared surfaces.
+    pub(crate) surfaces: Vec<Arc<Mesh>>,
 }
 
-/// Names visible in a production: its formal parameters (variables) and the
-/// file's `define`s (constants).
+/// The name of the global-state slot holding the derivation step (L-Py's
+/// `getIterationNb()`).
+pub(crate) const ITERATION: &str = "iteration";
+
+/// Names visible in a production or hook: its formal parameters, the
+/// global state (`iteration` and the `global` variables) and a body's
+/// local variables, in that order in the environment, and the file's
+/// `define`s (constants).
 struct RuleScope<'a> {
     formals: &'a [String],
+    state: &'a [String],
+    locals: &'a [String],
     defines: &'a HashMap<String, f64>,
 }
 
 impl Scope for RuleScope<'_> {
     fn variable(&self, name: &str) -> Option<u32> {
-        self.formals.iter().rposition(|f| f == name).map(|i| i as u32)
+        let (f, g) = (self.formals.len(), self.state.len());
+        self.formals
+            .iter()
+            .rposition(|n| n == name)
+            .or_else(|| self.state.iter().position(|n| n == name).map(|i| f + i))
+            .or_else(|| self.locals.iter().position(|n| n == name).map(|i| f + g + i))
+            .map(|i| i as u32)
     }
     fn constant(&self, name: &str) -> Option<f64> {
         self.defines.get(name).copied()
     }
     fn names(&self) -> Vec<String> {
-        self.formals.iter().cloned().chain(self.defines.keys().cloned()).collect()
+        let vars = self.formals.iter().chain(self.state).chain(self.locals).cloned();
+        vars.chain(self.defines.keys().cloned()).collect()
     }
 }
 
 struct Compiler {
     alphabet: Alphabet,
     defines: HashMap<String, f64>,
+    /// `iteration`, then the `global` variables.
+    state: Vec<String>,
+    /// The surfaces `~name` can draw: built-in and declared.
+    surfaces: Vec<(String, Arc<Mesh>)>,
+    /// Surface names used but not known (each reported once).
+    unknown_surfaces: Vec<String>,
     errors: Vec<Diagnostic>,
     warnings: Vec<Diagnostic>,
     /// First use of each turtle-looking module genform does not draw.
     unsupported: HashMap<String, Span>,
 }
 
-/// Compiles a parsed file. Returns the system and warnings, or every error.
-pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
+/// Compiles a parsed file, loading its surfaces through `assets`. Returns
+/// the system and warnings, or every error.
+pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
     let mut c = Compiler {
         alphabet: Alphabet::default(),
         defines: HashMap::new(),
+        state: vec![ITERATION.to_string()],
+        surfaces: Vec::new(),
+        unknown_surfaces: Vec::new(),
         errors: Vec::new(),
         warnings: Vec::new(),
         unsupported: HashMap::new(),
@@ -77,6 +118,9 @@ pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Di
             c.defines.insert(name.clone(), f64::NAN);
         }
     }
+    c.surfaces(file, assets);
+    let initial_state = c.globals(file);
+    let hooks = std::array::from_fn(|k| c.statements(&file.hooks[k], &[], &mut Vec::new(), false));
     let settings = c.settings(file);
     let axiom = match &file.axiom {
         Some((calls, span)) => {
@@ -110,6 +154,15 @@ pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Di
     let interpretation = Table::new(interp, n, depth(1, 1));
     c.unused_predecessors(&productions, &axiom, [&decomposition, &interpretation]);
     c.undrawn_commands(&interpretation);
+    let surface_of = c
+        .alphabet
+        .symbols
+        .iter()
+        .map(|s| {
+            let name = s.name.strip_prefix('~')?;
+            c.surfaces.iter().position(|(n, _)| n == name).map(|k| k as u32)
+        })
+        .collect();
     if c.errors.is_empty() {
         let is = |cmd: Command| c.alphabet.symbols.iter().map(|s| s.command == cmd).collect::<Vec<bool>>();
         let brackets = [is(Command::Push), is(Command::Pop)];
@@ -123,6 +176,11 @@ pub fn compile(file: &syntax::File) -> Result<(LSystem, Vec<Diagnostic>), Vec<Di
             ignored,
             brackets,
             source: None,
+            initial_state,
+            state_names: c.state,
+            hooks,
+            surface_of,
+            surfaces: c.surfaces.into_iter().map(|(_, m)| m).collect(),
         };
         Ok((system, c.warnings))
     } else {
@@ -134,7 +192,7 @@ impl Compiler {
     /// A formula without names other than constants and without random
     /// draws.
     fn constant(&mut self, e: &Expr, what: &str) -> Option<f64> {
-        let scope = RuleScope { formals: &[], defines: &self.defines };
+        let scope = RuleScope { formals: &[], state: &[], locals: &[], defines: &self.defines };
         match expr::compile(&e.ast, &scope) {
             Ok(p) if p.uses_rng() => {
                 self.errors.push(
@@ -284,6 +342,21 @@ impl Compiler {
     }
 
     fn sym(&mut self, name: &str, arity: usize, span: Span) -> Sym {
+        if let Some(surface) = name.strip_prefix('~').filter(|s| !s.is_empty())
+            && !self.surfaces.iter().any(|(n, _)| n == surface)
+            && !self.unknown_surfaces.iter().any(|n| n == surface)
+        {
+            self.unknown_surfaces.push(surface.to_string());
+            let mut d = Diagnostic::error(span, format!("unknown surface `{surface}` in `{name}`"));
+            d = match expr::did_you_mean(surface, self.surfaces.iter().map(|(n, _)| n.as_str())) {
+                Some(s) => d.with_hint(format!("did you mean `~{s}`?")),
+                None => d.with_hint(format!(
+                    "surfaces here: {}; declare others with `surface {surface} = \"{surface}.obj\"`",
+                    self.surfaces.iter().map(|(n, _)| format!("~{n}")).collect::<Vec<_>>().join(", ")
+                )),
+            };
+            self.errors.push(d);
+        }
         if alphabet::unsupported(name).is_some() {
             let first = self.unsupported.entry(name.to_string()).or_insert(span);
             if span.start < first.start {
@@ -396,16 +469,6 @@ impl Compiler {
         self.sym(&p.name, p.formals.len(), p.span)
     }
 
-    fn program(&mut self, e: &Expr, scope: &RuleScope) -> Option<Program> {
-        match expr::compile(&e.ast, scope) {
-            Ok(p) => Some(p),
-            Err(ds) => {
-                self.errors.extend(ds.into_iter().map(|d| d.shifted(e.at)));
-                None
-            }
-        }
-    }
-
     fn rule(&mut self, p: &syntax::Production, section: Section) -> Option<Rule> {
         if section != Section::Production && !(p.left.is_empty() && p.right.is_empty()) {
             self.errors.push(
@@ -426,26 +489,201 @@ impl Compiler {
             );
         }
         self.balanced_context(&p.right, &right);
-        let defines = self.defines.clone();
-        let scope = RuleScope { formals: &formals, defines: &defines };
-        let cond = p.cond.as_ref().and_then(|e| self.program(e, &scope));
-        let weight = p.weight.as_ref().and_then(|e| self.program(e, &scope));
-        let mut succ_syms = Vec::with_capacity(p.successor.len());
-        let mut succ_args = Vec::new();
-        let mut draws = cond.as_ref().map_or(0, Program::max_draws) + weight.as_ref().map_or(0, Program::max_draws);
+        let scope = RuleScope { formals: &formals, state: &self.state, locals: &[], defines: &self.defines };
+        let cond = p.cond.as_ref().and_then(|e| program(e, &scope, &mut self.errors));
+        let weight = p.weight.as_ref().and_then(|e| program(e, &scope, &mut self.errors));
+        let mut progs = Vec::new();
+        let mut failed = false;
         for call in &p.successor {
-            succ_syms.push(self.sym(&call.name, call.args.len(), call.span));
             for a in &call.args {
-                let prog = self.program(a, &scope)?;
-                draws += prog.max_draws();
-                succ_args.push(Arg::of(prog));
+                match program(a, &scope, &mut self.errors) {
+                    Some(prog) => progs.push(prog),
+                    None => failed = true,
+                }
             }
         }
+        let mut succ_syms = Vec::with_capacity(p.successor.len());
+        for call in &p.successor {
+            succ_syms.push(self.sym(&call.name, call.args.len(), call.span));
+        }
         self.balanced(&p.successor, &succ_syms, "the successor");
-        if (p.cond.is_some() && cond.is_none()) || (p.weight.is_some() && weight.is_none()) {
+        let body = p.body.as_ref().map(|stmts| {
+            let mut locals = Vec::new();
+            let ops = self.statements(stmts, &formals, &mut locals, true);
+            Body { ops, locals: locals.len() }
+        });
+        if let Some(b) = &body {
+            if p.weight.is_some() {
+                self.errors.push(
+                    Diagnostic::error(p.span, "a production with a body cannot have a weight")
+                        .with_hint("choose inside the body with `if uniform(0, 1) < 0.3: produce …`"),
+                );
+            }
+            crate::body::produced_syms(&b.ops, &mut succ_syms);
+        }
+        if failed || (p.cond.is_some() && cond.is_none()) || (p.weight.is_some() && weight.is_none()) {
             return None;
         }
-        Some(Rule { strict, left, right, env: formals.len(), cond, weight, succ_syms, succ_args, draws, span: p.span })
+        // Whether the rule reads the global state (appended to its
+        // environment after the formal parameters).
+        let n = formals.len() as u32;
+        let reads = |prog: &Program| prog.loads().any(|i| i >= n);
+        let state = body.is_some() || cond.iter().chain(&weight).chain(&progs).any(reads);
+        let mut draws = cond.as_ref().map_or(0, Program::max_draws) + weight.as_ref().map_or(0, Program::max_draws);
+        draws += progs.iter().map(Program::max_draws).sum::<usize>();
+        let succ_args = progs.into_iter().map(Arg::of).collect();
+        Some(Rule {
+            strict,
+            left,
+            right,
+            env: formals.len(),
+            cond,
+            weight,
+            succ_syms,
+            succ_args,
+            draws,
+            span: p.span,
+            body,
+            state,
+        })
+    }
+
+    /// The built-in surfaces, then the declared ones (a declaration may
+    /// replace a built-in one).
+    fn surfaces(&mut self, file: &syntax::File, assets: &dyn SurfaceAssets) {
+        for name in surface::BUILT_IN {
+            if let Some(m) = surface::built_in(name) {
+                self.surfaces.push((name.to_string(), Arc::new(m)));
+            }
+        }
+        let mut declared: Vec<&str> = Vec::new();
+        for (name, span, path, path_span) in &file.surfaces {
+            if declared.contains(&name.as_str()) {
+                self.errors.push(Diagnostic::error(*span, format!("surface `{name}` is declared twice")));
+                continue;
+            }
+            declared.push(name);
+            match assets.load_mesh(path) {
+                Ok(mut m) => {
+                    if m.positions.iter().any(|p| !p.is_finite()) || m.triangles.is_empty() {
+                        self.errors.push(Diagnostic::error(
+                            *path_span,
+                            format!("\"{path}\" has no usable triangles or non-finite vertices"),
+                        ));
+                        continue;
+                    }
+                    m.name = name.clone();
+                    let mesh = Arc::new(m);
+                    match self.surfaces.iter_mut().find(|(n, _)| n == name) {
+                        Some(slot) => slot.1 = mesh,
+                        None => self.surfaces.push((name.clone(), mesh)),
+                    }
+                }
+                Err(e) => self.errors.push(
+                    Diagnostic::error(*path_span, format!("cannot load surface `{name}`: {e}"))
+                        .with_hint("the path is relative to the .ls file; OBJ, STL and GLB meshes load"),
+                ),
+            }
+        }
+    }
+
+    /// The `global` variables: their names join the state after
+    /// `iteration`; returns the initial state.
+    fn globals(&mut self, file: &syntax::File) -> Vec<f64> {
+        let mut values = vec![0.0];
+        for (name, span, e) in &file.globals {
+            let clash = if name == ITERATION {
+                Some("`iteration` is the derivation step, kept by genform; choose another name".to_string())
+            } else if self.state.contains(name) {
+                Some(format!("global `{name}` is declared twice"))
+            } else if self.defines.contains_key(name) {
+                Some(format!("`{name}` is already a constant (`define`)"))
+            } else {
+                None
+            };
+            if let Some(msg) = clash {
+                self.errors.push(Diagnostic::error(*span, msg));
+                continue;
+            }
+            let v = self.constant(e, &format!("`global {name}`")).unwrap_or(f64::NAN);
+            self.state.push(name.clone());
+            values.push(v);
+        }
+        values
+    }
+
+    /// Compiles statements: a production body's (`in_body`, after the
+    /// production's `formals`, declaring `locals`) or a hook's.
+    fn statements(&mut self, stmts: &[Stmt], formals: &[String], locals: &mut Vec<String>, in_body: bool) -> Vec<Op> {
+        stmts.iter().filter_map(|st| self.statement(st, formals, locals, in_body)).collect()
+    }
+
+    fn statement(&mut self, st: &Stmt, formals: &[String], locals: &mut Vec<String>, in_body: bool) -> Option<Op> {
+        let (f, g) = (formals.len(), self.state.len());
+        match st {
+            Stmt::Assign { name, span, value } => {
+                let scope = RuleScope { formals, state: &self.state, locals, defines: &self.defines };
+                let prog = program(value, &scope, &mut self.errors);
+                let slot = if name == ITERATION {
+                    self.errors.push(
+                        Diagnostic::error(*span, "`iteration` is the derivation step and cannot be assigned")
+                            .with_hint("count in a global variable of your own: `global n = 0`"),
+                    );
+                    None
+                } else if in_body {
+                    if let Some(i) = formals.iter().rposition(|n| n == name) {
+                        Some(i)
+                    } else if self.state.contains(name) {
+                        self.errors.push(
+                            Diagnostic::error(*span, format!("global `{name}` cannot change in a production"))
+                                .with_hint("productions rewrite in parallel; change globals in Start, StartEach, EndEach or End"),
+                        );
+                        None
+                    } else {
+                        let i = locals.iter().position(|n| n == name).unwrap_or_else(|| {
+                            locals.push(name.clone());
+                            locals.len() - 1
+                        });
+                        Some(f + g + i)
+                    }
+                } else if let Some(i) = self.state.iter().position(|n| n == name) {
+                    Some(i)
+                } else {
+                    let mut d = Diagnostic::error(*span, format!("unknown global `{name}`"));
+                    d = match expr::did_you_mean(name, self.state[1..].iter().map(String::as_str)) {
+                        Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                        None => d.with_hint(format!("declare it at the top of the file: `global {name} = 0`")),
+                    };
+                    self.errors.push(d);
+                    None
+                };
+                Some(Op::Assign(slot? as u32, prog?, *span))
+            }
+            Stmt::If { cond, then, els } => {
+                let scope = RuleScope { formals, state: &self.state, locals, defines: &self.defines };
+                let c = program(cond, &scope, &mut self.errors);
+                let then = self.statement(then, formals, locals, in_body).into_iter().collect();
+                let els = match els {
+                    Some(e) => self.statement(e, formals, locals, in_body).into_iter().collect(),
+                    None => Vec::new(),
+                };
+                Some(Op::If(c?, then, els))
+            }
+            Stmt::Produce { calls, end, .. } => {
+                let syms: Vec<Sym> = calls.iter().map(|c| self.sym(&c.name, c.args.len(), c.span)).collect();
+                self.balanced(calls, &syms, if *end { "this `produce`" } else { "this `nproduce`" });
+                let scope = RuleScope { formals, state: &self.state, locals, defines: &self.defines };
+                let mut args = Vec::new();
+                let mut ok = true;
+                for a in calls.iter().flat_map(|c| &c.args) {
+                    match program(a, &scope, &mut self.errors) {
+                        Some(p) => args.push(Arg::of(p)),
+                        None => ok = false,
+                    }
+                }
+                ok.then_some(Op::Produce { syms, args, end: *end })
+            }
+        }
     }
 
     /// Per symbol: whether contexts skip it (`ignore:` lists the skipped,
@@ -534,6 +772,17 @@ impl Compiler {
     }
 }
 
+/// Compiles a formula against `scope`, its errors shifted to the file.
+fn program(e: &Expr, scope: &RuleScope, errors: &mut Vec<Diagnostic>) -> Option<Program> {
+    match expr::compile(&e.ast, scope) {
+        Ok(p) => Some(p),
+        Err(ds) => {
+            errors.extend(ds.into_iter().map(|d| d.shifted(e.at)));
+            None
+        }
+    }
+}
+
 fn value_span(s: &Setting) -> Span {
     Span::new(s.at, s.at + s.value.len().max(1))
 }
@@ -572,13 +821,23 @@ pub(crate) fn compile_text(text: &str) -> Result<(LSystem, Vec<Diagnostic>), Vec
     if !errors.is_empty() {
         return Err(errors);
     }
-    compile(&file)
+    compile(&file, &crate::surface::NoSurfaceAssets)
 }
 
 impl LSystem {
     /// Number of productions, decomposition rules and interpretation rules.
     pub fn rule_counts(&self) -> [usize; 3] {
         [self.productions.rules.len(), self.decomposition.rules.len(), self.interpretation.rules.len()]
+    }
+
+    /// The `global` variables with their declared values, in file order.
+    pub fn globals(&self) -> impl Iterator<Item = (&str, f64)> + '_ {
+        self.state_names.iter().zip(&self.initial_state).skip(1).map(|(n, v)| (n.as_str(), *v))
+    }
+
+    /// Whether some Start, StartEach, EndEach or End hook has statements.
+    pub fn has_hooks(&self) -> bool {
+        self.hooks.iter().any(|h| !h.is_empty())
     }
 
     /// Whether some production has a left or right context.

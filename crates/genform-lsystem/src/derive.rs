@@ -3,6 +3,7 @@
 //! decomposition rules and cuts.
 
 use crate::alphabet::{Command, Sym};
+use crate::body::Faults;
 use crate::compile::LSystem;
 use crate::context::{Context, bracket_partners};
 use crate::rules::{Entry, Rule, Table, is_true};
@@ -61,6 +62,25 @@ pub enum DeriveError {
         /// The value, as text (`inf`, `-inf`, `NaN`).
         value: String,
     },
+    /// A hook assigned a global a value that is not a finite number.
+    #[error(
+        "step {step} of {steps}: the {hook} hook set global `{name}` to {value} at {at}; \
+         guard the formula (e.g. with `if`) or change it"
+    )]
+    NonFiniteGlobal {
+        /// The step (0 for Start, the number of steps for End).
+        step: u32,
+        /// Steps asked for.
+        steps: u32,
+        /// `Start`, `StartEach`, `EndEach` or `End`.
+        hook: &'static str,
+        /// `file:line:col` of the assignment.
+        at: String,
+        /// The global's name.
+        name: String,
+        /// The value, as text.
+        value: String,
+    },
 }
 
 /// Why one rewriting pass stopped early.
@@ -88,7 +108,23 @@ pub(crate) struct Scratch {
     /// The first rule (and value) that emitted a non-finite parameter
     /// during an [`LSystem::expand`].
     pub(crate) non_finite: Option<(u32, f64)>,
+    /// The global state rules read: `iteration`, then the globals.
+    pub(crate) state: Vec<f64>,
+    /// What the body of the rule last chosen produced, and its first
+    /// non-finite parameter.
+    body_out: ModuleString,
+    body_bad: Option<f64>,
 }
+
+impl Scratch {
+    /// Buffers for rules that read the global `state`.
+    pub(crate) fn with_state(state: &[f64]) -> Scratch {
+        Scratch { state: state.to_vec(), ..Scratch::default() }
+    }
+}
+
+/// The hooks, by index into `LSystem::hooks`.
+const HOOK_NAMES: [&str; 4] = ["Start", "StartEach", "EndEach", "End"];
 
 /// A module being rewritten and what its contexts can see.
 pub(crate) struct Site<'a> {
@@ -118,11 +154,21 @@ impl LSystem {
         let mut cur = self.axiom.clone();
         let mut next = ModuleString::default();
         let mut scratch = Scratch::default();
+        let mut state = self.initial_state.clone();
+        self.hook(0, &mut state, rng, 0, steps)?;
+        let queries = self.queries();
+        if let Some(kinds) = &queries {
+            self.fill_queries(&mut cur, kinds, &state, 0);
+        }
         let fast = self.fast_table();
         let has_cut = self.alphabet.symbols.iter().any(|s| s.command == Command::Cut);
         let budget = (max_modules as u64).saturating_mul(WORK_FACTOR);
         let mut written = 0u64;
         for step in 1..=steps {
+            // L-Py's getIterationNb(): steps done before this one.
+            state[0] = f64::from(step - 1);
+            self.hook(1, &mut state, rng, step, steps)?;
+            scratch.state.clone_from(&state);
             let rewritten = match &fast {
                 Some(table) => {
                     if rewrite_fast(table, &cur.syms, &mut next.syms, max_modules) {
@@ -137,7 +183,7 @@ impl LSystem {
                 if self.decomposition.is_empty() {
                     Ok(())
                 } else {
-                    self.decompose(&mut next, rng, max_modules).map_err(|stop| (stop, &self.decomposition))
+                    self.decompose(&mut next, rng, max_modules, &state).map_err(|stop| (stop, &self.decomposition))
                 }
             });
             match done {
@@ -157,8 +203,15 @@ impl LSystem {
             if written > budget {
                 return Err(DeriveError::TooMuchWork { step, steps, limit: budget });
             }
+            if let Some(kinds) = &queries {
+                self.fill_queries(&mut cur, kinds, &state, u64::from(step));
+            }
+            self.hook(2, &mut state, rng, step, steps)?;
             after_step(step, &cur);
         }
+        state[0] = f64::from(steps);
+        self.hook(3, &mut state, rng, steps, steps)?;
+        cur.state = state;
         Ok(cur)
     }
 
@@ -221,7 +274,7 @@ impl LSystem {
             let site = Site { sym, params, ctx: table.context.then_some((i, &view, &offsets[..], &cur.params[..])) };
             match self.choose(table, &site, rng, sc) {
                 Some(r) => {
-                    if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, &sc.env, out, rng) {
+                    if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, sc, out, rng) {
                         done = Err(Stop::NonFinite(r, v));
                         break;
                     }
@@ -306,9 +359,44 @@ impl LSystem {
         None
     }
 
-    /// Contexts match and the condition holds; binds the parameters.
+    /// Contexts match, the condition holds and a body (if any) produces;
+    /// binds the parameters.
     fn applies(&self, rule: &Rule, site: &Site, draws: &mut impl Draws, sc: &mut Scratch) -> bool {
-        self.bind(rule, site, sc) && rule.cond.as_ref().is_none_or(|c| is_true(c.eval_draws(&sc.env, draws)))
+        if !(self.bind(rule, site, sc) && rule.cond.as_ref().is_none_or(|c| is_true(c.eval_draws(&sc.env, draws)))) {
+            return false;
+        }
+        let Some(body) = &rule.body else { return true };
+        // Local variables start undefined (NaN) after the formals and state.
+        sc.env.resize(sc.env.len() + body.locals, f64::NAN);
+        sc.body_out.syms.clear();
+        sc.body_out.params.clear();
+        let mut faults = Faults::default();
+        let out = crate::body::run(&body.ops, &mut sc.env, &self.alphabet, &mut sc.body_out, draws, &mut faults);
+        // A local that is not finite is harmless until a module carries it.
+        sc.body_bad = faults.param;
+        out.produced
+    }
+
+    /// Runs hook `k` over the global `state`; a global set to a value that
+    /// is not finite is an error.
+    fn hook(&self, k: usize, state: &mut [f64], rng: &mut Rng, step: u32, steps: u32) -> Result<(), DeriveError> {
+        let ops = &self.hooks[k];
+        if ops.is_empty() {
+            return Ok(());
+        }
+        let mut faults = Faults::default();
+        crate::body::run(ops, state, &self.alphabet, &mut ModuleString::default(), rng, &mut faults);
+        match faults.assign {
+            None => Ok(()),
+            Some((slot, span, v)) => {
+                let at = match &self.source {
+                    Some(f) => f.location(span.start),
+                    None => format!("byte {}", span.start),
+                };
+                let name = self.state_names.get(slot as usize).cloned().unwrap_or_default();
+                Err(DeriveError::NonFiniteGlobal { step, steps, hook: HOOK_NAMES[k], at, name, value: v.to_string() })
+            }
+        }
     }
 
     /// Matches the contexts and fills `sc.env` with the formal parameters.
@@ -338,15 +426,18 @@ impl LSystem {
         } else {
             sc.env.extend_from_slice(site.params);
         }
+        if rule.state {
+            sc.env.extend_from_slice(&sc.state);
+        }
         true
     }
 
     /// Applies the decomposition rules to every module of `s`, recursively
     /// up to their depth; stops when the result exceeds `cap` or a rule
     /// computes a non-finite parameter.
-    fn decompose(&self, s: &mut ModuleString, rng: &mut Rng, cap: usize) -> Result<(), Stop> {
+    fn decompose(&self, s: &mut ModuleString, rng: &mut Rng, cap: usize, state: &[f64]) -> Result<(), Stop> {
         let mut out = ModuleString::default();
-        let mut sc = Scratch::default();
+        let mut sc = Scratch::with_state(state);
         let ok = s.modules(&self.alphabet).all(|(sym, params)| {
             self.expand(&self.decomposition, (sym, params), 0, rng, &mut sc, &mut |sym, p| {
                 out.syms.push(sym);
@@ -383,7 +474,7 @@ impl LSystem {
             return sink(sym, params);
         };
         let mut produced = ModuleString::default();
-        if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, &sc.env, &mut produced, draws) {
+        if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, sc, &mut produced, draws) {
             sc.non_finite.get_or_insert((r, v));
         }
         produced.modules(&self.alphabet).all(|(s, p)| self.expand(table, (s, p), depth + 1, draws, sc, sink))
@@ -392,7 +483,11 @@ impl LSystem {
     /// Removes every `%` with the rest of its branch (up to, not including,
     /// the `]` that closes it).
     fn cut(&self, s: &mut ModuleString) {
-        let mut out = ModuleString { syms: Vec::with_capacity(s.len()), params: Vec::with_capacity(s.params.len()) };
+        let mut out = ModuleString {
+            syms: Vec::with_capacity(s.len()),
+            params: Vec::with_capacity(s.params.len()),
+            state: Vec::new(),
+        };
         let mut skip_depth: Option<usize> = None;
         let mut depth = 0usize;
         for (sym, params) in s.modules(&self.alphabet) {
@@ -427,16 +522,23 @@ pub(crate) fn within(s: &ModuleString, cap: usize) -> bool {
     s.syms.len() <= cap && s.params.len() <= cap.saturating_mul(4)
 }
 
-/// Appends `rule`'s successor, its parameters evaluated on `env`; the
-/// first non-finite parameter as the error (the successor is still
-/// appended whole).
+/// Appends the successor of `rule` (just chosen with `sc`): its
+/// parameters evaluated on the bound environment, or what its body
+/// produced; the first non-finite parameter as the error (the successor is
+/// still appended whole).
 pub(crate) fn emit(
     rule: &Rule,
     alphabet: &crate::alphabet::Alphabet,
-    env: &[f64],
+    sc: &Scratch,
     out: &mut ModuleString,
     draws: &mut impl Draws,
 ) -> Result<(), f64> {
+    if rule.body.is_some() {
+        out.syms.extend_from_slice(&sc.body_out.syms);
+        out.params.extend_from_slice(&sc.body_out.params);
+        return sc.body_bad.map_or(Ok(()), Err);
+    }
+    let env = &sc.env[..];
     if rule.succ_args.is_empty() {
         out.syms.extend_from_slice(&rule.succ_syms);
         return Ok(());

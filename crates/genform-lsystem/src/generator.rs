@@ -34,6 +34,12 @@ pub enum GeneratorError {
     /// Decomposition rewrites modules outside the derivation tree.
     #[error("`{0}` has decomposition rules; evolutionary control supports productions and interpretation rules only")]
     Decomposition(String),
+    /// Hooks change globals between steps, and bodies produce successors
+    /// of varying shape: neither is a fixed rewrite of one module.
+    #[error(
+        "`{0}` has {1}; evolutionary control needs productions with a fixed successor and no Start/StartEach/EndEach/End hooks"
+    )]
+    Statements(String, &'static str),
     /// With growth 1 every link is mandatory, and optimizers would grow the
     /// successors of productions that are not chosen.
     #[error(
@@ -80,6 +86,12 @@ impl LsGenerator {
             return Err(GeneratorError::Decomposition(name));
         }
         let table = &system.productions;
+        if system.has_hooks() {
+            return Err(GeneratorError::Statements(name, "hooks"));
+        }
+        if table.rules.iter().any(|r| r.body.is_some()) {
+            return Err(GeneratorError::Statements(name, "production bodies (`-> { … produce … }`)"));
+        }
         let n = system.alphabet.symbols.len();
         let rewritable: Vec<bool> = (0..n).map(|s| !table.by_sym[s].is_empty()).collect();
         let growth = system.settings.growth;
@@ -182,12 +194,17 @@ impl LsGenerator {
             genome: GenomeAccess::Read(genome),
             limits,
             out: ModuleString::default(),
-            sc: Scratch::default(),
+            sc: Scratch::with_state(&self.system.initial_state),
             values: Vec::new(),
         };
         let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
         walk.axiom(root)?;
-        Ok(walk.out)
+        // The state a derivation of that many steps ends with (no hook
+        // changes it in a generator).
+        let mut out = walk.out;
+        out.state.clone_from(&self.system.initial_state);
+        out.state[0] = limits.max_depth as f64;
+        Ok(out)
     }
 }
 
@@ -303,11 +320,13 @@ impl Walk<'_> {
             if gene_sym.roulette { (values.first().copied(), &values[1..]) } else { (None, &values[..]) };
         let mut draws = Stored { values: uniforms, next: 0 };
         let site = Site { sym, params, ctx: None };
+        // A module rewritten at depth d is rewritten by step d.
+        self.sc.state[0] = (depth - 1) as f64;
         let chosen = sys.choose_with(&sys.productions, &site, &mut draws, roulette, &mut self.sc);
         let mut produced = ModuleString::default();
         let mut emitted = Ok(());
         if let Some(r) = chosen {
-            emitted = emit(&sys.productions.rules[r as usize], &sys.alphabet, &self.sc.env, &mut produced, &mut draws);
+            emitted = emit(&sys.productions.rules[r as usize], &sys.alphabet, &self.sc, &mut produced, &mut draws);
         }
         self.values = values;
         if let (Some(r), Err(v)) = (chosen, emitted) {
@@ -358,7 +377,7 @@ impl Generator for LsGenerator {
             genome: GenomeAccess::Grow { genome: &mut genome, rng, truncated: None, params: Vec::new() },
             limits,
             out: ModuleString::default(),
-            sc: Scratch::default(),
+            sc: Scratch::with_state(&self.system.initial_state),
             values: Vec::new(),
         };
         walk.axiom(GenePos(0))?;

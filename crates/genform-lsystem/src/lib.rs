@@ -6,10 +6,14 @@
 //! - [`LSystem::derive`] rewrites the axiom in parallel steps:
 //!   deterministic, stochastic (weighted groups), parametric with
 //!   conditions, context-sensitive with bracket-aware contexts and
-//!   `ignore`/`consider` sets, decomposition rules, cut `%`.
+//!   `ignore`/`consider` sets, decomposition rules, cut `%`, production
+//!   bodies with L-Py's `produce`/`nproduce`, global variables changed by
+//!   Start/StartEach/EndEach/End hooks, and query modules `?P ?H ?U ?L`
+//!   filled from the turtle after each step.
 //! - [`LSystem::interpret`] runs the turtle, with interpretation rules,
 //!   into a [`Scene`](genform_core::Scene): polylines in 2D, frusta in 3D,
-//!   polygons.
+//!   polygons, generalized cylinders, and `~` surfaces (a built-in
+//!   Bézier-patch leaf, or meshes loaded with [`compile_with_assets`]).
 //! - [`LsGenerator`] makes each module rewrite a gene (production choice and
 //!   random draws) with the successor's rewritable modules as its child
 //!   slots, so the optimizers can steer a context-free stochastic or
@@ -28,6 +32,7 @@
 #![warn(missing_docs)]
 
 mod alphabet;
+mod body;
 mod compile;
 mod context;
 mod derive;
@@ -35,6 +40,7 @@ mod generator;
 mod rules;
 mod settings;
 mod string;
+mod surface;
 mod syntax;
 mod turtle;
 
@@ -47,13 +53,24 @@ pub use derive::DeriveError;
 pub use generator::{GeneratorError, LsGenerator};
 pub use settings::{Heading, Settings, View};
 pub use string::ModuleString;
+pub use surface::{NoSurfaceAssets, SurfaceAssets};
 pub use turtle::{TurtleEnd, TurtleError};
 
 use genform_core::{Diagnostics, SourceFile};
 
 /// Compiles a `.ls` file. Returns the system and its warnings, or every
-/// error found.
+/// error found. `surface` declarations are errors (no files are read); use
+/// [`compile_with_assets`] to load them.
 pub fn compile(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics> {
+    compile_with_assets(file, &NoSurfaceAssets)
+}
+
+/// Compiles a `.ls` file, loading the meshes of its `surface name =
+/// "path"` declarations through `assets`.
+pub fn compile_with_assets(
+    file: &SourceFile,
+    assets: &dyn SurfaceAssets,
+) -> Result<(LSystem, Diagnostics), Diagnostics> {
     let (parsed, errors) = syntax::parse(&file.text);
     let mut diags = Diagnostics::new(file.clone());
     if !errors.is_empty() {
@@ -62,7 +79,7 @@ pub fn compile(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics>
         }
         return Err(diags);
     }
-    match compile::compile(&parsed) {
+    match compile::compile(&parsed, assets) {
         Ok((mut system, warnings)) => {
             system.source = Some(file.clone());
             if system.settings.name.is_empty() {

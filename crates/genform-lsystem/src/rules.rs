@@ -2,6 +2,7 @@
 //! successor whose parameters are compiled formulas.
 
 use crate::alphabet::Sym;
+use crate::body::Body;
 use genform_core::Draws;
 use genform_core::diag::Span;
 use genform_core::expr::{Arith, Operand, Program, Trivial};
@@ -65,9 +66,16 @@ pub(crate) struct Rule {
     pub succ_syms: Vec<Sym>,
     /// The successor's parameters, module after module.
     pub succ_args: Vec<Arg>,
-    /// The most random draws one application takes.
+    /// The most random draws one application takes (not counting a
+    /// body's).
     pub draws: usize,
     pub span: Span,
+    /// Statements that compute the successor (`-> { … }`); `succ_syms`
+    /// then lists every module they can produce.
+    pub body: Option<Body>,
+    /// Whether the environment holds the global state after the formal
+    /// parameters (the rule reads `iteration` or a global, or has a body).
+    pub state: bool,
 }
 
 impl Rule {
@@ -115,7 +123,8 @@ impl Table {
             None => Some(None),
             Some(Entry::One(r)) => {
                 let r = &self.rules[*r as usize];
-                (r.cond.is_none() && !r.has_context() && r.succ_args.is_empty() && r.env == 0).then_some(Some(r))
+                (r.cond.is_none() && !r.has_context() && r.succ_args.is_empty() && r.env == 0 && r.body.is_none())
+                    .then_some(Some(r))
             }
             Some(Entry::Group(_)) => None,
         }

@@ -13,6 +13,11 @@ pub struct ModuleString {
     pub syms: Vec<Sym>,
     /// All parameters, module after module.
     pub params: Vec<f64>,
+    /// The L-system's global state after the derivation that made the
+    /// string: the steps done (`iteration`), then the `global` variables
+    /// in declaration order (empty when not derived; interpretation rules
+    /// then read the declared values).
+    pub state: Vec<f64>,
 }
 
 impl ModuleString {

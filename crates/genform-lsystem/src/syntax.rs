@@ -56,8 +56,55 @@ pub struct Production {
     pub weight: Option<Expr>,
     /// The successor (empty: the module is deleted).
     pub successor: Vec<Call>,
+    /// A body `-> { … }` of statements with `produce` (instead of a
+    /// successor).
+    pub body: Option<Vec<Stmt>>,
     /// The whole line.
     pub span: Span,
+}
+
+/// A statement of a production body or a hook.
+#[derive(Clone, Debug)]
+pub enum Stmt {
+    /// `name = formula`.
+    Assign {
+        /// The assigned name.
+        name: String,
+        /// Where the name is.
+        span: Span,
+        /// The formula.
+        value: Expr,
+    },
+    /// `if cond: statement`, with an optional `else:` (or `elif`) branch.
+    If {
+        /// The condition.
+        cond: Expr,
+        /// Runs when it holds.
+        then: Box<Stmt>,
+        /// Runs otherwise.
+        els: Option<Box<Stmt>>,
+    },
+    /// `produce modules` (ends the body) or `nproduce modules` (appends and
+    /// goes on).
+    Produce {
+        /// The modules.
+        calls: Vec<Call>,
+        /// `produce` (true) or `nproduce` (false).
+        end: bool,
+    },
+}
+
+/// An L-Py hook: statements run around the derivation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Hook {
+    /// Once, before the first step (`Start:`).
+    Start,
+    /// Before every step (`StartEach:`).
+    StartEach,
+    /// After every step (`EndEach:`).
+    EndEach,
+    /// Once, after the last step (`End:`).
+    End,
 }
 
 /// Which table a production belongs to.
@@ -102,6 +149,13 @@ pub struct File {
     pub max_depth: [Option<(u32, Span)>; 2],
     /// `ignore:` (false) or `consider:` (true) lists: module names.
     pub context_sets: Vec<(bool, Vec<String>, Span)>,
+    /// `global name = formula`, in file order.
+    pub globals: Vec<(String, Span, Expr)>,
+    /// Statements of the hook sections, indexed by [`Hook`], in file order.
+    pub hooks: [Vec<Stmt>; 4],
+    /// `surface name = "file.obj"` declarations: name, its span, the path
+    /// and the path's span.
+    pub surfaces: Vec<(String, Span, String, Span)>,
 }
 
 /// Setting keys, for "did you mean" hints.
@@ -127,12 +181,29 @@ pub const KEYS: &[&str] = &[
     "maxdepth",
 ];
 
-const SECTIONS: &[(&str, Section)] = &[
-    ("production", Section::Production),
-    ("productions", Section::Production),
-    ("decomposition", Section::Decomposition),
-    ("interpretation", Section::Interpretation),
-    ("homomorphism", Section::Interpretation),
+/// What the lines below a section header are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Block {
+    /// Productions of a table.
+    Rules(Section),
+    /// Statements of a hook.
+    Hook(Hook),
+}
+
+const SECTIONS: &[(&str, Block)] = &[
+    ("production", Block::Rules(Section::Production)),
+    ("productions", Block::Rules(Section::Production)),
+    ("decomposition", Block::Rules(Section::Decomposition)),
+    ("interpretation", Block::Rules(Section::Interpretation)),
+    ("homomorphism", Block::Rules(Section::Interpretation)),
+    ("Start", Block::Hook(Hook::Start)),
+    ("StartEach", Block::Hook(Hook::StartEach)),
+    ("EndEach", Block::Hook(Hook::EndEach)),
+    ("End", Block::Hook(Hook::End)),
+    ("start", Block::Hook(Hook::Start)),
+    ("start_each", Block::Hook(Hook::StartEach)),
+    ("end_each", Block::Hook(Hook::EndEach)),
+    ("end", Block::Hook(Hook::End)),
 ];
 
 /// The deepest decomposition or interpretation recursion (`maxdepth:`).
@@ -148,12 +219,18 @@ const LONG_COMMANDS: &[&str] = &["@Gc", "@Ge", "@Dd", "@Di", "@Ts", "@Tp", "@2D"
 
 /// Reads `text` into a [`File`], collecting every error.
 pub fn parse(text: &str) -> (File, Vec<Diagnostic>) {
-    let mut p = Parser { file: File::default(), errors: Vec::new(), section: None };
+    let mut p = Parser { file: File::default(), errors: Vec::new(), section: None, open_body: None };
     let mut offset = 0;
     for line in text.split_inclusive('\n') {
         let body = strip_comment(line.trim_end_matches(['\n', '\r']));
         p.line(body, offset);
         offset += line.len();
+    }
+    if let Some(k) = p.open_body {
+        let span = p.file.productions[k].1.span;
+        p.errors.push(
+            Diagnostic::error(span, "this production's body is never closed").with_hint("end the body with a line `}`"),
+        );
     }
     (p.file, p.errors)
 }
@@ -179,7 +256,10 @@ fn strip_comment(line: &str) -> &str {
 struct Parser {
     file: File,
     errors: Vec<Diagnostic>,
-    section: Option<Section>,
+    section: Option<Block>,
+    /// The production whose body `{ … }` is being read, by index into
+    /// `file.productions`.
+    open_body: Option<usize>,
 }
 
 /// Trims `s` (at byte `at`), returning the trimmed text and its offset.
@@ -205,6 +285,26 @@ impl Parser {
     fn line(&mut self, raw: &str, offset: usize) {
         let (line, at) = trimmed(raw, offset);
         if line.is_empty() {
+            return;
+        }
+        if let Some(k) = self.open_body {
+            if line == "}" {
+                self.open_body = None;
+            } else if let Some(stmt) = self.statement(line, at, true) {
+                self.push_statement(stmt, |f| f.productions[k].1.body.get_or_insert_with(Vec::new));
+            }
+            return;
+        }
+        if let Some(rest) = line.strip_prefix("global").filter(|r| r.starts_with(char::is_whitespace)) {
+            let skip = line.len() - rest.len();
+            if let Some((name, span, e)) = self.named_formula(rest, at + skip, span(at, line.len()), "global") {
+                self.file.globals.push((name, span, e));
+            }
+            return;
+        }
+        if let Some(rest) = line.strip_prefix("surface").filter(|r| r.starts_with(char::is_whitespace)) {
+            let skip = line.len() - rest.len();
+            self.surface(rest, at + skip, span(at, line.len()));
             return;
         }
         if let Some(rest) = line.strip_prefix("define").filter(|r| r.starts_with(char::is_whitespace)) {
@@ -249,9 +349,18 @@ impl Parser {
             }
         }
         match self.section {
-            Some(section) => {
+            Some(Block::Rules(section)) => {
                 if let Some(p) = self.production(line, at) {
+                    let opens = p.body.is_some();
                     self.file.productions.push((section, p));
+                    if opens {
+                        self.open_body = Some(self.file.productions.len() - 1);
+                    }
+                }
+            }
+            Some(Block::Hook(hook)) => {
+                if let Some(stmt) = self.statement(line, at, false) {
+                    self.push_statement(stmt, |f| &mut f.hooks[hook as usize]);
                 }
             }
             None => self.errors.push(
@@ -291,8 +400,8 @@ impl Parser {
             }
             "maxdepth" => {
                 let idx = match self.section {
-                    Some(Section::Decomposition) => 0,
-                    Some(Section::Interpretation) => 1,
+                    Some(Block::Rules(Section::Decomposition)) => 0,
+                    Some(Block::Rules(Section::Interpretation)) => 1,
                     _ => {
                         self.errors.push(
                             Diagnostic::error(
@@ -320,23 +429,166 @@ impl Parser {
     }
 
     fn define(&mut self, rest: &str, at: usize, whole: Span) {
+        if let Some((name, span, e)) = self.named_formula(rest, at, whole, "define") {
+            self.file.defines.push((name, span, e));
+        }
+    }
+
+    /// `name = formula` after the keyword `what` (`define`, `global`).
+    fn named_formula(&mut self, rest: &str, at: usize, whole: Span, what: &str) -> Option<(String, Span, Expr)> {
         let (rest, at) = trimmed(rest, at);
+        let example = format!("write `{what} p = 0.3`");
         let Some((name, after)) = leading_word(rest) else {
-            self.errors
-                .push(Diagnostic::error(whole, "expected a name after `define`").with_hint("write `define p = 0.3`"));
-            return;
+            self.errors.push(Diagnostic::error(whole, format!("expected a name after `{what}`")).with_hint(example));
+            return None;
         };
         let Some(value) = after.trim_start().strip_prefix('=') else {
             self.errors.push(
-                Diagnostic::error(span(at, name.len()), format!("expected `=` after `define {name}`"))
-                    .with_hint("write `define p = 0.3`"),
+                Diagnostic::error(span(at, name.len()), format!("expected `=` after `{what} {name}`"))
+                    .with_hint(example),
             );
-            return;
+            return None;
         };
         let vstart = rest.len() - value.len();
         let (v, vat) = trimmed(value, at + vstart);
-        if let Some(e) = self.expr(v, vat, whole) {
-            self.file.defines.push((name.to_string(), span(at, name.len()), e));
+        let e = self.expr(v, vat, whole)?;
+        Some((name.to_string(), span(at, name.len()), e))
+    }
+
+    /// `surface name = "file.obj"`.
+    fn surface(&mut self, rest: &str, at: usize, whole: Span) {
+        let (rest, at) = trimmed(rest, at);
+        let example = "write `surface petal = \"petal.obj\"` and draw it with `~petal(size)`";
+        let parsed = leading_word(rest).and_then(|(name, after)| {
+            let value = after.trim_start().strip_prefix('=')?;
+            let vstart = rest.len() - value.len();
+            let (v, vat) = trimmed(value, at + vstart);
+            let path = v.strip_prefix('"')?.strip_suffix('"')?;
+            (!path.is_empty() && !path.contains('"')).then(|| (name, path, span(vat, v.len())))
+        });
+        match parsed {
+            Some((name, path, path_span)) => {
+                self.file.surfaces.push((name.to_string(), span(at, name.len()), path.to_string(), path_span))
+            }
+            None => {
+                self.errors.push(Diagnostic::error(whole, "expected `surface name = \"file.obj\"`").with_hint(example))
+            }
+        }
+    }
+
+    /// One statement line of a body (`in_body`) or a hook.
+    fn statement(&mut self, line: &str, at: usize, in_body: bool) -> Option<StmtLine> {
+        let whole = span(at, line.len());
+        match leading_word(line) {
+            Some(("if", rest)) | Some(("elif", rest)) if rest.starts_with(char::is_whitespace) => {
+                let is_elif = line.starts_with("elif");
+                let off = line.len() - rest.len();
+                let stmt = self.conditional(rest, at + off, whole, in_body)?;
+                Some(if is_elif { StmtLine::Else(stmt, whole) } else { StmtLine::New(stmt) })
+            }
+            Some(("else", rest)) => {
+                let Some(after) = rest.trim_start().strip_prefix(':') else {
+                    self.errors.push(
+                        Diagnostic::error(whole, "expected `else: statement`")
+                            .with_hint("an `else:` line follows an `if cond: statement` line"),
+                    );
+                    return None;
+                };
+                let off = line.len() - after.len();
+                let (t, tat) = trimmed(after, at + off);
+                let then = self.statement(t, tat, in_body)?;
+                match then {
+                    StmtLine::New(stmt) => Some(StmtLine::Else(stmt, whole)),
+                    StmtLine::Else(..) => {
+                        self.errors.push(Diagnostic::error(whole, "`else:` cannot be followed by `else`"));
+                        None
+                    }
+                }
+            }
+            Some((kw @ ("produce" | "nproduce"), rest)) if rest.is_empty() || rest.starts_with(char::is_whitespace) => {
+                if !in_body {
+                    self.errors.push(
+                        Diagnostic::error(span(at, kw.len()), format!("`{kw}` belongs in a production body"))
+                            .with_hint("hooks (Start, StartEach, EndEach, End) only assign global variables"),
+                    );
+                    return None;
+                }
+                let off = line.len() - rest.len();
+                let calls = self.calls(rest, at + off);
+                Some(StmtLine::New(Stmt::Produce { calls, end: kw == "produce" }))
+            }
+            Some((name, rest)) if rest.trim_start().starts_with('=') && !rest.trim_start().starts_with("==") => {
+                let value = &rest.trim_start()[1..];
+                let off = line.len() - value.len();
+                let (v, vat) = trimmed(value, at + off);
+                let value = self.expr(v, vat, whole)?;
+                Some(StmtLine::New(Stmt::Assign { name: name.to_string(), span: span(at, name.len()), value }))
+            }
+            _ => {
+                let hint = if in_body {
+                    "a body holds `name = formula`, `if cond: …`, `else: …`, `produce modules`, `nproduce modules`; end it with `}`"
+                } else {
+                    "a hook holds `name = formula`, `if cond: …` and `else: …` lines"
+                };
+                self.errors.push(Diagnostic::error(whole, "expected a statement").with_hint(hint));
+                None
+            }
+        }
+    }
+
+    /// `cond: statement` after `if` or `elif`.
+    fn conditional(&mut self, rest: &str, at: usize, whole: Span, in_body: bool) -> Option<Stmt> {
+        let (text, tat) = trimmed(rest, at);
+        let (ast, used) = match expr::parse_prefix(text) {
+            Ok(r) => r,
+            Err(d) => {
+                self.errors.push(d.shifted(tat));
+                return None;
+            }
+        };
+        let rest = text[used..].trim_start();
+        let Some(after) = rest.strip_prefix(':') else {
+            let next = tat + text.len() - rest.len();
+            self.errors.push(
+                Diagnostic::error(span(next, 1), "expected `:` after the condition")
+                    .with_hint("write `if x > 1: produce A(x)`"),
+            );
+            return None;
+        };
+        let off = text.len() - after.len();
+        let (t, sat) = trimmed(after, tat + off);
+        if t.is_empty() {
+            self.errors.push(Diagnostic::error(whole, "expected a statement after `:`"));
+            return None;
+        }
+        let then = match self.statement(t, sat, in_body)? {
+            StmtLine::New(s) => s,
+            StmtLine::Else(..) => {
+                self.errors.push(Diagnostic::error(span(sat, t.len()), "`else` cannot follow `if …:` on one line"));
+                return None;
+            }
+        };
+        Some(Stmt::If { cond: Expr { ast, at: tat }, then: Box::new(then), els: None })
+    }
+
+    /// Appends a statement line to the list `list` selects; `else:` and
+    /// `elif` attach to the `if` chain just before them.
+    fn push_statement(&mut self, line: StmtLine, list: impl FnOnce(&mut File) -> &mut Vec<Stmt>) {
+        let list = list(&mut self.file);
+        match line {
+            StmtLine::New(s) => list.push(s),
+            StmtLine::Else(s, whole) => {
+                let attached = match list.last_mut() {
+                    Some(last) => attach_else(last, s),
+                    None => false,
+                };
+                if !attached {
+                    self.errors.push(
+                        Diagnostic::error(whole, "this `else`/`elif` follows no `if`")
+                            .with_hint("write `if cond: …` on the line before; an `if` takes one `else`"),
+                    );
+                }
+            }
         }
     }
 
@@ -385,7 +637,14 @@ impl Parser {
             let long = LONG_COMMANDS.iter().find(|n| text[i..].starts_with(**n)).map(|n| n.len());
             let at_name = c == '@' && text[i + 1..].starts_with(|n: char| n.is_ascii_alphabetic());
             let query = c == '?' && text[i + 1..].starts_with(|n: char| n.is_ascii_uppercase());
-            let len = declared.or(long).unwrap_or(if at_name || query { 2 } else { c.len_utf8() });
+            // `~name` is a predefined surface (cpfg/L-Py), one module.
+            let surface = (c == '~')
+                .then(|| {
+                    text[i + 1..].find(|n: char| !(n.is_ascii_alphanumeric() || n == '_')).unwrap_or(text.len() - i - 1)
+                })
+                .filter(|&n| n > 0)
+                .map(|n| n + 1);
+            let len = declared.or(long).or(surface).unwrap_or(if at_name || query { 2 } else { c.len_utf8() });
             let name = &text[i..i + len];
             let start = i;
             i += len;
@@ -504,9 +763,31 @@ impl Parser {
             );
             return None;
         }
-        let successor = self.calls(succ_text, at + arrow.end);
-        Some(Production { left, strict: strict.remove(0), right, cond, weight, successor, span: whole })
+        // `-> {` alone opens a body of statements on the lines below.
+        let body = (succ_text.trim() == "{").then(Vec::new);
+        let successor = if body.is_some() { Vec::new() } else { self.calls(succ_text, at + arrow.end) };
+        Some(Production { left, strict: strict.remove(0), right, cond, weight, successor, body, span: whole })
     }
+}
+
+/// Makes `s` the `else` branch at the end of the `if` chain `stmt`; false
+/// when `stmt` is no `if` or its chain already ends in an `else`.
+fn attach_else(stmt: &mut Stmt, s: Stmt) -> bool {
+    match stmt {
+        Stmt::If { els: Some(next), .. } => matches!(**next, Stmt::If { .. }) && attach_else(next, s),
+        Stmt::If { els, .. } => {
+            *els = Some(Box::new(s));
+            true
+        }
+        _ => false,
+    }
+}
+
+/// A statement line: a new statement, or an `else:`/`elif` branch of the
+/// `if` before it.
+enum StmtLine {
+    New(Stmt),
+    Else(Stmt, Span),
 }
 
 struct RawModule<'t> {

@@ -13,6 +13,7 @@
 //! a drawing meaning are ignored.
 
 mod cylinder;
+mod query;
 
 use crate::alphabet::{Command, Sym};
 use crate::compile::LSystem;
@@ -95,6 +96,9 @@ struct Turtle<'a> {
     segments: usize,
     limit: usize,
     over: bool,
+    /// Only the turtle state matters (filling query modules): nothing is
+    /// drawn.
+    dry: bool,
 }
 
 impl LSystem {
@@ -108,33 +112,11 @@ impl LSystem {
         max_primitives: usize,
         scene: &mut Scene,
     ) -> Result<TurtleEnd, TurtleError> {
-        let [h, l, u] = self.settings.heading.frame();
-        let st = &self.settings;
-        let mut t = Turtle {
-            sys: self,
-            scene,
-            state: State {
-                pos: DVec3::ZERO,
-                h,
-                l,
-                u,
-                width: st.width * st.width_unit,
-                drawn: None,
-                color: 0,
-                scale: 1.0,
-                cylinder: None,
-            },
-            stack: Vec::new(),
-            polygons: Vec::new(),
-            open_line: None,
-            tags: Vec::new(),
-            cylinders: Vec::new(),
-            rings: 0,
-            segments: 0,
-            limit: max_primitives,
-            over: false,
-        };
-        let mut sc = Scratch::default();
+        let mut t = Turtle::new(self, scene, max_primitives, false);
+        // Interpretation rules read the global state the derivation ended
+        // with, or the declared one for a string not derived.
+        let state = if s.state.len() == self.initial_state.len() { &s.state } else { &self.initial_state };
+        let mut sc = Scratch::with_state(state);
         for (sym, params) in s.modules(&self.alphabet) {
             if self.interpretation.is_empty() {
                 t.apply(sym, params);
@@ -156,6 +138,39 @@ impl LSystem {
             return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
         }
         Ok(TurtleEnd { position: t.state.pos, segments: t.segments })
+    }
+}
+
+impl<'a> Turtle<'a> {
+    /// A turtle at the origin in the file's initial frame.
+    fn new(sys: &'a LSystem, scene: &'a mut Scene, limit: usize, dry: bool) -> Turtle<'a> {
+        let [h, l, u] = sys.settings.heading.frame();
+        let st = &sys.settings;
+        Turtle {
+            sys,
+            scene,
+            state: State {
+                pos: DVec3::ZERO,
+                h,
+                l,
+                u,
+                width: st.width * st.width_unit,
+                drawn: None,
+                color: 0,
+                scale: 1.0,
+                cylinder: None,
+            },
+            stack: Vec::new(),
+            polygons: Vec::new(),
+            open_line: None,
+            tags: Vec::new(),
+            cylinders: Vec::new(),
+            rings: 0,
+            segments: 0,
+            limit,
+            over: false,
+            dry,
+        }
     }
 }
 
@@ -294,7 +309,7 @@ impl Turtle<'_> {
             }
             Command::PolygonVertex => self.vertex(),
             Command::PolygonEnd => {
-                if let Some(mut points) = self.polygons.pop() {
+                if let Some(mut points) = self.polygons.pop().filter(|_| !self.dry) {
                     if points.len() > 1 && points.first() == points.last() {
                         points.pop();
                     }
@@ -308,7 +323,7 @@ impl Turtle<'_> {
             }
             Command::Sphere => {
                 let r = arg.unwrap_or(s.width * 0.5) * s.scale;
-                if r > 0.0 && r.is_finite() {
+                if r > 0.0 && r.is_finite() && !self.dry {
                     let transform = Affine3A::from_scale_rotation_translation(
                         Vec3::splat(2.0 * r as f32),
                         glam::Quat::IDENTITY,
@@ -316,6 +331,21 @@ impl Turtle<'_> {
                     );
                     let tag = self.tag(self.state.color);
                     self.scene.instances.push(Instance { transform, primitive: Primitive::Sphere, tag });
+                    self.over |= self.primitives() > self.limit;
+                }
+            }
+            // `~name` surfaces keep the command `None` (the public enum
+            // stays as it is) and are found by symbol.
+            Command::None if self.sys.surface_of[sym as usize].is_some() => {
+                let size = arg.unwrap_or(1.0) * s.scale;
+                let mesh = self.sys.surface_of[sym as usize].map(|k| &self.sys.surfaces[k as usize]);
+                if let Some(mesh) = mesh.filter(|_| size > 0.0 && size.is_finite() && !self.dry) {
+                    // Local +x → right (−L), +y → H, +z → U: a rotation.
+                    let m = DMat3::from_cols(-s.l * size, s.h * size, s.u * size);
+                    let transform = Affine3A::from_mat3_translation(m.as_mat3(), s.pos.as_vec3());
+                    let tag = self.tag(self.state.color);
+                    let id = self.scene.mesh(mesh);
+                    self.scene.instances.push(Instance { transform, primitive: Primitive::Mesh(id), tag });
                     self.over |= self.primitives() > self.limit;
                 }
             }
@@ -342,7 +372,9 @@ impl Turtle<'_> {
         let width = self.state.width * self.state.scale;
         let tag = self.tag(self.state.color);
         self.segments += 1;
-        if let (Some(k), View::Solid) = (self.state.cylinder, st.view) {
+        if self.dry {
+            // Only the state moves.
+        } else if let (Some(k), View::Solid) = (self.state.cylinder, st.view) {
             if len != 0.0
                 && let Some(Some(c)) = self.cylinders.get_mut(k)
             {
@@ -391,7 +423,7 @@ impl Turtle<'_> {
         if let Some(k) = self.state.cylinder.take() {
             self.finish_cylinder(k);
         }
-        if self.sys.settings.view != View::Solid {
+        if self.sys.settings.view != View::Solid || self.dry {
             return;
         }
         let s = self.state;

@@ -91,3 +91,104 @@ fn every_example_compiles_and_draws() {
         }
     }
 }
+
+/// The parameters of every module named `name`, in string order.
+fn params_of(s: &LSystem, m: &genform_lsystem::ModuleString, name: &str) -> Vec<Vec<f64>> {
+    m.modules(&s.alphabet)
+        .filter(|(sym, _)| s.alphabet.symbols[*sym as usize].name == name)
+        .map(|(_, p)| p.to_vec())
+        .collect()
+}
+
+#[test]
+fn hooks_plant_shrinks_its_internodes_by_the_end_each_factor() {
+    // By hand: step k (1-based) rewrites 3^(k-1) apices X, each adding two
+    // F of length 10·0.6^(k-1) (EndEach has run k-1 times).
+    let s = load("hooks_plant");
+    let m = s.derive(s.settings.derivation, &mut Rng::from_seed(0)).unwrap();
+    let lengths: Vec<f64> = params_of(&s, &m, "F").into_iter().map(|p| p[0]).collect();
+    assert_eq!(lengths.len(), 2 * (1 + 3 + 9 + 27 + 81 + 243));
+    for j in 0..6 {
+        let want = 10.0 * 0.6f64.powi(j);
+        let n = lengths.iter().filter(|&&l| (l - want).abs() < 1e-9 * want).count();
+        assert_eq!(n, 2 * 3usize.pow(j as u32), "F({want})");
+    }
+    assert_eq!(m.count(&s.alphabet, "X"), 729);
+    assert!((m.state[1] - 10.0 * 0.6f64.powi(6)).abs() < 1e-12, "len after six EndEach");
+}
+
+#[test]
+fn produce_plant_matches_its_counts_by_hand() {
+    // Apices of age t: 1, 3, 3, 9, 9, 27, 27 (even ages fork in three); each
+    // emits one F(1.2·0.85^t); the 27 of age 6 flower.
+    let s = load("produce_plant");
+    let m = s.derive(s.settings.derivation, &mut Rng::from_seed(0)).unwrap();
+    let lengths: Vec<f64> = params_of(&s, &m, "F").into_iter().map(|p| p[0]).collect();
+    assert_eq!(lengths.len(), 79);
+    assert_eq!(m.count(&s.alphabet, "K"), 27);
+    assert_eq!(m.count(&s.alphabet, "A"), 0);
+    for (t, n) in [1, 3, 3, 9, 9, 27, 27].into_iter().enumerate() {
+        let want = 1.2 * 0.85f64.powi(t as i32);
+        assert_eq!(lengths.iter().filter(|&&l| (l - want).abs() < 1e-12).count(), n, "age {t}");
+    }
+}
+
+#[test]
+fn topiary_stops_exactly_the_apices_outside_its_disc() {
+    // Every ?P holds the turtle position where it stands (checked against
+    // the turtle: the query after a flower K is where the drawing put the
+    // flower); an apex A is only rewritten to K when its query was outside
+    // the disc, so flowers are outside and growing apices are inside.
+    let s = load("topiary");
+    let m = s.derive(s.settings.derivation, &mut Rng::from_seed(0)).unwrap();
+    let modules: Vec<(String, Vec<f64>)> =
+        m.modules(&s.alphabet).map(|(sym, p)| (s.alphabet.symbols[sym as usize].name.clone(), p.to_vec())).collect();
+    let outside = |p: &[f64]| p[0] * p[0] + (p[1] - 7.0).powi(2) > 36.0;
+    let (mut flowers, mut apices) = (0, 0);
+    for w in modules.windows(2) {
+        if w[1].0 != "?P" {
+            continue;
+        }
+        match w[0].0.as_str() {
+            "K" => {
+                flowers += 1;
+                // Stopped at the step after it crossed: at most one
+                // internode (0.9) beyond the circle.
+                let d = (w[1].1[0].powi(2) + (w[1].1[1] - 7.0).powi(2)).sqrt();
+                assert!(outside(&w[1].1) && d < 6.0 + 0.9 + 1e-9, "{:?}", w[1].1);
+            }
+            "A" => {
+                // Its parent was inside, so it is at most one internode out.
+                apices += 1;
+                let d = (w[1].1[0].powi(2) + (w[1].1[1] - 7.0).powi(2)).sqrt();
+                assert!(d < 6.0 + 0.9 + 1e-9, "{:?}", w[1].1);
+            }
+            _ => {}
+        }
+    }
+    assert!(flowers > 20 && apices > 0, "{flowers} flowers, {apices} apices");
+    // The flowers are where the turtle draws them.
+    let mut scene = Scene::new();
+    s.interpret(&m, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
+    let centres: Vec<[f64; 2]> =
+        scene.instances.iter().map(|i| [i.transform.translation.x as f64, i.transform.translation.y as f64]).collect();
+    assert_eq!(centres.len(), flowers);
+    for w in modules.windows(2).filter(|w| w[0].0 == "K") {
+        let p = &w[1].1;
+        assert!(centres.iter().any(|c| (c[0] - p[0]).abs() < 1e-4 && (c[1] - p[1]).abs() < 1e-4), "{p:?}");
+    }
+}
+
+#[test]
+fn leafy_plant_places_one_leaf_mesh_per_surface_module() {
+    // By hand: A adds one leaf per step (6); the B born at step j steps
+    // 6 − j more times with two leaves each: 2·(5 + 4 + 3 + 2 + 1 + 0) = 30.
+    let s = load("leafy_plant");
+    let m = s.derive(s.settings.derivation, &mut Rng::from_seed(0)).unwrap();
+    assert_eq!(m.count(&s.alphabet, "~l"), 36);
+    let mut scene = Scene::new();
+    s.interpret(&m, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
+    let leaves = scene.instances.iter().filter(|i| matches!(i.primitive, genform_core::scene::Primitive::Mesh(_)));
+    assert_eq!(leaves.count(), 36);
+    assert_eq!(scene.meshes.len(), 1, "one shared leaf mesh");
+}

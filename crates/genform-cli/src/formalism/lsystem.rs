@@ -10,7 +10,7 @@ use genform_lsystem::{Command, LSystem, LsGenerator, View};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::{Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
+use super::{FileAssets, Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
 use crate::grammar::Loaded;
 use crate::output::write_atomic;
 
@@ -31,7 +31,8 @@ impl Formalism for LSystems {
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
-        let system = Arc::new(compile_file(path, genform_lsystem::compile)?);
+        let system =
+            Arc::new(compile_file(path, |file| genform_lsystem::compile_with_assets(file, &FileAssets::beside(path)))?);
         Ok(Box::new(LsFile { path: path.to_path_buf(), system }))
     }
 }

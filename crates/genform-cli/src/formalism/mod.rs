@@ -262,6 +262,38 @@ fn and_list(items: &[String]) -> String {
     }
 }
 
+/// Reads mesh assets (shape-grammar `asset`s, L-system `surface`s)
+/// relative to the grammar file.
+pub(crate) struct FileAssets {
+    base: PathBuf,
+}
+
+impl FileAssets {
+    /// Assets resolved relative to the folder of `grammar`.
+    pub(crate) fn beside(grammar: &Path) -> FileAssets {
+        FileAssets { base: grammar.parent().unwrap_or(Path::new(".")).to_path_buf() }
+    }
+
+    fn load(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
+        let full = self.base.join(path);
+        let text = read_text(&full, "mesh").map_err(|e| format!("{e:#}"))?;
+        let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        genform_core::scene::Mesh::from_obj(&name, &text).map_err(|e| format!("{}: {e}", full.display()))
+    }
+}
+
+impl genform_shape::AssetResolver for FileAssets {
+    fn load_mesh(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
+        self.load(path)
+    }
+}
+
+impl genform_lsystem::SurfaceAssets for FileAssets {
+    fn load_mesh(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
+        self.load(path)
+    }
+}
+
 /// Reads and compiles a grammar file with `compile`: warnings go to stderr,
 /// errors become one error with every diagnostic rendered.
 pub fn compile_file<T>(

@@ -2,11 +2,11 @@
 //! draws a genome from its prior and expresses it.
 
 use anyhow::Result;
-use genform_core::{Generator, Mesh};
+use genform_core::Generator;
 use genform_shape::ShapeGrammar;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::{Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
+use super::{FileAssets, Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
 use crate::grammar::{Loaded, express, genome_summary};
 
 /// The shape-grammar row of the table.
@@ -26,23 +26,8 @@ impl Formalism for ShapeGrammars {
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
-        let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
-        let grammar = compile_file(path, |file| genform_shape::compile(file, &FileAssets { base }))?;
+        let grammar = compile_file(path, |file| genform_shape::compile(file, &FileAssets::beside(path)))?;
         Ok(Box::new(grammar))
-    }
-}
-
-/// Reads mesh assets relative to the grammar file.
-struct FileAssets {
-    base: PathBuf,
-}
-
-impl genform_shape::AssetResolver for FileAssets {
-    fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
-        let full = self.base.join(path);
-        let text = crate::source_text::read_text(&full, "mesh").map_err(|e| format!("{e:#}"))?;
-        let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        Mesh::from_obj(&name, &text).map_err(|e| format!("{}: {e}", full.display()))
     }
 }
 

@@ -211,8 +211,10 @@ impl Cx {
             }
             // Position.
             let mut pos = [Coord::Keep, Coord::Keep];
+            let mut pos_spans = [None; 2];
             let mut given = [false; 2];
             if let Some(f) = &v.pos {
+                pos_spans = [Some(f.content_span()); 2];
                 if v.x.is_some() || v.y.is_some() {
                     self.error(f.content_span(), "give either `pos` or `x`/`y`, not both");
                 }
@@ -224,6 +226,7 @@ impl Cx {
             for (k, w) in [&v.x, &v.y].into_iter().enumerate() {
                 if let Some(w) = w {
                     given[k] = true;
+                    pos_spans[k] = Some(w.span());
                     if let Some(c) = self.coord(w, scope, &new_names) {
                         pos[k] = c;
                     }
@@ -251,7 +254,7 @@ impl Cx {
             }
             let label = v.label.as_ref().and_then(|l| self.label_spec(l, scope, &new_names));
             let attrs = self.attr_specs(v, scope, &new_names);
-            let dv = DVertex { mother: target, label, pos, at, attrs };
+            let dv = DVertex { mother: target, label, pos, pos_spans, at, attrs };
             match target {
                 Some(i) => {
                     ends.push((name, End::Mother(i)));

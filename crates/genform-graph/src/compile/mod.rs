@@ -78,6 +78,7 @@ pub fn compile(file: &SourceFile) -> Result<(GraphGrammar, Diagnostics), Diagnos
         groups,
         productions: productions.into_iter().map(|(_, p)| p).collect(),
         globals: globals.1,
+        source: file.clone(),
     };
     Ok((grammar, diags))
 }
