@@ -179,6 +179,26 @@ impl Projector {
         to_view: &DAffine3,
         positions: &[Vec3],
         triangles: impl Iterator<Item = [u32; 3]>,
+        f: impl FnMut([Pt; 3]),
+    ) {
+        self.triangles_culled(frame, to_view, positions, triangles, false, f);
+    }
+
+    /// [`Projector::triangles`], except that with `closed` (the triangles
+    /// form a closed surface: every edge `a → b` as often as `b → a`) and
+    /// no vertex needing clipping, only the triangles wound positively on
+    /// screen ([`super::raster::cross`] `> 0`) are passed on. They cover
+    /// exactly the pixels all of them cover: the projection of a closed
+    /// surface covers every point off its edges as many times positively as
+    /// negatively, and the coverage rule decides each pixel center as such a
+    /// point (nudged off every edge); degenerate triangles cover nothing.
+    pub fn triangles_culled(
+        &mut self,
+        frame: &Frame,
+        to_view: &DAffine3,
+        positions: &[Vec3],
+        triangles: impl Iterator<Item = [u32; 3]>,
+        closed: bool,
         mut f: impl FnMut([Pt; 3]),
     ) {
         self.view.clear();
@@ -198,6 +218,7 @@ impl Projector {
             self.snapped.push(s);
         }
         let mut poly = [[0i64; 2]; MAX_CLIPPED];
+        let cull = closed && self.state.iter().all(|&s| s == Vertex::Kept);
         for t in triangles {
             let [a, b, c] = t.map(|i| i as usize);
             let n = self.state.len();
@@ -209,7 +230,10 @@ impl Projector {
                 continue;
             }
             if s == [Vertex::Kept; 3] {
-                f([self.snapped[a], self.snapped[b], self.snapped[c]]);
+                let t = [self.snapped[a], self.snapped[b], self.snapped[c]];
+                if !cull || super::raster::cross(t[0], t[1], t[2]) > 0 {
+                    f(t);
+                }
                 continue;
             }
             let k = frame.clip_snap([self.view[a], self.view[b], self.view[c]], &mut poly);

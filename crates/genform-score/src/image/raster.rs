@@ -16,8 +16,9 @@
 use super::coverage::Mask;
 use super::project::{Frame, HALF, ONE, Projector, Pt, SUB, Shapes};
 use genform_core::scene::triangulate_polygon;
-use genform_core::scene::{Primitive, Scene, Tessellation};
+use genform_core::scene::{Mesh, Primitive, Scene, Tessellation};
 use glam::DAffine3;
+use std::sync::Arc;
 
 /// Per-thread buffers of an image scorer: the mask, the tessellated unit
 /// primitives and projection buffers. Made by
@@ -30,6 +31,7 @@ pub struct ImageScratch {
     points: Vec<Pt>,
     hull: Vec<Pt>,
     rows: Rows,
+    closed: ClosedMeshes,
 }
 
 impl ImageScratch {
@@ -41,6 +43,7 @@ impl ImageScratch {
             points: Vec::new(),
             hull: Vec::new(),
             rows: Rows::default(),
+            closed: ClosedMeshes::default(),
         }
     }
 
@@ -53,6 +56,50 @@ impl ImageScratch {
     }
 }
 
+/// Which mesh assets are closed surfaces (see [`is_closed`]), for the
+/// last few assets seen. Holding the `Arc` keeps its address from being
+/// reused by another mesh while cached.
+#[derive(Default)]
+struct ClosedMeshes {
+    seen: Vec<(Arc<Mesh>, bool)>,
+}
+
+impl ClosedMeshes {
+    /// Assets remembered (scenes use a handful).
+    const CAPACITY: usize = 16;
+
+    fn get(&mut self, mesh: &Arc<Mesh>) -> bool {
+        if let Some((_, c)) = self.seen.iter().find(|(m, _)| Arc::ptr_eq(m, mesh)) {
+            return *c;
+        }
+        let closed = is_closed(mesh);
+        if self.seen.len() == Self::CAPACITY {
+            self.seen.remove(0);
+        }
+        self.seen.push((mesh.clone(), closed));
+        closed
+    }
+}
+
+/// Whether `mesh`'s triangles form a closed surface: every vertex index in
+/// range, no triangle repeating an index, and each edge `a → b` used as
+/// often as `b → a`.
+pub(crate) fn is_closed(mesh: &Mesh) -> bool {
+    let n = mesh.positions.len();
+    let mut edges = Vec::with_capacity(3 * mesh.triangles.len());
+    for t in &mesh.triangles {
+        if t.iter().any(|&i| i as usize >= n) || t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            return false;
+        }
+        for e in 0..3 {
+            let (a, b) = (t[e], t[(e + 1) % 3]);
+            edges.push(if a < b { (a, b, 1i64) } else { (b, a, -1) });
+        }
+    }
+    edges.sort_unstable();
+    edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)).all(|g| g.iter().map(|e| e.2).sum::<i64>() == 0)
+}
+
 /// Rasterizes every instance and polygon of `scene` into `s.mask`.
 pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
     for inst in &scene.instances {
@@ -60,8 +107,9 @@ pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
         match inst.primitive {
             Primitive::Mesh(id) => {
                 if let Some(mesh) = scene.meshes.get(id as usize) {
+                    let closed = s.closed.get(mesh);
                     let tris = mesh.triangles.iter().copied();
-                    s.projector.triangles(frame, &to_view, &mesh.positions, tris, |t| {
+                    s.projector.triangles_culled(frame, &to_view, &mesh.positions, tris, closed, |t| {
                         fill_triangle(frame, t, &mut s.mask, &mut s.rows)
                     });
                 }
@@ -203,8 +251,13 @@ fn discard_interior(pts: &mut Vec<Pt>, buf: &mut Vec<Pt>) {
 /// several times slower, and edge setups do two).
 #[inline]
 fn div_floor(n: i64, d: i64) -> (i64, i64) {
-    // Off by at most |n / d|·2^-52 + 1 (≤ 2^10 here).
-    let mut q = (n as f64 / d as f64) as i64;
+    // Off by at most |n / d|·2^-52 + 1 (≤ 2^10 here); rounded towards −∞
+    // (not zero) so that negative quotients rarely need the correction.
+    let t = n as f64 / d as f64;
+    let mut q = t as i64;
+    if (q as f64) > t {
+        q -= 1;
+    }
     let mut r = n - q * d;
     if r < 0 || r >= d {
         // |r| < 2^41: this estimate is off by at most one.

@@ -280,3 +280,83 @@ proptest! {
         check_against_oracle(&scorer, &scene);
     }
 }
+
+/// Closed assets: the tree grammars' trunk and leaf, the reference cube
+/// and the tessellated built-in primitives (as meshes).
+fn closed_assets() -> Vec<Arc<Mesh>> {
+    let obj = |name, text| Arc::new(Mesh::from_obj(name, text).unwrap());
+    let tess = genform_core::scene::Tessellation { radial: 9, rings: 6 };
+    let unit = |p| Arc::new(genform_core::scene::unit_mesh(p, tess));
+    vec![
+        obj("trunk", include_str!("../../tests/data/trunk.obj")),
+        obj("leaf", include_str!("../../tests/data/leaf_low_poly.obj")),
+        obj("cube", include_str!("../../tests/data/cube.obj")),
+        unit(Primitive::Sphere),
+        unit(Primitive::Frustum { top: 0.3 }),
+    ]
+}
+
+#[test]
+fn closed_surfaces_are_recognised() {
+    assert!(closed_assets().iter().all(|m| raster::is_closed(m)));
+    assert!(!raster::is_closed(&asset()));
+    // One triangle turned over, or one missing, opens the cube.
+    let mut cube = (*closed_assets()[2]).clone();
+    cube.triangles[3].swap(0, 1);
+    assert!(!raster::is_closed(&cube));
+    cube.triangles.remove(3);
+    assert!(!raster::is_closed(&cube));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Closed mesh assets fill only their positively wound triangles when
+    /// nothing is clipped; coverage stays the oracle's (all triangles).
+    #[test]
+    fn closed_meshes_equal_the_oracle(
+        cam in camera(),
+        parts in prop::collection::vec((0usize..5, transform(), 0.2f32..1.0), 1..8),
+    ) {
+        let target = flat_target(64, 48, |x, y| if (x / 8 + y / 8) % 2 == 0 { 1.0 } else { -1.0 });
+        let scorer = ImageScorer::new(cam, 64, 48, target).unwrap();
+        let assets = closed_assets();
+        // Smaller shapes, so that most need no clipping.
+        let instances = parts
+            .into_iter()
+            .map(|(m, t, s)| instance(Primitive::Mesh(m as u32), Affine3A::from_scale(Vec3::splat(s)) * t))
+            .collect();
+        let mut scene = scene_of(instances);
+        scene.meshes = assets;
+        check_against_oracle(&scorer, &scene);
+    }
+}
+
+/// Tree-like placements on the tree_sketch camera and image size: many
+/// large leaves and trunks, all on screen (the culled path).
+#[test]
+fn tree_assets_match_the_oracle_at_full_size() {
+    let cam = Camera {
+        fov_deg: 60.0,
+        phi: -std::f32::consts::FRAC_PI_2,
+        theta: 0.0,
+        radius: 9.4716,
+        look_at: Vec3::new(-0.68, 3.26, 0.0),
+    };
+    let target = flat_target(200, 150, |x, _| if x % 3 == 0 { 1.0 } else { -1.0 });
+    let scorer = ImageScorer::new(cam, 200, 150, target).unwrap();
+    let mut rng = genform_core::Rng::stream(3, &[]);
+    let mut instances = Vec::new();
+    for n in 0..40 {
+        let mut u = || rng.next_f64() as f32;
+        let size = Vec3::new(0.2 + u(), 0.3 + 1.5 * u(), 0.2 + u());
+        let r = glam::Quat::from_rotation_y(7.0 * u()) * glam::Quat::from_rotation_z(1.5 * u());
+        let at = Vec3::new(4.0 * u() - 2.7, 6.0 * u() + 0.3, 2.0 * u() - 1.0);
+        instances.push(instance(Primitive::Mesh(n % 2), Affine3A::from_scale_rotation_translation(size, r, at)));
+    }
+    let mut scene = scene_of(instances);
+    scene.meshes = closed_assets();
+    let mut scratch = scorer.scratch();
+    assert!(scorer.coverage(&scene, &mut scratch).count() > 2000);
+    check_against_oracle(&scorer, &scene);
+}

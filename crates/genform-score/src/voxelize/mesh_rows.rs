@@ -1,52 +1,317 @@
-//! Spans of mesh instances: row crossings, sorted, filled by parity.
+//! Spans of mesh instances: row crossings, bucketed by row, filled by parity.
+//!
+//! Each triangle is set up once ([`Setup`]: its counter-clockwise order,
+//! canonical edges and which edges own their points) and then scanned
+//! line by line across the rows its projection covers: per line of rows
+//! the real-arithmetic interval of the projection (widened by a voxel)
+//! bounds the rows tried, and each tried row evaluates exactly the edge
+//! functions and interpolation of [`super::crossing`], with the same
+//! operations in the same order, so the crossings, and with them the held
+//! voxels, are the oracle's bit for bit.
 
 use super::prepare::Prepared;
-use super::{Out, crossing, emit};
+use super::{Out, emit};
 use crate::grid::Lattice;
 use genform_core::scene::Mesh;
 use glam::Vec3;
 
-/// Rows of a mesh instance: crossings per row, sorted, filled by parity.
+/// Working memory of [`mesh_rows`], kept in the scratch.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct MeshBuffers {
+    /// `(row, x)` per crossing, in triangle order.
+    crossings: Vec<(u32, f64)>,
+    /// Crossings per row, then where each row's crossings start in `xs`.
+    starts: Vec<u32>,
+    /// Crossing coordinates grouped by row.
+    xs: Vec<f64>,
+    /// Voxel centres along the rows and along lattice axis 1 over the
+    /// instance's bounding box (`f32` centres, widened).
+    centres: [Vec<f64>; 2],
+}
+
+type P2 = (f64, f64);
+
+/// The longest range of centres along the rows kept in a table.
+const TABLE_MAX: i64 = 1 << 16;
+
+/// One edge of a triangle's projection: `E(q) = ±((b − a) × (q − a))` with
+/// `a, b` in canonical order (as `crossing::edge` computes it).
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    a: P2,
+    d: P2,
+    /// Whether `E` is the negated orientation (`a, b` swapped).
+    neg: bool,
+    /// Points with `E == 0` belong to the triangle.
+    owned: bool,
+    /// Which vertex weight `E` is.
+    w: usize,
+}
+
+impl Edge {
+    /// `E` at a row, from its first product `t = d.0 · (q.1 − a.1)`.
+    #[inline]
+    fn eval(&self, t: f64, qu: f64) -> f64 {
+        let e = t - self.d.1 * (qu - self.a.0);
+        if self.neg { -e } else { e }
+    }
+
+    #[inline]
+    fn passes(&self, e: f64) -> bool {
+        !(e < 0.0 || (e == 0.0 && !self.owned))
+    }
+}
+
+/// What an edge says about the rows of a line: inside from (`Lower`) or
+/// up to (`Upper`) its zero, with `d.0 / d.1`; `None` for edges parallel
+/// to the rows.
+#[derive(Clone, Copy, Debug)]
+enum Bound {
+    Lower(f64),
+    Upper(f64),
+    None,
+}
+
+/// A triangle ready to scan: its edges, its vertices' row coordinates and
+/// their bounds.
+struct Setup {
+    edges: [Edge; 3],
+    bounds: [Bound; 3],
+    xs: [f64; 3],
+    x_lo: f64,
+    x_hi: f64,
+}
+
+impl Setup {
+    /// `None` for triangles edge-on to the rows (never crossed).
+    fn new(t: &[Vec3; 3]) -> Option<Setup> {
+        let p = t.map(|v| (f64::from(v.y), f64::from(v.z)));
+        let orient = |a: P2, b: P2, q: P2| (b.0 - a.0) * (q.1 - a.1) - (b.1 - a.1) * (q.0 - a.0);
+        let area = orient(p[0], p[1], p[2]);
+        if area == 0.0 || area.is_nan() {
+            return None;
+        }
+        let o = if area > 0.0 { [0, 1, 2] } else { [0, 2, 1] };
+        let edges = std::array::from_fn(|e| {
+            let (s, f) = (p[o[e]], p[o[(e + 1) % 3]]);
+            let owned = {
+                let d = (f.0 - s.0, f.1 - s.1);
+                d.1 < 0.0 || (d.1 == 0.0 && d.0 > 0.0)
+            };
+            let (a, b, neg) = if (s.0, s.1) < (f.0, f.1) { (s, f, false) } else { (f, s, true) };
+            Edge { a, d: (b.0 - a.0, b.1 - a.1), neg, owned, w: o[(e + 2) % 3] }
+        });
+        // E = ±(d.0·(qv − a.1) − d.1·(qu − a.0)) grows with qu when ∓d.1 > 0.
+        let bounds = edges.map(|e: Edge| match e.d.1 {
+            0.0 => Bound::None,
+            d1 if (d1 < 0.0) != e.neg => Bound::Lower(e.d.0 / d1),
+            d1 => Bound::Upper(e.d.0 / d1),
+        });
+        let xs = t.map(|v| f64::from(v.x));
+        Some(Setup { edges, bounds, xs, x_lo: xs[0].min(xs[1]).min(xs[2]), x_hi: xs[0].max(xs[1]).max(xs[2]) })
+    }
+
+    /// The rows' first products `d.0 · (qv − a.1)` of line `qv`, or `None`
+    /// when an edge parallel to the rows excludes the whole line.
+    #[inline]
+    fn line(&self, qv: f64) -> Option<[f64; 3]> {
+        let t = self.edges.map(|e| e.d.0 * (qv - e.a.1));
+        for (e, &t) in self.edges.iter().zip(&t) {
+            // `d.1 = 0`: E is the same for every row of the line.
+            if e.d.1 == 0.0 && !e.passes(e.eval(t, 0.0)) {
+                return None;
+            }
+        }
+        Some(t)
+    }
+
+    /// The `qu` where line `qv` is inside, in real arithmetic: `(lo, hi)`
+    /// (possibly infinite), from each edge's zero `a.0 + (qv − a.1)·r`.
+    #[inline]
+    fn line_bounds(&self, qv: f64) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for (e, b) in self.edges.iter().zip(&self.bounds) {
+            match b {
+                Bound::Lower(r) => lo = lo.max(e.a.0 + (qv - e.a.1) * r),
+                Bound::Upper(r) => hi = hi.min(e.a.0 + (qv - e.a.1) * r),
+                Bound::None => {}
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Where row `qu` of a line with products `t` crosses the triangle
+    /// (the value `crossing` gives), if it does.
+    #[inline]
+    fn cross(&self, t: &[f64; 3], qu: f64) -> Option<f64> {
+        let mut w = [0.0f64; 3];
+        for (e, &t) in self.edges.iter().zip(t) {
+            let v = e.eval(t, qu);
+            if !e.passes(v) {
+                return None;
+            }
+            w[e.w] = v;
+        }
+        let sum = w[0] + w[1] + w[2];
+        let xs = self.xs;
+        let x = if sum > 0.0 { (w[0] * xs[0] + w[1] * xs[1] + w[2] * xs[2]) / sum } else { xs[0] };
+        // (A reciprocal of `sum` per line would not give the same bits.)
+        Some(x.clamp(self.x_lo, self.x_hi))
+    }
+}
+
+/// Rows of a mesh instance: crossings per row, grouped by row, filled by
+/// parity.
 pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3], out: &mut Out) {
     let (Some([(j0, j1), (k0, k1)]), Some((i0, i1))) = (p.row_ranges(lat), p.x_range(lat)) else { return };
     let nj = j1 - j0 + 1;
-    let mut cross = out.s.take_crossings();
+    let mut buf = out.s.take_mesh_buffers();
+    let [ci, cj] = &mut buf.centres;
+    ci.clear();
+    // A table for rows of reasonable length (an instance may stretch far
+    // outside the grid along its rows).
+    let table = i1 - i0 < TABLE_MAX;
+    if table {
+        ci.extend((i0..=i1).map(|i| f64::from(lat.centre(0, i))));
+    }
+    cj.clear();
+    cj.extend((j0..=j1).map(|j| f64::from(lat.centre(1, j))));
+    let cross = &mut buf.crossings;
+    cross.clear();
     let n = verts.len();
+    // Lattice coordinates (centres at integers) by a multiply: bounds only.
+    let (inv1, inv2) = (1.0 / lat.size(1), 1.0 / lat.size(2));
+    let (c1, c2) = (lat.coord(1, 0.0), lat.coord(2, 0.0));
     for t in &mesh.triangles {
         if !t.iter().all(|&i| (i as usize) < n) {
             continue;
         }
         let tri = t.map(|i| verts[i as usize]);
         let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
-        let (ja, jb) = lat.index_range(1, f64::from(lo.y), f64::from(hi.y));
-        let (ka, kb) = lat.index_range(2, f64::from(lo.z), f64::from(hi.z));
-        for k in ka.max(k0)..=kb.min(k1) {
-            let qv = lat.centre(2, k);
-            for j in ja.max(j0)..=jb.min(j1) {
-                if let Some((x, _)) = crossing(&tri, lat.centre(1, j), qv) {
-                    cross.push((((k - k0) * nj + (j - j0)) as u32, x));
+        // Slack for the real-arithmetic bounds, in rows: far more than their
+        // rounding and the `f32` centres' (2⁻²⁴ relative), which grow with
+        // the coordinates' magnitude.
+        let mag = f64::from(lo.y.abs().max(hi.y.abs())) * inv1 + f64::from(lo.z.abs().max(hi.z.abs())) * inv2;
+        let slack = 1e-3 + 1e-6 * (mag + c1.abs() + c2.abs());
+        // Rows whose centres lie in the triangle's bounding box.
+        let (ja, jb) = index_span(f64::from(lo.y) * inv1 + c1, f64::from(hi.y) * inv1 + c1, slack, (j0, j1));
+        let (ka, kb) = index_span(f64::from(lo.z) * inv2 + c2, f64::from(hi.z) * inv2 + c2, slack, (k0, k1));
+        if ja > jb || ka > kb {
+            continue;
+        }
+        let Some(setup) = Setup::new(&tri) else { continue };
+        for k in ka..=kb {
+            let qv = f64::from(lat.centre(2, k));
+            let Some(tk) = setup.line(qv) else { continue };
+            let (ulo, uhi) = setup.line_bounds(qv);
+            let (ra, rb) = index_span(ulo * inv1 + c1, uhi * inv1 + c1, slack, (ja, jb));
+            let row0 = (k - k0) * nj;
+            for (r, &qu) in (ra - j0..=rb - j0).zip(&cj[(ra - j0) as usize..]) {
+                if let Some(x) = setup.cross(&tk, qu) {
+                    cross.push(((row0 + r) as u32, x));
                 }
             }
         }
     }
-    cross.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let mut g = 0;
-    while g < cross.len() {
-        let row = cross[g].0;
-        let end = g + cross[g..].iter().take_while(|c| c.0 == row).count();
-        let xs = &cross[g..end];
-        let (j, k) = (j0 + i64::from(row) % nj, k0 + i64::from(row) / nj);
+    group_by_row(&mut buf, (nj * (k1 - k0 + 1)) as usize);
+    let MeshBuffers { starts, xs, centres: [ci, _], .. } = &buf;
+    let (inv0, c0) = (1.0 / lat.size(0), lat.coord(0, 0.0));
+    // `first_at_or_after(0, x)` clamped to `[i0, i1 + 1]`, from the table.
+    let first = |x: f64| match table {
+        true => i0 + first_at_or_after(ci, x, x * inv0 + c0 - i0 as f64),
+        false => lat.first_at_or_after(0, x).clamp(i0, i1 + 1),
+    };
+    // Rows in order, with their (j, k) counted along (no division).
+    let (mut j, mut k) = (j0 - 1, k0);
+    for w in starts.windows(2) {
+        j += 1;
+        if j > j1 {
+            (j, k) = (j0, k + 1);
+        }
+        let xs = &xs[w[0] as usize..w[1] as usize];
+        if xs.is_empty() {
+            continue;
+        }
         let n = xs.len();
         // Held iff an odd number of crossings lie beyond the centre: the
         // centres in [xs[m−1], xs[m]) have n − m of them.
         for m in (0..=n).filter(|m| (n - m) % 2 == 1) {
-            let a = if m == 0 { i0 } else { lat.first_at_or_after(0, xs[m - 1].1).max(i0) };
-            let b = if m == n { i1 } else { (lat.first_at_or_after(0, xs[m].1) - 1).min(i1) };
+            let a = if m == 0 { i0 } else { first(xs[m - 1]) };
+            let b = if m == n { i1 } else { first(xs[m]) - 1 };
             if a <= b {
                 emit(lat, out, j, k, a, b);
             }
         }
-        g = end;
     }
-    out.s.put_crossings(cross);
+    out.s.put_mesh_buffers(buf);
+}
+
+/// The first index of the ascending `centres` at or after `x` (their
+/// length if none), starting the search at about `guess`: the clamped
+/// `first_at_or_after` of the lattice, exact like it (same `f32` centres).
+#[inline]
+fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
+    if x.is_nan() {
+        return centres.len() as i64;
+    }
+    // Any start gives the exact answer; a good one saves the walk.
+    let mut g = guess.max(0.0).min(centres.len() as f64) as usize;
+    while g > 0 && centres[g - 1] >= x {
+        g -= 1;
+    }
+    while g < centres.len() && centres[g] < x {
+        g += 1;
+    }
+    g as i64
+}
+
+/// The indices `i` in `within` with `lo − slack ≤ i ≤ hi + slack`
+/// (NaN bounds do not bound; empty: `lo > hi`).
+#[inline]
+fn index_span(lo: f64, hi: f64, slack: f64, (a, b): (i64, i64)) -> (i64, i64) {
+    // `max`/`min` drop a NaN operand, so neither is NaN; both fit an i64.
+    let (lo, hi) = ((lo - slack).max(a as f64), (hi + slack).min(b as f64));
+    if lo > hi {
+        return (a, a - 1);
+    }
+    let (l, h) = (lo as i64, hi as i64);
+    // Truncation is towards zero: fix up to ceil / floor.
+    (if (l as f64) < lo { l + 1 } else { l }, if (h as f64) > hi { h - 1 } else { h })
+}
+
+/// Groups the crossings by row into `xs`, each row's sorted, with row `r`
+/// at `xs[starts[r]..starts[r + 1]]` (a counting sort: rows are few and
+/// mostly hold two crossings).
+fn group_by_row(buf: &mut MeshBuffers, rows: usize) {
+    let MeshBuffers { crossings, starts, xs, .. } = buf;
+    starts.clear();
+    starts.resize(rows + 1, 0);
+    for &(r, _) in crossings.iter() {
+        starts[r as usize + 1] += 1;
+    }
+    for r in 0..rows {
+        starts[r + 1] += starts[r];
+    }
+    xs.clear();
+    xs.resize(crossings.len(), 0.0);
+    // Scatter, using `starts[r]` as row r's cursor, then shift back.
+    for &(r, x) in crossings.iter() {
+        let c = &mut starts[r as usize];
+        xs[*c as usize] = x;
+        *c += 1;
+    }
+    for r in (1..=rows).rev() {
+        starts[r] = starts[r - 1];
+    }
+    starts[0] = 0;
+    for w in starts.windows(2) {
+        let row = &mut xs[w[0] as usize..w[1] as usize];
+        if row.len() == 2 {
+            if row[1].total_cmp(&row[0]).is_lt() {
+                row.swap(0, 1);
+            }
+        } else if row.len() > 2 {
+            row.sort_unstable_by(f64::total_cmp);
+        }
+    }
 }

@@ -36,7 +36,10 @@
 //! 300,000 random cases per property against the oracle). Boxes whose
 //! transform maps lattice axes to unit axes one to one (axis-aligned,
 //! possibly mirrored) are separable: one span serves all their rows.
-//! Meshes sort their row crossings and fill between them by parity.
+//! Boxes with one cross-row lattice axis driving one unit axis alone (a
+//! box rotated about that axis) share each span along that axis. Meshes
+//! scan each triangle across the rows it covers, group the crossings by
+//! row and fill between them by parity.
 //!
 //! Spans go into a [`VolumeScratch`] with two bit planes, occupied and
 //! overlap (`overlap |= occupied & span; occupied |= span`), which counts
@@ -57,7 +60,7 @@ use mesh_rows::mesh_rows;
 use prepare::{Body, prepare};
 pub(crate) use scratch::Plane;
 pub use scratch::VolumeScratch;
-use spans::{separable_box, solid_rows};
+use spans::{separable_box, solid_rows, split_box};
 
 use crate::grid::{Grid, Lattice};
 use crate::voxel_set::VoxelSet;
@@ -133,10 +136,14 @@ pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, tar
         let Some(p) = prepare(lat, scene, inst, &mut verts) else { continue };
         let mut tally = Tally::default();
         match &p.body {
-            Body::Solid(solid) => match solid.separable {
-                Some(perm) => separable_box(lat, &p, solid, perm, &mut Out { s, tally: &mut tally, target }),
-                None => solid_rows(lat, &p, solid, &mut Out { s, tally: &mut tally, target }),
-            },
+            Body::Solid(solid) => {
+                let out = &mut Out { s, tally: &mut tally, target };
+                match (solid.separable, solid.split) {
+                    (Some(perm), _) => separable_box(lat, &p, solid, perm, out),
+                    (None, Some(split)) => split_box(lat, &p, solid, split, out),
+                    (None, None) => solid_rows(lat, &p, solid, out),
+                }
+            }
             Body::Mesh(mesh) => mesh_rows(lat, &p, mesh, &verts, &mut Out { s, tally: &mut tally, target }),
         }
         s.outside = s.outside.saturating_add(p.outside(tally.in_grid, tally.outside));

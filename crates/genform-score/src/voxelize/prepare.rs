@@ -30,6 +30,12 @@ pub(crate) struct Solid {
     /// For boxes whose map is a scaled permutation: the unit axis each
     /// lattice axis drives alone.
     pub separable: Option<[usize; 3]>,
+    /// For other boxes: a cross-row lattice axis `l` (1 or 2) that alone
+    /// drives one unit axis `c`, which no other lattice axis moves, as
+    /// `(l, c)` (a box rotated about that axis). The predicate is then
+    /// `P(index along l) ∧ Q(other two indices)`, so rows along `l` share
+    /// their spans.
+    pub split: Option<(usize, usize)>,
 }
 
 impl Solid {
@@ -165,9 +171,10 @@ pub(crate) fn prepare<'a>(
     let s = m64[0].abs() * pmax.x + m64[1].abs() * pmax.y + m64[2].abs() * pmax.z + t64.abs();
     let delta = (s.max_element() + 1.0) * (1.0 + f64::from(shape.slope()).abs()) * 2f64.powi(-16);
     let separable = if shape == Shape::Box { permutation_of(&m) } else { None };
+    let split = if shape == Shape::Box && separable.is_none() { split_axis(&m) } else { None };
     let volume_voxels = det.abs() * shape.volume() / lat.grid.voxel_volume();
     let inv_step = DVec3::ONE / (m64[0] * lat.size(0));
-    let solid = Solid { shape, m, t, m64, t64, delta, inv_step, separable };
+    let solid = Solid { shape, m, t, m64, t64, delta, inv_step, separable, split };
     Some(finish(Body::Solid(solid), bbox, volume_voxels))
 }
 
@@ -192,6 +199,19 @@ fn permutation_of(m: &[Vec3A; 3]) -> Option<[usize; 3]> {
         perm[l] = c;
     }
     Some(perm)
+}
+
+/// The first cross-row lattice axis `l` whose column of `m` has exactly
+/// one non-zero entry `c`, with `m[l'][c] == 0` for the other lattice
+/// axes: `(l, c)`. Exact zeros make the other unit coordinates independent
+/// of the index along `l` bit for bit (adding a zero product changes no
+/// sum), and `c` independent of the other two indices.
+fn split_axis(m: &[Vec3A; 3]) -> Option<(usize, usize)> {
+    (1..3).find_map(|l| {
+        let mut nz = (0..3).filter(|&c| m[l][c] != 0.0);
+        let (Some(c), None) = (nz.next(), nz.next()) else { return None };
+        (0..3).all(|o| o == l || m[o][c] == 0.0).then_some((l, c))
+    })
 }
 
 fn prepare_mesh<'a>(lat: &Lattice, mesh: &'a Mesh, inst: &Instance, verts: &mut Vec<Vec3>) -> Option<Prepared<'a>> {
@@ -262,6 +282,8 @@ mod tests {
         let p = prepare(&lat(), &s, &inst(r, Primitive::Box), &mut v).unwrap();
         let Body::Solid(solid) = &p.body else { panic!() };
         assert_eq!(solid.separable, None);
+        // Rotation about world z = lattice axis 2 here (rows along x).
+        assert_eq!(solid.split, Some((2, 2)));
         let huge = Affine3A::from_scale(Vec3::splat(1e4));
         assert!(prepare(&lat(), &s, &inst(huge, Primitive::Box), &mut v).unwrap().capped);
     }

@@ -1,5 +1,6 @@
 //! The fast voxelizer's per-thread working memory.
 
+use super::mesh_rows::MeshBuffers;
 use crate::bits::{BitRows, bit_range};
 use crate::grid::Lattice;
 use glam::Vec3;
@@ -99,7 +100,7 @@ pub struct VolumeScratch {
     /// Counted as spans are marked.
     counts: PlaneCounts,
     verts: Vec<Vec3>,
-    crossings: Vec<(u32, f64)>,
+    mesh: MeshBuffers,
     /// Block cells not yet covered by a box (block structures).
     cells: Vec<bool>,
 }
@@ -120,7 +121,7 @@ impl VolumeScratch {
             outside: 0,
             counts: PlaneCounts::default(),
             verts: Vec::new(),
-            crossings: Vec::new(),
+            mesh: MeshBuffers::default(),
             cells: Vec::new(),
         }
     }
@@ -329,14 +330,12 @@ impl VolumeScratch {
         self.verts = v;
     }
 
-    pub(crate) fn take_crossings(&mut self) -> Vec<(u32, f64)> {
-        let mut c = std::mem::take(&mut self.crossings);
-        c.clear();
-        c
+    pub(crate) fn take_mesh_buffers(&mut self) -> MeshBuffers {
+        std::mem::take(&mut self.mesh)
     }
 
-    pub(crate) fn put_crossings(&mut self, c: Vec<(u32, f64)>) {
-        self.crossings = c;
+    pub(crate) fn put_mesh_buffers(&mut self, m: MeshBuffers) {
+        self.mesh = m;
     }
 
     pub(crate) fn take_cells(&mut self) -> Vec<bool> {

@@ -71,17 +71,47 @@ pub(super) fn solid_rows(lat: &Lattice, p: &Prepared, solid: &Solid, out: &mut O
     for k in k0..=k1 {
         let pz = lat.centre(2, k);
         for j in j0..=j1 {
-            let py = lat.centre(1, j);
-            let (a, b) = row_line(lat, solid, py, pz);
-            let guess = match solid.shape {
-                Shape::Box => box_guess(a, solid.inv_step, 0.5 + solid.delta),
-                shape => shape.guess(a, b, solid.delta),
-            };
-            let Some(guess) = guess else { continue };
-            let base = solid.row_base(py, pz);
-            let inside = |i: i64| solid.shape.contains(solid.unit(lat.centre(0, i), base));
-            if let Some((lo, hi)) = settle(guess, irange, inside) {
+            if let Some((lo, hi)) = row_span(lat, solid, irange, lat.centre(1, j), pz) {
                 emit(lat, out, j, k, lo, hi);
+            }
+        }
+    }
+}
+
+/// The held index range of row `(py, pz)` within `irange`, if any.
+#[inline]
+fn row_span(lat: &Lattice, solid: &Solid, irange: (i64, i64), py: f32, pz: f32) -> Option<(i64, i64)> {
+    let (a, b) = row_line(lat, solid, py, pz);
+    let guess = match solid.shape {
+        Shape::Box => box_guess(a, solid.inv_step, 0.5 + solid.delta),
+        shape => shape.guess(a, b, solid.delta),
+    }?;
+    let base = solid.row_base(py, pz);
+    settle(guess, irange, |i: i64| solid.shape.contains(solid.unit(lat.centre(0, i), base)))
+}
+
+/// A box whose unit axis `c` is driven by cross-row lattice axis `l` alone
+/// (see [`Solid::split`]): the held range along `l` is found once, then one
+/// span per line of rows across it, computed at the range's first index
+/// (where the `c` test holds, so the full predicate is the other two) and
+/// held for the whole range.
+pub(super) fn split_box(lat: &Lattice, p: &Prepared, solid: &Solid, (l, c): (usize, usize), out: &mut Out) {
+    let (Some([jr, kr]), Some(ir)) = (p.row_ranges(lat), p.x_range(lat)) else { return };
+    let at = Vec3::new(lat.centre(0, ir.0), lat.centre(1, jr.0), lat.centre(2, kr.0));
+    if l == 1 {
+        let Some((ja, jb)) = box_axis_range(lat, solid, c, 1, jr, at) else { return };
+        let py = lat.centre(1, ja);
+        for k in kr.0..=kr.1 {
+            if let Some(span) = row_span(lat, solid, ir, py, lat.centre(2, k)) {
+                lattice_box(lat, span, (ja, jb), (k, k), out);
+            }
+        }
+    } else {
+        let Some((ka, kb)) = box_axis_range(lat, solid, c, 2, kr, at) else { return };
+        let pz = lat.centre(2, ka);
+        for j in jr.0..=jr.1 {
+            if let Some(span) = row_span(lat, solid, ir, lat.centre(1, j), pz) {
+                lattice_box(lat, span, (j, j), (ka, kb), out);
             }
         }
     }
@@ -112,7 +142,8 @@ fn box_guess(a: DVec3, inv: DVec3, h: f64) -> Option<(f64, f64)> {
     (lo <= hi).then_some((lo, hi))
 }
 
-/// The held index range along lattice axis `l` of a separable box.
+/// The held index range along lattice axis `l` of a box whose unit axis `c`
+/// only that lattice axis drives.
 fn box_axis_range(lat: &Lattice, solid: &Solid, c: usize, l: usize, range: (i64, i64), at: Vec3) -> Option<(i64, i64)> {
     // u_c depends on lattice coordinate l alone; evaluate the full map at
     // points that differ only along l (the other terms are exact zeros).

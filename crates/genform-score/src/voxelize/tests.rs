@@ -177,8 +177,39 @@ fn separable_strategy() -> impl Strategy<Value = (Grid, Scene)> {
     })
 }
 
+/// Boxes rotated about one world axis by any angle (the city's buildings
+/// turn about y), scaled and placed anywhere: the split-box path when that
+/// axis crosses the rows, the general one when it runs along them.
+fn axis_rotated_strategy() -> impl Strategy<Value = (Grid, Scene)> {
+    let item = (0usize..3, 0.0f32..7.0, prop::array::uniform3(0.05f32..2.5), prop::array::uniform3(-0.1f32..1.1));
+    (grid_strategy(), prop::collection::vec(item, 1..6)).prop_map(|(grid, items)| {
+        let ext = grid.max() - grid.min();
+        let scene = scene_of(items.into_iter().map(|(axis, angle, size, t)| {
+            let at = grid.min() + Vec3::from_array(t) * ext;
+            let r = Affine3A::from_axis_angle(Vec3::AXES[axis], angle);
+            (Affine3A::from_translation(at) * r * Affine3A::from_scale(Vec3::from_array(size)), Primitive::Box)
+        }));
+        (grid, scene)
+    })
+}
+
+/// How many instances of `scene` take the split-box path.
+fn split_count(grid: &Grid, scene: &Scene) -> usize {
+    let lat = crate::grid::Lattice::new(grid);
+    let split = |inst| match super::prepare::prepare(&lat, scene, inst, &mut Vec::new()) {
+        Some(super::prepare::Prepared { body: super::prepare::Body::Solid(s), .. }) => s.split.is_some(),
+        _ => false,
+    };
+    scene.instances.iter().filter(|i| split(i)).count()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+    #[test]
+    fn axis_rotated_boxes_match_the_oracle((grid, scene) in axis_rotated_strategy()) {
+        check(&grid, &scene);
+    }
 
     #[test]
     fn primitives_match_the_oracle((grid, items) in placed(primitive_strategy(), 1..5)) {
@@ -204,14 +235,17 @@ proptest! {
     }
 
     #[test]
-    fn meshes_match_the_oracle((grid, items) in placed(0usize..4, 1..3)) {
+    fn meshes_match_the_oracle((grid, items) in placed(0usize..6, 1..3)) {
         let mut scene = Scene::new();
         let tess = Tessellation { radial: 7, rings: 5 };
+        let [trunk, leaf] = tree_assets();
         let meshes = [
             Arc::new(cube_mesh()),
             Arc::new(unit_mesh(Primitive::Sphere, tess)),
             Arc::new(unit_mesh(Primitive::Frustum { top: 0.4 }, tess)),
             Arc::new(open_strip()),
+            Arc::new(trunk),
+            Arc::new(leaf),
         ];
         for (transform, m) in items {
             let id = scene.mesh(&meshes[m]);
@@ -237,6 +271,40 @@ proptest! {
 /// The reference's `cube.obj` (12 triangles spanning ±0.5).
 pub(crate) fn cube_mesh() -> Mesh {
     Mesh::from_obj("cube", include_str!("../../tests/data/cube.obj")).unwrap()
+}
+
+/// The tree grammars' assets (`examples/shape/assets`): a 16-sided
+/// frustum and a low-poly leaf.
+fn tree_assets() -> [Mesh; 2] {
+    [
+        Mesh::from_obj("trunk", include_str!("../../tests/data/trunk.obj")).unwrap(),
+        Mesh::from_obj("leaf", include_str!("../../tests/data/leaf_low_poly.obj")).unwrap(),
+    ]
+}
+
+/// Trunks and leaves as the tree grammars place them (scaled, turned about
+/// y, tilted about z, turned again), many overlapping, on a finer grid
+/// than the proptests: long rows, many triangles per row line, slivers.
+#[test]
+fn tree_assets_match_the_oracle_on_a_fine_grid() {
+    let mut rng = genform_core::Rng::stream(7, &[]);
+    let [trunk, leaf] = tree_assets().map(Arc::new);
+    for dims in [[48, 48, 48], [70, 33, 41]] {
+        let grid = Grid::new(Vec3::splat(-2.5), Vec3::splat(2.5), dims).unwrap();
+        let mut scene = Scene::new();
+        let ids = [scene.mesh(&trunk), scene.mesh(&leaf)];
+        for n in 0..24 {
+            let mut u = || rng.next_f64() as f32;
+            let size = Vec3::new(0.3 + u(), 0.5 + 2.0 * u(), 0.3 + u());
+            let r = Quat::from_rotation_y(7.0 * u()) * Quat::from_rotation_z(1.5 * u()) * Quat::from_rotation_y(u());
+            let at = Vec3::new(4.0 * u() - 2.0, 4.0 * u() - 2.0, 4.0 * u() - 2.0);
+            let transform = Affine3A::from_scale_rotation_translation(size, r, at);
+            scene.instances.push(Instance { transform, primitive: Primitive::Mesh(ids[n % 2]), tag: 0 });
+        }
+        check(&grid, &scene);
+        let v = voxelize(&grid, &scene);
+        assert!(v.occupancy.count() > 1000 && v.overlap.count() > 0 && v.outside > 0);
+    }
 }
 
 /// An open surface (parity is not a volume here, but both voxelizers must
@@ -279,6 +347,13 @@ fn huge_instances_estimate_outside() {
     check(&grid, &scene);
     let tall = scene_of([(Affine3A::from_scale(Vec3::new(1.0, 1e5, 1e5)), Primitive::Sphere)]);
     check(&grid, &tall);
+    // A mesh reaching far outside along its rows (x; past the centre table).
+    let stretch = Affine3A::from_scale_rotation_translation(Vec3::new(2e5, 1.3, 0.7), Quat::IDENTITY, Vec3::splat(0.6));
+    let mut long = scene_of([(stretch, Primitive::Mesh(0))]);
+    long.meshes.push(Arc::new(cube_mesh()));
+    let v = voxelize(&grid, &long);
+    assert_eq!((v.occupancy.count(), v.outside), (4, 199_996));
+    check(&grid, &long);
 }
 
 #[test]
@@ -318,6 +393,22 @@ fn strategies_reach_the_interesting_cases() {
     }
     assert!(held > 70 && over > 15 && out > 40, "held {held}, overlap {over}, outside {out}");
     assert!(axes.iter().all(|&a| a > 15), "row axes {axes:?}");
+}
+
+/// Most axis-rotated boxes take the split path, and they hold voxels.
+#[test]
+fn axis_rotated_strategy_reaches_the_split_path() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let strategy = axis_rotated_strategy();
+    let (mut split, mut total, mut held) = (0, 0, 0);
+    for _ in 0..96 {
+        let (grid, scene) = strategy.new_tree(&mut runner).unwrap().current();
+        split += split_count(&grid, &scene);
+        total += scene.instances.len();
+        held += usize::from(voxelize(&grid, &scene).occupancy.count() > 0);
+    }
+    assert!(split * 2 > total && held > 70, "split {split} of {total}, held {held}");
 }
 
 /// Cases per property: 256, or `PROPTEST_CASES` for longer hunts.
