@@ -61,6 +61,9 @@ pub enum Command {
     Score(ScoreArgs),
     /// Run several algorithms on a scene with equal time budgets and compare them.
     Compare(CompareArgs),
+    /// Vary one or two scene settings, run each value several times, and
+    /// plot the best fitness per generation (a parameter study).
+    Sweep(SweepArgs),
     /// Map a codon genome through a BNF grammar (grammatical evolution) and
     /// show the phenotype and every codon read.
     Map(MapArgs),
@@ -164,6 +167,11 @@ pub struct SampleArgs {
     /// Also save the derivation tree (genome) as JSON, for `genform derive`.
     #[arg(long, value_name = "G.json")]
     pub genome_out: Option<PathBuf>,
+    /// .glb/.obj: how the model is split into nodes/objects: `merged` (one mesh, a part per
+    /// material), `tag` (one per tag), `instanced` (one per primitive; GLB nodes share meshes);
+    /// `auto`: merged above 32 primitives, else instanced.
+    #[arg(long, value_name = "MODE", default_value_t = genform_export::Granularity::Auto)]
+    pub granularity: genform_export::Granularity,
     /// HEMLS (.gr8): the environment file (TOML: growth settings, charges,
     /// gravity, boundaries); without it the surface grows with Genr8's defaults.
     #[arg(long, value_name = "ENV.toml")]
@@ -242,6 +250,8 @@ pub enum Algorithm {
     Sosmc,
     /// SOSMC seeds a GA, MH polishes its best.
     Hybrid,
+    /// MAP-Elites: the best individual per cell of a grid over two descriptors (quality-diversity).
+    MapElites,
     /// Random search: fresh random individuals, keep the best (a baseline).
     Random,
     /// Grammatical evolution over codon genomes (codon scenes: .bnf, .bsg, .gg.yaml grammars).
@@ -257,6 +267,7 @@ impl Algorithm {
             Algorithm::Smc => "smc",
             Algorithm::Sosmc => "sosmc",
             Algorithm::Hybrid => "hybrid",
+            Algorithm::MapElites => "map-elites",
             Algorithm::Random => "random",
             Algorithm::Ge => "ge",
         }
@@ -270,6 +281,7 @@ impl Algorithm {
             Algorithm::Smc => genform_evolve::Algorithm::Smc,
             Algorithm::Sosmc => genform_evolve::Algorithm::Sosmc,
             Algorithm::Hybrid => genform_evolve::Algorithm::Hybrid,
+            Algorithm::MapElites => genform_evolve::Algorithm::MapElites,
             Algorithm::Random => genform_evolve::Algorithm::Random,
             Algorithm::Ge => return None,
         })
@@ -311,6 +323,10 @@ pub struct EvolveArgs {
     /// Search algorithm (default: ga for tree scenes, ge for codon scenes).
     #[arg(long, value_enum)]
     pub algorithm: Option<Algorithm>,
+    /// GA preset, overriding the scene's `[ga] preset`: `thesis` runs the
+    /// thesis' exact operators (no drift, no duplicate avoidance).
+    #[arg(long, value_name = "NAME", value_parser = ["default", "thesis"])]
+    pub preset: Option<String>,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -342,11 +358,57 @@ pub struct CompareArgs {
     /// Output folder for comparison.csv, comparison.svg and each algorithm's best genome.
     #[arg(long, short, default_value = "compare-out")]
     pub out: PathBuf,
+    /// GA preset of the `ga` and `hybrid` runs, overriding the scene's
+    /// `[ga] preset`: `thesis` runs the thesis' exact operators.
+    #[arg(long, value_name = "NAME", value_parser = ["default", "thesis"])]
+    pub preset: Option<String>,
     /// No progress output.
     #[arg(long, short)]
     pub quiet: bool,
     #[command(flatten)]
     pub limits: LimitArgs,
+}
+
+/// Arguments of `genform sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Scene config (.toml) of a tree grammar.
+    pub scene: PathBuf,
+    /// A scene key and its values, e.g. `ga.population=10,50,100` or
+    /// `ga.initial_length=[10,10],[50,50]`: TOML values separated by `,` or
+    /// `;` outside brackets, braces and quotes; a bare word is a string.
+    /// Give it twice to cross two keys; more `--set`s with one value each
+    /// fix other settings for every run.
+    #[arg(long = "set", value_name = "KEY=V1,V2,…", required = true)]
+    pub set: Vec<String>,
+    /// Runs per value (combination); run r uses seed `--seed` + r.
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub runs: usize,
+    /// Seed of the first run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Stop each run after N generations (overrides the scene's `[run]`).
+    #[arg(long, value_name = "N")]
+    pub generations: Option<usize>,
+    /// Stop each run after this much wall-clock time, e.g. 10s (results then
+    /// depend on the machine and its load).
+    #[arg(long, value_name = "TIME")]
+    pub budget: Option<String>,
+    /// Stop each run after N objective evaluations.
+    #[arg(long, value_name = "N")]
+    pub evaluations: Option<u64>,
+    /// Search algorithm (default ga).
+    #[arg(long, value_enum, default_value = "ga")]
+    pub algorithm: Algorithm,
+    /// Worker threads shared by all runs (default: all cores). Results do not depend on it.
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Output folder for sweep.csv, sweep.svg and summary.md.
+    #[arg(long, short, default_value = "sweep-out")]
+    pub out: PathBuf,
+    /// No progress output.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Arguments of `genform score`.

@@ -236,7 +236,8 @@ enum Language {
 enum Decoder {
     Ge { bnf: Bnf, options: MapOptions, language: Language },
     BoxSplit { grammar: BoxGrammar, min: IVec3, max: IVec3, range: u32, wraps: u32 },
-    Graph { grammar: GraphGrammar, steps: Option<usize>, max_elements: usize, range: u32, wraps: u32 },
+    // Boxed: a compiled graph grammar is several times larger than the other variants.
+    Graph { grammar: Box<GraphGrammar>, steps: Option<usize>, max_elements: usize, range: u32, wraps: u32 },
 }
 
 /// The objective of a codon scene (see the [module](self) docs).
@@ -325,7 +326,7 @@ impl CodonObjective {
             CodonKind::Graph => {
                 let grammar = compile_file(&c.grammar, genform_graph::compile)?;
                 Decoder::Graph {
-                    grammar,
+                    grammar: Box::new(grammar),
                     steps: c.steps.map(|s| s as usize),
                     max_elements: c.limits.elements.unwrap_or(DEFAULT_MAX_ELEMENTS),
                     range,

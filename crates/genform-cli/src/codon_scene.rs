@@ -222,6 +222,7 @@ impl CodonSceneConfig {
             mh: None,
             smc: None,
             hybrid: Default::default(),
+            map_elites: Default::default(),
             run: self.run.clone(),
             limits: Default::default(),
         }

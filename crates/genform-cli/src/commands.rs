@@ -19,6 +19,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
         Command::Compare(a) => crate::evolve::compare(a),
+        Command::Sweep(a) => crate::evolve::sweep(a),
         Command::Map(a) => map(a),
     }
 }
@@ -30,7 +31,8 @@ fn sample(a: SampleArgs) -> Result<()> {
     let sample = formalism.load(&a.file)?.sample(&request)?;
     match &request.out {
         Some(out) => {
-            let written = sample.write(out)?;
+            let export = genform_export::ExportOptions { granularity: a.granularity, ..Default::default() };
+            let written = sample.write(out, &export)?;
             eprintln!("{} → {}", sample.summary(), shown(&written));
         }
         None => println!("{}", sample.summary()),

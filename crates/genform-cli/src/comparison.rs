@@ -107,6 +107,29 @@ pub fn mean_sd(values: &[f64]) -> (f64, f64) {
     (mean, var.sqrt())
 }
 
+/// A line of the mean of several runs with a ± one standard deviation
+/// band: `values` gives, at each x, every run's value there (`None` when
+/// some run has none, and the x is left out).
+pub fn mean_sd_series(name: &str, color: &str, values: impl IntoIterator<Item = (f64, Option<Vec<f64>>)>) -> Series {
+    let mut points = Vec::new();
+    let mut band = Vec::new();
+    for (x, v) in values {
+        if let Some(v) = v {
+            let (m, sd) = mean_sd(&v);
+            points.push((x, m));
+            band.push((x, m - sd, m + sd));
+        }
+    }
+    Series { name: name.to_string(), color: color.to_string(), points, band }
+}
+
+/// A colour for line `i` of a plot with many (matplotlib's tab10, cycled).
+pub fn palette(i: usize) -> &'static str {
+    const TAB10: [&str; 10] =
+        ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"];
+    TAB10[i % TAB10.len()]
+}
+
 /// The algorithms of `traces`, in first-appearance order.
 fn algorithms(traces: &[Trace]) -> Vec<&str> {
     let mut out: Vec<&str> = Vec::new();
@@ -126,18 +149,9 @@ pub fn svg(title: &str, traces: &[Trace], budget: f64) -> String {
         .into_iter()
         .map(|alg| {
             let runs: Vec<&Trace> = traces.iter().filter(|t| t.algorithm == alg).collect();
-            let mut points = Vec::new();
-            let mut band = Vec::new();
-            for k in 0..=200 {
-                let t = budget * k as f64 / 200.0;
-                let values: Option<Vec<f64>> = runs.iter().map(|r| r.best_at(t)).collect();
-                if let Some(values) = values {
-                    let (m, sd) = mean_sd(&values);
-                    points.push((t, m));
-                    band.push((t, m - sd, m + sd));
-                }
-            }
-            Series { name: alg.to_string(), color: color(alg).to_string(), points, band }
+            let moments = (0..=200).map(|k| budget * k as f64 / 200.0);
+            let values = moments.map(|t| (t, runs.iter().map(|r| r.best_at(t)).collect()));
+            mean_sd_series(alg, color(alg), values)
         })
         .collect();
     let runs = traces.iter().map(|t| t.run).max().map_or(0, |r| r + 1);

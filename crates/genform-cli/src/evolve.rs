@@ -6,10 +6,12 @@
 //! same `compare` loop ([`race`], with a [`Contest`]).
 
 use anyhow::{Context, Result, bail};
+use genform_cli::archive::Reports;
 use genform_cli::comparison::{self, Trace, TracePoint};
 use genform_cli::grammar::{self, LimitOverrides};
-use genform_cli::objective::{SceneObjective, Scorers};
+use genform_cli::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
 use genform_cli::output::write_atomic;
+use genform_cli::pictures::{self, BestHistory, TargetPicture};
 use genform_cli::report::{self, Row};
 use genform_cli::scene_config::{LoadedScene, RunConfig, SceneConfig, parse_duration};
 use genform_cli::targets;
@@ -28,6 +30,9 @@ use std::time::{Duration, Instant};
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, ScoreArgs};
 
 mod codon;
+mod sweep;
+
+pub use sweep::sweep;
 
 /// How often results are written during a run, so a crash loses little.
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(10);
@@ -47,7 +52,7 @@ fn tree_algorithm(alg: Algorithm, scene: &Path) -> Result<genform_evolve::Algori
     alg.tree().ok_or_else(|| {
         anyhow::anyhow!(
             "--algorithm ge evolves codon genomes, but {} is a tree scene (its grammar's genomes are derivation \
-             trees); use ga, mh, smc, sosmc, hybrid or random, or a scene whose grammar is .bnf, .bsg or .gg.yaml",
+             trees); use ga, mh, smc, sosmc, hybrid, map-elites or random, or a scene whose grammar is .bnf, .bsg or .gg.yaml",
             scene.display()
         )
     })
@@ -107,7 +112,8 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
     if genform_cli::codon_scene::is_codon_scene(&a.scene) {
         return codon::evolve(a);
     }
-    let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
+    let LoadedScene { path: scene_path, mut config } = SceneConfig::load(&a.scene)?;
+    apply_preset(&mut config, a.preset.as_deref());
     let algorithm = tree_algorithm(a.algorithm.unwrap_or(Algorithm::Ga), &scene_path)?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
@@ -121,7 +127,8 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
     let horizon = stop_rules(&a, &config.run)?;
     let pool = worker_pool(a.threads)?;
     let cancel = cancel_on_ctrl_c();
-    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
+    let objective =
+        described(SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers }, &config);
     let ctx = RunContext {
         common: Common {
             args: &a,
@@ -140,6 +147,14 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
     pool.install(|| drive(&ctx, opt, &objective))
 }
 
+/// Sets the scene's GA preset from a `--preset` flag (clap admits only
+/// known names).
+fn apply_preset(config: &mut SceneConfig, preset: Option<&str>) {
+    if let Some(p) = preset.and_then(genform_evolve::GaPreset::from_name) {
+        config.ga = config.ga.clone().with_preset(p);
+    }
+}
+
 /// The scene section holding an algorithm's settings, for error messages.
 fn section(a: genform_evolve::Algorithm) -> &'static str {
     match a {
@@ -147,7 +162,14 @@ fn section(a: genform_evolve::Algorithm) -> &'static str {
         genform_evolve::Algorithm::Mh => "[mh]",
         genform_evolve::Algorithm::Smc | genform_evolve::Algorithm::Sosmc => "[smc]",
         genform_evolve::Algorithm::Hybrid => "[hybrid]",
+        genform_evolve::Algorithm::MapElites => "[map_elites]",
     }
+}
+
+/// `objective` with the descriptors of the scene's `[map_elites]` (what
+/// MAP-Elites bins; other algorithms only read the fitness).
+fn described<'a>(objective: SceneObjective<'a>, config: &SceneConfig) -> DescribedObjective<'a> {
+    DescribedObjective { objective, descriptors: Descriptor::pair(&config.map_elites) }
 }
 
 fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
@@ -155,7 +177,7 @@ fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 }
 
 /// A flag set by Ctrl-C; a second Ctrl-C quits at once.
-fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
+pub(crate) fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let _ = ctrlc::set_handler(move || {
@@ -187,7 +209,8 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     if genform_cli::codon_scene::is_codon_scene(&a.scene) {
         return codon::compare(a);
     }
-    let LoadedScene { path: scene_path, config } = SceneConfig::load(&a.scene)?;
+    let LoadedScene { path: scene_path, mut config } = SceneConfig::load(&a.scene)?;
+    apply_preset(&mut config, a.preset.as_deref());
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     let scorers = targets::build(&config)?;
@@ -203,7 +226,8 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     for alg in &algorithms {
         contest.start(*alg, a.seed)?;
     }
-    let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
+    let objective =
+        described(SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers }, &config);
     race(&a, &scene_path, budget, &algorithms, &objective, &contest)
 }
 
@@ -544,7 +568,7 @@ struct RunContext<'a> {
 }
 
 impl Session<Genome> for RunContext<'_> {
-    type Record = ();
+    type Record = BestHistory<Genome>;
 
     fn common(&self) -> &Common<'_> {
         &self.common
@@ -554,11 +578,12 @@ impl Session<Genome> for RunContext<'_> {
         self.scorers.fitness.max_reachable(self.config.ga.min_length)
     }
 
-    fn record(&self, _: &mut (), _: &GenerationStats, _: &dyn Optimizer, _: bool) -> String {
+    fn record(&self, rec: &mut BestHistory<Genome>, stats: &GenerationStats, opt: &dyn Optimizer, _: bool) -> String {
+        rec.record(stats.generation, opt.best().map(|b| (&b.genome, b.fitness)));
         String::new()
     }
 
-    fn write_progress(&self, opt: &dyn Optimizer, rows: &[Row], _: &()) -> Result<()> {
+    fn write_progress(&self, opt: &dyn Optimizer, rows: &[Row], _: &BestHistory<Genome>) -> Result<()> {
         let out = &self.common.args.out;
         write_atomic(&out.join("stats.csv"), report::stats_csv(rows).as_bytes())?;
         if let Some(best) = opt.best() {
@@ -567,7 +592,7 @@ impl Session<Genome> for RunContext<'_> {
         Ok(())
     }
 
-    fn write_all(&self, opt: &dyn Optimizer, rows: &[Row], rec: &(), ended: Ended) -> Result<()> {
+    fn write_all(&self, opt: &dyn Optimizer, rows: &[Row], rec: &BestHistory<Genome>, ended: Ended) -> Result<()> {
         let out = &self.common.args.out;
         self.write_progress(opt, rows, rec)?;
         let title = title(self.common.scene_path);
@@ -575,14 +600,15 @@ impl Session<Genome> for RunContext<'_> {
         if let Some(best) = opt.best() {
             let scene = self.express(&best.genome)?;
             write_models(out, &scene)?;
-            // A fitted 3/4 view: the reference's image frame is mirrored
-            // (see genform_core::camera), so previews through a target's
-            // camera would show the model flipped against the target picture;
-            // best-silhouette.png shows the true overlay.
-            write_atomic(&out.join("best.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
+            // best-model.png: the model alone in a fitted 3/4 view;
+            // best.png: with its target behind it (see genform_cli::pictures).
+            write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
+            let target = TargetPicture::new(self.config, self.scorers)?;
+            write_atomic(&out.join("best.png"), &target.best_png(&scene))?;
             write_silhouettes(out, &self.scorers.images, &scene)?;
+            self.write_evolution(&target, rec)?;
         }
-        write_atomic(&out.join("gallery.png"), &self.gallery(opt.population())?)?;
+        self.write_diversity(opt.population())?;
         let l = &self.limits;
         let own = serde_json::json!({
             "limits": { "genes": l.max_genes, "depth": l.max_depth, "primitives": l.max_primitives },
@@ -591,31 +617,43 @@ impl Session<Genome> for RunContext<'_> {
         self.common.write_run_json(opt, rows, ended, self.max_reachable(), own)
     }
 
-    fn summary_tail(&self, _: &()) -> String {
+    fn summary_tail(&self, _: &BestHistory<Genome>) -> String {
         String::new()
     }
 }
 
 impl RunContext<'_> {
+    /// `evolution.png`: the best so far at about [`pictures::FRAMES`]
+    /// moments of the run, with the target behind it, as an animated PNG.
+    fn write_evolution(&self, target: &TargetPicture, rec: &BestHistory<Genome>) -> Result<()> {
+        let frames = rec
+            .frames(pictures::FRAMES)
+            .into_iter()
+            .map(|(g, f, genome)| Ok((g, f, self.express(genome)?)))
+            .collect::<Result<Vec<_>>>()?;
+        match target.evolution_apng(&frames) {
+            Some(apng) => write_atomic(&self.common.args.out.join("evolution.png"), &apng),
+            None => Ok(()),
+        }
+    }
+
     fn express(&self, genome: &Genome) -> Result<Scene> {
         let mut scene = Scene::new();
         self.generator.express(genome, &self.limits, &mut scene).context("cannot build the best model")?;
         Ok(scene)
     }
 
-    /// The 16 best distinct individuals, rendered with one shared camera.
-    fn gallery(&self, population: &[Individual]) -> Result<Vec<u8>> {
-        let mut picked: Vec<&Individual> = Vec::new();
-        for ind in population.iter().filter(|i| i.is_valid()) {
-            if picked.len() == 16 {
-                break;
-            }
-            if !picked.iter().any(|p| p.genome == ind.genome) {
-                picked.push(ind);
-            }
+    /// `gallery.png` (the best distinct individuals of `population`) and,
+    /// for MAP-Elites, whose population is its archive, `archive.csv`,
+    /// `archive.png` and `elites/`.
+    fn write_diversity(&self, population: &[Individual]) -> Result<()> {
+        let out = &self.common.args.out;
+        let reports = Reports { generator: self.generator, limits: self.limits, config: self.config.map_elites() };
+        let described = reports.describe(population)?;
+        write_atomic(&out.join("gallery.png"), &reports.gallery_png(&described))?;
+        if self.common.algorithm == genform_evolve::Algorithm::MapElites.name() {
+            reports.write_archive(out, &described)?;
         }
-        let scenes: Vec<(Scene, f64)> =
-            picked.iter().map(|i| Ok((self.express(&i.genome)?, i.fitness))).collect::<Result<_>>()?;
-        Ok(report::gallery_png(&scenes))
+        Ok(())
     }
 }

@@ -5,6 +5,7 @@
 //! generator to scorers, run reports). The binary itself parses
 //! arguments, dispatches verbs and prints.
 
+pub mod archive;
 pub mod codon_objective;
 pub mod codon_report;
 pub mod codon_scene;
@@ -13,7 +14,9 @@ pub mod formalism;
 pub mod grammar;
 pub mod objective;
 pub mod output;
+pub mod pictures;
 pub mod report;
 pub mod scene_config;
 pub mod source_text;
+pub mod sweep;
 pub mod targets;

@@ -93,15 +93,21 @@ pub fn fitness_by_time(rows: &[Row]) -> Chart {
 /// each captioned with its rank and fitness, all seen through one camera
 /// fitted to them all (so sizes compare).
 pub fn gallery_png(scenes: &[(Scene, f64)]) -> Vec<u8> {
+    let tiles: Vec<(&Scene, String)> =
+        scenes.iter().enumerate().map(|(i, (scene, fitness))| (scene, format!("#{} {:.4}", i + 1, fitness))).collect();
+    gallery_png_captioned(&tiles)
+}
+
+/// [`gallery_png`] with the captions given (lines split at `\n`).
+pub fn gallery_png_captioned(scenes: &[(&Scene, String)]) -> Vec<u8> {
     let bounds = scenes.iter().filter_map(|(s, _)| s.bounds(Default::default()));
     let camera = bounds.reduce(|(a, b), (c, d)| (a.min(c), b.max(d))).map(Camera::fit);
     let tiles: Vec<Tile> = scenes
         .iter()
-        .enumerate()
-        .map(|(i, (scene, fitness))| {
+        .map(|(scene, caption)| {
             let opts = RenderOptions { width: 256, height: 256, camera, ..RenderOptions::default() };
             let (rgb, width, height) = genform_export::render_rgb(scene, &opts);
-            Tile { rgb, width, height, caption: format!("#{} {:.4}", i + 1, fitness) }
+            Tile { rgb, width, height, caption: caption.clone() }
         })
         .collect();
     let (rgb, w, h) = gallery_rgb(&tiles, 4);

@@ -42,6 +42,10 @@ pub struct SceneConfig {
     /// The hybrid's switching rules (see `genform_evolve::HybridConfig`).
     #[serde(default)]
     pub hybrid: genform_evolve::HybridConfig,
+    /// MAP-Elites settings (see `genform_evolve::MapElitesConfig`);
+    /// descriptor ranges left out take each descriptor's default.
+    #[serde(default)]
+    pub map_elites: genform_evolve::MapElitesConfig,
     /// When to stop (command-line flags override it).
     #[serde(default)]
     pub run: RunConfig,
@@ -231,7 +235,18 @@ impl SceneConfig {
     /// Reads, parses and checks the config at `path`.
     pub fn load(path: &Path) -> Result<LoadedScene> {
         let (mut config, base) = read_scene::<SceneConfig>(path)?;
+        crate::objective::check_descriptor_names(path, None, &config.map_elites)?;
         config.resolve(base);
+        config.check().with_context(|| format!("in scene {}", path.display()))?;
+        Ok(LoadedScene { path: path.to_path_buf(), config })
+    }
+
+    /// [`SceneConfig::load`] of `text` standing for the file at `path` (its
+    /// folder resolves relative paths): `genform sweep` loads edited copies.
+    pub fn load_text(path: &Path, text: &str) -> Result<LoadedScene> {
+        let mut config: SceneConfig = parse_toml(path, text)?;
+        crate::objective::check_descriptor_names(path, Some(text), &config.map_elites)?;
+        config.resolve(path.parent().unwrap_or(Path::new(".")));
         config.check().with_context(|| format!("in scene {}", path.display()))?;
         Ok(LoadedScene { path: path.to_path_buf(), config })
     }
@@ -301,11 +316,13 @@ impl SceneConfig {
         settings.mh.validate().map_err(|e| anyhow::anyhow!("[mh]: {e}"))?;
         settings.smc.validate().map_err(|e| anyhow::anyhow!("[smc]: {e}"))?;
         settings.hybrid.validate().map_err(|e| anyhow::anyhow!("[hybrid]: {e}"))?;
+        settings.map_elites.validate_ranges().map_err(|e| anyhow::anyhow!("[map_elites]: {e}"))?;
         Ok(())
     }
 
     /// The settings of every algorithm; absent `[mh]` and `[smc]` sections
-    /// take their defaults with the genome lengths of `[ga]`.
+    /// take their defaults with the genome lengths of `[ga]`, unset
+    /// `[map_elites]` ranges their descriptor's default.
     pub fn settings(&self) -> genform_evolve::Settings {
         let ga = &self.ga;
         let mh = self.mh.clone().unwrap_or_else(|| genform_evolve::MhConfig {
@@ -318,7 +335,20 @@ impl SceneConfig {
             .smc
             .clone()
             .unwrap_or_else(|| genform_evolve::SmcConfig { max_length: ga.max_length, ..Default::default() });
-        genform_evolve::Settings { ga: ga.clone(), mh, smc, hybrid: self.hybrid.clone() }
+        genform_evolve::Settings { ga: ga.clone(), mh, smc, hybrid: self.hybrid.clone(), map_elites: self.map_elites() }
+    }
+
+    /// `[map_elites]` with every unset descriptor range filled in by
+    /// [`Descriptor::default_range`](crate::objective::Descriptor::default_range).
+    pub fn map_elites(&self) -> genform_evolve::MapElitesConfig {
+        let mut config = self.map_elites.clone();
+        let box_size = self.volume.as_ref().map(|v| [0, 1, 2].map(|k| f64::from(v.max[k] - v.min[k])));
+        for axis in &mut config.descriptors {
+            if let (None, Some(d)) = (axis.range, crate::objective::Descriptor::from_name(&axis.name)) {
+                axis.range = Some(d.default_range([self.ga.min_length, self.ga.max_length], box_size));
+            }
+        }
+        config
     }
 
     /// The fitness function: the configured form, or "image" for image-only

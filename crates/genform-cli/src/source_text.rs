@@ -37,6 +37,7 @@ fn invalid_utf8(bytes: &[u8], at: usize) -> String {
 pub struct SourceErrors {
     rendered: String,
     summary: String,
+    diagnostics: Diagnostics,
 }
 
 impl SourceErrors {
@@ -44,7 +45,13 @@ impl SourceErrors {
     pub fn new(diagnostics: &Diagnostics, color: bool) -> Self {
         let n = diagnostics.error_count();
         let summary = format!("{n} error{} in {}", if n == 1 { "" } else { "s" }, diagnostics.file.name);
-        SourceErrors { rendered: diagnostics.render(color), summary }
+        SourceErrors { rendered: diagnostics.render(color), summary, diagnostics: diagnostics.clone() }
+    }
+
+    /// The diagnostics themselves, for callers that show them their own way
+    /// (the Python package's exceptions carry file, line, column, hints).
+    pub fn diagnostics(&self) -> &Diagnostics {
+        &self.diagnostics
     }
 
     /// The diagnostics as ariadne reports, one after another.

@@ -37,6 +37,27 @@ fn spaceship_obj_has_one_box_per_part() {
 }
 
 #[test]
+fn granularity_sets_the_glb_nodes_and_obj_objects() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    let nodes = |mode: &str| {
+        let out = format!("{mode}.glb");
+        genform(tmp.path(), &["sample", s(&ship), "--seed", "15", "--granularity", mode, "--out", &out]).ok();
+        let glb = std::fs::read(tmp.path().join(&out)).unwrap();
+        let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+        let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + len]).unwrap();
+        json["nodes"].as_array().unwrap().len()
+    };
+    // Seed 15 grows 86 boxes of 5 tags: past the 32 of `auto`, so merged.
+    assert_eq!([nodes("auto"), nodes("merged"), nodes("tag"), nodes("instanced")], [1, 1, 5, 86]);
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "15", "--granularity", "tag", "--out", "t.obj"]).ok();
+    let obj = std::fs::read_to_string(tmp.path().join("t.obj")).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("o ")).count(), 5);
+    let r = genform(tmp.path(), &["sample", s(&ship), "--granularity", "nodes", "--out", "x.glb"]).fails();
+    assert!(r.stderr().contains("known: auto, merged, tag, instanced"), "{}", r.stderr());
+}
+
+#[test]
 fn derive_replays_a_saved_genome_byte_for_byte() {
     let tmp = tempfile::tempdir().unwrap();
     for (grammar, seed) in [("spaceship.sg", "3"), ("city_grid.sg", "5"), ("tree_v2.sg", "2")] {

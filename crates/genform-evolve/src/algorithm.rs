@@ -4,6 +4,7 @@
 use crate::config::{ConfigError, GaConfig, HybridConfig, MhConfig, RandomConfig, SmcConfig};
 use crate::ga::Ga;
 use crate::hybrid::{Horizon, Hybrid};
+use crate::map_elites::{MapElites, MapElitesConfig};
 use crate::mcmc::Mh;
 use crate::objective::Objective;
 use crate::optimizer::{Individual, Optimizer};
@@ -28,12 +29,21 @@ pub enum Algorithm {
     Sosmc,
     /// SOSMC → GA → MH.
     Hybrid,
+    /// MAP-Elites: the best individual per cell of a descriptor grid.
+    MapElites,
 }
 
 impl Algorithm {
     /// Every algorithm, in the order reports list them.
-    pub const ALL: [Algorithm; 6] =
-        [Algorithm::Ga, Algorithm::Mh, Algorithm::Smc, Algorithm::Sosmc, Algorithm::Hybrid, Algorithm::Random];
+    pub const ALL: [Algorithm; 7] = [
+        Algorithm::Ga,
+        Algorithm::Mh,
+        Algorithm::Smc,
+        Algorithm::Sosmc,
+        Algorithm::Hybrid,
+        Algorithm::MapElites,
+        Algorithm::Random,
+    ];
 
     /// Lower-case name, as on the command line.
     pub fn name(self) -> &'static str {
@@ -44,6 +54,7 @@ impl Algorithm {
             Algorithm::Smc => "smc",
             Algorithm::Sosmc => "sosmc",
             Algorithm::Hybrid => "hybrid",
+            Algorithm::MapElites => "map-elites",
         }
     }
 }
@@ -54,8 +65,9 @@ impl fmt::Display for Algorithm {
     }
 }
 
-/// The settings of every algorithm (a scene's `[ga]`, `[mh]`, `[smc]` and
-/// `[hybrid]` sections); random search mirrors the GA's.
+/// The settings of every algorithm (a scene's `[ga]`, `[mh]`, `[smc]`,
+/// `[hybrid]` and `[map_elites]` sections); random search mirrors the GA's,
+/// MAP-Elites takes its lengths and operators from the GA's.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Settings {
     /// GA (and random search).
@@ -66,6 +78,8 @@ pub struct Settings {
     pub smc: SmcConfig,
     /// The hybrid's switching rules.
     pub hybrid: HybridConfig,
+    /// MAP-Elites' archive and batch sizes.
+    pub map_elites: MapElitesConfig,
 }
 
 /// One of the optimizers, chosen at run time.
@@ -81,6 +95,8 @@ pub enum AnyOptimizer {
     Smc(Smc),
     /// [`Hybrid`].
     Hybrid(Box<Hybrid>),
+    /// [`MapElites`].
+    MapElites(MapElites),
 }
 
 impl AnyOptimizer {
@@ -113,6 +129,9 @@ impl AnyOptimizer {
                 seed,
                 horizon,
             )?)),
+            Algorithm::MapElites => {
+                AnyOptimizer::MapElites(MapElites::new(graph, limits, &s.ga, s.map_elites.clone(), seed)?)
+            }
         })
     }
 
@@ -123,6 +142,7 @@ impl AnyOptimizer {
             AnyOptimizer::Mh(o) => o,
             AnyOptimizer::Smc(o) => o,
             AnyOptimizer::Hybrid(o) => o.as_ref(),
+            AnyOptimizer::MapElites(o) => o,
         }
     }
 }
@@ -135,6 +155,7 @@ impl Optimizer for AnyOptimizer {
             AnyOptimizer::Mh(o) => o.step(objective),
             AnyOptimizer::Smc(o) => o.step(objective),
             AnyOptimizer::Hybrid(o) => o.step(objective),
+            AnyOptimizer::MapElites(o) => o.step(objective),
         }
     }
 
@@ -173,6 +194,15 @@ mod tests {
             mh: MhConfig { chains: 8, initial_length: [5, 15], max_length: 40, ..MhConfig::default() },
             smc: SmcConfig { particles: 30, max_length: 40, ..SmcConfig::default() },
             hybrid: HybridConfig::default(),
+            map_elites: MapElitesConfig {
+                initial: 20,
+                batch: 16,
+                descriptors: [
+                    crate::map_elites::DescriptorAxis::new("length", 6, [0.0, 40.0]),
+                    crate::map_elites::DescriptorAxis::new("wings", 4, [0.0, 8.0]),
+                ],
+                ..MapElitesConfig::default()
+            },
         };
         let cancel = AtomicBool::new(false);
         let stop = Stop { generations: None, budget: None, evaluations: Some(3000), cancel: &cancel };

@@ -17,6 +17,8 @@
 //! - [`random`]: the random-search baseline.
 //! - [`smc`]: SMC and SOSMC (fixed and stochastic growth order).
 //! - [`hybrid`]: SOSMC seeding, GA, then MH polishing.
+//! - [`map_elites`]: MAP-Elites, the best individual per cell of a grid
+//!   over two behaviour descriptors (quality-diversity).
 //! - [`mcmc`]: RJMCMC with parallel tempering, delayed rejection and annealing.
 //! - [`run`](mod@run): the driver with generation, time, evaluation and cancel stops.
 //! - [`algorithm`]: every optimizer behind one run-time choice.
@@ -34,6 +36,7 @@ pub mod fixtures;
 pub mod ga;
 pub mod ge;
 pub mod hybrid;
+pub mod map_elites;
 pub mod mcmc;
 pub mod objective;
 pub mod operators;
@@ -47,11 +50,13 @@ pub mod stats;
 
 pub use algorithm::{Algorithm, AnyOptimizer, Settings};
 pub use config::{
-    ConfigError, GaConfig, GeneChoice, HybridConfig, MhConfig, RandomConfig, SelectionPair, SmcConfig, Weighting,
+    ConfigError, GaConfig, GaPreset, GeneChoice, HybridConfig, Initialization, MhConfig, RandomConfig, SelectionPair,
+    SmcConfig, Weighting,
 };
 pub use ga::Ga;
 pub use ge::{AnyCodonOptimizer, CodonAlgorithm, CodonRandom, CodonRandomConfig, Codons, Ge, GeConfig};
 pub use hybrid::{Horizon, Hybrid};
+pub use map_elites::{DescriptorAxis, Elite, MapElites, MapElitesConfig};
 pub use mcmc::Mh;
 pub use objective::{FnObjective, Objective};
 pub use operators::{LengthBounds, MutationKind, MutationMix};

@@ -29,6 +29,21 @@ pub trait Objective<G = Genome>: Sync {
 
     /// The fitness of `genome`.
     fn evaluate(&self, genome: &G, scratch: &mut Self::Scratch) -> f64;
+
+    /// The fitness of `genome` and its two behaviour descriptors (what
+    /// quality-diversity search such as [`MapElites`](crate::map_elites::MapElites)
+    /// spreads its archive over), written into `descriptors`.
+    ///
+    /// Descriptors that need the derived model (a bounding box, a
+    /// primitive count) can only come from the objective: optimizers never
+    /// see models. The default knows no descriptors: it writes NaN, which
+    /// MAP-Elites files under each axis' lowest bin, so every individual
+    /// shares one cell. Like [`Objective::evaluate`], it must be
+    /// deterministic.
+    fn evaluate_described(&self, genome: &G, scratch: &mut Self::Scratch, descriptors: &mut [f64; 2]) -> f64 {
+        *descriptors = [f64::NAN; 2];
+        self.evaluate(genome, scratch)
+    }
 }
 
 /// An [`Objective`] from a plain function (no scratch), for tests and small

@@ -66,6 +66,12 @@ impl<G: Genotype + Clone + Send + Sync> Population<G> {
         self.evaluations
     }
 
+    /// Adds `n` evaluations the caller made itself (children it evaluated
+    /// before [`Population::advance`], e.g. to measure operator success).
+    pub fn count_evaluations(&mut self, n: u64) {
+        self.evaluations += n;
+    }
+
     /// Whether there is no generation yet.
     pub fn is_empty(&self) -> bool {
         self.members.is_empty()

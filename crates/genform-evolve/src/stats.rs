@@ -14,6 +14,10 @@ pub struct MutationCounts {
     pub grow: u64,
     /// By cut.
     pub cut: u64,
+    /// By drift (parameters moved by a Gaussian step).
+    pub drift: u64,
+    /// By regrow (a subtree regrown from the prior).
+    pub regrow: u64,
 }
 
 impl MutationCounts {
@@ -23,7 +27,67 @@ impl MutationCounts {
             MutationKind::Alter => self.alter += 1,
             MutationKind::Grow => self.grow += 1,
             MutationKind::Cut => self.cut += 1,
+            MutationKind::Drift => self.drift += 1,
+            MutationKind::Regrow => self.regrow += 1,
         }
+    }
+}
+
+/// How the evaluated children of one operator fared.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct OperatorTally {
+    /// Children evaluated.
+    pub children: u64,
+    /// Of those, children fitter than their fitter parent.
+    pub improved: u64,
+}
+
+impl std::ops::AddAssign for OperatorTally {
+    fn add_assign(&mut self, o: Self) {
+        self.children += o.children;
+        self.improved += o.improved;
+    }
+}
+
+/// Per-operator success of a GA generation: which operators make children
+/// that beat their parents (the evidence for the operator weights).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct OperatorCounts {
+    /// Crossover children (compared with the fitter parent).
+    pub crossover: OperatorTally,
+    /// Alter children.
+    pub alter: OperatorTally,
+    /// Grow children.
+    pub grow: OperatorTally,
+    /// Cut children.
+    pub cut: OperatorTally,
+    /// Drift children.
+    pub drift: OperatorTally,
+    /// Regrow children.
+    pub regrow: OperatorTally,
+}
+
+impl OperatorCounts {
+    /// The tally of mutation `kind`.
+    pub fn mutation(&mut self, kind: MutationKind) -> &mut OperatorTally {
+        match kind {
+            MutationKind::Alter => &mut self.alter,
+            MutationKind::Grow => &mut self.grow,
+            MutationKind::Cut => &mut self.cut,
+            MutationKind::Drift => &mut self.drift,
+            MutationKind::Regrow => &mut self.regrow,
+        }
+    }
+}
+
+impl std::ops::AddAssign for OperatorCounts {
+    fn add_assign(&mut self, o: Self) {
+        self.crossover += o.crossover;
+        self.alter += o.alter;
+        self.grow += o.grow;
+        self.cut += o.cut;
+        self.drift += o.drift;
+        self.regrow += o.regrow;
     }
 }
 
@@ -43,6 +107,14 @@ pub struct ReproductionCounts {
     pub rejected: u64,
     /// Parents copied unchanged because reproduction kept failing.
     pub copies: u64,
+    /// Children identical to a member of the parents' population or to an
+    /// earlier child of the same generation, as first made (GA).
+    pub duplicates: u64,
+    /// Of those, children mutated again until new (duplicate avoidance);
+    /// the rest were kept (and, unless copies, evaluated again).
+    pub duplicates_replaced: u64,
+    /// How each operator's evaluated children fared (GA).
+    pub operators: OperatorCounts,
 }
 
 impl std::ops::AddAssign for ReproductionCounts {
@@ -53,8 +125,13 @@ impl std::ops::AddAssign for ReproductionCounts {
         self.mutations.alter += o.mutations.alter;
         self.mutations.grow += o.mutations.grow;
         self.mutations.cut += o.mutations.cut;
+        self.mutations.drift += o.mutations.drift;
+        self.mutations.regrow += o.mutations.regrow;
         self.rejected += o.rejected;
         self.copies += o.copies;
+        self.duplicates += o.duplicates;
+        self.duplicates_replaced += o.duplicates_replaced;
+        self.operators += o.operators;
     }
 }
 
@@ -130,6 +207,9 @@ pub struct GenerationStats {
     pub len_max: usize,
     /// Length of the population's best individual.
     pub best_len: usize,
+    /// Distinct genomes in the population (GA; `None` for optimizers that
+    /// do not count them).
+    pub distinct: Option<usize>,
 }
 
 impl GenerationStats {
@@ -177,6 +257,7 @@ impl GenerationStats {
             len_avg: if n == 0 { 0.0 } else { len_sum as f64 / n as f64 },
             len_max,
             best_len: population.first().map_or(0, |i| i.genome.length()),
+            distinct: None,
         }
     }
 }

@@ -1,11 +1,12 @@
 //! Binary glTF 2.0 (GLB).
 
+use crate::granularity::Granularity;
 use crate::minecraft::{block_color, block_meshes};
 use crate::palette::{edge_color, edge_type_name, srgb_to_linear, tag_color};
 use crate::shapes::{Shapes, tag_name};
 use crate::stl::face_normal;
 use genform_core::blocks::BlockState;
-use genform_core::scene::{Scene, TagId, Tessellation, triangulate_polygon};
+use genform_core::scene::{Instance, Polygon, Scene, TagId, Tessellation, triangulate_polygon};
 use glam::{Affine3A, DMat4, Mat4, Vec3};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, HashMap};
@@ -17,8 +18,22 @@ const UNSIGNED_SHORT: u32 = 5123;
 const UNSIGNED_INT: u32 = 5125;
 const MODE_LINES: u32 = 1;
 
-/// Writes `scene` as binary glTF 2.0 (a `.glb` file).
+/// Writes `scene` as binary glTF 2.0 (a `.glb` file), split into nodes
+/// by [`Granularity::Auto`]; see [`write_glb_with`].
 ///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset or a surface to a missing
+/// vertex (see [`crate::export`], which checks).
+pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
+    write_glb_with(scene, tess, Granularity::Auto)
+}
+
+/// Writes `scene` as binary glTF 2.0 (a `.glb` file), its instances and
+/// polygons split into nodes as `granularity` says
+/// ([`Granularity::resolve`] decides `Auto` from the instance count).
+///
+/// [`Granularity::Instanced`]:
 /// - One set of vertex data per distinct primitive (box, each frustum or
 ///   tapered-box parameter, sphere, each mesh asset), flat shaded: `POSITION`
 ///   (with exact `min`/`max`), `NORMAL` and `u16`/`u32` indices, in the unit
@@ -32,7 +47,17 @@ const MODE_LINES: u32 = 1;
 ///   (a zero scale) or sheared are instead baked into the world-space mesh
 ///   `baked`; instances with non-finite transforms are skipped.
 /// - Polygons go into the world-space mesh `polygons` (double-sided
-///   materials); polylines into the mesh `polylines` as `LINES` primitives
+///   materials).
+///
+/// [`Granularity::Merged`]: every instance (transformed to world space,
+/// faces kept outward for reflections) and every polygon in one mesh and
+/// node `model`, one flat-shaded primitive per (tag, double-sided) in tag
+/// order, polygons taking the double-sided material.
+/// [`Granularity::PerTag`]: the same triangles, one mesh and node per tag,
+/// named by the tag, in tag order.
+///
+/// In every mode:
+/// - Polylines go into the mesh `polylines` as `LINES` primitives
 ///   (stroke widths are not kept).
 /// - One material per tag: base color from [`crate::tag_color`] (converted to
 ///   linear), metallic 0, roughness 0.8.
@@ -54,73 +79,148 @@ const MODE_LINES: u32 = 1;
 ///
 /// If an instance refers to a missing mesh asset or a surface to a missing
 /// vertex (see [`crate::export`], which checks).
-pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
+pub fn write_glb_with(scene: &Scene, tess: Tessellation, granularity: Granularity) -> Vec<u8> {
     let shapes = Shapes::new(scene, tess);
     let mut doc = Doc::default();
-    // Per shape: not built yet / built but empty / (position, normal, index) accessors.
-    let mut shape_data: Vec<Option<Option<[usize; 3]>>> = vec![None; shapes.meshes.len()];
-    let mut mesh_of: HashMap<(u32, TagId), usize> = HashMap::new();
-    let mut baked: BTreeMap<TagId, Vec<[Vec3; 3]>> = BTreeMap::new();
-
-    for (i, inst) in scene.instances.iter().enumerate() {
-        match placement(&inst.transform) {
-            Placement::Skip => continue,
-            Placement::Bake => {
-                let mesh = shapes.of(i);
-                let flip = inst.transform.matrix3.determinant() < 0.0;
-                let tris = baked.entry(inst.tag).or_default();
-                for t in &mesh.triangles {
-                    let [a, b, c] = t.map(|v| inst.transform.transform_point3(mesh.positions[v as usize]));
-                    tris.push(if flip { [a, c, b] } else { [a, b, c] });
-                }
-            }
-            Placement::Node(matrix) => {
-                let s = shapes.of_instance[i];
-                let data = *shape_data[s as usize].get_or_insert_with(|| {
-                    let m = &shapes.meshes[s as usize];
-                    let tris = m.triangles.iter().map(|t| t.map(|v| m.positions[v as usize]));
-                    doc.flat_geometry(tris)
-                });
-                let Some([pos, nrm, idx]) = data else { continue };
-                let mesh = match mesh_of.get(&(s, inst.tag)) {
-                    Some(&m) => m,
-                    None => {
-                        let material = doc.material(scene, inst.tag, false);
-                        let name = format!("{}.{}", shapes.meshes[s as usize].name, tag_name(scene, inst.tag));
-                        let prim = json!({
-                            "attributes": {"POSITION": pos, "NORMAL": nrm},
-                            "indices": idx,
-                            "material": material,
-                        });
-                        doc.meshes.push(json!({"name": name, "primitives": [prim]}));
-                        mesh_of.insert((s, inst.tag), doc.meshes.len() - 1);
-                        doc.meshes.len() - 1
-                    }
-                };
-                let mut node = Map::new();
-                node.insert("name".into(), format!("{}_{i}", tag_name(scene, inst.tag)).into());
-                node.insert("mesh".into(), mesh.into());
-                if matrix != Mat4::IDENTITY {
-                    node.insert("matrix".into(), floats(&matrix.to_cols_array()));
-                }
-                doc.nodes.push(Value::Object(node));
-            }
-        }
+    match granularity.resolve(scene.instances.len()) {
+        Granularity::Merged => doc.grouped(scene, &shapes, false),
+        Granularity::PerTag => doc.grouped(scene, &shapes, true),
+        Granularity::Instanced | Granularity::Auto => doc.instanced(scene, &shapes),
     }
-
-    doc.world_mesh(scene, "baked", &baked, false);
-    let mut polygons: BTreeMap<TagId, Vec<[Vec3; 3]>> = BTreeMap::new();
-    for poly in &scene.polygons {
-        if poly.points.iter().all(|p| p.is_finite()) {
-            let tris = polygons.entry(poly.tag).or_default();
-            tris.extend(triangulate_polygon(&poly.points).into_iter().map(|t| t.map(|k| poly.points[k as usize])));
-        }
-    }
-    doc.world_mesh(scene, "polygons", &polygons, true);
     doc.polylines(scene);
     doc.blocks(scene);
     doc.surfaces(scene);
     doc.finish()
+}
+
+impl Doc {
+    /// [`Granularity::Instanced`]: a node per instance over shared meshes,
+    /// then the meshes `baked` and `polygons`.
+    fn instanced(&mut self, scene: &Scene, shapes: &Shapes) {
+        let doc = self;
+        // Per shape: not built yet / built but empty / (position, normal, index) accessors.
+        let mut shape_data: Vec<Option<Option<[usize; 3]>>> = vec![None; shapes.meshes.len()];
+        let mut mesh_of: HashMap<(u32, TagId), usize> = HashMap::new();
+        let mut baked: BTreeMap<TagId, Vec<Flat>> = BTreeMap::new();
+
+        for (i, inst) in scene.instances.iter().enumerate() {
+            match placement(&inst.transform) {
+                Placement::Skip => continue,
+                Placement::Bake => world_triangles(shapes, i, inst, baked.entry(inst.tag).or_default()),
+                Placement::Node(matrix) => {
+                    let s = shapes.of_instance[i];
+                    let data = *shape_data[s as usize].get_or_insert_with(|| {
+                        let m = &shapes.meshes[s as usize];
+                        let tris = m.triangles.iter().map(|t| t.map(|v| m.positions[v as usize]));
+                        doc.flat_geometry(tris.map(|t| (t, face_normal(t))))
+                    });
+                    let Some([pos, nrm, idx]) = data else { continue };
+                    let mesh = match mesh_of.get(&(s, inst.tag)) {
+                        Some(&m) => m,
+                        None => {
+                            let material = doc.material(scene, inst.tag, false);
+                            let name = format!("{}.{}", shapes.meshes[s as usize].name, tag_name(scene, inst.tag));
+                            let prim = json!({
+                                "attributes": {"POSITION": pos, "NORMAL": nrm},
+                                "indices": idx,
+                                "material": material,
+                            });
+                            doc.meshes.push(json!({"name": name, "primitives": [prim]}));
+                            mesh_of.insert((s, inst.tag), doc.meshes.len() - 1);
+                            doc.meshes.len() - 1
+                        }
+                    };
+                    let mut node = Map::new();
+                    node.insert("name".into(), format!("{}_{i}", tag_name(scene, inst.tag)).into());
+                    node.insert("mesh".into(), mesh.into());
+                    if matrix != Mat4::IDENTITY {
+                        node.insert("matrix".into(), floats(&matrix.to_cols_array()));
+                    }
+                    doc.nodes.push(Value::Object(node));
+                }
+            }
+        }
+
+        doc.world_mesh(scene, "baked", &baked, false);
+        let mut polygons: BTreeMap<TagId, Vec<Flat>> = BTreeMap::new();
+        for poly in &scene.polygons {
+            polygon_triangles(poly, polygons.entry(poly.tag).or_default());
+        }
+        doc.world_mesh(scene, "polygons", &polygons, true);
+    }
+
+    /// [`Granularity::Merged`] (one node `model`) or, when `per_tag`,
+    /// [`Granularity::PerTag`] (one node per tag): instances and polygons in
+    /// world space, one primitive per (tag, double-sided).
+    fn grouped(&mut self, scene: &Scene, shapes: &Shapes, per_tag: bool) {
+        let mut tris: BTreeMap<(TagId, bool), Vec<Flat>> = BTreeMap::new();
+        for (i, inst) in scene.instances.iter().enumerate() {
+            if Mat4::from(inst.transform).is_finite() {
+                world_triangles(shapes, i, inst, tris.entry((inst.tag, false)).or_default());
+            }
+        }
+        for poly in &scene.polygons {
+            polygon_triangles(poly, tris.entry((poly.tag, true)).or_default());
+        }
+        let mut prims: Vec<(TagId, Value)> = Vec::new();
+        for (&(tag, double_sided), t) in &tris {
+            if let Some([pos, nrm, idx]) = self.flat_geometry(t.iter().copied()) {
+                let material = self.material(scene, tag, double_sided);
+                let prim =
+                    json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material});
+                prims.push((tag, prim));
+            }
+        }
+        if !per_tag {
+            self.named_mesh_node("model", prims.into_iter().map(|(_, p)| p).collect());
+            return;
+        }
+        let mut prims = prims.into_iter().peekable();
+        while let Some((tag, first)) = prims.next() {
+            let mut group = vec![first];
+            while let Some((_, p)) = prims.next_if(|(t, _)| *t == tag) {
+                group.push(p);
+            }
+            self.named_mesh_node(&tag_name(scene, tag), group);
+        }
+    }
+}
+
+/// A triangle and its flat normal.
+type Flat = ([Vec3; 3], Vec3);
+
+/// Appends instance `i`'s non-degenerate triangles in world space, wound
+/// counter-clockwise from outside also when its transform is a reflection.
+///
+/// The normal is the unit-frame face normal carried through the inverse
+/// transpose rather than recomputed from the world positions, so the two
+/// halves of a flat quad keep bit-identical normals and share vertices as
+/// they do in the unit frame; where that disagrees with the world face
+/// normal (a singular transform, float noise on a sliver), the latter wins.
+fn world_triangles(shapes: &Shapes, i: usize, inst: &Instance, out: &mut Vec<Flat>) {
+    let mesh = shapes.of(i);
+    let flip = inst.transform.matrix3.determinant() < 0.0;
+    let normal_matrix = inst.transform.matrix3.inverse().transpose();
+    for t in &mesh.triangles {
+        let unit = t.map(|v| mesh.positions[v as usize]);
+        let [a, b, c] = unit.map(|p| inst.transform.transform_point3(p));
+        let world = if flip { [a, c, b] } else { [a, b, c] };
+        let seen = face_normal(world);
+        if seen == Vec3::ZERO {
+            continue;
+        }
+        let carried = (normal_matrix * face_normal(unit)).normalize_or_zero();
+        out.push((world, if carried.is_finite() && carried.dot(seen) > 0.9999 { carried } else { seen }));
+    }
+}
+
+/// Appends a polygon's triangles (split by [`triangulate_polygon`]) with
+/// their face normals; polygons with non-finite points add nothing.
+fn polygon_triangles(poly: &Polygon, out: &mut Vec<Flat>) {
+    if poly.points.iter().all(|p| p.is_finite()) {
+        let tris = triangulate_polygon(&poly.points).into_iter().map(|t| t.map(|k| poly.points[k as usize]));
+        out.extend(tris.map(|t| (t, face_normal(t))));
+    }
 }
 
 /// What to do with an instance transform.
@@ -230,14 +330,14 @@ impl Doc {
         self.accessors.len() - 1
     }
 
-    /// Flat-shaded vertex data for triangles: vertices shared only between
-    /// triangles with the same position and normal; degenerate triangles
-    /// dropped. `None` when nothing is left.
-    fn flat_geometry(&mut self, tris: impl Iterator<Item = [Vec3; 3]>) -> Option<[usize; 3]> {
+    /// Flat-shaded vertex data for triangles, each with its normal:
+    /// vertices shared only between triangles with the same position and
+    /// normal; triangles with a zero normal (degenerate) dropped. `None`
+    /// when nothing is left.
+    fn flat_geometry(&mut self, tris: impl Iterator<Item = Flat>) -> Option<[usize; 3]> {
         let (mut pos, mut nrm, mut idx) = (Vec::new(), Vec::new(), Vec::new());
         let mut weld: HashMap<([u32; 3], [u32; 3]), u32> = HashMap::new();
-        for t in tris {
-            let n = face_normal(t);
+        for (t, n) in tris {
             if n == Vec3::ZERO || !t.iter().all(|p| p.is_finite()) {
                 continue;
             }
@@ -282,7 +382,7 @@ impl Doc {
     }
 
     /// A node and mesh of world-space triangles, one primitive per tag.
-    fn world_mesh(&mut self, scene: &Scene, name: &str, tris: &BTreeMap<TagId, Vec<[Vec3; 3]>>, double_sided: bool) {
+    fn world_mesh(&mut self, scene: &Scene, name: &str, tris: &BTreeMap<TagId, Vec<Flat>>, double_sided: bool) {
         let mut prims = Vec::new();
         for (&tag, t) in tris {
             if let Some([pos, nrm, idx]) = self.flat_geometry(t.iter().copied()) {
@@ -464,6 +564,7 @@ fn floats(v: &[f32]) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::AUTO_MERGE_ABOVE;
     use crate::test_scenes;
 
     /// A parsed GLB: its JSON and its binary chunk.
@@ -684,6 +785,156 @@ mod tests {
         // Smooth normals: the raised middle vertex of the grid points up.
         let normals = read_vec3(&json, &bin, grid[0]["attributes"]["NORMAL"].as_u64().unwrap() as usize);
         assert_eq!(normals[4], Vec3::Z);
+    }
+
+    /// The triangles of a mesh primitive, read through its indices.
+    fn read_triangles(json: &Value, bin: &[u8], prim: &Value) -> Vec<[Vec3; 3]> {
+        let pos = read_vec3(json, bin, prim["attributes"]["POSITION"].as_u64().unwrap() as usize);
+        let a = &json["accessors"][prim["indices"].as_u64().unwrap() as usize];
+        let off = json["bufferViews"][a["bufferView"].as_u64().unwrap() as usize]["byteOffset"].as_u64().unwrap();
+        let wide = a["componentType"] == UNSIGNED_INT;
+        let index = |k: usize| {
+            let o = off as usize + k * if wide { 4 } else { 2 };
+            if wide {
+                u32::from_le_bytes(bin[o..o + 4].try_into().unwrap()) as usize
+            } else {
+                u16::from_le_bytes(bin[o..o + 2].try_into().unwrap()) as usize
+            }
+        };
+        let count = a["count"].as_u64().unwrap() as usize;
+        (0..count / 3).map(|t| [0, 1, 2].map(|c| pos[index(3 * t + c)])).collect()
+    }
+
+    /// Every triangle drawn, in world space (node matrices applied), by
+    /// material name.
+    fn world_triangles_by_material(glb: &[u8]) -> BTreeMap<String, Vec<[Vec3; 3]>> {
+        let (json, bin) = parse(glb);
+        check_accessors(&json, &bin);
+        let mut out: BTreeMap<String, Vec<[Vec3; 3]>> = BTreeMap::new();
+        for node in json["nodes"].as_array().unwrap() {
+            let m = node.get("matrix").map_or(Mat4::IDENTITY, |m| {
+                Mat4::from_cols_array(&std::array::from_fn(|i| m[i].as_f64().unwrap() as f32))
+            });
+            let mesh = &json["meshes"][node["mesh"].as_u64().unwrap() as usize];
+            for prim in mesh["primitives"].as_array().unwrap() {
+                if prim["mode"] == MODE_LINES {
+                    continue;
+                }
+                let name = json["materials"][prim["material"].as_u64().unwrap() as usize]["name"].as_str().unwrap();
+                let tris = read_triangles(&json, &bin, prim).into_iter().map(|t| t.map(|p| m.transform_point3(p)));
+                out.entry(name.to_string()).or_default().extend(tris);
+            }
+        }
+        out
+    }
+
+    fn node_names(json: &Value) -> Vec<&str> {
+        json["nodes"].as_array().unwrap().iter().map(|n| n["name"].as_str().unwrap()).collect()
+    }
+
+    #[test]
+    fn granularity_sets_nodes_and_meshes() {
+        let s = test_scenes::mixed();
+        let tess = Tessellation::default();
+        let glb = |g| write_glb_with(&s, tess, g);
+        // Small scenes default to one node per instance.
+        assert_eq!(write_glb(&s, tess), glb(Granularity::Instanced));
+        let (json, bin) = parse(&glb(Granularity::Merged));
+        check_accessors(&json, &bin);
+        assert_eq!(node_names(&json), ["model", "polylines"]);
+        assert_eq!(json["meshes"].as_array().unwrap().len(), 2);
+        // wall, roof tile, roof tile (double-sided, the polygon), trunk.
+        let mats = |mesh: &Value| -> Vec<String> {
+            let prims = mesh["primitives"].as_array().unwrap();
+            prims
+                .iter()
+                .map(|p| json["materials"][p["material"].as_u64().unwrap() as usize]["name"].to_string())
+                .collect()
+        };
+        assert_eq!(
+            mats(&json["meshes"][0]),
+            [r#""wall""#, r#""roof tile""#, r#""roof tile (double-sided)""#, r#""trunk""#]
+        );
+        assert!(json["nodes"][0].get("matrix").is_none());
+
+        let (json, bin) = parse(&glb(Granularity::PerTag));
+        check_accessors(&json, &bin);
+        assert_eq!(node_names(&json), ["wall", "roof_tile", "trunk", "polylines"]);
+        assert_eq!(json["meshes"].as_array().unwrap().len(), 4);
+        assert_eq!(mats(&json["meshes"][1]), [r#""roof tile""#, r#""roof tile (double-sided)""#]);
+
+        // 33 boxes: past the threshold, the default merges them.
+        let many = test_scenes::boxes(AUTO_MERGE_ABOVE + 1);
+        let (json, _) = parse(&write_glb(&many, tess));
+        assert_eq!(node_names(&json), ["model"]);
+        let idx = json["meshes"][0]["primitives"][0]["indices"].as_u64().unwrap() as usize;
+        assert_eq!(json["accessors"][idx]["count"], 36 * (AUTO_MERGE_ABOVE + 1));
+        // Turned and stretched boxes still weld each face's two triangles:
+        // 24 vertices a box, as in the shared unit mesh.
+        let mut turned = many.clone();
+        for (i, inst) in turned.instances.iter_mut().enumerate() {
+            let rot = glam::Quat::from_euler(glam::EulerRot::YXZ, 0.37 * i as f32, 1.1, -0.2 * i as f32);
+            inst.transform =
+                Affine3A::from_scale_rotation_translation(Vec3::new(0.01, 3.0, 1.7), rot, Vec3::splat(99.5))
+                    * inst.transform;
+        }
+        let (json, _) = parse(&write_glb(&turned, tess));
+        let pos = json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].as_u64().unwrap() as usize;
+        assert_eq!(json["accessors"][pos]["count"], 24 * (AUTO_MERGE_ABOVE + 1));
+        let (json, _) = parse(&write_glb(&test_scenes::boxes(AUTO_MERGE_ABOVE), tess));
+        assert_eq!(json["nodes"].as_array().unwrap().len(), AUTO_MERGE_ABOVE);
+        assert_eq!(json["meshes"].as_array().unwrap().len(), 1, "instances share one mesh");
+    }
+
+    #[test]
+    fn every_granularity_draws_the_same_triangles() {
+        let s = test_scenes::mixed();
+        let tess = Tessellation::default();
+        // The merged mesh holds exactly the scene's non-degenerate
+        // triangles, bit for bit, under their materials.
+        let mut want: BTreeMap<String, Vec<[Vec3; 3]>> = BTreeMap::new();
+        let double_sided: Vec<[Vec3; 3]> = s
+            .polygons
+            .iter()
+            .flat_map(|p| triangulate_polygon(&p.points).into_iter().map(|t| t.map(|k| p.points[k as usize])))
+            .collect();
+        s.for_each_triangle(tess, |t, tag| {
+            if face_normal(t) != Vec3::ZERO {
+                let mut name = s.tags[tag as usize].clone();
+                if double_sided.contains(&t) {
+                    name.push_str(" (double-sided)");
+                }
+                want.entry(name).or_default().push(t);
+            }
+        });
+        let bits = |tris: &[[Vec3; 3]]| {
+            let mut b: Vec<[u32; 9]> =
+                tris.iter().map(|t| std::array::from_fn(|k| t[k / 3].to_array()[k % 3].to_bits())).collect();
+            b.sort_unstable();
+            b
+        };
+        let merged = world_triangles_by_material(&write_glb_with(&s, tess, Granularity::Merged));
+        assert_eq!(merged.keys().collect::<Vec<_>>(), want.keys().collect::<Vec<_>>());
+        for (name, tris) in &want {
+            assert_eq!(bits(&merged[name]), bits(tris), "{name}");
+        }
+        assert_eq!(world_triangles_by_material(&write_glb_with(&s, tess, Granularity::PerTag)), merged);
+        // Instance nodes carry re-orthogonalized matrices: the same
+        // triangles up to float noise (count, area, bounds).
+        let instanced = world_triangles_by_material(&write_glb_with(&s, tess, Granularity::Instanced));
+        assert_eq!(instanced.keys().collect::<Vec<_>>(), want.keys().collect::<Vec<_>>());
+        let area =
+            |t: &[[Vec3; 3]]| t.iter().map(|[a, b, c]| f64::from((*b - *a).cross(*c - *a).length())).sum::<f64>();
+        let bounds = |t: &[[Vec3; 3]]| {
+            t.iter().flatten().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)))
+        };
+        for (name, tris) in &merged {
+            let other = &instanced[name];
+            assert_eq!(other.len(), tris.len(), "{name}");
+            assert!((area(other) - area(tris)).abs() < 1e-4 * area(tris), "{name}");
+            let ((a, b), (c, d)) = (bounds(other), bounds(tris));
+            assert!(a.abs_diff_eq(c, 1e-4) && b.abs_diff_eq(d, 1e-4), "{name}");
+        }
     }
 
     #[test]

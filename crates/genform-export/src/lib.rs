@@ -3,10 +3,8 @@
 //! Every writer turns a [`Scene`] into the bytes of one file; this crate does
 //! no file I/O. The formats:
 //!
-//! - [`Format::Obj`]: Wavefront OBJ text, one object per instance
-//!   ([`write_obj`]).
-//! - [`Format::Glb`]: binary glTF 2.0, one mesh per distinct primitive and one
-//!   node per instance ([`write_glb`]).
+//! - [`Format::Obj`]: Wavefront OBJ text ([`write_obj`]).
+//! - [`Format::Glb`]: binary glTF 2.0 ([`write_glb`]).
 //! - [`Format::Ply`]: binary little-endian PLY, a triangle soup plus the
 //!   surfaces' polygons and typed edges ([`write_ply`]).
 //! - [`Format::Stl`]: binary STL ([`write_stl`]).
@@ -17,6 +15,13 @@
 //! - [`Format::Schem`], [`Format::Litematic`], [`Format::Vox`]: the scene's
 //!   block grids ([`Scene::blocks`]) as a Sponge schematic, a Litematica
 //!   schematic or a MagicaVoxel model ([`minecraft`]).
+//!
+//! GLB and OBJ split the model as [`ExportOptions::granularity`] says
+//! ([`Granularity`]): one merged mesh with a part per material (the
+//! default above [`AUTO_MERGE_ABOVE`] instances), one mesh per tag, or
+//! one node per instance (GLB nodes sharing one mesh per primitive and
+//! tag; OBJ objects each with their own vertices, the default for small
+//! models).
 //!
 //! Polygon surfaces ([`Scene::surfaces`]) keep their polygons and typed
 //! edges where the format can hold them: OBJ (`f` polygons, `l` edges
@@ -39,6 +44,7 @@
 
 mod flat;
 mod glb;
+mod granularity;
 pub mod import;
 pub mod minecraft;
 mod obj;
@@ -56,12 +62,13 @@ use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 
-pub use glb::write_glb;
+pub use glb::{write_glb, write_glb_with};
+pub use granularity::{AUTO_MERGE_ABOVE, Granularity};
 pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFormat, read_mesh};
-pub use obj::write_obj;
+pub use obj::{write_obj, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
-pub use render::{Camera, RenderOptions, render_png, render_rgb};
+pub use render::{Backdrop, Camera, RenderOptions, render_png, render_rgb, render_rgb_over};
 pub use stl::write_stl;
 pub use svg::{SvgOptions, write_svg};
 
@@ -184,6 +191,9 @@ pub struct ExportOptions {
     pub svg: SvgOptions,
     /// Settings for the block formats.
     pub blocks: BlockOptions,
+    /// How [`Format::Glb`] and [`Format::Obj`] split the model into nodes
+    /// and objects ([`Granularity::Auto`] by default).
+    pub granularity: Granularity,
 }
 
 /// Settings for [`Format::Schem`] and [`Format::Litematic`].
@@ -269,8 +279,8 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
         check_geometry(scene, format, tess)?;
     }
     Ok(match format {
-        Format::Obj => write_obj(scene, tess).into_bytes(),
-        Format::Glb => write_glb(scene, tess),
+        Format::Obj => write_obj_with(scene, tess, opts.granularity).into_bytes(),
+        Format::Glb => write_glb_with(scene, tess, opts.granularity),
         Format::Ply => write_ply(scene, tess),
         Format::Stl => write_stl(scene, tess),
         Format::Svg => svg::Drawing::new(scene, tess).write(scene, &opts.svg).into_bytes(),

@@ -1,79 +1,103 @@
 //! Wavefront OBJ text.
 
+use crate::granularity::Granularity;
 use crate::shapes::{Shapes, tag_name};
-use genform_core::scene::{Scene, Tessellation};
+use genform_core::scene::{Scene, TagId, Tessellation};
 use glam::Vec3;
+use std::collections::BTreeMap;
 use std::fmt::Write;
 
-/// Writes `scene` as Wavefront OBJ text.
-///
-/// One object (`o <tag>_<index>`) per instance, `index` being its position
-/// in [`Scene::instances`]: the instance's unit mesh transformed to world
-/// space (`v` lines), then its triangles (`f`, counter-clockwise from
-/// outside, also for reflected instances). A box gives 8 vertices and 12
-/// faces. Then one object per polygon (`o <tag>_polygon<k>`, one n-gon
-/// face) and per polyline (`o <tag>_polyline<k>`, one `l` statement), and
-/// last one object per block state of the block grids (`o <state>`, the
-/// greedy mesh of [`crate::minecraft::mesh_blocks`], quads as two
-/// triangles).
-///
-/// Then one object per surface (`o <tag>_surface<k>`): its vertices, its
-/// faces as polygons (`f`, counter-clockwise from the front, not
-/// triangulated), then its edges as two-point `l` lines, one group per edge
-/// type in ascending order, `g <tag>_surface<k>_edges_type<N>`, untyped
-/// edges last in `g <tag>_surface<k>_edges_untyped`. Guides are left out.
-/// No normals, texture coordinates or materials. Numbers are printed with
-/// at most 6 decimals, trailing zeros trimmed, so the text is identical
-/// from run to run.
+/// Writes `scene` as Wavefront OBJ text, split into objects by
+/// [`Granularity::Auto`]; see [`write_obj_with`].
 ///
 /// # Panics
 ///
 /// If an instance refers to a missing mesh asset (see [`crate::export`],
 /// which checks).
 pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
+    write_obj_with(scene, tess, Granularity::Auto)
+}
+
+/// Writes `scene` as Wavefront OBJ text, its instances and polygons split
+/// into objects as `granularity` says ([`Granularity::resolve`] decides
+/// `Auto` from the instance count).
+///
+/// An instance is its unit mesh transformed to world space (`v` lines),
+/// then its triangles (`f`, counter-clockwise from outside, also for
+/// reflected instances): a box gives 8 vertices and 12 faces. A polygon is
+/// one n-gon face.
+///
+/// - [`Granularity::Instanced`]: OBJ has no instancing, so one object per
+///   instance (`o <tag>_<index>`, `index` being its position in
+///   [`Scene::instances`]), each with its own vertices, then one object per
+///   polygon (`o <tag>_polygon<k>`).
+/// - [`Granularity::PerTag`]: one object per tag (`o <tag>`, tag order)
+///   holding its instances (in order) and then its polygons.
+/// - [`Granularity::Merged`]: one object `o model` with one group per tag
+///   (`g <tag>`), each as in `PerTag`. OBJ without a material library has
+///   no materials, so the tag groups stand in for them.
+///
+/// In every mode, vertices are not shared between instances, then come one
+/// object per polyline (`o <tag>_polyline<k>`, one `l` statement), one
+/// object per block state of the block grids (`o <state>`, the greedy mesh
+/// of [`crate::minecraft::mesh_blocks`], quads as two triangles), and one
+/// object per surface (`o <tag>_surface<k>`): its vertices, its faces as
+/// polygons (`f`, counter-clockwise from the front, not triangulated),
+/// then its edges as two-point `l` lines, one group per edge type in
+/// ascending order, `g <tag>_surface<k>_edges_type<N>`, untyped edges last
+/// in `g <tag>_surface<k>_edges_untyped`. Guides are left out. No normals,
+/// texture coordinates or materials. Numbers are printed with at most 6
+/// decimals, trailing zeros trimmed, so the text is identical from run to
+/// run.
+///
+/// # Panics
+///
+/// If an instance refers to a missing mesh asset (see [`crate::export`],
+/// which checks).
+pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularity) -> String {
     let shapes = Shapes::new(scene, tess);
     let mut out = String::with_capacity(64 + scene.instances.len() * 400);
     out.push_str("# genform\n");
     // OBJ indices are 1-based and global.
     let mut next = 1usize;
-    for (i, inst) in scene.instances.iter().enumerate() {
-        let mesh = shapes.of(i);
-        let _ = writeln!(out, "o {}_{i}", tag_name(scene, inst.tag));
-        for &p in &mesh.positions {
-            vertex(&mut out, inst.transform.transform_point3(p));
+    let polygons = || scene.polygons.iter().enumerate().filter(|(_, p)| p.points.len() >= 3);
+    let mode = granularity.resolve(scene.instances.len());
+    if mode == Granularity::Instanced {
+        for (i, inst) in scene.instances.iter().enumerate() {
+            let _ = writeln!(out, "o {}_{i}", tag_name(scene, inst.tag));
+            instance(&mut out, &mut next, &shapes, scene, i);
         }
-        let flip = inst.transform.matrix3.determinant() < 0.0;
-        for t in &mesh.triangles {
-            let [a, b, c] = t.map(|v| next + v as usize);
-            let (b, c) = if flip { (c, b) } else { (b, c) };
-            let _ = writeln!(out, "f {a} {b} {c}");
+        for (k, p) in polygons() {
+            let _ = writeln!(out, "o {}_polygon{k}", tag_name(scene, p.tag));
+            run(&mut out, &mut next, 'f', &p.points);
         }
-        next += mesh.positions.len();
+    } else {
+        // Per tag: its instances and polygons, each in scene order.
+        let mut by_tag: BTreeMap<TagId, (Vec<usize>, Vec<usize>)> = BTreeMap::new();
+        for (i, inst) in scene.instances.iter().enumerate() {
+            by_tag.entry(inst.tag).or_default().0.push(i);
+        }
+        for (k, p) in polygons() {
+            by_tag.entry(p.tag).or_default().1.push(k);
+        }
+        let merged = mode == Granularity::Merged;
+        if merged && !by_tag.is_empty() {
+            out.push_str("o model\n");
+        }
+        for (tag, (instances, polys)) in by_tag {
+            let _ = writeln!(out, "{} {}", if merged { 'g' } else { 'o' }, tag_name(scene, tag));
+            for i in instances {
+                instance(&mut out, &mut next, &shapes, scene, i);
+            }
+            for k in polys {
+                run(&mut out, &mut next, 'f', &scene.polygons[k].points);
+            }
+        }
     }
-    // Polygons become one n-sided face (`f`), polylines one line element (`l`).
-    let runs = scene
-        .polygons
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| p.points.len() >= 3)
-        .map(|(k, p)| ('f', "polygon", k, p.tag, &p.points));
-    let lines = scene
-        .polylines
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.points.len() >= 2)
-        .map(|(k, l)| ('l', "polyline", k, l.tag, &l.points));
-    for (element, kind, k, tag, points) in runs.chain(lines) {
-        let _ = writeln!(out, "o {}_{kind}{k}", tag_name(scene, tag));
-        for &p in points {
-            vertex(&mut out, p);
-        }
-        out.push(element);
-        for v in next..next + points.len() {
-            let _ = write!(out, " {v}");
-        }
-        out.push('\n');
-        next += points.len();
+    // Polylines become one line element (`l`) each.
+    for (k, l) in scene.polylines.iter().enumerate().filter(|(_, l)| l.points.len() >= 2) {
+        let _ = writeln!(out, "o {}_polyline{k}", tag_name(scene, l.tag));
+        run(&mut out, &mut next, 'l', &l.points);
     }
     for m in crate::minecraft::block_meshes(scene) {
         let _ = writeln!(out, "o {}", m.mesh.name);
@@ -112,6 +136,37 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
         next += surface.positions.len();
     }
     out
+}
+
+/// Instance `i`'s world-space vertices and triangles (faces kept outward
+/// for reflections).
+fn instance(out: &mut String, next: &mut usize, shapes: &Shapes, scene: &Scene, i: usize) {
+    let inst = &scene.instances[i];
+    let mesh = shapes.of(i);
+    for &p in &mesh.positions {
+        vertex(out, inst.transform.transform_point3(p));
+    }
+    let flip = inst.transform.matrix3.determinant() < 0.0;
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|v| *next + v as usize);
+        let (b, c) = if flip { (c, b) } else { (b, c) };
+        let _ = writeln!(out, "f {a} {b} {c}");
+    }
+    *next += mesh.positions.len();
+}
+
+/// `points` as vertices and one element over them all: `f` (an n-gon) or
+/// `l` (a line).
+fn run(out: &mut String, next: &mut usize, element: char, points: &[Vec3]) {
+    for &p in points {
+        vertex(out, p);
+    }
+    out.push(element);
+    for v in *next..*next + points.len() {
+        let _ = write!(out, " {v}");
+    }
+    out.push('\n');
+    *next += points.len();
 }
 
 /// A `v x y z` line.
@@ -264,6 +319,57 @@ mod tests {
         assert!(text.contains("\nv 1 1 0.5\n"));
         // Guides are not written.
         assert!(!text.contains("boundary") && !text.contains("attractor"));
+    }
+
+    #[test]
+    fn granularity_sets_objects_and_groups() {
+        let s = test_scenes::mixed();
+        let tess = Tessellation::default();
+        let obj = |g| write_obj_with(&s, tess, g);
+        let heads = |text: &str| -> Vec<String> {
+            text.lines().filter(|l| l.starts_with("o ") || l.starts_with("g ")).map(String::from).collect()
+        };
+        let instanced = obj(Granularity::Instanced);
+        assert_eq!(write_obj(&s, tess), instanced, "16 instances: one object each by default");
+        assert_eq!(count(&instanced, "o "), 16 + 1 + 1);
+        let merged = obj(Granularity::Merged);
+        assert_eq!(heads(&merged), ["o model", "g wall", "g roof_tile", "g trunk", "o trunk_polyline0"]);
+        let per_tag = obj(Granularity::PerTag);
+        assert_eq!(heads(&per_tag), ["o wall", "o roof_tile", "o trunk", "o trunk_polyline0"]);
+        // The same vertices and elements, only regrouped (OBJ never shares
+        // vertices between instances).
+        for text in [&merged, &per_tag] {
+            for prefix in ["v ", "f ", "l "] {
+                assert_eq!(count(text, prefix), count(&instanced, prefix), "{prefix}");
+            }
+        }
+        // The roof tile's object holds its instances, then the polygon (a quad).
+        let lines: Vec<&str> = per_tag.lines().collect();
+        let at = |l: &str| lines.iter().position(|x| *x == l).unwrap();
+        let roof = &lines[at("o roof_tile")..at("o trunk")];
+        assert_eq!(roof.iter().rfind(|l| l.starts_with("f ")).unwrap().split(' ').count(), 5);
+        // … as many faces as the instanced text's `roof_tile_*` objects.
+        let mut faces_of_roof_objects = 0;
+        let mut in_roof = false;
+        for l in instanced.lines() {
+            if let Some(name) = l.strip_prefix("o ") {
+                in_roof = name.starts_with("roof_tile_");
+            }
+            faces_of_roof_objects += usize::from(in_roof && l.starts_with("f "));
+        }
+        assert!(faces_of_roof_objects > 12);
+        assert_eq!(roof.iter().filter(|l| l.starts_with("f ")).count(), faces_of_roof_objects);
+    }
+
+    #[test]
+    fn large_models_merge_by_default() {
+        let tess = Tessellation::default();
+        let text = write_obj(&test_scenes::boxes(crate::AUTO_MERGE_ABOVE + 1), tess);
+        assert_eq!(text.lines().filter(|l| l.starts_with("o ") || l.starts_with("g ")).count(), 2);
+        assert!(text.starts_with("# genform\no model\ng hull\n"));
+        assert_eq!(count(&text, "f "), 12 * (crate::AUTO_MERGE_ABOVE + 1));
+        let small = write_obj(&test_scenes::boxes(crate::AUTO_MERGE_ABOVE), tess);
+        assert_eq!(count(&small, "o "), crate::AUTO_MERGE_ABOVE);
     }
 
     #[test]

@@ -1,5 +1,8 @@
 //! Run reports: line charts as SVG text and picture galleries as PNG.
 
+mod font;
+
+use font::draw_text;
 use std::fmt::Write as _;
 
 /// One line of a chart.
@@ -203,6 +206,35 @@ pub fn encode_png_rgb(rgb: &[u8], width: u32, height: u32) -> Vec<u8> {
     out
 }
 
+/// An animated PNG (APNG) of RGB `frames`, each `width × height` pixels
+/// rows from the top, shown `frame_ms` apart, the last one held for
+/// `last_ms`, looping forever. The still image that viewers without APNG
+/// support show (a separate default image) is the last frame: the end
+/// result. `None` when there are no frames or one has the wrong size.
+pub fn encode_apng_rgb(frames: &[Vec<u8>], width: u32, height: u32, frame_ms: u16, last_ms: u16) -> Option<Vec<u8>> {
+    let size = width as usize * height as usize * 3;
+    let last = frames.last()?;
+    if width == 0 || height == 0 || frames.iter().any(|f| f.len() != size) {
+        return None;
+    }
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Balanced);
+    enc.set_animated(frames.len() as u32, 0).ok()?;
+    enc.set_sep_def_img(true).ok()?;
+    let mut writer = enc.write_header().ok()?;
+    writer.write_image_data(last).ok()?;
+    for (i, f) in frames.iter().enumerate() {
+        let ms = if i + 1 == frames.len() { last_ms } else { frame_ms };
+        writer.set_frame_delay(ms, 1000).ok()?;
+        writer.write_image_data(f).ok()?;
+    }
+    writer.finish().ok()?;
+    Some(out)
+}
+
 /// An RGB picture: pixels row by row from the top.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tile {
@@ -212,7 +244,8 @@ pub struct Tile {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// A caption drawn in the top-left corner (digits, letters, `.`, `-`, `#`, space).
+    /// A caption drawn in the top-left corner: digits, letters and
+    /// `.,:=-+()/%_#`, lines split at `\n`.
     pub caption: String,
 }
 
@@ -239,64 +272,36 @@ pub fn gallery_rgb(tiles: &[Tile], columns: usize) -> (Vec<u8>, u32, u32) {
     (img, w as u32, h as u32)
 }
 
-/// 3×5 bitmap glyphs, one row per nibble (bit 2 = left column).
-fn glyph(c: char) -> Option<[u8; 5]> {
-    Some(match c.to_ascii_uppercase() {
-        '0' => [7, 5, 5, 5, 7],
-        '1' => [2, 6, 2, 2, 7],
-        '2' => [7, 1, 7, 4, 7],
-        '3' => [7, 1, 3, 1, 7],
-        '4' => [5, 5, 7, 1, 1],
-        '5' => [7, 4, 7, 1, 7],
-        '6' => [7, 4, 7, 5, 7],
-        '7' => [7, 1, 1, 2, 2],
-        '8' => [7, 5, 7, 5, 7],
-        '9' => [7, 5, 7, 1, 7],
-        '.' => [0, 0, 0, 0, 2],
-        '-' => [0, 0, 7, 0, 0],
-        '#' => [5, 7, 5, 7, 5],
-        ' ' => [0; 5],
-        _ => return None,
-    })
-}
-
-/// Draws `text` at 2× scale in dark grey on a white box.
-fn draw_text(img: &mut [u8], width: usize, x: usize, y: usize, text: &str) {
-    const S: usize = 2;
-    let glyphs: Vec<[u8; 5]> = text.chars().filter_map(glyph).collect();
-    if glyphs.is_empty() {
-        return;
-    }
-    let height = img.len() / 3 / width;
-    let mut put = |px: usize, py: usize, v: u8| {
-        if px < width && py < height {
-            img[(py * width + px) * 3..][..3].fill(v);
-        }
-    };
-    let box_w = glyphs.len() * 4 * S + S;
-    for dy in 0..5 * S + 2 * S {
-        for dx in 0..box_w {
-            put(x + dx, y + dy, 255);
-        }
-    }
-    for (i, g) in glyphs.iter().enumerate() {
-        for (row, bits) in g.iter().enumerate() {
-            for col in 0..3 {
-                if bits & (4 >> col) != 0 {
-                    for sy in 0..S {
-                        for sx in 0..S {
-                            put(x + S + (i * 4 + col) * S + sx, y + S + row * S + sy, 40);
-                        }
-                    }
-                }
-            }
-        }
-    }
+/// Draws `text` (digits, letters and `.,:=-+()/%_#`, lines split at `\n`;
+/// 2× scale, dark grey on a white box per line) into the RGB picture `img` of
+/// `width` pixels per row, its top-left corner at `(x, y)`; what falls
+/// outside is clipped.
+pub fn caption_rgb(img: &mut [u8], width: u32, x: u32, y: u32, text: &str) {
+    draw_text(img, width as usize, x as usize, y as usize, text);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn apng_has_every_frame_and_the_last_as_still_image() {
+        let frames: Vec<Vec<u8>> = (0..3u8).map(|k| vec![k * 100; 4 * 2 * 3]).collect();
+        let bytes = encode_apng_rgb(&frames, 4, 2, 100, 1000).unwrap();
+        let mut reader = png::Decoder::new(std::io::Cursor::new(&bytes)).read_info().unwrap();
+        assert_eq!(reader.info().animation_control.map(|a| a.num_frames), Some(3));
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut buf).unwrap();
+        assert_eq!(buf[0], 200, "the still image is the last frame");
+        let mut seen = Vec::new();
+        while let Ok(info) = reader.next_frame(&mut buf) {
+            assert_eq!((info.width, info.height), (4, 2));
+            seen.push(buf[0]);
+        }
+        assert_eq!(seen, [0, 100, 200]);
+        assert!(encode_apng_rgb(&[], 4, 2, 100, 100).is_none());
+        assert!(encode_apng_rgb(&[vec![0; 5]], 4, 2, 100, 100).is_none());
+    }
 
     #[test]
     fn ticks_are_round_and_inside() {

@@ -3,7 +3,7 @@
 use crate::minecraft::{block_color, block_meshes};
 use crate::palette::{GuideRole, edge_color, guide_color, lighten, linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
-use genform_core::scene::{Primitive, Scene, Tessellation, triangulate_polygon};
+use genform_core::scene::{Mesh, Primitive, Scene, Tessellation, triangulate_polygon};
 use genform_core::surface::{GuideKind, SurfaceEdge};
 use glam::{Vec2, Vec3};
 use std::sync::OnceLock;
@@ -130,8 +130,55 @@ pub(crate) fn render_png_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
 }
 
 pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessellation) -> (Vec<u8>, u32, u32) {
+    render_backdrop_with(scene, opts, &Backdrop::default(), tess)
+}
+
+/// What a preview shows beside a scene that is not part of it: the target
+/// a model was evolved toward, so a picture shows how well it fits.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Backdrop<'a> {
+    /// Meshes in world coordinates drawn as tinted glass: translucent, lit,
+    /// two-sided faces over the model where they are in front of it and
+    /// hidden where they are behind it. A fitted camera frames them too.
+    pub ghosts: &'a [Mesh],
+    /// A picture behind everything: `width × height` RGB pixels of the
+    /// options, rows from the top, in the picture's frame (see `mirrored`).
+    /// Ignored unless its size matches.
+    pub image: Option<&'a [u8]>,
+    /// Mirror the preview left-right: the frame of the image scorers
+    /// ([`Camera::axes`]), so a model seen through a target's camera lines
+    /// up with the target picture.
+    pub mirrored: bool,
+}
+
+/// Opacity of ghost faces out of 256: each layer tints a little, so the
+/// front and back of a target volume together still let the model show.
+const GHOST_ALPHA: u32 = 60;
+
+/// Colour of ghost faces (8-bit sRGB): a blue that no tag colour of the
+/// model is likely to be mistaken for once translucent.
+const GHOST_COLOR: [u8; 3] = [0x3d, 0x7b, 0xe0];
+
+/// [`render_rgb`] with a [`Backdrop`]: target meshes as glass and/or a
+/// target picture behind the model. With an empty backdrop it is
+/// [`render_rgb`] except that flat drawings and block tiles are drawn in
+/// perspective too (one code path for every frame of an animation).
+pub fn render_rgb_over(scene: &Scene, opts: &RenderOptions, backdrop: &Backdrop) -> (Vec<u8>, u32, u32) {
+    render_backdrop_with(scene, opts, backdrop, Tessellation::default())
+}
+
+fn render_backdrop_with(
+    scene: &Scene,
+    opts: &RenderOptions,
+    backdrop: &Backdrop,
+    tess: Tessellation,
+) -> (Vec<u8>, u32, u32) {
     let w = opts.width.clamp(1, crate::MAX_IMAGE_SIDE);
     let h = opts.height.clamp(1, crate::MAX_IMAGE_SIDE);
+    let plain = backdrop.ghosts.is_empty() && backdrop.image.is_none() && !backdrop.mirrored;
+    if !plain {
+        return render_over(scene, opts, backdrop, tess, w, h);
+    }
     if opts.camera.is_none()
         && crate::flat::is_flat(scene)
         && let Some(rgb) = crate::flat::render_rgb(scene, w, h, opts.background, tess)
@@ -143,17 +190,60 @@ pub(crate) fn render_rgb_with(scene: &Scene, opts: &RenderOptions, tess: Tessell
     {
         return (crate::minecraft::render_tiles(grid, w, h, opts.background), w, h);
     }
-    let ss = if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 };
+    let ss = supersampling(w, h);
     let mut r = Raster::new(w as usize * ss, h as usize * ss, pack(opts.background));
     if !scene.is_empty() || !scene.blocks.is_empty() {
-        draw_scene(&mut r, scene, opts.camera, tess, ss);
+        draw_scene(&mut r, scene, opts.camera, &[], tess, ss);
     }
     (r.downsample(ss, w as usize, h as usize), w, h)
 }
 
+/// Samples per pixel side: 2 for images up to 4 megapixels.
+fn supersampling(w: u32, h: u32) -> usize {
+    if u64::from(w) * u64::from(h) <= 4 << 20 { 2 } else { 1 }
+}
+
+/// The perspective path of [`render_rgb_over`]. Mirroring is done on the
+/// finished picture (and the backdrop picture is mirrored in first), so
+/// the rasterizer keeps its one frame.
+fn render_over(
+    scene: &Scene,
+    opts: &RenderOptions,
+    b: &Backdrop,
+    tess: Tessellation,
+    w: u32,
+    h: u32,
+) -> (Vec<u8>, u32, u32) {
+    let ss = supersampling(w, h);
+    let (wu, hu) = (w as usize, h as usize);
+    let mut r = Raster::new(wu * ss, hu * ss, pack(opts.background));
+    if let Some(img) = b.image.filter(|i| i.len() == wu * hu * 3) {
+        for y in 0..hu * ss {
+            for x in 0..wu * ss {
+                let (px, py) = (x / ss, y / ss);
+                let px = if b.mirrored { wu - 1 - px } else { px };
+                let i = 3 * (py * wu + px);
+                r.samples[y * r.w + x] = u64::from(pack([img[i], img[i + 1], img[i + 2]]));
+            }
+        }
+    }
+    draw_scene(&mut r, scene, opts.camera, b.ghosts, tess, ss);
+    let mut rgb = r.downsample(ss, wu, hu);
+    if b.mirrored {
+        for row in rgb.chunks_exact_mut(wu * 3) {
+            for x in 0..wu / 2 {
+                for c in 0..3 {
+                    row.swap(3 * x + c, 3 * (wu - 1 - x) + c);
+                }
+            }
+        }
+    }
+    (rgb, w, h)
+}
+
 /// Draws instances, polygons and polylines into `r` (`ss` samples per pixel
 /// side).
-fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tessellation, ss: usize) {
+fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, ghosts: &[Mesh], tess: Tessellation, ss: usize) {
     let shapes = Shapes::new(scene, tess);
     let blocks = block_meshes(scene);
     let camera = camera.unwrap_or_else(|| {
@@ -161,6 +251,7 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
         let mut pts = Vec::new();
         finite_points(scene, &shapes, |p| pts.push(p));
         pts.extend(blocks.iter().flat_map(|m| m.mesh.positions.iter().copied()));
+        pts.extend(ghosts.iter().flat_map(|m| m.positions.iter().copied()).filter(|p| p.is_finite()));
         let b = pts
             .iter()
             .fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
@@ -220,6 +311,16 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, tess: Tesse
     }
     draw_surfaces(r, scene, &view, ss, &colors);
     draw_guides(r, scene, &view, ss);
+    let ghost = GHOST_COLOR.map(srgb_to_linear);
+    for mesh in ghosts {
+        verts.clear();
+        verts.extend(mesh.positions.iter().map(|&p| view.vertex(p)));
+        for t in &mesh.triangles {
+            if t.iter().all(|&v| (v as usize) < verts.len()) {
+                view.draw_with(r, t.map(|v| &verts[v as usize]), ghost, false, Paint::Blend(GHOST_ALPHA));
+            }
+        }
+    }
 }
 
 /// The surfaces' faces (two-sided) and their edges on top.
@@ -678,6 +779,74 @@ mod tests {
         shades.sort();
         shades.dedup();
         assert!(shades.len() >= 3);
+    }
+
+    /// A cube mesh of side 2 around `center`, as a target volume would be.
+    fn cube(center: Vec3) -> Mesh {
+        let mut s = Scene::new();
+        let tag = s.tag("t");
+        s.instances.push(genform_core::scene::Instance {
+            transform: glam::Affine3A::from_scale_rotation_translation(Vec3::splat(2.0), Default::default(), center),
+            primitive: Primitive::Box,
+            tag,
+        });
+        let mut m = Mesh::default();
+        s.for_each_triangle(Tessellation::default(), |t, _| {
+            let i = m.positions.len() as u32;
+            m.positions.extend(t);
+            m.triangles.push([i, i + 1, i + 2]);
+        });
+        m
+    }
+
+    #[test]
+    fn ghosts_tint_only_where_they_are_and_fitted_views_frame_them() {
+        let s = test_scenes::boxes(1);
+        let cam = Camera::fit((Vec3::splat(-3.0), Vec3::splat(3.0)));
+        let opts = RenderOptions { width: 120, height: 90, camera: Some(cam), ..Default::default() };
+        let (plain, _, _) = render_rgb(&s, &opts);
+        assert_eq!(render_rgb_over(&s, &opts, &Backdrop::default()).0, plain, "an empty backdrop changes nothing");
+        let ghost = [cube(Vec3::ZERO)];
+        let (glass, _, _) = render_rgb_over(&s, &opts, &Backdrop { ghosts: &ghost, ..Default::default() });
+        let bg = opts.background;
+        let differ = |x: u32, y: u32| pixel(&glass, 120, x, y) != pixel(&plain, 120, x, y);
+        assert!(differ(60, 45), "the ghost is in front of the box's middle: tinted");
+        assert!(!differ(0, 0) && pixel(&glass, 120, 0, 0) == bg, "no ghost in the corner");
+        let (tinted, under) = (pixel(&glass, 120, 60, 45), pixel(&plain, 120, 60, 45));
+        let blueness = |c: [u8; 3]| i32::from(c[2]) - i32::from(c[0]);
+        assert!(blueness(tinted) > blueness(under), "the tint is blue: {tinted:?} over {under:?}");
+        // Without a camera, a ghost far from the model still ends up in the picture.
+        let far = [cube(Vec3::new(0.0, 0.0, 12.0))];
+        let fit = RenderOptions { width: 120, height: 90, ..Default::default() };
+        let (both, _, _) = render_rgb_over(&s, &fit, &Backdrop { ghosts: &far, ..Default::default() });
+        let (alone, _, _) = render_rgb(&s, &fit);
+        let covered = |rgb: &[u8]| rgb.chunks(3).filter(|c| *c != bg).count();
+        assert!(covered(&both) < covered(&alone), "the view moved back to frame the far ghost too");
+    }
+
+    #[test]
+    fn a_backdrop_picture_shows_behind_and_mirrors_with_the_model() {
+        let s = test_scenes::boxes(1);
+        let cam = Camera::fit((Vec3::splat(-3.0), Vec3::splat(3.0)));
+        let opts = RenderOptions { width: 40, height: 30, camera: Some(cam), ..Default::default() };
+        // Left half red, right half green.
+        let img: Vec<u8> = (0..40 * 30).flat_map(|i| if i % 40 < 20 { [200, 0, 0] } else { [0, 200, 0] }).collect();
+        let (rgb, _, _) = render_rgb_over(&s, &opts, &Backdrop { image: Some(&img), ..Default::default() });
+        assert_eq!((pixel(&rgb, 40, 0, 0), pixel(&rgb, 40, 39, 29)), ([200, 0, 0], [0, 200, 0]));
+        assert_ne!(pixel(&rgb, 40, 20, 15), [200, 0, 0], "the box covers the middle");
+        let (plain, _, _) = render_rgb(&s, &opts);
+        let mirrored = Backdrop { image: Some(&img), mirrored: true, ..Default::default() };
+        let (m, _, _) = render_rgb_over(&s, &opts, &mirrored);
+        assert_eq!(
+            (pixel(&m, 40, 0, 0), pixel(&m, 40, 39, 29)),
+            ([200, 0, 0], [0, 200, 0]),
+            "the picture keeps its frame"
+        );
+        for (x, y) in [(20, 15), (14, 10), (25, 20)] {
+            if pixel(&plain, 40, x, y) != opts.background {
+                assert_eq!(pixel(&m, 40, 39 - x, y), pixel(&plain, 40, x, y), "the model is mirrored");
+            }
+        }
     }
 
     #[test]

@@ -60,9 +60,18 @@ fn bench(c: &mut Criterion) {
     ship.express(&genome_of_len(ship.graph(), 100, 1), &limits, &mut scene).unwrap();
     let tess = Default::default();
     let mut group = c.benchmark_group("export_spaceship_100_genes");
-    let glb = genform_export::write_glb(&scene, tess);
+    // Instanced (one node per primitive): the layout the figures in
+    // docs/benchmarks.md were measured with; `auto` merges this ship.
+    let instanced = genform_export::Granularity::Instanced;
+    let glb = genform_export::write_glb_with(&scene, tess, instanced);
     group.throughput(Throughput::Bytes(glb.len() as u64));
-    group.bench_function("glb", |b| b.iter(|| black_box(genform_export::write_glb(black_box(&scene), tess))));
+    group.bench_function("glb", |b| {
+        b.iter(|| black_box(genform_export::write_glb_with(black_box(&scene), tess, instanced)))
+    });
+    let merged = genform_export::Granularity::Merged;
+    group.bench_function("glb_merged", |b| {
+        b.iter(|| black_box(genform_export::write_glb_with(black_box(&scene), tess, merged)))
+    });
     let obj = genform_export::write_obj(&scene, tess);
     group.throughput(Throughput::Bytes(obj.len() as u64));
     group.bench_function("obj", |b| b.iter(|| black_box(genform_export::write_obj(black_box(&scene), tess))));

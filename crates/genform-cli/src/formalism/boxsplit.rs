@@ -199,12 +199,12 @@ impl Sample for BoxSample {
         self.summary.clone()
     }
 
-    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
+    fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
         let structure = &self.scene.blocks[0];
         if ends_with_any(out, REGION) {
             write_into_region(&self.regions, structure, out)?;
         } else {
-            let options = ExportOptions { blocks: self.blocks, ..ExportOptions::default() };
+            let options = ExportOptions { blocks: self.blocks, ..*export };
             match &self.terrain {
                 Some(terrain) if is_preview(out)? => {
                     let mut scene = Scene::new();

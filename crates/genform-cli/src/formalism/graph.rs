@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 
 use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
 use crate::grammar::Loaded;
-use crate::output::{write_atomic, write_model};
+use crate::output::{write_atomic, write_model_with};
+use genform_export::ExportOptions;
 
 /// The graph-grammar row of the table.
 pub struct GraphGrammars;
@@ -101,11 +102,11 @@ impl Sample for GraphSample {
         self.summary.clone()
     }
 
-    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
+    fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
         if ends_with_any(out, YAML) {
             write_atomic(out, self.graph.to_yaml().as_bytes())?;
         } else {
-            write_model(&self.scene, out)?;
+            write_model_with(&self.scene, out, export)?;
         }
         Ok(vec![out.to_path_buf()])
     }

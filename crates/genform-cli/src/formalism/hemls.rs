@@ -239,7 +239,9 @@ impl Sample for Grown {
         self.summary.clone()
     }
 
-    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
+    /// Surfaces keep one node/object each whatever the granularity, so
+    /// `_export` changes nothing here.
+    fn write(&self, out: &Path, _export: &genform_export::ExportOptions) -> Result<Vec<PathBuf>> {
         if self.steps.is_empty() {
             write_surface_scene(&self.scene, out)?;
             return Ok(vec![out.to_path_buf()]);

@@ -19,8 +19,9 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use crate::grammar::{LimitOverrides, Loaded};
-use crate::output::{unknown_format, write_atomic, write_model};
+use crate::output::{unknown_format, write_atomic, write_model_with};
 use crate::source_text::{SourceErrors, read_text};
+use genform_export::ExportOptions;
 
 /// Every formalism, one row each. A grammar file belongs to the row one of
 /// whose [`Formalism::extensions`] its name ends with.
@@ -72,8 +73,9 @@ pub trait Formalism: Sync {
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>>;
 }
 
-/// A compiled grammar of some formalism.
-pub trait LoadedGrammar {
+/// A compiled grammar of some formalism (`Send + Sync`: the Python
+/// package shares it between threads).
+pub trait LoadedGrammar: Send + Sync {
     /// Draws one model as `request` asks. Side files that options name
     /// (`--genome-out`, `--string-out`, `--trace`) are written here, since
     /// some must be written even when the derivation fails; `--out` is
@@ -89,7 +91,7 @@ pub trait LoadedGrammar {
 }
 
 /// One sampled model, ready to be written.
-pub trait Sample {
+pub trait Sample: Send + Sync {
     /// The model (for formalisms that grow in steps, the last step's).
     fn scene(&self) -> &Scene;
 
@@ -99,9 +101,10 @@ pub trait Sample {
     /// Writes the model to `out` (the format follows its extension) and
     /// returns the files written: formalisms with their own formats
     /// ([`Formalism::output_extensions`]) or several files (one per growth
-    /// step) override it; the default exports [`Sample::scene`].
-    fn write(&self, out: &Path) -> Result<Vec<PathBuf>> {
-        write_model(self.scene(), out)?;
+    /// step) override it; the default exports [`Sample::scene`] with
+    /// `export` (`--granularity`).
+    fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
+        write_model_with(self.scene(), out, export)?;
         Ok(vec![out.to_path_buf()])
     }
 }
@@ -125,7 +128,7 @@ impl Sample for SceneSample {
 }
 
 /// Flags of `genform sample` every formalism accepts.
-pub const COMMON_SAMPLE_OPTIONS: &[&str] = &["--seed", "--out"];
+pub const COMMON_SAMPLE_OPTIONS: &[&str] = &["--seed", "--out", "--granularity"];
 
 /// Stream id of `sample` (so other verbs' streams never coincide with it).
 pub(crate) const SAMPLE_STREAM: u64 = 0x5A4D_504C;

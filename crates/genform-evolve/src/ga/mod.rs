@@ -6,24 +6,35 @@
 //! `(seed, PAIR_STREAM, generation, pair)`: select two parents; with
 //! probability `mutation_rate` mutate a copy of each, otherwise cross them
 //! over; keep children within the length bounds, retrying with new parents
-//! up to five times and then copying the parents. Evaluate only the new
-//! children. Pairs and evaluations run on the current rayon pool and are
-//! collected in index order, so a seed gives the same populations and
-//! statistics at any thread count.
+//! up to five times and then copying the parents. Once the best has not
+//! improved for `tune_after` generations, the default GA adds a drift
+//! mutation (`mutation.drift`) and replaces children that duplicate a
+//! member or an earlier child (`avoid_duplicates`); the thesis preset
+//! turns both off. Evaluate only the new children, tallying which
+//! operators beat their parents. Pairs and evaluations run on the current
+//! rayon pool and are collected in index order, so a seed gives the same
+//! populations and statistics at any thread count.
 
+mod adapt;
+mod duplicates;
 mod reproduce;
 #[cfg(test)]
 mod tests;
 
-use crate::config::{ConfigError, GaConfig};
+use crate::config::{ConfigError, GaConfig, Initialization};
+use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
-use crate::operators::initial;
+use crate::operators::{MutationMix, initial, reference_initial};
 use crate::optimizer::{Individual, Optimizer, sort_population};
 use crate::population::{Population, breed};
 use crate::selection::Selector;
 use crate::stats::GenerationStats;
+use adapt::Rates;
+use duplicates::{distinct, handle_duplicates, tally};
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 use reproduce::{Context, reproduce_pair};
+
+pub use duplicates::DEDUP_STREAM;
 use std::time::Instant;
 
 /// Stream id of the initial individuals: `(seed, INIT_STREAM, index)`.
@@ -41,15 +52,25 @@ pub struct Ga {
     config: GaConfig,
     seed: u64,
     state: Population<Genome>,
+    rates: Rates,
+    /// Generations since the best improved.
+    stagnant: usize,
+    /// Whether the tuning phase (drift, duplicate avoidance) has started
+    /// (see [`GaConfig::tune_after`]).
+    tuning: bool,
 }
 
 impl Ga {
     /// A GA with no population yet (see [`Ga::initialize`]). The graph must
-    /// pass [`GeneratorGraph::check`] (compiled grammars do).
+    /// pass [`GeneratorGraph::check`] (compiled grammars do). The GA runs
+    /// with [`GaConfig::effective`] (the preset applied).
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: GaConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
+        let config = config.effective();
         let limits = crate::optimizer::length_capped(limits, config.max_length);
-        Ok(Ga { graph: graph.clone(), limits, config, seed, state: Population::default() })
+        let rates = Rates::new(config.mutation_rate, config.mutation, config.adapt_rates);
+        let tuning = config.tune_after == 0;
+        Ok(Ga { graph: graph.clone(), limits, config, seed, state: Population::default(), rates, stagnant: 0, tuning })
     }
 
     /// A GA whose generation 0 is `individuals` (with the fitness they
@@ -107,12 +128,20 @@ impl Ga {
     }
 
     /// Builds and evaluates generation 0 (discarding any population):
-    /// individual `i` is [`initial`] from stream `(seed, INIT_STREAM, i)`.
+    /// individual `i` is [`initial`] (or [`reference_initial`]) from stream
+    /// `(seed, INIT_STREAM, i)`.
     pub fn initialize<O: Objective>(&mut self, objective: &O) -> GenerationStats {
         let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
-        self.state.initialize(objective, self.config.population, |i| {
-            initial(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64]))
-        })
+        let make = match self.config.initialization {
+            Initialization::Grammar => initial,
+            Initialization::Reference => reference_initial,
+        };
+        self.rates = Rates::new(self.config.mutation_rate, self.config.mutation, self.config.adapt_rates);
+        (self.stagnant, self.tuning) = (0, self.config.tune_after == 0);
+        let stats = self.state.initialize(objective, self.config.population, |i| {
+            make(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64]))
+        });
+        GenerationStats { distinct: Some(distinct(self.state.members())), ..stats }
     }
 
     /// Makes the next generation; initializes first if there is no population.
@@ -123,11 +152,16 @@ impl Ga {
         let started = Instant::now();
         let generation = self.state.generation() + 1;
         let fitness = self.state.fitness();
+        let held = MutationMix { drift: 0.0, ..self.rates.mix };
+        let mix = if self.tuning || !held.is_valid() { &self.rates.mix } else { &held };
+        let best_before = self.state.best().map(|b| b.fitness);
         let ctx = Context {
             graph: &self.graph,
             limits: &self.limits,
             bounds: self.config.length_bounds(),
             config: &self.config,
+            mutation_rate: self.rates.mutation_rate,
+            mix,
             population: self.state.members(),
             selectors: [
                 Selector::new(self.config.selection.first, &fitness),
@@ -135,10 +169,35 @@ impl Ga {
             ],
         };
         let seed = self.seed;
-        let (children, counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+        let (tagged, mut counts) = breed(self.config.population - self.config.elitism, |pair, need| {
             reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[PAIR_STREAM, generation as u64, pair as u64]))
         });
-        self.state.advance(objective, self.config.elitism, children, counts, started)
+        let (mut children, mut origins): (Vec<Child>, Vec<_>) =
+            tagged.into_iter().map(|c| (Child { genome: c.genome.0, fitness: c.fitness }, c.genome.1)).unzip();
+        let replace = self.config.avoid_duplicates && self.tuning;
+        handle_duplicates(&ctx, &mut children, &mut origins, &mut counts, replace, (seed, generation as u64));
+        let reproduction_time = started.elapsed();
+        let fresh: Vec<bool> = children.iter().map(|c| c.fitness.is_none()).collect();
+        let (evaluations, eval_time) = evaluate(objective, &mut children);
+        tally(&children, &origins, &fresh, &mut counts.operators);
+        self.state.count_evaluations(evaluations);
+        self.rates.update(&counts.operators);
+        let stats = self.state.advance(objective, self.config.elitism, children, counts, started);
+        let best_after = self.state.best().map(|b| b.fitness);
+        let improved = match (best_before, best_after) {
+            (Some(a), Some(b)) => b > a,
+            (None, b) => b.is_some(),
+            _ => false,
+        };
+        self.stagnant = if improved { 0 } else { self.stagnant + 1 };
+        self.tuning |= self.stagnant >= self.config.tune_after;
+        GenerationStats {
+            evaluations,
+            eval_time,
+            reproduction_time,
+            distinct: Some(distinct(self.state.members())),
+            ..stats
+        }
     }
 }
 

@@ -158,7 +158,7 @@ fn selection_and_mix_settings_are_used() {
     // Pure alter never changes lengths or structure.
     let config = GaConfig {
         mutation_rate: 1.0,
-        mutation: MutationMix { alter: 1.0, grow: 0.0, cut: 0.0 },
+        mutation: MutationMix { alter: 1.0, grow: 0.0, cut: 0.0, drift: 0.0, regrow: 0.0, ..MutationMix::default() },
         selection: SelectionPair { first: Selection::Random, second: Selection::Random },
         ..small()
     };
@@ -175,4 +175,119 @@ fn selection_and_mix_settings_are_used() {
     assert_eq!(s.reproduction.mutations.alter, 24);
     assert_eq!(s.reproduction.crossovers, 0);
     assert!(lens(&ga).iter().all(|n| initial.contains(n)));
+}
+
+fn thesis_small() -> GaConfig {
+    small().with_preset(crate::GaPreset::Thesis)
+}
+
+#[test]
+fn default_and_thesis_presets_are_deterministic_at_any_thread_count() {
+    let objective = ShipToy { target: 17 };
+    let configs = [
+        small(),
+        GaConfig { tune_after: 0, mutation_rate: 0.5, ..small() },
+        thesis_small(),
+        GaConfig { initialization: crate::Initialization::Reference, ..small() },
+    ];
+    for config in configs {
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut ga = ga(config.clone(), 21);
+                let stats: Vec<_> = (0..8)
+                    .map(|_| {
+                        let s = ga.step(&objective);
+                        (fitness_columns(&s), s.reproduction, s.distinct)
+                    })
+                    .collect();
+                (snapshot(&ga), stats)
+            })
+        };
+        let (pop1, stats1) = run(1);
+        let (pop3, stats3) = run(3);
+        assert_eq!(stats1, stats3, "{config:?}");
+        assert!(pop1 == pop3, "populations differ between 1 and 3 threads: {config:?}");
+    }
+}
+
+#[test]
+fn the_thesis_preset_makes_no_drift_and_keeps_duplicates() {
+    let objective = ShipToy { target: 17 };
+    let mut ga = ga(GaConfig { mutation_rate: 1.0, ..thesis_small() }, 8);
+    assert_eq!((ga.config().mutation.drift, ga.config().avoid_duplicates), (0.0, false));
+    let stats: Vec<_> = (0..15).map(|_| ga.step(&objective)).collect();
+    assert_eq!(stats.iter().map(|s| s.reproduction.mutations.drift).sum::<u64>(), 0);
+    assert_eq!(stats.iter().map(|s| s.reproduction.duplicates_replaced).sum::<u64>(), 0);
+}
+
+#[test]
+fn duplicates_are_replaced_and_the_population_stays_more_diverse() {
+    // Pure crossover converges fast and then repeats its parents.
+    let objective = ShipToy { target: 17 };
+    let base = GaConfig { mutation_rate: 0.0, tune_after: 0, ..small() };
+    let run = |config: GaConfig| {
+        let mut ga = ga(config, 6);
+        let stats: Vec<_> = (0..30).map(|_| ga.step(&objective)).collect();
+        let distinct: usize = stats[10..].iter().map(|s| s.distinct.unwrap()).sum();
+        let found: u64 = stats.iter().map(|s| s.reproduction.duplicates).sum();
+        let replaced: u64 = stats.iter().map(|s| s.reproduction.duplicates_replaced).sum();
+        (distinct, found, replaced)
+    };
+    let (with, found, replaced) = run(base.clone());
+    let (without, found_off, replaced_off) = run(GaConfig { avoid_duplicates: false, ..base });
+    assert!(found > 0 && replaced > 0 && replaced <= found, "{found} {replaced}");
+    assert!(found_off > 0 && replaced_off == 0);
+    assert!(with > without, "distinct genomes: {with} with duplicate avoidance, {without} without");
+}
+
+#[test]
+fn operator_tallies_cover_every_evaluated_child() {
+    let objective = ShipToy { target: 17 };
+    let mut ga = ga(GaConfig { mutation_rate: 0.5, tune_after: 0, ..small() }, 13);
+    ga.step(&objective);
+    let mut improved = 0;
+    for _ in 0..20 {
+        let s = ga.step(&objective);
+        let o = s.reproduction.operators;
+        let tallies = [o.crossover, o.alter, o.grow, o.cut, o.drift];
+        assert_eq!(tallies.iter().map(|t| t.children).sum::<u64>(), s.evaluations);
+        assert_eq!(s.evaluations + s.reproduction.copies, 24);
+        assert!(tallies.iter().all(|t| t.improved <= t.children));
+        improved += tallies.iter().map(|t| t.improved).sum::<u64>();
+        assert!(o.drift.children > 0, "the default GA drifts");
+    }
+    assert!(improved > 0);
+}
+
+#[test]
+fn reference_initialization_builds_root_plus_grows_without_closure() {
+    let objective = ShipToy { target: 17 };
+    let config = GaConfig { initialization: crate::Initialization::Reference, initial_length: [12, 12], ..small() };
+    let mut ga = ga(config, 3);
+    ga.step(&objective);
+    assert!(ga.population().iter().all(|i| i.genome.len() == 12));
+    // Without the closure some Wing lacks its mandatory Tip in some genome.
+    let graph = ship();
+    let open_tip = ga.population().iter().any(|i| {
+        i.genome
+            .iter()
+            .any(|g| graph.symbol(g.symbol()).name == "Wing" && g.link(0) == genform_core::genome::Link::Empty)
+    });
+    assert!(open_tip);
+}
+
+#[test]
+fn drift_starts_after_tune_after_generations_without_a_new_best() {
+    // A flat objective never improves: generations 1–3 stagnate, and drift
+    // starts with generation 4.
+    let flat = FnObjective(|_: &Genome| 1.0);
+    let mut late = ga(GaConfig { mutation_rate: 1.0, tune_after: 3, ..small() }, 17);
+    let drifts: Vec<u64> = (0..8).map(|_| late.step(&flat).reproduction.mutations.drift).collect();
+    assert_eq!(drifts[..4], [0, 0, 0, 0], "{drifts:?}");
+    assert!(drifts[4..].iter().all(|&d| d > 0), "{drifts:?}");
+    // tune_after = 0 drifts from the first generation.
+    let mut eager = ga(GaConfig { mutation_rate: 1.0, tune_after: 0, ..small() }, 17);
+    eager.step(&flat);
+    assert!(eager.step(&flat).reproduction.mutations.drift > 0);
 }

@@ -13,9 +13,8 @@
 //!   distributions or drifted by a symmetric Gaussian step.
 
 use crate::config::GeneChoice;
-use crate::operators::Depths;
+use crate::operators::{Depths, drift_sd};
 use genform_core::genome::{GenePos, GeneRef, Link};
-use genform_core::graph::Distribution;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 use std::collections::BTreeMap;
 
@@ -173,11 +172,7 @@ pub(crate) fn diffuse(
     let mut ln_ratio = 0.0;
     let mut new = Vec::with_capacity(old.len());
     for (d, &v) in graph.symbol(genome.gene(pos).symbol()).components().zip(&old) {
-        let sd = match (drift, d) {
-            (Some(s), Distribution::Uniform { min, max }) => Some(s * (max - min)),
-            (Some(s), Distribution::Normal { sd, .. }) => Some(s * sd),
-            _ => None,
-        };
+        let sd = drift.and_then(|s| drift_sd(d, s));
         match sd {
             Some(sd) => {
                 let w = rng.normal(v, sd);

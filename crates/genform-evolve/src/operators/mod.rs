@@ -17,18 +17,35 @@
 //! - [`cut`] picks a non-root gene with probability ∝ 1 − p of its slot, so a
 //!   gene in a `p = 1` slot is never cut.
 //! - [`alter`] redraws the parameters of a uniformly chosen gene.
+//! - [`drift`] moves the parameters of a uniformly chosen gene by a Gaussian
+//!   step scaled to each parameter's range (as MH's diffusion).
+//! - [`regrow`] regrows the subtree below a level-biased gene from the prior,
+//!   keeping the parameters of surviving genes (MH's jump).
 //! - [`crossover`] exchanges subtrees hanging on the same graph edge.
+//! - [`reference_grow`] is the reference implementation's grow (slot
+//!   probabilities unused, its integer-draw quirk kept), for
+//!   `initialization = "reference"`.
 //!
 //! Choices the reference made with its exclusive-upper-bound integer draws
 //! (never the last candidate) are uniform here.
 
 mod crossover;
+mod drift;
 mod mutate;
+mod reference;
+mod regrow;
 #[cfg(test)]
 mod tests;
 
 pub use crossover::{Crossed, CrossoverOutcome, crossover};
-pub use mutate::{CutOutcome, GrowOutcome, MutationKind, MutationMix, alter, cut, grow, mutate};
+pub use drift::drift;
+pub(crate) use drift::drift_sd;
+pub use mutate::{
+    CutOutcome, DEFAULT_DRIFT_WEIGHT, DEFAULT_REGROW_WEIGHT, GrowOutcome, MutationKind, MutationMix, alter, cut, grow,
+    mutate,
+};
+pub use reference::{reference_grow, reference_initial};
+pub use regrow::regrow;
 
 use genform_core::genome::{GenePos, Link};
 use genform_core::graph::SymbolId;

@@ -240,9 +240,9 @@ proptest! {
         // Only mandatory genes: cut cannot apply, so a cut-only mix must fail
         // and a cut-heavy one must fall back to grow or alter.
         let mut g = initial(&graph, &LIMITS, [1, 1], &mut Rng::from_seed(seed));
-        let cut_only = MutationMix { alter: 0.0, grow: 0.0, cut: 1.0 };
+        let cut_only = MutationMix { alter: 0.0, grow: 0.0, cut: 1.0, drift: 0.0, regrow: 0.0, ..MutationMix::default() };
         prop_assert_eq!(mutate(&mut g.clone(), &graph, &LIMITS, &cut_only, &mut Rng::from_seed(seed)), None);
-        let mix = MutationMix { alter: 1.0, grow: 1.0, cut: 100.0 };
+        let mix = MutationMix { alter: 1.0, grow: 1.0, cut: 100.0, drift: 0.0, regrow: 0.0, ..MutationMix::default() };
         let kind = mutate(&mut g, &graph, &LIMITS, &mix, &mut Rng::from_seed(seed)).unwrap();
         prop_assert!(kind != MutationKind::Cut);
         g.validate(&graph).unwrap();
@@ -285,5 +285,110 @@ proptest! {
         if mandatory_complete(&graph, &p1, &unlimited) && mandatory_complete(&graph, &p2, &unlimited) {
             prop_assert!(mandatory_complete(&graph, &c1, &unlimited) && mandatory_complete(&graph, &c2, &unlimited));
         }
+    }
+}
+
+mod drift_and_reference {
+    use super::super::drift::reflect;
+    use super::super::{drift, reference_grow, reference_initial};
+    use crate::fixtures::ship;
+    use genform_core::genome::Link;
+    use genform_core::graph::Distribution;
+    use genform_core::{Genome, Limits, Rng};
+
+    const LIMITS: Limits = Limits { max_genes: 10_000, max_depth: 50, max_primitives: 1000 };
+
+    fn structure(g: &Genome) -> Vec<(u32, Vec<Link>)> {
+        g.iter().map(|x| (x.symbol(), x.links().collect())).collect()
+    }
+
+    #[test]
+    fn reflect_folds_values_into_the_bounds() {
+        assert_eq!(reflect(0.3, 0.0, 1.0), 0.3);
+        assert!((reflect(1.2, 0.0, 1.0) - 0.8).abs() < 1e-12);
+        assert!((reflect(-0.25, 0.0, 1.0) - 0.25).abs() < 1e-12);
+        assert!((reflect(2.5, 0.0, 1.0) - 0.5).abs() < 1e-12, "several widths away");
+        assert_eq!(reflect(5.0, 2.0, 2.0), 2.0, "a point mass");
+        assert_eq!(reflect(-3.0, 0.0, f64::INFINITY), 3.0, "one infinite bound");
+        assert_eq!(reflect(-3.0, f64::NEG_INFINITY, f64::INFINITY), -3.0);
+    }
+
+    #[test]
+    fn drift_moves_one_gene_s_parameters_a_little_within_their_ranges_and_keeps_the_structure() {
+        let graph = ship();
+        for seed in 0..200u64 {
+            let g0 = super::super::initial(&graph, &LIMITS, [5, 30], &mut Rng::from_seed(seed));
+            let mut g = g0.clone();
+            let pos = drift(&mut g, &graph, 0.1, &mut Rng::stream(seed, &[1])).expect("ship genes have parameters");
+            assert_eq!(structure(&g), structure(&g0), "seed {seed}: drift changed the structure");
+            g.validate(&graph).unwrap();
+            let mut changed = 0;
+            for (a, b) in g0.iter().zip(g.iter()) {
+                let spec = graph.symbol(a.symbol());
+                for ((d, x), y) in spec.components().zip(a.params()).zip(b.params()) {
+                    if x != y {
+                        assert_eq!(a.pos, pos, "only the chosen gene changes");
+                        changed += 1;
+                    }
+                    assert!(d.contains(y), "seed {seed}: {y} outside {d:?}");
+                    if let Distribution::Uniform { min, max } = d {
+                        // 8 standard deviations: a redraw would pass this often.
+                        assert!((x - y).abs() <= 0.8 * (max - min) + 1e-12, "seed {seed}: a jump, not a drift");
+                    }
+                }
+            }
+            // A Tip has only a choice, which is redrawn and may come out the same.
+            let discrete_only = graph.symbol(g.gene(pos).symbol()).name == "Tip";
+            assert!(changed > 0 || discrete_only, "seed {seed}: nothing moved");
+            let mut again = g0.clone();
+            drift(&mut again, &graph, 0.1, &mut Rng::stream(seed, &[1]));
+            assert!(again == g, "same stream, same result");
+        }
+    }
+
+    #[test]
+    fn drift_steps_scale_with_drift_scale() {
+        let graph = ship();
+        let mean_step = |scale: f64| {
+            let mut total = 0.0;
+            let mut n = 0.0;
+            for seed in 0..300u64 {
+                let g0 = super::super::initial(&graph, &LIMITS, [10, 10], &mut Rng::from_seed(seed));
+                let mut g = g0.clone();
+                drift(&mut g, &graph, scale, &mut Rng::stream(seed, &[2]));
+                for (a, b) in g0.iter().zip(g.iter()) {
+                    let spec = graph.symbol(a.symbol());
+                    for ((d, x), y) in spec.components().zip(a.params()).zip(b.params()) {
+                        if matches!(d, Distribution::Uniform { .. }) && x != y {
+                            total += (x - y).abs();
+                            n += 1.0;
+                        }
+                    }
+                }
+            }
+            total / n
+        };
+        assert!(mean_step(0.02) * 3.0 < mean_step(0.2));
+    }
+
+    #[test]
+    fn reference_grow_ignores_probabilities_never_picks_the_last_free_link_and_adds_no_closure() {
+        let graph = ship();
+        let mut picked = [0usize; 5];
+        for seed in 0..200u64 {
+            let g = reference_initial(&graph, &LIMITS, [20, 20], &mut Rng::from_seed(seed));
+            assert_eq!(g.len(), 20, "root plus 19 grows");
+            g.validate(&graph).unwrap();
+            assert!(reference_initial(&graph, &LIMITS, [20, 20], &mut Rng::from_seed(seed)) == g, "deterministic");
+            // S plus one Body: only the Body can grow; its free links are
+            // next (0), wing (1, 2) and top (3); ghost (4) has p = 0.
+            let mut g = reference_initial(&graph, &LIMITS, [2, 2], &mut Rng::from_seed(seed));
+            assert_eq!(g.len(), 2);
+            let pos = reference_grow(&mut g, &graph, &LIMITS, &mut Rng::stream(seed, &[3])).unwrap();
+            assert_eq!(g.len(), 3, "no mandatory closure");
+            picked[g.gene(pos).parent().unwrap().1] += 1;
+        }
+        assert_eq!((picked[3], picked[4]), (0, 0), "the last free link and p = 0 slots are never picked");
+        assert!(picked[..3].iter().all(|&n| n > 30), "the others about equally often: {picked:?}");
     }
 }

@@ -27,6 +27,18 @@ pub(crate) struct MeshBuffers {
     /// Voxel centres along the rows and along lattice axis 1 over the
     /// instance's bounding box (`f32` centres, widened).
     centres: [Vec<f64>; 2],
+    /// Per vertex: its projection `(y, z)` and row coordinate `x` widened to
+    /// `f64`, and its lattice coordinates along axes 1 and 2 (bounds only).
+    points: Vec<Point>,
+}
+
+/// A vertex converted once per instance rather than once per triangle.
+#[derive(Clone, Copy, Debug, Default)]
+struct Point {
+    p: P2,
+    x: f64,
+    u: f64,
+    v: f64,
 }
 
 type P2 = (f64, f64);
@@ -42,18 +54,18 @@ struct Edge {
     d: P2,
     /// Whether `E` is the negated orientation (`a, b` swapped).
     neg: bool,
+    /// `−1` when `neg`, else `1`: multiplying by it negates exactly (zeros
+    /// included), without a branch.
+    sign: f64,
     /// Points with `E == 0` belong to the triangle.
     owned: bool,
-    /// Which vertex weight `E` is.
-    w: usize,
 }
 
 impl Edge {
     /// `E` at a row, from its first product `t = d.0 · (q.1 − a.1)`.
     #[inline]
     fn eval(&self, t: f64, qu: f64) -> f64 {
-        let e = t - self.d.1 * (qu - self.a.0);
-        if self.neg { -e } else { e }
+        (t - self.d.1 * (qu - self.a.0)) * self.sign
     }
 
     #[inline]
@@ -84,22 +96,27 @@ struct Setup {
 
 impl Setup {
     /// `None` for triangles edge-on to the rows (never crossed).
-    fn new(t: &[Vec3; 3]) -> Option<Setup> {
-        let p = t.map(|v| (f64::from(v.y), f64::from(v.z)));
+    fn new(t: [&Point; 3]) -> Option<Setup> {
+        let p = t.map(|v| v.p);
         let orient = |a: P2, b: P2, q: P2| (b.0 - a.0) * (q.1 - a.1) - (b.1 - a.1) * (q.0 - a.0);
         let area = orient(p[0], p[1], p[2]);
         if area == 0.0 || area.is_nan() {
             return None;
         }
         let o = if area > 0.0 { [0, 1, 2] } else { [0, 2, 1] };
-        let edges = std::array::from_fn(|e| {
+        // Edge `e` (counter-clockwise from `o[e]`) is the weight of vertex
+        // `o[e + 2]`; stored by that vertex: edge `w` is the weight of `w`.
+        let at = if area > 0.0 { [1, 2, 0] } else { [1, 0, 2] };
+        let edges = std::array::from_fn(|w| {
+            let e = at[w];
+            debug_assert_eq!(o[(e + 2) % 3], w);
             let (s, f) = (p[o[e]], p[o[(e + 1) % 3]]);
             let owned = {
                 let d = (f.0 - s.0, f.1 - s.1);
                 d.1 < 0.0 || (d.1 == 0.0 && d.0 > 0.0)
             };
             let (a, b, neg) = if (s.0, s.1) < (f.0, f.1) { (s, f, false) } else { (f, s, true) };
-            Edge { a, d: (b.0 - a.0, b.1 - a.1), neg, owned, w: o[(e + 2) % 3] }
+            Edge { a, d: (b.0 - a.0, b.1 - a.1), neg, sign: if neg { -1.0 } else { 1.0 }, owned }
         });
         // E = ±(d.0·(qv − a.1) − d.1·(qu − a.0)) grows with qu when ∓d.1 > 0.
         let bounds = edges.map(|e: Edge| match e.d.1 {
@@ -107,7 +124,7 @@ impl Setup {
             d1 if (d1 < 0.0) != e.neg => Bound::Lower(e.d.0 / d1),
             d1 => Bound::Upper(e.d.0 / d1),
         });
-        let xs = t.map(|v| f64::from(v.x));
+        let xs = t.map(|v| v.x);
         Some(Setup { edges, bounds, xs, x_lo: xs[0].min(xs[1]).min(xs[2]), x_hi: xs[0].max(xs[1]).max(xs[2]) })
     }
 
@@ -132,8 +149,9 @@ impl Setup {
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
         for (e, b) in self.edges.iter().zip(&self.bounds) {
             match b {
-                Bound::Lower(r) => lo = lo.max(e.a.0 + (qv - e.a.1) * r),
-                Bound::Upper(r) => hi = hi.min(e.a.0 + (qv - e.a.1) * r),
+                // A NaN zero (0 · ∞) does not bound.
+                Bound::Lower(r) => lo = greater(e.a.0 + (qv - e.a.1) * r, lo),
+                Bound::Upper(r) => hi = lesser(e.a.0 + (qv - e.a.1) * r, hi),
                 Bound::None => {}
             }
         }
@@ -144,19 +162,18 @@ impl Setup {
     /// (the value `crossing` gives), if it does.
     #[inline]
     fn cross(&self, t: &[f64; 3], qu: f64) -> Option<f64> {
-        let mut w = [0.0f64; 3];
-        for (e, &t) in self.edges.iter().zip(t) {
-            let v = e.eval(t, qu);
-            if !e.passes(v) {
-                return None;
-            }
-            w[e.w] = v;
+        let [e0, e1, e2] = &self.edges;
+        let w = [e0.eval(t[0], qu), e1.eval(t[1], qu), e2.eval(t[2], qu)];
+        if !(e0.passes(w[0]) & e1.passes(w[1]) & e2.passes(w[2])) {
+            return None;
         }
         let sum = w[0] + w[1] + w[2];
         let xs = self.xs;
         let x = if sum > 0.0 { (w[0] * xs[0] + w[1] * xs[1] + w[2] * xs[2]) / sum } else { xs[0] };
         // (A reciprocal of `sum` per line would not give the same bits.)
-        Some(x.clamp(self.x_lo, self.x_hi))
+        // `clamp` without its check of the bounds (ordered: finite `x`s).
+        let x = if x < self.x_lo { self.x_lo } else { x };
+        Some(if x > self.x_hi { self.x_hi } else { x })
     }
 }
 
@@ -178,28 +195,44 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
     cj.extend((j0..=j1).map(|j| f64::from(lat.centre(1, j))));
     let cross = &mut buf.crossings;
     cross.clear();
-    let n = verts.len();
     // Lattice coordinates (centres at integers) by a multiply: bounds only.
     let (inv1, inv2) = (1.0 / lat.size(1), 1.0 / lat.size(2));
     let (c1, c2) = (lat.coord(1, 0.0), lat.coord(2, 0.0));
+    let points = &mut buf.points;
+    points.clear();
+    let (mut my, mut mz) = (0.0f64, 0.0f64);
+    points.extend(verts.iter().map(|v| {
+        let (y, z) = (f64::from(v.y), f64::from(v.z));
+        // NaN coordinates do not count (as `max` drops them).
+        (my, mz) = (my.max(y.abs()), mz.max(z.abs()));
+        Point { p: (y, z), x: f64::from(v.x), u: y * inv1 + c1, v: z * inv2 + c2 }
+    }));
+    let mag = my * inv1 + mz * inv2;
+    // Slack for the real-arithmetic bounds, in rows: far more than their
+    // rounding and the `f32` centres' (2⁻²⁴ relative), which grow with the
+    // coordinates' magnitude (the instance's largest: more slack only tries
+    // more rows, each decided exactly).
+    let slack = 1e-3 + 1e-6 * (mag + c1.abs() + c2.abs());
+    let n = points.len();
     for t in &mesh.triangles {
         if !t.iter().all(|&i| (i as usize) < n) {
             continue;
         }
-        let tri = t.map(|i| verts[i as usize]);
-        let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
-        // Slack for the real-arithmetic bounds, in rows: far more than their
-        // rounding and the `f32` centres' (2⁻²⁴ relative), which grow with
-        // the coordinates' magnitude.
-        let mag = f64::from(lo.y.abs().max(hi.y.abs())) * inv1 + f64::from(lo.z.abs().max(hi.z.abs())) * inv2;
-        let slack = 1e-3 + 1e-6 * (mag + c1.abs() + c2.abs());
-        // Rows whose centres lie in the triangle's bounding box.
-        let (ja, jb) = index_span(f64::from(lo.y) * inv1 + c1, f64::from(hi.y) * inv1 + c1, slack, (j0, j1));
-        let (ka, kb) = index_span(f64::from(lo.z) * inv2 + c2, f64::from(hi.z) * inv2 + c2, slack, (k0, k1));
-        if ja > jb || ka > kb {
+        let tri = t.map(|i| &points[i as usize]);
+        // Rows whose centres lie in the triangle's bounding box (the lattice
+        // map is monotonic, so this is the box of the mapped vertices).
+        // (A NaN bound tries every row; the triangle's NaN area then skips it.)
+        let (ulo, uhi) = (lesser(lesser(tri[0].u, tri[1].u), tri[2].u), greater(greater(tri[0].u, tri[1].u), tri[2].u));
+        let (ja, jb) = index_span(ulo, uhi, slack, (j0, j1));
+        if ja > jb {
             continue;
         }
-        let Some(setup) = Setup::new(&tri) else { continue };
+        let (vlo, vhi) = (lesser(lesser(tri[0].v, tri[1].v), tri[2].v), greater(greater(tri[0].v, tri[1].v), tri[2].v));
+        let (ka, kb) = index_span(vlo, vhi, slack, (k0, k1));
+        if ka > kb {
+            continue;
+        }
+        let Some(setup) = Setup::new(tri) else { continue };
         for k in ka..=kb {
             let qv = f64::from(lat.centre(2, k));
             let Some(tk) = setup.line(qv) else { continue };
@@ -255,7 +288,9 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
         return centres.len() as i64;
     }
     // Any start gives the exact answer; a good one saves the walk.
-    let mut g = guess.max(0.0).min(centres.len() as f64) as usize;
+    // (`as` saturates, NaN to 0; to `i32`, the cheapest conversion: the
+    // table has at most `TABLE_MAX` entries.)
+    let mut g = (guess as i32).clamp(0, centres.len() as i32) as usize;
     while g > 0 && centres[g - 1] >= x {
         g -= 1;
     }
@@ -269,14 +304,27 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
 /// (NaN bounds do not bound; empty: `lo > hi`).
 #[inline]
 fn index_span(lo: f64, hi: f64, slack: f64, (a, b): (i64, i64)) -> (i64, i64) {
-    // `max`/`min` drop a NaN operand, so neither is NaN; both fit an i64.
-    let (lo, hi) = ((lo - slack).max(a as f64), (hi + slack).min(b as f64));
+    // A NaN operand yields the bound, so neither is NaN; both fit an i64.
+    let (lo, hi) = (greater(lo - slack, a as f64), lesser(hi + slack, b as f64));
     if lo > hi {
         return (a, a - 1);
     }
     let (l, h) = (lo as i64, hi as i64);
     // Truncation is towards zero: fix up to ceil / floor.
     (if (l as f64) < lo { l + 1 } else { l }, if (h as f64) > hi { h - 1 } else { h })
+}
+
+/// `a` if it is less than `b`, else `b` (so `b` when either is NaN): one
+/// `minsd`, where `f64::min` must also handle NaN either side.
+#[inline]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// `a` if it is greater than `b`, else `b` (so `b` when either is NaN).
+#[inline]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
 }
 
 /// Groups the crossings by row into `xs`, each row's sorted, with row `r`

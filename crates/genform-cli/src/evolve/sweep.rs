@@ -1,0 +1,61 @@
+//! `genform sweep`: the command-line side of [`genform_cli::sweep`]
+//! (arguments, Ctrl-C, progress lines, the summary on stdout).
+
+use anyhow::{Result, bail};
+use genform_cli::sweep::{self, RunDone, SweepRequest};
+use std::sync::atomic::Ordering;
+
+use crate::args::SweepArgs;
+
+/// Runs `genform sweep`. Ctrl-C stops the runs under way; the finished
+/// ones are written.
+pub fn sweep(a: SweepArgs) -> Result<()> {
+    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+        bail!("{} is a codon scene; genform sweep runs tree scenes (.sg, .ls grammars) for now", a.scene.display());
+    }
+    let axes = a.set.iter().map(|s| sweep::parse_set(s)).collect::<Result<Vec<_>>>()?;
+    let req = SweepRequest {
+        scene: a.scene.clone(),
+        axes,
+        runs: a.runs,
+        seed: a.seed,
+        generations: a.generations,
+        budget: a.budget.clone(),
+        evaluations: a.evaluations,
+        algorithm: super::tree_algorithm(a.algorithm, &a.scene)?,
+        threads: a.threads,
+        out: a.out.clone(),
+    };
+    let cancel = super::cancel_on_ctrl_c();
+    let quiet = a.quiet;
+    let progress = move |d: RunDone| {
+        if !quiet {
+            let last = d.trace.points.last();
+            eprintln!(
+                "[{}/{}] {} run {}: best {:.6} after {} generations ({:.1} s)",
+                d.done,
+                d.total,
+                d.label,
+                d.trace.run + 1,
+                last.map_or(f64::NAN, |p| p.best),
+                last.map_or(0, |p| p.generation),
+                d.trace.seconds
+            );
+        }
+    };
+    let result = sweep::run(&req, &cancel, &progress)?;
+    let interrupted = cancel.load(Ordering::SeqCst);
+    if interrupted {
+        eprintln!("interrupted: writing the {} finished runs; unfinished ones are left out", result.runs.len());
+    }
+    sweep::write(&result, &req.scene, &req.out)?;
+    print!("{}", result.summary());
+    eprintln!(
+        "{} runs of {} combinations on {} → {}",
+        result.runs.len(),
+        result.combinations.len(),
+        req.scene.display(),
+        req.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,251 @@
+//! `genform sweep`: a parameter study. One or two scene keys take several
+//! values (`--set ga.population=10,50,100`; more `--set`s with one value
+//! each fix other settings for every run); every value combination is
+//! run `runs` times (run r with seed `seed + r`, the same seeds for every
+//! combination) and the best fitness per generation is reported as the
+//! ShapeGenetics paper's Figures 4–9 do.
+//!
+//! All runs of all combinations go to one worker pool at once and their
+//! results are collected in (combination, run) order; since a run's
+//! results do not depend on the threads it gets, `sweep.csv` is the same
+//! bytes at any thread count (with generation or evaluation limits; a
+//! wall-clock budget makes runs depend on the machine's load).
+
+pub mod report;
+pub mod set;
+
+use anyhow::{Context, Result, anyhow, bail};
+use genform_core::Limits;
+use genform_evolve::{AnyOptimizer, Horizon, Stop, StopReason};
+use rayon::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use crate::grammar::{self, LimitOverrides};
+use crate::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
+use crate::output::write_atomic;
+use crate::scene_config::{SceneConfig, parse_duration};
+pub use report::{GenPoint, RunTrace, SweepResult};
+pub use set::{Axis, parse_set};
+
+/// Most keys a sweep crosses.
+pub const MAX_KEYS: usize = 2;
+
+/// What to sweep, from the command line.
+#[derive(Clone, Debug)]
+pub struct SweepRequest {
+    /// The scene config.
+    pub scene: PathBuf,
+    /// The keys and their values: at most [`MAX_KEYS`] with several values
+    /// (crossed); keys with one value are set in every run.
+    pub axes: Vec<Axis>,
+    /// Runs per value combination.
+    pub runs: usize,
+    /// Seed of run 0.
+    pub seed: u64,
+    /// Generations per run (overrides the scene's `[run]`, as do the next two).
+    pub generations: Option<usize>,
+    /// Wall-clock budget per run, e.g. "10s".
+    pub budget: Option<String>,
+    /// Evaluations per run.
+    pub evaluations: Option<u64>,
+    /// The tree algorithm to run.
+    pub algorithm: genform_evolve::Algorithm,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Output folder.
+    pub out: PathBuf,
+}
+
+/// A run that finished, as the progress callback sees it.
+pub struct RunDone<'a> {
+    /// `key=value …` of its combination.
+    pub label: &'a str,
+    /// The run.
+    pub trace: &'a RunTrace,
+    /// Runs finished so far, and in all.
+    pub done: usize,
+    /// Runs in all.
+    pub total: usize,
+}
+
+/// One value combination, ready to run.
+struct Variant {
+    label: String,
+    generator: Arc<grammar::Loaded>,
+    limits: Limits,
+    scorers: Arc<Scorers>,
+    settings: genform_evolve::Settings,
+    horizon: Horizon,
+    /// What MAP-Elites bins (other algorithms only read the fitness).
+    descriptors: [Descriptor; 2],
+}
+
+/// Checks a request's counts and the key count before anything is loaded.
+fn check(req: &SweepRequest) -> Result<()> {
+    if req.axes.is_empty() {
+        bail!("nothing to sweep: give --set KEY=V1,V2,… (e.g. --set ga.population=10,50,100)");
+    }
+    let varying = req.axes.iter().filter(|a| a.values.len() > 1).count();
+    if varying > MAX_KEYS {
+        bail!("{varying} --set options have several values; a sweep crosses at most {MAX_KEYS} keys");
+    }
+    for (i, a) in req.axes.iter().enumerate() {
+        if req.axes[..i].iter().any(|b| b.key == a.key) {
+            bail!("--set {} is given twice; give all its values in one --set", a.key);
+        }
+    }
+    if req.runs == 0 {
+        bail!("--runs must be at least 1");
+    }
+    Ok(())
+}
+
+/// The stop rules of one combination: the command line's replace the
+/// scene's `[run]` as a whole (which a `--set run.generations=…` may vary).
+fn horizon(req: &SweepRequest, config: &SceneConfig) -> Result<Horizon> {
+    let cli = req.generations.is_some() || req.budget.is_some() || req.evaluations.is_some();
+    let r = &config.run;
+    let (generations, budget, evaluations) = if cli {
+        (req.generations, req.budget.clone(), req.evaluations)
+    } else {
+        (r.generations, r.budget.clone(), r.evaluations)
+    };
+    let budget: Option<Duration> = budget.map(|b| parse_duration(&b)).transpose().context("budget")?;
+    if generations.is_none() && budget.is_none() && evaluations.is_none() {
+        bail!(
+            "nothing tells the runs when to stop: give --generations, --budget or --evaluations (or [run] in the scene)"
+        );
+    }
+    Ok(Horizon { generations, budget, evaluations })
+}
+
+/// Loads every combination: the scene with the values applied and checked,
+/// its grammar and its scorers (built once and shared while the settings
+/// that make them are the same).
+fn load(req: &SweepRequest) -> Result<(Vec<Vec<String>>, Vec<Variant>)> {
+    let text = crate::source_text::read_text(&req.scene, "scene")?;
+    // The scene as written first: its own mistakes keep their positions.
+    SceneConfig::load_text(&req.scene, &text)?;
+    let mut combos = Vec::new();
+    let mut variants = Vec::new();
+    let mut grammars: Vec<(PathBuf, Arc<grammar::Loaded>)> = Vec::new();
+    let mut scorers: Vec<(String, Arc<Scorers>)> = Vec::new();
+    for (values, loaded) in set::variants(&req.scene, &text, &req.axes)? {
+        let config = loaded.config;
+        let shown = |all: bool| -> Vec<String> {
+            let pairs = req.axes.iter().zip(&values).filter(|(a, _)| all || a.values.len() > 1);
+            pairs.map(|(a, v)| format!("{}={v}", a.key)).collect()
+        };
+        let label = shown(false).join(" ");
+        let at = || format!("--set {}", shown(true).join(" --set "));
+        let generator = match grammars.iter().find(|(p, _)| *p == config.grammar) {
+            Some((_, g)) => g.clone(),
+            None => {
+                let g = Arc::new(grammar::load(&config.grammar)?);
+                grammars.push((config.grammar.clone(), g.clone()));
+                g
+            }
+        };
+        let targets_key = serde_json::to_string(&(
+            &config.volume,
+            &config.image,
+            &config.fitness,
+            &config.ga.min_length,
+            &config.ga.max_length,
+        ))?;
+        let scorer = match scorers.iter().find(|(k, _)| *k == targets_key) {
+            Some((_, s)) => s.clone(),
+            None => {
+                let s = Arc::new(crate::targets::build(&config).with_context(at)?);
+                scorers.push((targets_key, s.clone()));
+                s
+            }
+        };
+        let scene = LimitOverrides {
+            max_genes: config.limits.genes,
+            max_depth: config.limits.depth,
+            max_primitives: config.limits.primitives,
+        };
+        let limits = scene.apply(generator.limits);
+        let horizon = horizon(req, &config).with_context(at)?;
+        let settings = config.settings();
+        // Fail now, not in the middle of the runs.
+        AnyOptimizer::new(req.algorithm, generator.generator.graph(), &limits, &settings, req.seed, horizon)
+            .map_err(|e| anyhow!("{}: {e}", at()))?;
+        let descriptors = Descriptor::pair(&config.map_elites);
+        variants.push(Variant { label, generator, limits, scorers: scorer, settings, horizon, descriptors });
+        combos.push(req.axes.iter().zip(values).filter(|(a, _)| a.values.len() > 1).map(|(_, v)| v).collect());
+    }
+    Ok((combos, variants))
+}
+
+/// Runs the sweep; `on_done` hears of every finished run (in the order
+/// they finish). Runs stopped by `cancel` are left out of the result.
+pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) + Sync)) -> Result<SweepResult> {
+    check(req)?;
+    let (combinations, variants) = load(req)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(req.threads.unwrap_or(0))
+        .build()
+        .context("cannot start worker threads")?;
+    let jobs: Vec<(usize, usize)> = (0..variants.len()).flat_map(|v| (0..req.runs).map(move |r| (v, r))).collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<Result<Option<RunTrace>>> = pool.install(|| {
+        jobs.par_iter()
+            .map(|&(v, r)| {
+                let trace = one_run(&variants[v], req, v, r, cancel)?;
+                if let Some(t) = &trace {
+                    let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+                    on_done(RunDone { label: &variants[v].label, trace: t, done: k, total: jobs.len() });
+                }
+                Ok(trace)
+            })
+            .collect()
+    });
+    let mut runs = Vec::new();
+    for r in results {
+        runs.extend(r?);
+    }
+    let keys = req.axes.iter().filter(|a| a.values.len() > 1).map(|a| a.key.clone()).collect();
+    Ok(SweepResult { keys, combinations, runs })
+}
+
+/// One run of combination `v`; `None` when it was cancelled.
+fn one_run(variant: &Variant, req: &SweepRequest, v: usize, r: usize, cancel: &AtomicBool) -> Result<Option<RunTrace>> {
+    let seed = req.seed + r as u64;
+    let Variant { generator, limits, scorers, settings, horizon, descriptors, .. } = variant;
+    let mut opt = AnyOptimizer::new(req.algorithm, generator.generator.graph(), limits, settings, seed, *horizon)
+        .map_err(|e| anyhow!("{}: {e}", variant.label))?;
+    let objective = DescribedObjective {
+        objective: SceneObjective { generator: generator.generator.as_ref(), limits: *limits, scorers },
+        descriptors: *descriptors,
+    };
+    let stop =
+        Stop { generations: horizon.generations, budget: horizon.budget, evaluations: horizon.evaluations, cancel };
+    let mut points = Vec::new();
+    let summary = genform_evolve::run(&mut opt, &objective, &stop, |stats, o| {
+        points.push(GenPoint {
+            generation: stats.generation,
+            evaluations: stats.total_evaluations,
+            best: o.best().map_or(f64::NAN, |b| b.fitness),
+            max: stats.max,
+            mean: stats.avg,
+        });
+    })?;
+    if summary.reason == StopReason::Cancelled {
+        return Ok(None);
+    }
+    Ok(Some(RunTrace { variant: v, run: r, seed, points, seconds: summary.elapsed.as_secs_f64() }))
+}
+
+/// Writes `sweep.csv`, `sweep.svg` and `summary.md` into `out`.
+pub fn write(result: &SweepResult, scene: &Path, out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    write_atomic(&out.join("sweep.csv"), result.csv().as_bytes())?;
+    let title = scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    write_atomic(&out.join("sweep.svg"), result.svg(&title).as_bytes())?;
+    write_atomic(&out.join("summary.md"), result.summary().as_bytes())
+}

@@ -1,0 +1,290 @@
+//! `--set KEY=V1,V2,…`: a scene key and the values a sweep gives it, and
+//! applying them to the scene's TOML text.
+//!
+//! The scene is edited as a `toml_edit` document (the file's layout,
+//! comments and every other key kept) and loaded again by the normal
+//! loader, so each variant gets exactly the validation of a scene written
+//! by hand. Problems the edit causes are reported against the `--set`
+//! that caused them, not against positions in the edited text.
+
+use anyhow::{Result, anyhow, bail};
+use std::path::Path;
+use toml_edit::{DocumentMut, Item, Table, TableLike, Value};
+
+use crate::scene_config::{LoadedScene, SceneConfig};
+
+/// One `--set`: a dotted scene key and its values, in the order given.
+#[derive(Clone, Debug)]
+pub struct Axis {
+    /// The dotted key, e.g. `ga.population` or `volume.target.0.fill`.
+    pub key: String,
+    /// The values as written (trimmed), e.g. `10`, `"roulette"`, `[10, 10]`.
+    pub values: Vec<String>,
+    parsed: Vec<Value>,
+}
+
+impl Axis {
+    /// The key's segments.
+    fn path(&self) -> Vec<&str> {
+        self.key.split('.').collect()
+    }
+
+    /// `KEY=V1,V2,…` as given, for messages.
+    pub fn shown(&self) -> String {
+        format!("--set {}={}", self.key, self.values.join(","))
+    }
+}
+
+/// Parses one `--set` argument: `KEY=V1,V2,…`.
+///
+/// Values are TOML values. They are separated by commas or semicolons
+/// outside brackets, braces and quotes, so arrays and inline tables need
+/// no escaping: `ga.initial_length=[10,10],[50,50]`,
+/// `ga.selection.first={tournament=10},"roulette"`. A bare word that is
+/// not a TOML value (`roulette`, `thesis`) is taken as a string, since
+/// shells strip the quotes of `"roulette"`.
+pub fn parse_set(arg: &str) -> Result<Axis> {
+    let Some((key, values)) = arg.split_once('=') else {
+        bail!("--set {arg}: expected KEY=V1,V2,… (e.g. --set ga.population=50,100,200)");
+    };
+    let key = key.trim();
+    let bad_segment = |s: &str| s.is_empty() || !s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if key.split('.').any(bad_segment) {
+        bail!("--set {arg}: `{key}` is not a dotted scene key such as ga.population or fitness.good");
+    }
+    let pieces = split_values(values).map_err(|e| anyhow!("--set {arg}: {e}"))?;
+    let mut axis = Axis { key: key.to_string(), values: Vec::new(), parsed: Vec::new() };
+    for piece in pieces {
+        let value = parse_value(&piece).map_err(|e| anyhow!("--set {arg}: {e}"))?;
+        if axis.values.contains(&piece) {
+            bail!("--set {arg}: the value {piece} is given twice");
+        }
+        axis.values.push(piece);
+        axis.parsed.push(value);
+    }
+    Ok(axis)
+}
+
+/// Splits `text` at commas and semicolons outside brackets, braces and
+/// quotes; pieces are trimmed and may not be empty.
+fn split_values(text: &str) -> Result<Vec<String>, String> {
+    let mut pieces = Vec::new();
+    let (mut depth, mut quote, mut escaped) = (0i32, None::<char>, false);
+    let mut current = String::new();
+    for c in text.chars() {
+        match quote {
+            Some(q) => {
+                if escaped {
+                    escaped = false;
+                } else if c == '\\' && q == '"' {
+                    escaped = true;
+                } else if c == q {
+                    quote = None;
+                }
+            }
+            None => match c {
+                '"' | '\'' => quote = Some(c),
+                '[' | '{' => depth += 1,
+                ']' | '}' => depth -= 1,
+                ',' | ';' if depth == 0 => {
+                    pieces.push(std::mem::take(&mut current));
+                    continue;
+                }
+                _ => {}
+            },
+        }
+        current.push(c);
+    }
+    if quote.is_some() || depth != 0 {
+        return Err("unbalanced quotes or brackets in the values".into());
+    }
+    pieces.push(current);
+    let pieces: Vec<String> = pieces.into_iter().map(|p| p.trim().to_string()).collect();
+    if pieces.iter().any(String::is_empty) {
+        return Err("an empty value (values are separated by `,` or `;`)".into());
+    }
+    Ok(pieces)
+}
+
+/// A TOML value, or a bare word taken as a string.
+fn parse_value(text: &str) -> Result<Value, String> {
+    match text.parse::<Value>() {
+        Ok(v) => Ok(v),
+        Err(e) => {
+            let word = text.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+            if word && text.starts_with(|c: char| c.is_ascii_alphabetic()) {
+                Ok(Value::from(text))
+            } else {
+                let why = e.to_string().lines().last().unwrap_or_default().trim().to_string();
+                Err(format!(
+                    "`{text}` is not a TOML value (a number, \"string\", [array] or {{inline = table}}): {why}"
+                ))
+            }
+        }
+    }
+}
+
+/// The scene text with `key` set to `value`: missing tables are created,
+/// numeric segments index arrays (`volume.target.0.fill`).
+fn edit(doc: &mut DocumentMut, path: &[&str], value: &Value) -> Result<(), String> {
+    set_in(doc.as_table_mut(), path, value)
+}
+
+fn set_in(table: &mut dyn TableLike, path: &[&str], value: &Value) -> Result<(), String> {
+    let Some((first, rest)) = path.split_first() else { return Ok(()) };
+    if rest.is_empty() {
+        table.insert(first, Item::Value(value.clone()));
+        return Ok(());
+    }
+    if table.get(first).is_none() {
+        let mut t = Table::new();
+        t.set_implicit(true);
+        table.insert(first, Item::Table(t));
+    }
+    let child = table.get_mut(first).ok_or_else(|| format!("cannot reach `{first}`"))?;
+    if let Ok(index) = rest[0].parse::<usize>() {
+        let element: Option<&mut dyn TableLike> = match child {
+            Item::ArrayOfTables(a) => a.get_mut(index).map(|t| t as &mut dyn TableLike),
+            Item::Value(Value::Array(a)) => {
+                a.get_mut(index).and_then(Value::as_inline_table_mut).map(|t| t as &mut dyn TableLike)
+            }
+            _ => return Err(format!("`{first}` is not a list, so `{}` cannot index it", rest[0])),
+        };
+        let element = element.ok_or_else(|| format!("`{first}` has no table number {index} (counting from 0)"))?;
+        if rest.len() == 1 {
+            return Err(format!("set a key inside `{first}.{index}`, not the whole entry"));
+        }
+        return set_in(element, &rest[1..], value);
+    }
+    match child.as_table_like_mut() {
+        Some(t) => set_in(t, rest, value),
+        None => Err(format!("`{first}` is a value, not a table, so it has no key `{}`", rest[0])),
+    }
+}
+
+/// One combination of values: the text of each axis' value, in axis order.
+pub type Combination = Vec<String>;
+
+/// Every combination of the axes' values (the first axis varies slowest),
+/// each applied to the scene at `path` (text `text`) and loaded with the
+/// normal validation; an error names the settings of the combination.
+pub fn variants(path: &Path, text: &str, axes: &[Axis]) -> Result<Vec<(Combination, LoadedScene)>> {
+    let doc: DocumentMut = text.parse().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
+    for axis in axes {
+        combos = combos
+            .into_iter()
+            .flat_map(|c| (0..axis.values.len()).map(move |i| [c.clone(), vec![i]].concat()))
+            .collect();
+    }
+    combos
+        .into_iter()
+        .map(|combo| {
+            let chosen: Vec<(&Axis, &Value)> = axes.iter().zip(&combo).map(|(a, &i)| (a, &a.parsed[i])).collect();
+            let names: Combination = axes.iter().zip(&combo).map(|(a, &i)| a.values[i].clone()).collect();
+            let shown: Vec<String> = axes.iter().zip(&names).map(|(a, v)| format!("{}={v}", a.key)).collect();
+            let loaded = apply(path, &doc, &chosen).map_err(|e| anyhow!("--set {}: {e:#}", shown.join(" --set ")))?;
+            Ok((names, loaded))
+        })
+        .collect()
+}
+
+/// The scene with `settings` applied, loaded and checked.
+fn apply(path: &Path, doc: &DocumentMut, settings: &[(&Axis, &Value)]) -> Result<LoadedScene> {
+    let mut doc = doc.clone();
+    for (axis, value) in settings {
+        edit(&mut doc, &axis.path(), value).map_err(|e| anyhow!("{e}"))?;
+    }
+    let text = doc.to_string();
+    // Parse once here for a message about the setting (unknown keys with a
+    // suggestion, wrong types) rather than a position in the edited text.
+    if let Err(e) = toml::from_str::<SceneConfig>(&text) {
+        let paths: Vec<Vec<&str>> = settings.iter().map(|(a, _)| a.path()).collect();
+        bail!("{}", explain(e.message(), &paths));
+    }
+    SceneConfig::load_text(path, &text)
+}
+
+/// A deserialization message in terms of the keys set: unknown keys and
+/// variants get the closest known name and the section they are in.
+fn explain(message: &str, paths: &[Vec<&str>]) -> String {
+    for kind in ["field", "variant"] {
+        let Some(rest) = message.strip_prefix(&format!("unknown {kind} `")) else { continue };
+        let Some((name, expected)) = rest.split_once('`') else { continue };
+        let known: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
+        let suggestion = genform_core::expr::did_you_mean(name, known.iter().copied())
+            .map(|s| format!("; did you mean `{s}`?"))
+            .unwrap_or_default();
+        let list = if known.is_empty() { String::new() } else { format!(" (known: {})", known.join(", ")) };
+        if kind == "variant" {
+            return format!("unknown value `{name}`{suggestion}{list}");
+        }
+        let section = paths
+            .iter()
+            .find_map(|p| p.iter().position(|s| *s == name).map(|i| p[..i].join(".")))
+            .map(|s| if s.is_empty() { "at the top level".to_string() } else { format!("in [{s}]") })
+            .unwrap_or_default();
+        return format!("unknown key `{name}` {section}{suggestion}{list}");
+    }
+    message.trim().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_split_outside_brackets_and_quotes() {
+        let a = parse_set("ga.initial_length=[10,10];[50, 50]").unwrap();
+        assert_eq!(
+            (a.key.as_str(), a.values.clone()),
+            ("ga.initial_length", vec!["[10,10]".into(), "[50, 50]".into()])
+        );
+        let b = parse_set(r#"ga.selection.first={tournament=10},"a,b",roulette"#).unwrap();
+        assert_eq!(b.values, ["{tournament=10}", "\"a,b\"", "roulette"]);
+        assert_eq!(b.parsed[2].as_str(), Some("roulette"), "a bare word is a string");
+        assert_eq!(parse_set("ga.population= 10 , 50").unwrap().values, ["10", "50"]);
+        for bad in ["ga.population", "=5", "ga..x=1", "ga.population=1,,2", "x=[1,2", "x=1,1", "x=1.5.5"] {
+            assert!(parse_set(bad).is_err(), "{bad}");
+        }
+        let msg = parse_set("x=@").unwrap_err().to_string();
+        assert!(msg.starts_with("--set x=@: `@` is not a TOML value"), "{msg}");
+    }
+
+    #[test]
+    fn edits_reach_nested_inline_and_listed_tables() {
+        let text = "a = 1 # keep\n[ga]\npopulation = 5\nselection = { first = \"random\" }\n[[t]]\nfill = 1\n[[t]]\nfill = 2\n";
+        let mut doc: DocumentMut = text.parse().unwrap();
+        let v = |s: &str| parse_value(s).unwrap();
+        edit(&mut doc, &["ga", "population"], &v("50")).unwrap();
+        edit(&mut doc, &["ga", "selection", "first"], &v("{ tournament = 3 }")).unwrap();
+        edit(&mut doc, &["t", "1", "fill"], &v("-1.5")).unwrap();
+        edit(&mut doc, &["run", "generations"], &v("7")).unwrap();
+        let back: toml::Table = toml::from_str(&doc.to_string()).unwrap();
+        assert_eq!(back["ga"]["population"].as_integer(), Some(50));
+        assert_eq!(back["ga"]["selection"]["first"]["tournament"].as_integer(), Some(3));
+        assert_eq!(back["t"][1]["fill"].as_float(), Some(-1.5));
+        assert_eq!(back["t"][0]["fill"].as_integer(), Some(1));
+        assert_eq!(back["run"]["generations"].as_integer(), Some(7));
+        assert!(doc.to_string().contains("# keep"), "the rest of the file is kept");
+        assert!(edit(&mut doc, &["a", "b"], &v("1")).unwrap_err().contains("is a value"));
+        assert!(edit(&mut doc, &["t", "5", "fill"], &v("1")).unwrap_err().contains("no table number 5"));
+    }
+
+    #[test]
+    fn unknown_keys_and_values_get_suggestions() {
+        let m = "unknown field `populaton`, expected one of `population`, `elitism`";
+        assert_eq!(
+            explain(m, &[vec!["ga", "populaton"]]),
+            "unknown key `populaton` in [ga]; did you mean `population`? (known: population, elitism)"
+        );
+        let top = explain("unknown field `gaa`, expected `ga` or `mh`", &[vec!["gaa", "population"]]);
+        assert!(top.starts_with("unknown key `gaa` at the top level; did you mean `ga`?"), "{top}");
+        let v = explain("unknown variant `roulete`, expected `roulette` or `random`", &[vec!["ga", "x"]]);
+        assert!(v.starts_with("unknown value `roulete`; did you mean `roulette`?"), "{v}");
+        assert_eq!(
+            explain("invalid type: string \"x\", expected usize\n", &[]),
+            "invalid type: string \"x\", expected usize"
+        );
+    }
+}

@@ -1,0 +1,432 @@
+//! `genform.load`, `Grammar` and `Model`: any formalism of the CLI's table
+//! (`genform_cli::formalism::FORMALISMS`), sampled, derived from genomes,
+//! exported, meshed into NumPy arrays.
+
+use anyhow::{Context, Result};
+use genform_cli::formalism::{self, Formalism, LoadedGrammar, Sample, SampleRequest};
+use genform_cli::grammar::{LimitOverrides, Loaded, express, genome_summary};
+use genform_core::scene::Tessellation;
+use genform_core::{Genome, Limits, Scene};
+use numpy::{PyArray1, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use crate::errors::{OrRaise, error};
+use crate::mesh;
+
+/// A compiled grammar, shared by the models drawn from it.
+pub struct GrammarCore {
+    /// The file it was compiled from.
+    pub path: PathBuf,
+    /// Its row of the formalism table.
+    pub formalism: &'static dyn Formalism,
+    /// The grammar as the CLI's verbs see it.
+    pub loaded: Box<dyn LoadedGrammar>,
+    /// Its generator graph, if the formalism has one.
+    pub generator: Option<Loaded>,
+    /// Why there is no generator graph (when there is none).
+    pub no_generator: String,
+}
+
+impl GrammarCore {
+    /// Compiles `path` with the formalism its extension names.
+    pub fn open(path: &Path) -> Result<Self> {
+        let formalism = formalism::for_path(path)?;
+        let loaded = formalism.load(path)?;
+        // A second compile for the generator: `into_generator` consumes the grammar.
+        let (generator, no_generator) = match formalism.load(path)?.into_generator() {
+            Ok(g) => (Some(g), String::new()),
+            Err(e) => (None, format!("{e:#}")),
+        };
+        Ok(GrammarCore { path: path.to_path_buf(), formalism, loaded, generator, no_generator })
+    }
+
+    /// The generator, or the error saying why there is none.
+    pub fn generator(&self) -> Result<&Loaded> {
+        self.generator.as_ref().ok_or_else(|| anyhow::anyhow!("{}", self.no_generator))
+    }
+
+    /// Parses a genome's JSON text against the generator graph.
+    pub fn parse_genome(&self, text: &str) -> Result<Genome> {
+        let g = self.generator()?;
+        Genome::from_json(text, g.generator.graph())
+            .with_context(|| format!("the genome does not fit grammar `{}`", g.name))
+    }
+
+    /// Expresses `genome` under `limits` into a model.
+    pub fn derive(self: &Arc<Self>, genome: Genome, limits: Limits) -> Result<Model> {
+        let g = self.generator()?;
+        let scene = express(g.generator.as_ref(), &genome, &limits)?;
+        let summary = format!("{}: {}", g.name, genome_summary(&scene, &genome));
+        Ok(Model { body: Body::Scene(scene), genome: Some(genome), grammar: self.clone(), limits, summary })
+    }
+}
+
+/// A compiled grammar of any formalism (`genform.load(path)`).
+#[pyclass(module = "genform", frozen)]
+pub struct Grammar {
+    /// The grammar.
+    pub core: Arc<GrammarCore>,
+}
+
+/// A path argument: `str` or `os.PathLike`.
+pub fn path_arg(obj: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
+    obj.extract::<PathBuf>()
+}
+
+#[pyfunction]
+/// Compiles a grammar file; the formalism follows the extension.
+pub fn load(path: &Bound<'_, PyAny>) -> PyResult<Grammar> {
+    let path = path_arg(path)?;
+    Ok(Grammar { core: Arc::new(GrammarCore::open(&path).or_raise()?) })
+}
+
+#[pyfunction]
+/// The formalisms genform loads: `{"name", "extensions"}` per row.
+pub fn formalisms(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
+    formalism::FORMALISMS
+        .iter()
+        .map(|f| {
+            let d = PyDict::new(py);
+            d.set_item("name", f.name())?;
+            d.set_item("extensions", f.extensions().to_vec())?;
+            Ok(d)
+        })
+        .collect()
+}
+
+/// `genform sample`'s options from keyword arguments (flag names without
+/// the dashes, `-` as `_`).
+fn request(seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<SampleRequest> {
+    let mut r = SampleRequest {
+        seed,
+        out: None,
+        given: vec!["--seed".into()],
+        genome_out: None,
+        limits: LimitOverrides::default(),
+        steps: None,
+        max_modules: None,
+        string_out: None,
+        box_corners: None,
+        world: None,
+        trace: None,
+        schem_version: 2,
+        data_version: 3955,
+        env: None,
+        every_step: false,
+        smooth: None,
+    };
+    let Some(options) = options else { return Ok(r) };
+    for (key, value) in options.iter() {
+        let key: String = key.extract()?;
+        if value.is_none() {
+            continue;
+        }
+        match key.as_str() {
+            "steps" => r.steps = Some(value.extract()?),
+            "max_modules" => r.max_modules = Some(value.extract()?),
+            "max_genes" => r.limits.max_genes = Some(value.extract()?),
+            "max_depth" => r.limits.max_depth = Some(value.extract()?),
+            "max_primitives" => r.limits.max_primitives = Some(value.extract()?),
+            "string_out" => r.string_out = Some(path_arg(&value)?),
+            "genome_out" => r.genome_out = Some(path_arg(&value)?),
+            "world" => r.world = Some(path_arg(&value)?),
+            "trace" => r.trace = Some(path_arg(&value)?),
+            "env" => r.env = Some(path_arg(&value)?),
+            "schem_version" => r.schem_version = value.extract()?,
+            "data_version" => r.data_version = value.extract()?,
+            "every_step" => r.every_step = value.extract()?,
+            "smooth" => r.smooth = Some(value.extract()?),
+            "box" => {
+                r.box_corners = Some(match value.extract::<String>() {
+                    Ok(s) => s,
+                    Err(_) => {
+                        let corners: Vec<i64> = value.extract()?;
+                        corners.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(",")
+                    }
+                })
+            }
+            other => {
+                return Err(error(format!(
+                    "sample() got an unknown option `{other}`; options are `genform sample`'s flags without the \
+                     dashes: steps, max_modules, max_genes, max_depth, max_primitives, string_out, genome_out, box, \
+                     world, trace, env, schem_version, data_version, every_step, smooth"
+                )));
+            }
+        }
+        r.given.push(format!("--{}", key.replace('_', "-")));
+    }
+    Ok(r)
+}
+
+#[pymethods]
+impl Grammar {
+    /// The grammar file.
+    #[getter]
+    fn path(&self) -> String {
+        self.core.path.display().to_string()
+    }
+
+    /// The grammar's name (its generator's name, else the file's stem).
+    #[getter]
+    fn name(&self) -> String {
+        match &self.core.generator {
+            Some(g) => g.name.clone(),
+            None => self.core.path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+        }
+    }
+
+    /// The formalism's name, e.g. "shape grammar".
+    #[getter]
+    fn formalism(&self) -> &'static str {
+        self.core.formalism.name()
+    }
+
+    /// Whether the grammar has a generator graph (genomes, derive, evolve).
+    #[getter]
+    fn has_generator(&self) -> bool {
+        self.core.generator.is_some()
+    }
+
+    /// What `genform info` prints.
+    fn info(&self) -> String {
+        self.core.loaded.describe()
+    }
+
+    /// Draws one model, as `genform sample --seed SEED` does.
+    #[pyo3(signature = (seed = 0, **options))]
+    fn sample(&self, py: Python<'_>, seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<Model> {
+        let mut req = request(seed, options)?;
+        formalism::check_request(self.core.formalism, &req).or_raise()?;
+        let core = self.core.clone();
+        py.detach(move || sample(&core, &mut req)).or_raise()
+    }
+
+    /// Expresses a genome (a dict like `Model.genome`, or its JSON text).
+    fn derive(&self, py: Python<'_>, genome: &Bound<'_, PyAny>) -> PyResult<Model> {
+        let text = genome_text(py, genome)?;
+        let genome = self.core.parse_genome(&text).or_raise()?;
+        let limits = self.core.generator().or_raise()?.limits;
+        let core = self.core.clone();
+        py.detach(move || core.derive(genome, limits)).or_raise()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<genform.Grammar {} ({})>", self.core.path.display(), self.core.formalism.name())
+    }
+
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
+        Ok((py.import("genform")?.getattr("load")?, (self.path(),)))
+    }
+}
+
+/// A genome argument as JSON text: a `str`, or anything `json.dumps` takes.
+pub fn genome_text(py: Python<'_>, genome: &Bound<'_, PyAny>) -> PyResult<String> {
+    match genome.extract::<String>() {
+        Ok(s) => Ok(s),
+        Err(_) => py.import("json")?.call_method1("dumps", (genome,))?.extract(),
+    }
+}
+
+/// One sample; grammars whose formalism can save the genome
+/// (`--genome-out`) keep it, so the model can be derived again and evolved.
+fn sample(core: &Arc<GrammarCore>, req: &mut SampleRequest) -> Result<Model> {
+    let wants_genome = core.generator.is_some() && core.formalism.sample_options().contains(&"--genome-out");
+    let dir = tempdir_if(wants_genome && req.genome_out.is_none())?;
+    if let Some(d) = &dir {
+        req.genome_out = Some(d.join("genome.json"));
+    }
+    let s = core.loaded.sample(req)?;
+    let genome = match (&req.genome_out, wants_genome) {
+        (Some(p), true) => Some(core.parse_genome(&std::fs::read_to_string(p).context("cannot read the genome")?)?),
+        _ => None,
+    };
+    if let Some(d) = dir {
+        let _ = std::fs::remove_dir_all(d);
+    }
+    let limits = core.generator.as_ref().map_or(Limits::default(), |g| req.limits.apply(g.limits));
+    let summary = s.summary();
+    Ok(Model { body: Body::Sample(s), genome, grammar: core.clone(), limits, summary })
+}
+
+/// A fresh private folder under the system's temporary folder, when `want`.
+fn tempdir_if(want: bool) -> Result<Option<PathBuf>> {
+    if !want {
+        return Ok(None);
+    }
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("genform-py-{}-{n}", std::process::id()));
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    Ok(Some(dir))
+}
+
+/// A point as Python sees it.
+type Point = (f32, f32, f32);
+
+/// What a model is: a formalism's sample (which may write its own formats)
+/// or a Scene expressed from a genome.
+pub enum Body {
+    /// From `Grammar.sample`.
+    Sample(Box<dyn Sample>),
+    /// From a genome.
+    Scene(Scene),
+}
+
+/// One derived model.
+#[pyclass(module = "genform", frozen)]
+pub struct Model {
+    /// The model.
+    pub body: Body,
+    /// Its genome, for grammars with a generator graph.
+    pub genome: Option<Genome>,
+    /// The grammar it came from.
+    pub grammar: Arc<GrammarCore>,
+    /// The limits it was derived under.
+    pub limits: Limits,
+    /// One line about it.
+    pub summary: String,
+}
+
+impl Model {
+    /// The Scene.
+    pub fn scene(&self) -> &Scene {
+        match &self.body {
+            Body::Sample(s) => s.scene(),
+            Body::Scene(s) => s,
+        }
+    }
+
+    /// The genome's JSON text.
+    pub fn genome_json(&self) -> Option<String> {
+        let g = self.grammar.generator.as_ref()?;
+        Some(self.genome.as_ref()?.to_json(g.generator.graph()))
+    }
+}
+
+#[pymethods]
+impl Model {
+    /// The genome as JSON-able data (None for formalisms without genomes).
+    #[getter]
+    fn genome<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        match self.genome_json() {
+            Some(text) => Ok(Some(py.import("json")?.call_method1("loads", (text,))?)),
+            None => Ok(None),
+        }
+    }
+
+    /// The genome as JSON text.
+    #[pyo3(name = "genome_json")]
+    fn py_genome_json(&self) -> Option<String> {
+        self.genome_json()
+    }
+
+    /// One line about the model.
+    #[getter]
+    fn summary(&self) -> String {
+        self.summary.clone()
+    }
+
+    /// The grammar the model came from.
+    #[getter]
+    fn grammar(&self) -> Grammar {
+        Grammar { core: self.grammar.clone() }
+    }
+
+    /// (vertices (N, 3) float32, faces (M, 3) uint32), in the OBJ file's order.
+    fn mesh<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let a = py.detach(|| mesh::arrays(self.scene(), Tessellation::default()));
+        let (nv, nf) = (a.vertices.len() / 3, a.faces.len() / 3);
+        // from_vec hands the buffers to NumPy without copying them.
+        let v = PyArray1::from_vec(py, a.vertices).reshape([nv, 3])?;
+        let f = PyArray1::from_vec(py, a.faces).reshape([nf, 3])?;
+        Ok((v.into_any(), f.into_any()))
+    }
+
+    /// (group index per face of `mesh()`, uint32 (M,); group names: the
+    /// scene's tags, then one per block state), for one material per tag.
+    fn face_tags<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
+        let a = py.detach(|| mesh::arrays(self.scene(), Tessellation::default()));
+        Ok((PyArray1::from_vec(py, a.tags).into_any(), a.tag_names))
+    }
+
+    /// Triangles of instances, polygons and surfaces.
+    fn triangle_count(&self) -> usize {
+        self.scene().triangle_count(Tessellation::default())
+    }
+
+    /// ((min x, y, z), (max x, y, z)) of all geometry; None when empty.
+    fn bounds(&self) -> Option<(Point, Point)> {
+        let (lo, hi) = self.scene().bounds(Tessellation::default())?;
+        Some((lo.into(), hi.into()))
+    }
+
+    /// Writes the model in the format the extension names; returns the files written.
+    fn save(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<String>> {
+        let path = path_arg(path)?;
+        let written = py
+            .detach(|| match &self.body {
+                Body::Sample(s) => {
+                    let extra = self.grammar.formalism.output_extensions();
+                    if !formalism::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
+                        return Err(genform_cli::output::unknown_format(&path, extra));
+                    }
+                    s.write(&path, &genform_export::ExportOptions::default())
+                }
+                Body::Scene(scene) => genform_cli::output::write_model(scene, &path).map(|()| vec![path.clone()]),
+            })
+            .or_raise()?;
+        Ok(written.iter().map(|p| p.display().to_string()).collect())
+    }
+
+    /// A shaded preview as PNG bytes.
+    #[pyo3(signature = (width = 512, height = 512))]
+    fn png<'py>(&self, py: Python<'py>, width: u32, height: u32) -> PyResult<Bound<'py, PyBytes>> {
+        if width == 0 || height == 0 || width > 8192 || height > 8192 {
+            return Err(error(format!("png(): width and height must be 1 to 8192, not {width}×{height}")));
+        }
+        let opts = genform_export::ExportOptions {
+            render: genform_export::RenderOptions { width, height, ..Default::default() },
+            ..Default::default()
+        };
+        let bytes = py
+            .detach(|| genform_export::export(self.scene(), genform_export::Format::Png, &opts))
+            .map_err(|e| error(format!("cannot render the preview: {e}")))?;
+        Ok(PyBytes::new(py, &bytes))
+    }
+
+    /// Jupyter's inline picture.
+    fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
+        self.png(py, 400, 300)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("<genform.Model {}>", self.summary)
+    }
+
+    /// Models with a genome pickle as (grammar path, genome, limits), for Ray.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let Some(text) = self.genome_json() else {
+            return Err(error("only models with a genome can be pickled (this formalism has none)"));
+        };
+        let l = self.limits;
+        let args = (self.grammar.path.display().to_string(), text, (l.max_genes, l.max_depth, l.max_primitives));
+        Ok((py.import("genform")?.getattr("_model_from_genome")?, args.into_pyobject(py)?.into_any()))
+    }
+}
+
+#[pyfunction]
+/// Rebuilds a pickled model: `grammar.derive(genome)` under `limits`.
+pub fn derive_with_limits(
+    py: Python<'_>,
+    grammar: &Grammar,
+    genome: &str,
+    limits: (usize, usize, usize),
+) -> PyResult<Model> {
+    let genome = grammar.core.parse_genome(genome).or_raise()?;
+    let limits = Limits { max_genes: limits.0, max_depth: limits.1, max_primitives: limits.2 };
+    let core = grammar.core.clone();
+    py.detach(move || core.derive(genome, limits)).or_raise()
+}

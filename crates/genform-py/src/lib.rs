@@ -1,0 +1,35 @@
+//! The `genform` Python package's native module (`genform._genform`): a
+//! thin layer over the library crates. Grammars load through the CLI's
+//! formalism table, scenes through its scene configs, runs through the
+//! optimizers of `genform-evolve`; this crate only converts between Rust
+//! and Python (and adapts step-based optimizers to ask/tell).
+
+mod ask_tell;
+mod errors;
+mod evolve;
+mod grammar;
+mod mesh;
+mod optimizer;
+mod scene;
+mod settings;
+mod stats;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _genform(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("GenformError", m.py().get_type::<errors::GenformError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<errors::Diagnostic>()?;
+    m.add_class::<grammar::Grammar>()?;
+    m.add_class::<grammar::Model>()?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<optimizer::Optimizer>()?;
+    m.add_class::<evolve::RunResult>()?;
+    m.add_function(wrap_pyfunction!(grammar::load, m)?)?;
+    m.add_function(wrap_pyfunction!(grammar::formalisms, m)?)?;
+    m.add_function(wrap_pyfunction!(grammar::derive_with_limits, m)?)?;
+    m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
+    m.add_function(wrap_pyfunction!(evolve::evolve, m)?)?;
+    Ok(())
+}

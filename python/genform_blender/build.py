@@ -1,0 +1,148 @@
+"""Turning a genform model into Blender objects.
+
+Two ways in:
+
+- ``build_object`` (the default): one mesh object straight from
+  ``Model.mesh()``, so its vertex and face counts are exactly the arrays'
+  (triangles; lines contribute loose points). One material per tag when the
+  model can say which tag each face has (``Model.face_tags()``), else one
+  material for the whole model.
+- ``import_gltf``: the model saved as GLB (its default granularity: one
+  merged object above a few dozen primitives, one object per primitive
+  below) and read by Blender's glTF importer; materials come from the GLB,
+  vertices are split where flat-shaded normals differ.
+
+Nothing here registers classes: the operators call these functions.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+
+import bpy
+import numpy as np
+
+
+def tag_color(name: str) -> tuple[float, float, float]:
+    """The display colour of a tag as sRGB in [0, 1]: the same colour the
+    GLB materials and the previews use (``genform_export::tag_color``): a
+    trailing ``#rrggbb`` wins, else a hash of the name picks a hue."""
+    hexpart = name[-7:]
+    if len(name) >= 7 and hexpart.startswith("#") and all(c in "0123456789abcdefABCDEF" for c in hexpart[1:]):
+        return tuple(int(hexpart[i : i + 2], 16) / 255.0 for i in (1, 3, 5))
+    mask = (1 << 64) - 1
+    h = 0xCBF29CE484222325
+    for b in name.encode():
+        h ^= b
+        h = (h * 0x100000001B3) & mask
+    h ^= h >> 30
+    h = (h * 0xBF58476D1CE4E5B9) & mask
+    h ^= h >> 27
+    h = (h * 0x94D049BB133111EB) & mask
+    h ^= h >> 31
+    f32 = np.float32
+
+    def unit(bits: int) -> np.float32:
+        return f32(bits & 0xFFFF) / f32(65535.0)
+
+    hue, sat, val = unit(h), f32(0.40) + f32(0.25) * unit(h >> 16), f32(0.72) + f32(0.20) * unit(h >> 32)
+    rgb = _hsv_to_rgb(hue, sat, val)
+    # Rust's f32::round rounds halves away from zero; these are never negative.
+    return tuple(min(max(math.floor(float(f32(c) * f32(255.0)) + 0.5), 0), 255) / 255.0 for c in rgb)
+
+
+def _hsv_to_rgb(h, s, v):
+    """HSV to RGB in float32, as the Rust palette computes it."""
+    f32 = np.float32
+    h6 = min(f32(h - np.floor(h)) * f32(6.0), f32(5.999999))
+    sector = int(h6)
+    f = h6 - f32(sector)
+    one = f32(1.0)
+    p, q, t = v * (one - s), v * (one - s * f), v * (one - s * (one - f))
+    return [(v, t, p), (q, v, p), (p, v, t), (p, q, v), (t, p, v), (v, p, q)][min(sector, 5)]
+
+
+def tag_material(name: str) -> bpy.types.Material:
+    """The material of a tag: reused by name when it exists (so edits a user
+    made to it carry over to the next sample), else a new one in the tag's
+    colour, roughness 0.8 as in the GLB."""
+    mat = bpy.data.materials.get(name)
+    if mat is not None:
+        return mat
+    mat = bpy.data.materials.new(name)
+    r, g, b = tag_color(name)
+    # Material.diffuse_color is linear; the viewport shows it converted.
+    mat.diffuse_color = (*(_srgb_to_linear(c) for c in (r, g, b)), 1.0)
+    mat.roughness = 0.8
+    mat.metallic = 0.0
+    return mat
+
+
+def _srgb_to_linear(c: float) -> float:
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def face_tags(model, face_count: int) -> tuple[np.ndarray, list[str]]:
+    """(tag index per face of ``Model.mesh()``, tag names); one unnamed
+    group ``genform`` when the model cannot tell (older wheels without
+    ``Model.face_tags``)."""
+    if hasattr(model, "face_tags"):
+        tags, names = model.face_tags()
+        tags = np.asarray(tags, dtype=np.int32)
+        if len(tags) == face_count:
+            return tags, list(names)
+    return np.zeros(face_count, dtype=np.int32), ["genform"]
+
+
+def build_object(model, name: str, collection=None, y_up: bool = True) -> bpy.types.Object:
+    """One mesh object holding ``model.mesh()`` exactly: a vertex per row of
+    the vertex array, a triangle per row of the face array, in their order.
+    With ``y_up`` genform's +y becomes Blender's +z (a rotation, as Blender's
+    glTF and OBJ importers do), so models stand upright."""
+    verts, faces = model.mesh()
+    verts = np.asarray(verts, dtype=np.float32).reshape(-1, 3)
+    faces = np.asarray(faces, dtype=np.int32).reshape(-1, 3)
+    if y_up:
+        verts = np.stack([verts[:, 0], -verts[:, 2], verts[:, 1]], axis=1)
+    tags, names = face_tags(model, len(faces))
+    # Only the tags in use become material slots, in order of first use.
+    used, slot_of = [], {}
+    for t in tags:
+        if t not in slot_of:
+            slot_of[t] = len(used)
+            used.append(t)
+    slots = np.array([slot_of[t] for t in tags], dtype=np.int32) if len(tags) else tags
+
+    mesh = bpy.data.meshes.new(name)
+    mesh.vertices.add(len(verts))
+    mesh.vertices.foreach_set("co", np.ascontiguousarray(verts, dtype=np.float32).ravel())
+    mesh.loops.add(3 * len(faces))
+    mesh.loops.foreach_set("vertex_index", faces.ravel())
+    mesh.polygons.add(len(faces))
+    mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(faces), 3, dtype=np.int32))
+    mesh.polygons.foreach_set("material_index", slots)
+    mesh.update(calc_edges=True)
+    for t in used:
+        mesh.materials.append(tag_material(names[t]))
+
+    obj = bpy.data.objects.new(name, mesh)
+    (collection or bpy.context.scene.collection).objects.link(obj)
+    return obj
+
+
+def import_gltf(model, collection=None) -> list[bpy.types.Object]:
+    """The model saved as GLB and read by Blender's glTF importer; returns
+    the objects it made (linked into ``collection`` too when given)."""
+    before = set(bpy.data.objects)
+    with tempfile.TemporaryDirectory(prefix="genform-") as tmp:
+        path = os.path.join(tmp, "model.glb")
+        model.save(path)
+        bpy.ops.import_scene.gltf(filepath=path)
+    made = [o for o in bpy.data.objects if o not in before]
+    if collection is not None:
+        for o in made:
+            if collection not in o.users_collection:
+                collection.objects.link(o)
+    return made

@@ -1,0 +1,167 @@
+"""Every formalism loads and samples; meshes match the OBJ files; saving
+writes every format; errors are exceptions with positions."""
+
+from __future__ import annotations
+
+import subprocess
+from collections import Counter
+
+import numpy as np
+import pytest
+
+import genform
+from conftest import SAMPLES
+
+
+def read_obj(path):
+    """(vertices, triangles of the `f` elements, fan-split) of an OBJ file."""
+    verts, faces = [], []
+    for line in open(path):
+        parts = line.split()
+        if not parts:
+            continue
+        if parts[0] == "v":
+            verts.append([float(x) for x in parts[1:4]])
+        elif parts[0] == "f":
+            idx = [int(p.split("/")[0]) - 1 for p in parts[1:]]
+            faces.append(idx)
+    return np.array(verts, dtype=np.float64).reshape(-1, 3), faces
+
+
+def test_every_formalism_has_an_example_that_loads_and_samples():
+    rows = genform.formalisms()
+    assert {ext for r in rows for ext in r["extensions"]} >= set(SAMPLES)
+    for ext, path in SAMPLES.items():
+        g = genform.load(path)
+        assert g.path.endswith(path.name)
+        assert g.info().strip(), ext
+        m = g.sample(seed=3)
+        assert m.summary
+        v, f = m.mesh()
+        assert v.dtype == np.float32 and v.ndim == 2 and v.shape[1] == 3, ext
+        assert f.dtype == np.uint32 and f.ndim == 2 and f.shape[1] == 3, ext
+        assert f.size == 0 or f.max() < len(v), ext
+        # The same seed gives the same model.
+        v2, f2 = g.sample(seed=3).mesh()
+        assert np.array_equal(v, v2) and np.array_equal(f, f2), ext
+
+
+def canonical(tri):
+    """A triangle as a tuple of points, rotated to start at its smallest (winding kept)."""
+    i = tri.index(min(tri))
+    return tri[i:] + tri[:i]
+
+
+@pytest.mark.parametrize("ext", [".sg", ".ls", ".bsg", ".gr8"])
+def test_mesh_arrays_match_the_obj_file(tmp_path, ext):
+    # koch_snowflake.ls draws lines only; bush_3d.ls has faces.
+    path, options = SAMPLES[ext], {}
+    if ext == ".ls":
+        path, options = SAMPLES[ext].parent / "bush_3d.ls", {"steps": 2}
+    m = genform.load(path).sample(seed=5, **options)
+    v, f = m.mesh()
+    assert 0 < len(f) and len(v) < 20000
+    out = tmp_path / "m.obj"
+    assert m.save(out) == [str(out)]
+    ov, ofaces = read_obj(out)
+    # Same points, in any order: ours printed as the OBJ prints them (6 decimals).
+    ours_pts = [tuple(float(f"{c:.6f}") for c in p) for p in v.tolist()]
+    obj_pts = [tuple(p) for p in ov.tolist()]
+    assert sorted(ours_pts) == sorted(obj_pts)
+    ours = Counter(canonical(tuple(ours_pts[i] for i in t)) for t in f.tolist())
+    theirs = Counter(canonical(tuple(obj_pts[i] for i in x)) for x in ofaces if len(x) == 3)
+    # Every OBJ triangle is one of ours, as often; n-gons are split into at
+    # most n - 2 (triangles of collinear corners are left out).
+    assert not theirs - ours
+    ngons = [x for x in ofaces if len(x) > 3]
+    assert sum(theirs.values()) < len(f) <= sum(theirs.values()) + sum(len(x) - 2 for x in ngons) or not ngons
+
+
+def test_sampled_models_equal_the_cli_sample(tmp_path, cli):
+    if cli is None:
+        pytest.skip("the genform binary is not built")
+    for ext in [".sg", ".ls", ".gr8"]:
+        path = SAMPLES[ext]
+        m = genform.load(path).sample(seed=7)
+        ours, theirs = tmp_path / f"py{ext}.obj", tmp_path / f"cli{ext}.obj"
+        m.save(ours)
+        args = [cli, "sample", str(path), "--seed", "7", "--out", str(theirs)]
+        if m.genome is not None:
+            args += ["--genome-out", str(tmp_path / "g.json")]
+        subprocess.run(args, check=True, capture_output=True)
+        assert ours.read_bytes() == theirs.read_bytes(), ext
+        v, _ = m.mesh()
+        assert np.allclose(read_obj(theirs)[0], v, atol=1e-5)
+
+
+def test_genomes_are_json_and_derive_the_same_model():
+    import json
+
+    g = genform.load(SAMPLES[".sg"])
+    m = g.sample(seed=15)
+    assert g.has_generator
+    text = json.dumps(m.genome)
+    again = g.derive(json.loads(text))
+    assert np.array_equal(again.mesh()[0], m.mesh()[0])
+    assert g.derive(m.genome_json()).genome == m.genome
+    # Formalisms without a generator graph have no genome.
+    assert genform.load(SAMPLES[".gg.yaml"]).sample(seed=1).genome is None
+
+
+def test_save_writes_every_cli_format(tmp_path):
+    m = genform.load(SAMPLES[".sg"]).sample(seed=2)
+    for ext in ["obj", "glb", "ply", "stl", "png", "svg"]:
+        out = tmp_path / f"m.{ext}"
+        m.save(out)
+        assert out.stat().st_size > 100, ext
+    png = m.png(64, 48)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert m._repr_png_()[:4] == b"\x89PNG"
+    # A formalism's own formats go through it: graph grammars write YAML.
+    g = genform.load(SAMPLES[".gg.yaml"]).sample(seed=1)
+    g.save(tmp_path / "g.yaml")
+    assert "vertices" in (tmp_path / "g.yaml").read_text()
+    with pytest.raises(genform.GenformError, match="use one of the extensions"):
+        m.save(tmp_path / "m.dae")
+
+
+def test_sample_options_follow_the_cli():
+    ls = genform.load(SAMPLES[".ls"])
+    short, long = ls.sample(seed=1, steps=2), ls.sample(seed=1, steps=3)
+    assert len(short.mesh()[0]) < len(long.mesh()[0])
+    with pytest.raises(genform.GenformError, match="--box applies to box-split grammars"):
+        genform.load(SAMPLES[".sg"]).sample(seed=1, box="0,0,0,9,9,9")
+    with pytest.raises(genform.GenformError, match="unknown option `colour`"):
+        ls.sample(colour=1)
+
+
+def test_compile_errors_carry_positions_and_hints(tmp_path):
+    bad = tmp_path / "bad.sg"
+    bad.write_text("Start {\n  boxx;\n}\n")
+    with pytest.raises(genform.GenformError) as info:
+        genform.load(bad)
+    e = info.value
+    assert "1 error in" in str(e)
+    [d] = e.diagnostics
+    assert (d.file, d.line, d.column, d.severity) == (str(bad), 2, 3, "error")
+    assert "boxx" in d.message
+    assert any("box" in h for h in d.hints)
+    assert str(d).startswith(f"{bad}:2:3: error:")
+    with pytest.raises(genform.GenformError, match="don't know the grammar format") as info:
+        genform.load(tmp_path / "house.dae")
+    assert info.value.diagnostics == []
+
+
+def test_face_tags_name_the_tag_of_every_face():
+    ship = genform.load(SAMPLES[".sg"]).sample(seed=15)
+    _, faces = ship.mesh()
+    tags, names = ship.face_tags()
+    assert len(tags) == len(faces)
+    used = {names[t] for t in tags}
+    # The spaceship's boxes come from its body, top and wing rules.
+    assert "Body" in used and len(used) >= 2, used
+    # Box-split blocks are grouped by block state after the scene's tags.
+    blocks = genform.load(SAMPLES[".bsg"]).sample(seed=1)
+    btags, bnames = blocks.face_tags()
+    assert len(btags) == len(blocks.mesh()[1])
+    assert any(":" in bnames[t] for t in btags), bnames
