@@ -468,6 +468,27 @@ mod properties {
             let _ = compile_text(&format!("axiom: A\nproduction:\n{text}"));
         }
 
+        /// Statement fragments (globals, hooks, produce bodies, queries,
+        /// surfaces) in any order compile or fail with diagnostics, and what
+        /// compiles derives and draws without panicking.
+        #[test]
+        fn statements_never_panic(
+            body in "(global |Start:|EndEach:|StartEach:|End:|if |elif |else:|produce |nproduce |x|y|=|1|0|/|\\+|\\{|\\}|\n|  | |A|F|\\(|\\)|\\[|\\]|:|<|iteration|~l|\\?P|,){0,40}",
+            steps in 0u32..5,
+        ) {
+            let texts = [
+                format!("global x = 0\naxiom: A ?P(0,0,0)\nStart:\n{body}\nproduction:\nA -> {{\n{body}\n}}\n"),
+                format!("global x = 1\naxiom: A\nEndEach:\n  {body}\nproduction:\nA -> F ~l(x) A\n"),
+            ];
+            for text in texts {
+                if let Ok((s, _)) = compile_text(&text)
+                    && let Ok(m) = s.derive_limited(steps, &mut Rng::from_seed(1), 2000, |_, _| {})
+                {
+                    let _ = s.interpret(&m, &mut Rng::from_seed(1), 500, &mut Scene::new());
+                }
+            }
+        }
+
         /// Random (possibly unbalanced, context-sensitive, cutting) systems
         /// derive and draw within their limits without panicking.
         #[test]

@@ -4,7 +4,7 @@
 
 use anyhow::{Context, Result};
 use genform_cli::formalism::{self, Formalism, LoadedGrammar, Sample, SampleRequest};
-use genform_cli::grammar::{LimitOverrides, Loaded, express, genome_summary};
+use genform_cli::grammar::{Loaded, express, genome_summary};
 use genform_core::scene::Tessellation;
 use genform_core::{Genome, Limits, Scene};
 use numpy::{PyArray1, PyArrayMethods};
@@ -100,24 +100,7 @@ pub fn formalisms(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// `genform sample`'s options from keyword arguments (flag names without
 /// the dashes, `-` as `_`).
 fn request(seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<SampleRequest> {
-    let mut r = SampleRequest {
-        seed,
-        out: None,
-        given: vec!["--seed".into()],
-        genome_out: None,
-        limits: LimitOverrides::default(),
-        steps: None,
-        max_modules: None,
-        string_out: None,
-        box_corners: None,
-        world: None,
-        trace: None,
-        schem_version: 2,
-        data_version: 3955,
-        env: None,
-        every_step: false,
-        smooth: None,
-    };
+    let mut r = SampleRequest { given: vec!["--seed".into()], ..SampleRequest::new(seed) };
     let Some(options) = options else { return Ok(r) };
     for (key, value) in options.iter() {
         let key: String = key.extract()?;

@@ -174,6 +174,29 @@ pub struct SampleRequest {
 }
 
 impl SampleRequest {
+    /// A request for seed `seed` with every option at the CLI's default
+    /// (no files written, Sponge schematic v2, DataVersion 3955 = 1.21.1).
+    pub fn new(seed: u64) -> SampleRequest {
+        SampleRequest {
+            seed,
+            out: None,
+            given: Vec::new(),
+            genome_out: None,
+            limits: LimitOverrides::default(),
+            steps: None,
+            max_modules: None,
+            string_out: None,
+            box_corners: None,
+            world: None,
+            trace: None,
+            schem_version: 2,
+            data_version: 3955,
+            env: None,
+            every_step: false,
+            smooth: None,
+        }
+    }
+
     /// The random stream of this sample.
     pub fn rng(&self) -> Rng {
         Rng::stream(self.seed, &[SAMPLE_STREAM])
@@ -345,24 +368,7 @@ mod tests {
     use super::*;
 
     fn request(given: &[&str]) -> SampleRequest {
-        SampleRequest {
-            seed: 0,
-            out: None,
-            given: given.iter().map(|s| s.to_string()).collect(),
-            genome_out: None,
-            limits: LimitOverrides::default(),
-            steps: None,
-            max_modules: None,
-            string_out: None,
-            box_corners: None,
-            world: None,
-            trace: None,
-            schem_version: 2,
-            data_version: 3955,
-            env: None,
-            every_step: false,
-            smooth: None,
-        }
+        SampleRequest { given: given.iter().map(|s| s.to_string()).collect(), ..SampleRequest::new(0) }
     }
 
     fn refusal(file: &str, given: &[&str]) -> String {
