@@ -25,11 +25,21 @@ def test_evolve_returns_stats_best_and_the_run_folder(tmp_path):
     assert r.evaluations == r.stats[-1]["total_evaluations"]
     scene = genform.load_scene(SHIP_SCENE)
     assert scene.fitness(r.best) == r.best_fitness
-    for name in ["stats.csv", "best-genome.json", "best.glb", "best.obj", "best.png", "run.json", "gallery.png"]:
+    names = ["stats.csv", "best-genome.json", "best.glb", "best.obj", "best.png", "run.json", "gallery.png"]
+    for name in names + ["evolution.png", "best-model.png"]:
         assert (tmp_path / "run" / name).is_file(), name
     run = json.loads((tmp_path / "run" / "run.json").read_text())
     assert run["best_fitness"] == r.best_fitness and run["config"]["ga"]["population"] == 16
     assert json.loads((tmp_path / "run" / "best-genome.json").read_text()) == r.best.genome
+
+
+def test_the_run_folder_has_what_the_cli_writes_for_image_scenes_and_map_elites(tmp_path):
+    skyline = SHIP_SCENE.parent / "city_skyline.toml"
+    genform.evolve(skyline, seed=1, generations=2, threads=2, out=tmp_path / "sky", population=12, elitism=2)
+    assert (tmp_path / "sky" / "best-silhouette.png").read_bytes()[1:4] == b"PNG"
+    genform.evolve(SHIP_SCENE, algorithm="map-elites", seed=1, evaluations=400, out=tmp_path / "me", initial=40, batch=40)
+    assert (tmp_path / "me" / "archive.csv").read_text().count("\n") >= 2
+    assert (tmp_path / "me" / "archive.png").is_file() and any((tmp_path / "me" / "elites").iterdir())
 
 
 def test_same_seed_same_run_at_any_thread_count():

@@ -20,7 +20,6 @@ use genform_evolve::{
     AnyOptimizer, GenerationStats, Genotype, Horizon, Individual, Objective, Optimizer, Settings, Stop, StopReason, run,
 };
 use genform_export::{ExportOptions, Format, RenderOptions};
-use genform_score::ImageScorer;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::sync::Arc;
@@ -547,17 +546,6 @@ fn write_models(out: &Path, scene: &Scene) -> Result<()> {
     Ok(())
 }
 
-/// `best-silhouette.png` (then `-2`, `-3`, …): `scene` over each image target.
-fn write_silhouettes(out: &Path, images: &[ImageScorer], scene: &Scene) -> Result<()> {
-    for (i, img) in images.iter().enumerate() {
-        let (rgba, w, h) = img.silhouette(scene);
-        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        let name = if i == 0 { "best-silhouette.png".to_string() } else { format!("best-silhouette-{}.png", i + 1) };
-        write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
-    }
-    Ok(())
-}
-
 /// One `evolve` run of a tree scene.
 struct RunContext<'a> {
     common: Common<'a>,
@@ -605,7 +593,7 @@ impl Session<Genome> for RunContext<'_> {
             write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
             let target = TargetPicture::new(self.config, self.scorers)?;
             write_atomic(&out.join("best.png"), &target.best_png(&scene))?;
-            write_silhouettes(out, &self.scorers.images, &scene)?;
+            pictures::write_silhouettes(out, &self.scorers.images, &scene)?;
             self.write_evolution(&target, rec)?;
         }
         self.write_diversity(opt.population())?;

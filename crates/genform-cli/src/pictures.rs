@@ -257,6 +257,18 @@ impl<G: Clone> BestHistory<G> {
     }
 }
 
+/// Writes `best-silhouette.png` (then `-2`, `-3`, …): `scene` over each
+/// image target, as the scorer sees it.
+pub fn write_silhouettes(out: &std::path::Path, images: &[ImageScorer], scene: &Scene) -> Result<()> {
+    for (i, img) in images.iter().enumerate() {
+        let (rgba, w, h) = img.silhouette(scene);
+        let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        let name = if i == 0 { "best-silhouette.png".to_string() } else { format!("best-silhouette-{}.png", i + 1) };
+        crate::output::write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

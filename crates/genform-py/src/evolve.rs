@@ -10,9 +10,9 @@
 use anyhow::{Context, Result};
 use genform_cli::archive::Reports;
 use genform_cli::output::write_atomic;
-use genform_cli::pictures::TargetPicture;
+use genform_cli::pictures::{self, BestHistory, TargetPicture};
 use genform_cli::report::{self, Row};
-use genform_core::Scene;
+use genform_core::{Genome, Scene};
 use genform_evolve::{AnyOptimizer, GenerationStats, Horizon, Optimizer as _, Stop, StopReason, run};
 use genform_export::{ExportOptions, Format, RenderOptions};
 use pyo3::prelude::*;
@@ -79,7 +79,7 @@ impl RunResult {
 /// A message from the run thread.
 enum Event {
     Generation(GenerationStats, Option<f64>, f64),
-    Done(Result<genform_evolve::RunSummary, genform_evolve::Unbounded>, AnyOptimizer),
+    Done(Result<genform_evolve::RunSummary, genform_evolve::Unbounded>, AnyOptimizer, BestHistory<Genome>),
 }
 
 /// The `stopped_by` word of `run.json`.
@@ -144,10 +144,11 @@ pub fn evolve(
     let mut dicts: Vec<Py<PyDict>> = Vec::new();
     let mut failure: Option<PyErr> = None;
     let mut interrupted = false;
-    let (summary, opt) = std::thread::scope(|s| -> PyResult<_> {
+    let (summary, opt, history) = std::thread::scope(|s| -> PyResult<_> {
         let (core, cancel) = (&core, &cancel);
         s.spawn(move || {
             let mut opt = opt;
+            let mut history = BestHistory::default();
             let stop = Stop {
                 generations: horizon.generations,
                 budget: horizon.budget,
@@ -158,11 +159,12 @@ pub fn evolve(
             let start = Instant::now();
             let summary = pool.install(|| {
                 run(&mut opt, &objective, &stop, |stats, o| {
+                    history.record(stats.generation, o.best().map(|b| (&b.genome, b.fitness)));
                     let best = o.best().map(|b| b.fitness);
                     let _ = tx.send(Event::Generation(stats.clone(), best, start.elapsed().as_secs_f64()));
                 })
             });
-            let _ = tx.send(Event::Done(summary, opt));
+            let _ = tx.send(Event::Done(summary, opt, history));
         });
         loop {
             match py.detach(|| rx.lock().expect("not poisoned").recv_timeout(Duration::from_millis(50))) {
@@ -178,7 +180,7 @@ pub fn evolve(
                     dicts.push(row.unbind());
                     rows.push((stats, secs));
                 }
-                Ok(Event::Done(summary, opt)) => return Ok((summary, opt)),
+                Ok(Event::Done(summary, opt, history)) => return Ok((summary, opt, history)),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => return Err(error("the run thread stopped unexpectedly")),
             }
@@ -201,7 +203,7 @@ pub fn evolve(
     let best_genome = opt.best().map(|b| b.genome.clone());
     if let Some(dir) = &out {
         let folder = Folder { core: &core, out: dir, seed, threads, algorithm: alg.name(), settings: &config_settings };
-        py.detach(|| folder.write(&opt, &rows, stopped_by, summary.elapsed)).or_raise()?;
+        py.detach(|| folder.write(&opt, &rows, &history, stopped_by, summary.elapsed)).or_raise()?;
     }
     let best = match best_genome {
         Some(g) => Some(Py::new(py, py.detach(|| core.grammar.derive(g, core.limits)).or_raise()?)?),
@@ -221,7 +223,8 @@ pub fn evolve(
 
 /// The run folder: the files `genform evolve --out` writes for a tree
 /// scene (stats.csv, best-genome.json, fitness.svg, best.glb, best.obj,
-/// best-model.png, best.png, gallery.png, run.json).
+/// best-model.png, best.png, best-silhouette.png for image targets,
+/// evolution.png, gallery.png, MAP-Elites' archive files, run.json).
 struct Folder<'a> {
     core: &'a Arc<SceneCore>,
     out: &'a Path,
@@ -232,7 +235,14 @@ struct Folder<'a> {
 }
 
 impl Folder<'_> {
-    fn write(&self, opt: &AnyOptimizer, rows: &[Row], stopped_by: &str, elapsed: Duration) -> Result<()> {
+    fn write(
+        &self,
+        opt: &AnyOptimizer,
+        rows: &[Row],
+        history: &BestHistory<Genome>,
+        stopped_by: &str,
+        elapsed: Duration,
+    ) -> Result<()> {
         let (out, core) = (self.out, self.core);
         std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
         let generator = core.grammar.generator()?;
@@ -254,11 +264,27 @@ impl Folder<'_> {
             write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
             let target = TargetPicture::new(&core.config, &core.scorers)?;
             write_atomic(&out.join("best.png"), &target.best_png(&scene))?;
+            pictures::write_silhouettes(out, &core.scorers.images, &scene)?;
+            let frames = history
+                .frames(pictures::FRAMES)
+                .into_iter()
+                .map(|(g, f, genome)| {
+                    let mut scene = Scene::new();
+                    generator.generator.express(genome, &core.limits, &mut scene).context("cannot build a frame")?;
+                    Ok((g, f, scene))
+                })
+                .collect::<Result<Vec<_>>>()?;
+            if let Some(apng) = target.evolution_apng(&frames) {
+                write_atomic(&out.join("evolution.png"), &apng)?;
+            }
         }
         let reports =
             Reports { generator: generator.generator.as_ref(), limits: core.limits, config: core.config.map_elites() };
         let described = reports.describe(opt.population())?;
         write_atomic(&out.join("gallery.png"), &reports.gallery_png(&described))?;
+        if self.algorithm == genform_evolve::Algorithm::MapElites.name() {
+            reports.write_archive(out, &described)?;
+        }
         let secs = elapsed.as_secs_f64();
         let best = opt.best();
         let l = &core.limits;

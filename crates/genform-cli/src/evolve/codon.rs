@@ -19,7 +19,7 @@ use std::path::Path;
 
 use super::{
     Common, Contest, Ended, Session, cancel_on_ctrl_c, distinct, drive, race, race_budget, stop_at, stop_rules, title,
-    worker_pool, write_models, write_silhouettes,
+    worker_pool, write_models,
 };
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, LimitArgs, ScoreArgs};
 
@@ -207,7 +207,7 @@ impl Session<Codons> for Run<'_> {
             let png = genform_export::render_png(&self.preview(&e.scene), &RenderOptions::default());
             write_atomic(&out.join("best.png"), &png)?;
             if let Scoring::Targets(t) = self.objective.scoring() {
-                write_silhouettes(out, &t.images, &e.scene)?;
+                genform_cli::pictures::write_silhouettes(out, &t.images, &e.scene)?;
             }
         }
         write_atomic(&out.join("gallery.png"), &self.gallery(opt.population()))?;
