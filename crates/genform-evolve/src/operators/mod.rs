@@ -165,12 +165,19 @@ pub fn initial(graph: &GeneratorGraph, limits: &Limits, length: [usize; 2], rng:
     graph.draw_params(graph.root, rng, &mut params);
     let mut genome = Genome::with_root(graph, graph.root, &params);
     grow_mandatory_with(&mut genome, GenePos(0), 0, graph, limits, rng, &mut params);
+    grow_to_drawn_length(genome, length, rng, |g, rng| grow(g, graph, limits, rng).is_some())
+}
+
+/// Applies `grow` until the genome's length reaches a target drawn
+/// uniformly from `length = [a, b]` or `grow` reports that nothing grew.
+pub(crate) fn grow_to_drawn_length(
+    mut genome: Genome,
+    length: [usize; 2],
+    rng: &mut Rng,
+    mut grow: impl FnMut(&mut Genome, &mut Rng) -> bool,
+) -> Genome {
     let [a, b] = length;
     let target = rng.int_inclusive(a as i64, b.max(a) as i64) as usize;
-    while genome.len() < target {
-        if grow(&mut genome, graph, limits, rng).is_none() {
-            break;
-        }
-    }
+    while genome.len() < target && grow(&mut genome, rng) {}
     genome
 }

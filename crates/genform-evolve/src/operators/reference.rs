@@ -58,13 +58,6 @@ pub fn reference_grow(genome: &mut Genome, graph: &GeneratorGraph, limits: &Limi
 pub fn reference_initial(graph: &GeneratorGraph, limits: &Limits, length: [usize; 2], rng: &mut Rng) -> Genome {
     let mut params = Vec::new();
     graph.draw_params(graph.root, rng, &mut params);
-    let mut genome = Genome::with_root(graph, graph.root, &params);
-    let [a, b] = length;
-    let target = rng.int_inclusive(a as i64, b.max(a) as i64) as usize;
-    while genome.len() < target {
-        if reference_grow(&mut genome, graph, limits, rng).is_none() {
-            break;
-        }
-    }
-    genome
+    let genome = Genome::with_root(graph, graph.root, &params);
+    super::grow_to_drawn_length(genome, length, rng, |g, rng| reference_grow(g, graph, limits, rng).is_some())
 }
