@@ -15,7 +15,8 @@
 //! [`Camera::axes`]) with `znear` 0.1 and `zfar` 100 unless set.
 //!
 //! Modules: [`target`] (weights and their loaders), `raster` (the fast
-//! path), [`oracle`] (the per-pixel reference), `coverage` (bit masks),
+//! path), `outline` (closed meshes filled from their outline edges),
+//! [`oracle`] (the per-pixel reference), `coverage` (bit masks),
 //! `project` (clipping and snapping shared by both rasterizers), `decode`
 //! (PNG and PFM), `preview` (the overlay picture).
 
@@ -23,6 +24,7 @@ mod coverage;
 mod decode;
 mod error;
 pub mod oracle;
+mod outline;
 mod preview;
 mod project;
 mod raster;

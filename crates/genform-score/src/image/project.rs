@@ -8,6 +8,8 @@
 //! exact integer arithmetic, so the fast path can be checked against the
 //! oracle pixel for pixel.
 
+use super::outline::EdgeTable;
+use super::raster::is_closed;
 use genform_core::camera::Projection;
 use genform_core::scene::{Mesh, Primitive, Tessellation, unit_mesh};
 use glam::{Affine3A, DAffine3, DVec3, Vec3};
@@ -199,26 +201,53 @@ impl Projector {
         positions: &[Vec3],
         triangles: impl Iterator<Item = [u32; 3]>,
         closed: bool,
-        mut f: impl FnMut([Pt; 3]),
+        f: impl FnMut([Pt; 3]),
     ) {
-        self.view.clear();
-        self.state.clear();
-        self.snapped.clear();
-        for &p in positions {
+        let kept = self.project(frame, to_view, positions);
+        self.projected_triangles(frame, triangles, closed && kept, f);
+    }
+
+    /// Places and snaps `positions` (kept for [`Projector::snapped`] and
+    /// [`Projector::projected_triangles`]); whether none needs clipping (and
+    /// none is bad).
+    pub fn project(&mut self, frame: &Frame, to_view: &DAffine3, positions: &[Vec3]) -> bool {
+        let n = positions.len();
+        self.view.resize(n, DVec3::ZERO);
+        self.state.resize(n, Vertex::Bad);
+        self.snapped.resize(n, [0; 2]);
+        let mut kept = true;
+        let out = self.view.iter_mut().zip(&mut self.state).zip(&mut self.snapped);
+        for (((view, state), snapped), &p) in out.zip(positions) {
             let v = to_view.transform_point3(p.as_dvec3());
-            let (state, s) = if !v.is_finite() {
-                (Vertex::Bad, [0; 2])
-            } else if frame.inside(v) {
+            // Inside implies finite (every plane test fails on NaN or ±∞).
+            (*state, *snapped) = if frame.inside(v) {
                 (Vertex::Kept, frame.snap(v))
             } else {
-                (Vertex::Clip, [0; 2])
+                kept = false;
+                (if v.is_finite() { Vertex::Clip } else { Vertex::Bad }, [0; 2])
             };
-            self.view.push(v);
-            self.state.push(state);
-            self.snapped.push(s);
+            *view = v;
         }
+        kept
+    }
+
+    /// The snapped positions of the last [`Projector::project`] (meaningful
+    /// where it returned `true`).
+    pub fn snapped(&self) -> &[Pt] {
+        &self.snapped
+    }
+
+    /// The triangles of the last [`Projector::project`] (see
+    /// [`Projector::triangles_culled`]; `cull` only when the mesh is closed
+    /// and nothing needed clipping).
+    pub fn projected_triangles(
+        &mut self,
+        frame: &Frame,
+        triangles: impl Iterator<Item = [u32; 3]>,
+        cull: bool,
+        mut f: impl FnMut([Pt; 3]),
+    ) {
         let mut poly = [[0i64; 2]; MAX_CLIPPED];
-        let cull = closed && self.state.iter().all(|&s| s == Vertex::Kept);
         for t in triangles {
             let [a, b, c] = t.map(|i| i as usize);
             let n = self.state.len();
@@ -248,7 +277,8 @@ impl Projector {
 /// (at most [`Shapes::CAP`] kinds; the oldest is replaced beyond that).
 pub(crate) struct Shapes {
     tess: Tessellation,
-    meshes: Vec<(Primitive, Mesh)>,
+    /// Each kind's unit mesh and, when it is a closed surface, its edges.
+    meshes: Vec<(Primitive, Mesh, Option<EdgeTable>)>,
     next: usize,
 }
 
@@ -265,20 +295,32 @@ impl Shapes {
 
     /// The unit mesh of a built-in primitive (empty for [`Primitive::Mesh`]).
     pub fn get(&mut self, p: Primitive) -> &Mesh {
-        let i = match self.meshes.iter().position(|(q, _)| *q == p) {
+        self.get_with_edges(p).0
+    }
+
+    /// The unit mesh of a built-in primitive and, when it is a closed
+    /// surface (see [`super::raster::is_closed`]), its edge table.
+    pub fn get_with_edges(&mut self, p: Primitive) -> (&Mesh, Option<&EdgeTable>) {
+        let make = |p| {
+            let mesh = unit_mesh(p, self.tess);
+            let table = is_closed(&mesh).then(|| EdgeTable::new(&mesh));
+            (p, mesh, table)
+        };
+        let i = match self.meshes.iter().position(|(q, ..)| *q == p) {
             Some(i) => i,
             None if self.meshes.len() < Self::CAP => {
-                self.meshes.push((p, unit_mesh(p, self.tess)));
+                self.meshes.push(make(p));
                 self.meshes.len() - 1
             }
             None => {
                 let i = self.next;
                 self.next = (self.next + 1) % Self::CAP;
-                self.meshes[i] = (p, unit_mesh(p, self.tess));
+                self.meshes[i] = make(p);
                 i
             }
         };
-        &self.meshes[i].1
+        let (_, mesh, table) = &self.meshes[i];
+        (mesh, table.as_ref())
     }
 }
 

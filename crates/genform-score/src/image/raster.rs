@@ -1,23 +1,26 @@
 //! The fast silhouette rasterizer.
 //!
-//! A built-in primitive (box, tapered box, frustum, sphere) is convex: when
-//! all its vertices need no clipping, its silhouette is the convex hull of
-//! its projected vertices, filled span by span. Meshes and anything crossing
-//! the near, far or guard planes are filled triangle by triangle after
-//! clipping. Spans go into a bit mask one word (64 pixels) at a time.
+//! A closed surface (the built-in primitives' unit meshes, closed mesh
+//! assets) whose vertices need no clipping is filled from its outline edges
+//! (see [`super::outline`]). Open meshes and anything crossing the near, far
+//! or guard planes are filled triangle by triangle after clipping. Spans go
+//! into a bit mask one word (64 pixels) at a time. (The convex hull of a
+//! convex primitive's snapped vertices is not used: snapping can make the
+//! projected outline non-convex, so the hull may cover a pixel that no
+//! triangle does.)
 //!
 //! Coverage rule: a pixel is covered when its center lies inside, and a
 //! center exactly on an edge counts as the point nudged by `(ε, ε²)` (right,
 //! then down). That is the usual top-left rule; it makes adjacent triangles
-//! share no pixel and leave no gap, so a convex hull and the union of the
+//! share no pixel and leave no gap, so a convex polygon and the union of the
 //! triangles it is made of cover the same pixels. All tests after snapping
 //! (see [`super::project`]) are exact integer arithmetic.
 
 use super::coverage::Mask;
+use super::outline::{EdgeTable, OutlineBuffers, fill_outline};
 use super::project::{Frame, HALF, ONE, Projector, Pt, SUB, Shapes};
 use genform_core::scene::triangulate_polygon;
 use genform_core::scene::{Mesh, Primitive, Scene, Tessellation};
-use glam::DAffine3;
 use std::sync::Arc;
 
 /// Per-thread buffers of an image scorer: the mask, the tessellated unit
@@ -28,10 +31,9 @@ pub struct ImageScratch {
     pub(crate) mask: Mask,
     shapes: Shapes,
     projector: Projector,
-    points: Vec<Pt>,
-    hull: Vec<Pt>,
     rows: Rows,
     closed: ClosedMeshes,
+    outline: OutlineBuffers,
 }
 
 impl ImageScratch {
@@ -40,10 +42,9 @@ impl ImageScratch {
             mask: Mask::new(width, height),
             shapes: Shapes::new(tess),
             projector: Projector::default(),
-            points: Vec::new(),
-            hull: Vec::new(),
             rows: Rows::default(),
             closed: ClosedMeshes::default(),
+            outline: OutlineBuffers::default(),
         }
     }
 
@@ -56,28 +57,32 @@ impl ImageScratch {
     }
 }
 
-/// Which mesh assets are closed surfaces (see [`is_closed`]), for the
-/// last few assets seen. Holding the `Arc` keeps its address from being
-/// reused by another mesh while cached.
+/// The edge tables of the mesh assets that are closed surfaces (see
+/// [`is_closed`]; `None` for the others), for the last few assets seen.
+/// Holding the `Arc` keeps its address from being reused by another mesh
+/// while cached.
 #[derive(Default)]
 struct ClosedMeshes {
-    seen: Vec<(Arc<Mesh>, bool)>,
+    seen: Vec<(Arc<Mesh>, Option<EdgeTable>)>,
 }
 
 impl ClosedMeshes {
     /// Assets remembered (scenes use a handful).
     const CAPACITY: usize = 16;
 
-    fn get(&mut self, mesh: &Arc<Mesh>) -> bool {
-        if let Some((_, c)) = self.seen.iter().find(|(m, _)| Arc::ptr_eq(m, mesh)) {
-            return *c;
-        }
-        let closed = is_closed(mesh);
-        if self.seen.len() == Self::CAPACITY {
-            self.seen.remove(0);
-        }
-        self.seen.push((mesh.clone(), closed));
-        closed
+    fn get(&mut self, mesh: &Arc<Mesh>) -> Option<&EdgeTable> {
+        let i = match self.seen.iter().position(|(m, _)| Arc::ptr_eq(m, mesh)) {
+            Some(i) => i,
+            None => {
+                let table = is_closed(mesh).then(|| EdgeTable::new(mesh));
+                if self.seen.len() == Self::CAPACITY {
+                    self.seen.remove(0);
+                }
+                self.seen.push((mesh.clone(), table));
+                self.seen.len() - 1
+            }
+        };
+        self.seen[i].1.as_ref()
     }
 }
 
@@ -104,30 +109,22 @@ pub(crate) fn is_closed(mesh: &Mesh) -> bool {
 pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
     for inst in &scene.instances {
         let Some(to_view) = frame.instance_view(&inst.transform) else { continue };
-        match inst.primitive {
+        let (mesh, table) = match inst.primitive {
             Primitive::Mesh(id) => {
-                if let Some(mesh) = scene.meshes.get(id as usize) {
-                    let closed = s.closed.get(mesh);
-                    let tris = mesh.triangles.iter().copied();
-                    s.projector.triangles_culled(frame, &to_view, &mesh.positions, tris, closed, |t| {
-                        fill_triangle(frame, t, &mut s.mask, &mut s.rows)
-                    });
-                }
+                let Some(mesh) = scene.meshes.get(id as usize) else { continue };
+                (&**mesh, s.closed.get(mesh))
             }
-            p => {
-                let mesh = s.shapes.get(p);
-                if !project_all(frame, &to_view, &mesh.positions, &mut s.points) {
-                    let tris = mesh.triangles.iter().copied();
-                    s.projector.triangles(frame, &to_view, &mesh.positions, tris, |t| {
-                        fill_triangle(frame, t, &mut s.mask, &mut s.rows)
-                    });
-                } else if on_screen(frame, &s.points) {
-                    convex_hull(&mut s.points, &mut s.hull);
-                    if s.hull.len() >= 3 {
-                        fill_convex(frame, &s.hull, &mut s.mask, &mut s.rows);
-                    }
-                }
+            p => s.shapes.get_with_edges(p),
+        };
+        let kept = s.projector.project(frame, &to_view, &mesh.positions);
+        match table {
+            // A closed surface, all on screen: its outline.
+            Some(table) if kept => {
+                fill_outline(frame, mesh, table, s.projector.snapped(), &mut s.mask, &mut s.outline);
             }
+            _ => s.projector.projected_triangles(frame, mesh.triangles.iter().copied(), false, |t| {
+                fill_triangle(frame, t, &mut s.mask, &mut s.rows)
+            }),
         }
     }
     let view = frame.world_view();
@@ -135,31 +132,6 @@ pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
         let tris = triangulate_polygon(&poly.points).into_iter();
         s.projector.triangles(frame, &view, &poly.points, tris, |t| fill_triangle(frame, t, &mut s.mask, &mut s.rows));
     }
-}
-
-/// Snaps every vertex into `out`; `false` (and `out` unusable) as soon as
-/// one needs clipping.
-fn project_all(frame: &Frame, to_view: &DAffine3, positions: &[glam::Vec3], out: &mut Vec<Pt>) -> bool {
-    out.clear();
-    for &p in positions {
-        let v = to_view.transform_point3(p.as_dvec3());
-        if !frame.inside(v) {
-            return false;
-        }
-        out.push(frame.snap(v));
-    }
-    true
-}
-
-/// Whether the bounding box of `pts` contains any pixel center.
-fn on_screen(frame: &Frame, pts: &[Pt]) -> bool {
-    let (mut lo, mut hi) = ([i64::MAX; 2], [i64::MIN; 2]);
-    for p in pts {
-        lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-        hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-    }
-    let max = [(frame.width as i64 - 1) * ONE + HALF, (frame.height as i64 - 1) * ONE + HALF];
-    hi[0] >= HALF && hi[1] >= HALF && lo[0] <= max[0] && lo[1] <= max[1]
 }
 
 /// `(b − a) × (c − a)`: positive when `a, b, c` turn the way every filled
@@ -182,6 +154,8 @@ fn fill_triangle(frame: &Frame, [a, b, c]: [Pt; 3], mask: &mut Mask, rows: &mut 
 /// The convex hull of `pts` (reordered, deduplicated) into `hull`, wound so
 /// that [`cross`] is positive, with no collinear vertices (Andrew's monotone
 /// chain, exact). Fewer than 3 vertices when the points are collinear.
+/// (Tests build convex polygons with it.)
+#[cfg(test)]
 pub(crate) fn convex_hull(pts: &mut Vec<Pt>, hull: &mut Vec<Pt>) {
     // Below ~64 points sorting them all is cheaper than the prefilter.
     if pts.len() > 64 {
@@ -212,6 +186,7 @@ pub(crate) fn convex_hull(pts: &mut Vec<Pt>, hull: &mut Vec<Pt>) {
 /// Akl–Toussaint: drops the points strictly inside the polygon of the
 /// extreme points in 8 directions (they cannot be hull vertices), so the
 /// sort sees only the outline of a many-vertex sphere or frustum.
+#[cfg(test)]
 fn discard_interior(pts: &mut Vec<Pt>, buf: &mut Vec<Pt>) {
     // Extremes of x, y, x + y and x − y, low then high.
     let mut ex = [pts[0]; 8];
@@ -277,16 +252,17 @@ fn div_floor(n: i64, d: i64) -> (i64, i64) {
 
 /// First pixel row whose center `y * ONE + HALF` is at or below `y`.
 #[inline]
-fn first_row(y: i64) -> i64 {
+pub(crate) fn first_row(y: i64) -> i64 {
     (y - HALF + ONE - 1) >> SUB
 }
 
 /// One edge of a chain, stepped row by row: `x = u.x + floor(n / d)` with
 /// `n` growing by `step` per row, kept as quotient and remainder.
-struct EdgeWalk {
+pub(crate) struct EdgeWalk {
     /// Rows `..end` use this edge.
     end: i64,
-    x: i64,
+    /// The edge's offset at the current row (see [`EdgeWalk::new`]).
+    pub x: i64,
     r: i64,
     d: i64,
     step_q: i64,
@@ -298,7 +274,7 @@ impl EdgeWalk {
     /// edge gives the least center `x = u.x + t` with `E >= 0`, a right edge
     /// the greatest with `E > 0`, where `E = d·t − k` or `k − d·t`,
     /// `d = l.y − u.y`, `k = (l.x − u.x)(y − u.y)`.
-    fn new(u: Pt, l: Pt, row: i64, left: bool) -> EdgeWalk {
+    pub fn new(u: Pt, l: Pt, row: i64, left: bool) -> EdgeWalk {
         let d = l[1] - u[1];
         if d <= 0 {
             // A horizontal edge covers no row center: already finished.
@@ -316,7 +292,7 @@ impl EdgeWalk {
     }
 
     #[inline(always)]
-    fn step(&mut self) {
+    pub fn step(&mut self) {
         // Branch-free carry: the remainder pattern of a slope is erratic.
         let r = self.r + self.step_r;
         let carry = !((r - self.d) >> 63);
@@ -345,13 +321,19 @@ fn walk_chains(poly: &[Pt], top: usize, bottom: usize, (row0, row_end): (i64, i6
     let mut left = EdgeWalk::new(poly[li], poly[prev(li)], row0, true);
     let mut row = row0;
     while row < row_end {
+        // (An edge ending at or above `row` before the bottom would be
+        // replaced at once: its set-up, two divisions, is skipped.)
         while right.end <= row && ri != bottom {
             ri = next(ri);
-            right = EdgeWalk::new(poly[ri], poly[next(ri)], row, false);
+            if ri == bottom || first_row(poly[next(ri)][1]) > row {
+                right = EdgeWalk::new(poly[ri], poly[next(ri)], row, false);
+            }
         }
         while left.end <= row && li != bottom {
             li = prev(li);
-            left = EdgeWalk::new(poly[li], poly[prev(li)], row, true);
+            if li == bottom || first_row(poly[prev(li)][1]) > row {
+                left = EdgeWalk::new(poly[li], poly[prev(li)], row, true);
+            }
         }
         // Rows up to `end` keep both edges (in a proper polygon every row
         // has one on each chain; `max` only guards against looping forever).
@@ -410,19 +392,26 @@ pub(crate) fn fill_convex(frame: &Frame, poly: &[Pt], mask: &mut Mask, rows: &mu
         if x0 > x1 {
             continue;
         }
-        let (w0, w1) = (x0 as usize / 64, x1 as usize / 64);
-        let first = !0u64 << (x0 % 64);
-        let last = !0u64 >> (63 - x1 % 64);
-        // Branch-free for one or two words (whether a span crosses a word
-        // boundary is a coin toss): with one word both writes set the same
-        // bits.
-        let one = w0 == w1;
-        line[w0] |= first & if one { last } else { !0 };
-        line[w1] |= last & if one { first } else { !0 };
-        // Short runs are the rule; a loop beats a call to memset.
-        for w in line.iter_mut().take(w1).skip(w0 + 1) {
-            *w = !0;
-        }
+        or_span(line, x0, x1);
+    }
+}
+
+/// Covers pixels `x0..=x1` (`0 <= x0 <= x1`, within the row) of one row's
+/// mask words.
+#[inline]
+pub(crate) fn or_span(line: &mut [u64], x0: i64, x1: i64) {
+    let (w0, w1) = (x0 as usize / 64, x1 as usize / 64);
+    let first = !0u64 << (x0 % 64);
+    let last = !0u64 >> (63 - x1 % 64);
+    // Branch-free for one or two words (whether a span crosses a word
+    // boundary is a coin toss): with one word both writes set the same
+    // bits.
+    let one = w0 == w1;
+    line[w0] |= first & if one { last } else { !0 };
+    line[w1] |= last & if one { first } else { !0 };
+    // Short runs are the rule; a loop beats a call to memset.
+    for w in line.iter_mut().take(w1).skip(w0 + 1) {
+        *w = !0;
     }
 }
 

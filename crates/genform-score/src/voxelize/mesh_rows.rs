@@ -20,9 +20,11 @@ use glam::Vec3;
 pub(crate) struct MeshBuffers {
     /// `(row, x)` per crossing, in triangle order.
     crossings: Vec<(u32, f64)>,
-    /// Crossings per row, then where each row's crossings start in `xs`.
-    starts: Vec<u32>,
-    /// Crossing coordinates grouped by row.
+    /// Per row of the bounding box: its last crossing ([`NONE`]: none).
+    head: Vec<u32>,
+    /// Per crossing: the one before it in its row ([`NONE`]: none).
+    next: Vec<u32>,
+    /// One row's crossing coordinates.
     xs: Vec<f64>,
     /// Voxel centres along the rows and along lattice axis 1 over the
     /// instance's bounding box (`f32` centres, widened).
@@ -39,7 +41,15 @@ struct Point {
     x: f64,
     u: f64,
     v: f64,
+    /// The rows its slack box reaches: the least `j` and `k` at or above
+    /// `u − slack`, `v − slack` and the greatest at or below `u + slack`,
+    /// `v + slack`, clamped to one past the instance's rows (see
+    /// [`row_bounds`]).
+    rows: [i64; 4],
 }
+
+/// No crossing (end of a row's list).
+const NONE: u32 = u32::MAX;
 
 type P2 = (f64, f64);
 
@@ -74,21 +84,15 @@ impl Edge {
     }
 }
 
-/// What an edge says about the rows of a line: inside from (`Lower`) or
-/// up to (`Upper`) its zero, with `d.0 / d.1`; `None` for edges parallel
-/// to the rows.
-#[derive(Clone, Copy, Debug)]
-enum Bound {
-    Lower(f64),
-    Upper(f64),
-    None,
-}
-
 /// A triangle ready to scan: its edges, its vertices' row coordinates and
 /// their bounds.
 struct Setup {
     edges: [Edge; 3],
-    bounds: [Bound; 3],
+    /// What each edge says about the rows of a line: inside from
+    /// (`lower`) or up to (`upper`) its zero, with `d.0 / d.1`; NaN where
+    /// it says neither (so its zero is NaN and does not bound).
+    lower: [f64; 3],
+    upper: [f64; 3],
     xs: [f64; 3],
     x_lo: f64,
     x_hi: f64,
@@ -97,42 +101,47 @@ struct Setup {
 impl Setup {
     /// `None` for triangles edge-on to the rows (never crossed).
     fn new(t: [&Point; 3]) -> Option<Setup> {
-        let p = t.map(|v| v.p);
+        let p = [t[0].p, t[1].p, t[2].p];
         let orient = |a: P2, b: P2, q: P2| (b.0 - a.0) * (q.1 - a.1) - (b.1 - a.1) * (q.0 - a.0);
         let area = orient(p[0], p[1], p[2]);
         if area == 0.0 || area.is_nan() {
             return None;
         }
-        let o = if area > 0.0 { [0, 1, 2] } else { [0, 2, 1] };
-        // Edge `e` (counter-clockwise from `o[e]`) is the weight of vertex
-        // `o[e + 2]`; stored by that vertex: edge `w` is the weight of `w`.
-        let at = if area > 0.0 { [1, 2, 0] } else { [1, 0, 2] };
-        let edges = std::array::from_fn(|w| {
-            let e = at[w];
-            debug_assert_eq!(o[(e + 2) % 3], w);
-            let (s, f) = (p[o[e]], p[o[(e + 1) % 3]]);
+        // Edge `w` is the weight of vertex `w`: the edge from the next
+        // vertex to the one after, counter-clockwise.
+        let edge = |s: P2, f: P2| {
             let owned = {
                 let d = (f.0 - s.0, f.1 - s.1);
                 d.1 < 0.0 || (d.1 == 0.0 && d.0 > 0.0)
             };
             let (a, b, neg) = if (s.0, s.1) < (f.0, f.1) { (s, f, false) } else { (f, s, true) };
             Edge { a, d: (b.0 - a.0, b.1 - a.1), neg, sign: if neg { -1.0 } else { 1.0 }, owned }
-        });
+        };
+        let edges = if area > 0.0 {
+            [edge(p[1], p[2]), edge(p[2], p[0]), edge(p[0], p[1])]
+        } else {
+            [edge(p[2], p[1]), edge(p[0], p[2]), edge(p[1], p[0])]
+        };
         // E = ±(d.0·(qv − a.1) − d.1·(qu − a.0)) grows with qu when ∓d.1 > 0.
-        let bounds = edges.map(|e: Edge| match e.d.1 {
-            0.0 => Bound::None,
-            d1 if (d1 < 0.0) != e.neg => Bound::Lower(e.d.0 / d1),
-            d1 => Bound::Upper(e.d.0 / d1),
-        });
-        let xs = t.map(|v| v.x);
-        Some(Setup { edges, bounds, xs, x_lo: xs[0].min(xs[1]).min(xs[2]), x_hi: xs[0].max(xs[1]).max(xs[2]) })
+        let (mut lower, mut upper) = ([f64::NAN; 3], [f64::NAN; 3]);
+        for (e, (lo, hi)) in edges.iter().zip(lower.iter_mut().zip(&mut upper)) {
+            match e.d.1 {
+                0.0 => {}
+                d1 if (d1 < 0.0) != e.neg => *lo = e.d.0 / d1,
+                d1 => *hi = e.d.0 / d1,
+            }
+        }
+        let xs = [t[0].x, t[1].x, t[2].x];
+        Some(Setup { edges, lower, upper, xs, x_lo: xs[0].min(xs[1]).min(xs[2]), x_hi: xs[0].max(xs[1]).max(xs[2]) })
     }
 
     /// The rows' first products `d.0 · (qv − a.1)` of line `qv`, or `None`
     /// when an edge parallel to the rows excludes the whole line.
     #[inline]
     fn line(&self, qv: f64) -> Option<[f64; 3]> {
-        let t = self.edges.map(|e| e.d.0 * (qv - e.a.1));
+        // (Spelled out: `array::map` is not inlined here.)
+        let [e0, e1, e2] = &self.edges;
+        let t = [e0.d.0 * (qv - e0.a.1), e1.d.0 * (qv - e1.a.1), e2.d.0 * (qv - e2.a.1)];
         for (e, &t) in self.edges.iter().zip(&t) {
             // `d.1 = 0`: E is the same for every row of the line.
             if e.d.1 == 0.0 && !e.passes(e.eval(t, 0.0)) {
@@ -147,13 +156,11 @@ impl Setup {
     #[inline]
     fn line_bounds(&self, qv: f64) -> (f64, f64) {
         let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for (e, b) in self.edges.iter().zip(&self.bounds) {
-            match b {
-                // A NaN zero (0 · ∞) does not bound.
-                Bound::Lower(r) => lo = greater(e.a.0 + (qv - e.a.1) * r, lo),
-                Bound::Upper(r) => hi = lesser(e.a.0 + (qv - e.a.1) * r, hi),
-                Bound::None => {}
-            }
+        for (e, (l, u)) in self.edges.iter().zip(self.lower.iter().zip(&self.upper)) {
+            // A NaN zero (no such bound, or 0 · ∞) does not bound.
+            let s = qv - e.a.1;
+            lo = greater(e.a.0 + s * l, lo);
+            hi = lesser(e.a.0 + s * u, hi);
         }
         (lo, hi)
     }
@@ -205,7 +212,7 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
         let (y, z) = (f64::from(v.y), f64::from(v.z));
         // NaN coordinates do not count (as `max` drops them).
         (my, mz) = (my.max(y.abs()), mz.max(z.abs()));
-        Point { p: (y, z), x: f64::from(v.x), u: y * inv1 + c1, v: z * inv2 + c2 }
+        Point { p: (y, z), x: f64::from(v.x), u: y * inv1 + c1, v: z * inv2 + c2, rows: [0; 4] }
     }));
     let mag = my * inv1 + mz * inv2;
     // Slack for the real-arithmetic bounds, in rows: far more than their
@@ -213,22 +220,29 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
     // coordinates' magnitude (the instance's largest: more slack only tries
     // more rows, each decided exactly).
     let slack = 1e-3 + 1e-6 * (mag + c1.abs() + c2.abs());
-    let n = points.len();
+    for p in points.iter_mut() {
+        let (ja, jb) = row_bounds(p.u, slack, (j0, j1));
+        let (ka, kb) = row_bounds(p.v, slack, (k0, k1));
+        p.rows = [ja, jb, ka, kb];
+    }
     for t in &mesh.triangles {
-        if !t.iter().all(|&i| (i as usize) < n) {
+        let (Some(p0), Some(p1), Some(p2)) =
+            (points.get(t[0] as usize), points.get(t[1] as usize), points.get(t[2] as usize))
+        else {
             continue;
-        }
-        let tri = t.map(|i| &points[i as usize]);
+        };
+        let tri = [p0, p1, p2];
         // Rows whose centres lie in the triangle's bounding box (the lattice
-        // map is monotonic, so this is the box of the mapped vertices).
-        // (A NaN bound tries every row; the triangle's NaN area then skips it.)
-        let (ulo, uhi) = (lesser(lesser(tri[0].u, tri[1].u), tri[2].u), greater(greater(tri[0].u, tri[1].u), tri[2].u));
-        let (ja, jb) = index_span(ulo, uhi, slack, (j0, j1));
+        // map is monotonic, so this is the box of the mapped vertices; and
+        // rounding `ceil`/`floor` are monotonic, so the box's rows are the
+        // least and greatest of its vertices').
+        // (A NaN vertex tries every row; the triangle's NaN area skips it.)
+        let [a, b, c] = [tri[0].rows, tri[1].rows, tri[2].rows];
+        let (ja, jb) = (a[0].min(b[0]).min(c[0]), a[1].max(b[1]).max(c[1]));
         if ja > jb {
             continue;
         }
-        let (vlo, vhi) = (lesser(lesser(tri[0].v, tri[1].v), tri[2].v), greater(greater(tri[0].v, tri[1].v), tri[2].v));
-        let (ka, kb) = index_span(vlo, vhi, slack, (k0, k1));
+        let (ka, kb) = (a[2].min(b[2]).min(c[2]), a[3].max(b[3]).max(c[3]));
         if ka > kb {
             continue;
         }
@@ -246,34 +260,61 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
             }
         }
     }
-    group_by_row(&mut buf, (nj * (k1 - k0 + 1)) as usize);
-    let MeshBuffers { starts, xs, centres: [ci, _], .. } = &buf;
+    link_rows(&mut buf, (nj * (k1 - k0 + 1)) as usize);
+    let MeshBuffers { crossings, head, next, xs, centres: [ci, _], .. } = &mut buf;
     let (inv0, c0) = (1.0 / lat.size(0), lat.coord(0, 0.0));
     // `first_at_or_after(0, x)` clamped to `[i0, i1 + 1]`, from the table.
     let first = |x: f64| match table {
         true => i0 + first_at_or_after(ci, x, x * inv0 + c0 - i0 as f64),
         false => lat.first_at_or_after(0, x).clamp(i0, i1 + 1),
     };
-    // Rows in order, with their (j, k) counted along (no division).
+    // Rows in order (the scratch's rows are then visited in memory order),
+    // with their (j, k) counted along.
     let (mut j, mut k) = (j0 - 1, k0);
-    for w in starts.windows(2) {
+    for &h in head.iter() {
         j += 1;
         if j > j1 {
             (j, k) = (j0, k + 1);
         }
-        let xs = &xs[w[0] as usize..w[1] as usize];
-        if xs.is_empty() {
+        if h == NONE {
             continue;
+        }
+        // Two crossings (the rule for closed meshes): no list to build.
+        let g = next[h as usize];
+        if g != NONE && next[g as usize] == NONE {
+            let (x0, x1) = (crossings[g as usize].1, crossings[h as usize].1);
+            let (x0, x1) = if x1.total_cmp(&x0).is_lt() { (x1, x0) } else { (x0, x1) };
+            let (a, b) = (first(x0), first(x1) - 1);
+            if a <= b {
+                emit(lat, out, j, k, a, b);
+            }
+            continue;
+        }
+        xs.clear();
+        let mut c = h;
+        while c != NONE {
+            xs.push(crossings[c as usize].1);
+            c = next[c as usize];
+        }
+        // (One order for any order of arrival: `total_cmp` is total.)
+        if let [a, b] = xs.as_mut_slice() {
+            if b.total_cmp(a).is_lt() {
+                std::mem::swap(a, b);
+            }
+        } else {
+            xs.sort_unstable_by(f64::total_cmp);
         }
         let n = xs.len();
         // Held iff an odd number of crossings lie beyond the centre: the
         // centres in [xs[m−1], xs[m]) have n − m of them.
-        for m in (0..=n).filter(|m| (n - m) % 2 == 1) {
+        let mut m = 1 - n % 2;
+        while m <= n {
             let a = if m == 0 { i0 } else { first(xs[m - 1]) };
             let b = if m == n { i1 } else { first(xs[m]) - 1 };
             if a <= b {
                 emit(lat, out, j, k, a, b);
             }
+            m += 2;
         }
     }
     out.s.put_mesh_buffers(buf);
@@ -298,6 +339,18 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
         g += 1;
     }
     g as i64
+}
+
+/// `(least, greatest)` index `i` with `x − slack ≤ i ≤ x + slack`, the
+/// first clamped to `[a, b + 1]` and the second to `[a − 1, b]` (so that
+/// the least and greatest over a triangle's vertices are [`index_span`]
+/// of its box; a NaN `x` gives `(a, b)`).
+#[inline]
+fn row_bounds(x: f64, slack: f64, (a, b): (i64, i64)) -> (i64, i64) {
+    let lo = lesser(greater(x - slack, a as f64), (b + 1) as f64);
+    let hi = greater(lesser(x + slack, b as f64), (a - 1) as f64);
+    let (l, h) = (lo as i64, hi as i64);
+    (if (l as f64) < lo { l + 1 } else { l }, if (h as f64) > hi { h - 1 } else { h })
 }
 
 /// The indices `i` in `within` with `lo − slack ≤ i ≤ hi + slack`
@@ -327,39 +380,16 @@ fn greater(a: f64, b: f64) -> f64 {
     if a > b { a } else { b }
 }
 
-/// Groups the crossings by row into `xs`, each row's sorted, with row `r`
-/// at `xs[starts[r]..starts[r + 1]]` (a counting sort: rows are few and
-/// mostly hold two crossings).
-fn group_by_row(buf: &mut MeshBuffers, rows: usize) {
-    let MeshBuffers { crossings, starts, xs, .. } = buf;
-    starts.clear();
-    starts.resize(rows + 1, 0);
-    for &(r, _) in crossings.iter() {
-        starts[r as usize + 1] += 1;
-    }
-    for r in 0..rows {
-        starts[r + 1] += starts[r];
-    }
-    xs.clear();
-    xs.resize(crossings.len(), 0.0);
-    // Scatter, using `starts[r]` as row r's cursor, then shift back.
-    for &(r, x) in crossings.iter() {
-        let c = &mut starts[r as usize];
-        xs[*c as usize] = x;
-        *c += 1;
-    }
-    for r in (1..=rows).rev() {
-        starts[r] = starts[r - 1];
-    }
-    starts[0] = 0;
-    for w in starts.windows(2) {
-        let row = &mut xs[w[0] as usize..w[1] as usize];
-        if row.len() == 2 {
-            if row[1].total_cmp(&row[0]).is_lt() {
-                row.swap(0, 1);
-            }
-        } else if row.len() > 2 {
-            row.sort_unstable_by(f64::total_cmp);
-        }
+/// Links the crossings by row: `head[r]` is the last crossing of row `r`
+/// (of `rows`), `next[c]` the one before crossing `c` in its row.
+fn link_rows(buf: &mut MeshBuffers, rows: usize) {
+    let MeshBuffers { crossings, head, next, .. } = buf;
+    head.clear();
+    head.resize(rows, NONE);
+    next.clear();
+    for (c, &(r, _)) in crossings.iter().enumerate() {
+        let h = &mut head[r as usize];
+        next.push(*h);
+        *h = c as u32;
     }
 }
