@@ -26,9 +26,9 @@ pub(crate) struct MeshBuffers {
     next: Vec<u32>,
     /// One row's crossing coordinates.
     xs: Vec<f64>,
-    /// Voxel centres along the rows and along lattice axis 1 over the
-    /// instance's bounding box (`f32` centres, widened).
-    centres: [Vec<f64>; 2],
+    /// Voxel centres along the rows and along lattice axes 1 and 2 over
+    /// the instance's bounding box (`f32` centres, widened).
+    centres: [Vec<f64>; 3],
     /// Per vertex: its projection `(y, z)` and row coordinate `x` widened to
     /// `f64`, and its lattice coordinates along axes 1 and 2 (bounds only).
     points: Vec<Point>,
@@ -78,9 +78,11 @@ impl Edge {
         (t - self.d.1 * (qu - self.a.0)) * self.sign
     }
 
+    /// Whether `e` is inside (NaN passes), without short-circuits:
+    /// compare-and-set rather than branches.
     #[inline]
     fn passes(&self, e: f64) -> bool {
-        !(e < 0.0 || (e == 0.0 && !self.owned))
+        !((e < 0.0) | ((e == 0.0) & !self.owned))
     }
 }
 
@@ -96,6 +98,9 @@ struct Setup {
     xs: [f64; 3],
     x_lo: f64,
     x_hi: f64,
+    /// Whether an edge runs along the rows (`d.1 = 0`, rare): only then
+    /// can [`Setup::line`] exclude a whole line.
+    flat: bool,
 }
 
 impl Setup {
@@ -124,15 +129,17 @@ impl Setup {
         };
         // E = ±(d.0·(qv − a.1) − d.1·(qu − a.0)) grows with qu when ∓d.1 > 0.
         let (mut lower, mut upper) = ([f64::NAN; 3], [f64::NAN; 3]);
+        let mut flat = false;
         for (e, (lo, hi)) in edges.iter().zip(lower.iter_mut().zip(&mut upper)) {
             match e.d.1 {
-                0.0 => {}
+                0.0 => flat = true,
                 d1 if (d1 < 0.0) != e.neg => *lo = e.d.0 / d1,
                 d1 => *hi = e.d.0 / d1,
             }
         }
         let xs = [t[0].x, t[1].x, t[2].x];
-        Some(Setup { edges, lower, upper, xs, x_lo: xs[0].min(xs[1]).min(xs[2]), x_hi: xs[0].max(xs[1]).max(xs[2]) })
+        let (x_lo, x_hi) = (xs[0].min(xs[1]).min(xs[2]), xs[0].max(xs[1]).max(xs[2]));
+        Some(Setup { edges, lower, upper, xs, x_lo, x_hi, flat })
     }
 
     /// The rows' first products `d.0 · (qv − a.1)` of line `qv`, or `None`
@@ -142,10 +149,12 @@ impl Setup {
         // (Spelled out: `array::map` is not inlined here.)
         let [e0, e1, e2] = &self.edges;
         let t = [e0.d.0 * (qv - e0.a.1), e1.d.0 * (qv - e1.a.1), e2.d.0 * (qv - e2.a.1)];
-        for (e, &t) in self.edges.iter().zip(&t) {
-            // `d.1 = 0`: E is the same for every row of the line.
-            if e.d.1 == 0.0 && !e.passes(e.eval(t, 0.0)) {
-                return None;
+        if self.flat {
+            for (e, &t) in self.edges.iter().zip(&t) {
+                // `d.1 = 0`: E is the same for every row of the line.
+                if e.d.1 == 0.0 && !e.passes(e.eval(t, 0.0)) {
+                    return None;
+                }
             }
         }
         Some(t)
@@ -190,7 +199,7 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
     let (Some([(j0, j1), (k0, k1)]), Some((i0, i1))) = (p.row_ranges(lat), p.x_range(lat)) else { return };
     let nj = j1 - j0 + 1;
     let mut buf = out.s.take_mesh_buffers();
-    let [ci, cj] = &mut buf.centres;
+    let [ci, cj, ck] = &mut buf.centres;
     ci.clear();
     // A table for rows of reasonable length (an instance may stretch far
     // outside the grid along its rows).
@@ -200,6 +209,8 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
     }
     cj.clear();
     cj.extend((j0..=j1).map(|j| f64::from(lat.centre(1, j))));
+    ck.clear();
+    ck.extend((k0..=k1).map(|k| f64::from(lat.centre(2, k))));
     let cross = &mut buf.crossings;
     cross.clear();
     // Lattice coordinates (centres at integers) by a multiply: bounds only.
@@ -247,13 +258,15 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
             continue;
         }
         let Some(setup) = Setup::new(tri) else { continue };
-        for k in ka..=kb {
-            let qv = f64::from(lat.centre(2, k));
+        // (Half-open ranges: cheaper to step than `..=`.)
+        for (k, &qv) in (ka..).zip(&ck[(ka - k0) as usize..(kb - k0 + 1) as usize]) {
             let Some(tk) = setup.line(qv) else { continue };
             let (ulo, uhi) = setup.line_bounds(qv);
             let (ra, rb) = index_span(ulo * inv1 + c1, uhi * inv1 + c1, slack, (ja, jb));
-            let row0 = (k - k0) * nj;
-            for (r, &qu) in (ra - j0..=rb - j0).zip(&cj[(ra - j0) as usize..]) {
+            // Offsets in the box (`ja ≤ ra`, and `rb = ra − 1` when empty).
+            let (ra, rb) = ((ra - j0) as usize, (rb - j0 + 1) as usize);
+            let row0 = ((k - k0) * nj) as usize;
+            for (r, &qu) in (ra..).zip(&cj[ra..rb]) {
                 if let Some(x) = setup.cross(&tk, qu) {
                     cross.push(((row0 + r) as u32, x));
                 }
@@ -261,60 +274,62 @@ pub(super) fn mesh_rows(lat: &Lattice, p: &Prepared, mesh: &Mesh, verts: &[Vec3]
         }
     }
     link_rows(&mut buf, (nj * (k1 - k0 + 1)) as usize);
-    let MeshBuffers { crossings, head, next, xs, centres: [ci, _], .. } = &mut buf;
-    let (inv0, c0) = (1.0 / lat.size(0), lat.coord(0, 0.0));
+    let MeshBuffers { crossings, head, next, xs, centres: [ci, ..], .. } = &mut buf;
+    // The table index of `x` is about `x · inv0 + g0 − ½` (a start guess
+    // only; rounded to the nearest, `+ ½` makes it the ceiling).
+    let (inv0, g0) = (1.0 / lat.size(0), lat.coord(0, 0.0) - i0 as f64 + 0.5);
+    let ci: &[f64] = ci;
     // `first_at_or_after(0, x)` clamped to `[i0, i1 + 1]`, from the table.
-    let first = |x: f64| match table {
-        true => i0 + first_at_or_after(ci, x, x * inv0 + c0 - i0 as f64),
-        false => lat.first_at_or_after(0, x).clamp(i0, i1 + 1),
+    // (Small and capturing copies, so that it is inlined.)
+    let first = move |x: f64| match table {
+        true => i0 + first_at_or_after(ci, x, x * inv0 + g0),
+        false => first_far(lat, x, (i0, i1)),
     };
     // Rows in order (the scratch's rows are then visited in memory order),
-    // with their (j, k) counted along.
-    let (mut j, mut k) = (j0 - 1, k0);
-    for &h in head.iter() {
-        j += 1;
-        if j > j1 {
-            (j, k) = (j0, k + 1);
-        }
-        if h == NONE {
-            continue;
-        }
-        // Two crossings (the rule for closed meshes): no list to build.
-        let g = next[h as usize];
-        if g != NONE && next[g as usize] == NONE {
-            let (x0, x1) = (crossings[g as usize].1, crossings[h as usize].1);
-            let (x0, x1) = if x1.total_cmp(&x0).is_lt() { (x1, x0) } else { (x0, x1) };
-            let (a, b) = (first(x0), first(x1) - 1);
-            if a <= b {
-                emit(lat, out, j, k, a, b);
+    // a line at a time (empty rows cost a compare each).
+    // (`nj ≥ 1`: `row_ranges` gives non-empty ranges.)
+    for (k, line) in (k0..).zip(head.chunks_exact(nj as usize)) {
+        for (j, &h) in (j0..).zip(line) {
+            if h == NONE {
+                continue;
             }
-            continue;
-        }
-        xs.clear();
-        let mut c = h;
-        while c != NONE {
-            xs.push(crossings[c as usize].1);
-            c = next[c as usize];
-        }
-        // (One order for any order of arrival: `total_cmp` is total.)
-        if let [a, b] = xs.as_mut_slice() {
-            if b.total_cmp(a).is_lt() {
-                std::mem::swap(a, b);
+            // Two crossings (the rule for closed meshes): no list to build.
+            let g = next[h as usize];
+            if g != NONE && next[g as usize] == NONE {
+                let (x0, x1) = (crossings[g as usize].1, crossings[h as usize].1);
+                let (x0, x1) = if x1.total_cmp(&x0).is_lt() { (x1, x0) } else { (x0, x1) };
+                let (a, b) = (first(x0), first(x1) - 1);
+                if a <= b {
+                    emit(lat, out, j, k, a, b);
+                }
+                continue;
             }
-        } else {
-            xs.sort_unstable_by(f64::total_cmp);
-        }
-        let n = xs.len();
-        // Held iff an odd number of crossings lie beyond the centre: the
-        // centres in [xs[m−1], xs[m]) have n − m of them.
-        let mut m = 1 - n % 2;
-        while m <= n {
-            let a = if m == 0 { i0 } else { first(xs[m - 1]) };
-            let b = if m == n { i1 } else { first(xs[m]) - 1 };
-            if a <= b {
-                emit(lat, out, j, k, a, b);
+            xs.clear();
+            let mut c = h;
+            while c != NONE {
+                xs.push(crossings[c as usize].1);
+                c = next[c as usize];
             }
-            m += 2;
+            // (One order for any order of arrival: `total_cmp` is total.)
+            if let [a, b] = xs.as_mut_slice() {
+                if b.total_cmp(a).is_lt() {
+                    std::mem::swap(a, b);
+                }
+            } else {
+                xs.sort_unstable_by(f64::total_cmp);
+            }
+            let n = xs.len();
+            // Held iff an odd number of crossings lie beyond the centre: the
+            // centres in [xs[m−1], xs[m]) have n − m of them.
+            let mut m = 1 - n % 2;
+            while m <= n {
+                let a = if m == 0 { i0 } else { first(xs[m - 1]) };
+                let b = if m == n { i1 } else { first(xs[m]) - 1 };
+                if a <= b {
+                    emit(lat, out, j, k, a, b);
+                }
+                m += 2;
+            }
         }
     }
     out.s.put_mesh_buffers(buf);
@@ -328,10 +343,14 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
     if x.is_nan() {
         return centres.len() as i64;
     }
-    // Any start gives the exact answer; a good one saves the walk.
-    // (`as` saturates, NaN to 0; to `i32`, the cheapest conversion: the
-    // table has at most `TABLE_MAX` entries.)
-    let mut g = (guess as i32).clamp(0, centres.len() as i32) as usize;
+    // Any start gives the exact answer; a good one saves the walk. The
+    // guess rounded to the nearest integer by adding `1.5 · 2⁵²` (as in
+    // [`ceil_floor`]; for `|guess| > 2⁵¹` or infinite the start is off but
+    // clamped, and the walk still ends at the answer).
+    const M: f64 = 6_755_399_441_055_744.0;
+    // (Wrapping: far negative sums have bits that would overflow.)
+    let n = ((guess + M).to_bits() as i64).wrapping_sub(M.to_bits() as i64);
+    let mut g = n.clamp(0, centres.len() as i64) as usize;
     while g > 0 && centres[g - 1] >= x {
         g -= 1;
     }
@@ -339,6 +358,13 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
         g += 1;
     }
     g as i64
+}
+
+/// `first_at_or_after(0, x)` of the lattice clamped to `[i0, i1 + 1]`
+/// (rows too long for a table; kept out of line).
+#[inline(never)]
+fn first_far(lat: &Lattice, x: f64, (i0, i1): (i64, i64)) -> i64 {
+    lat.first_at_or_after(0, x).clamp(i0, i1 + 1)
 }
 
 /// `(least, greatest)` index `i` with `x − slack ≤ i ≤ x + slack`, the
@@ -349,8 +375,8 @@ fn first_at_or_after(centres: &[f64], x: f64, guess: f64) -> i64 {
 fn row_bounds(x: f64, slack: f64, (a, b): (i64, i64)) -> (i64, i64) {
     let lo = lesser(greater(x - slack, a as f64), (b + 1) as f64);
     let hi = greater(lesser(x + slack, b as f64), (a - 1) as f64);
-    let (l, h) = (lo as i64, hi as i64);
-    (if (l as f64) < lo { l + 1 } else { l }, if (h as f64) > hi { h - 1 } else { h })
+    // Both lie within a lattice's ±2³¹ + 1 rows.
+    ceil_floor(lo, hi)
 }
 
 /// The indices `i` in `within` with `lo − slack ≤ i ≤ hi + slack`
@@ -362,9 +388,20 @@ fn index_span(lo: f64, hi: f64, slack: f64, (a, b): (i64, i64)) -> (i64, i64) {
     if lo > hi {
         return (a, a - 1);
     }
-    let (l, h) = (lo as i64, hi as i64);
-    // Truncation is towards zero: fix up to ceil / floor.
-    (if (l as f64) < lo { l + 1 } else { l }, if (h as f64) > hi { h - 1 } else { h })
+    ceil_floor(lo, hi)
+}
+
+/// `(⌈lo⌉, ⌊hi⌋)` for `|lo|, |hi| ≤ 2⁵¹` (not NaN), exact: adding
+/// `1.5 · 2⁵²` rounds to an integer (ties to even) that the sum's bits hold
+/// in their low part, and one compare fixes the rounding direction. Fewer
+/// instructions than a saturating `as i64` and its fix-up.
+#[inline]
+fn ceil_floor(lo: f64, hi: f64) -> (i64, i64) {
+    const M: f64 = 6_755_399_441_055_744.0;
+    let (tl, th) = (lo + M, hi + M);
+    let base = M.to_bits() as i64;
+    let (nl, nh) = (tl.to_bits() as i64 - base, th.to_bits() as i64 - base);
+    (nl + i64::from(tl - M < lo), nh - i64::from(th - M > hi))
 }
 
 /// `a` if it is less than `b`, else `b` (so `b` when either is NaN): one
@@ -387,9 +424,60 @@ fn link_rows(buf: &mut MeshBuffers, rows: usize) {
     head.clear();
     head.resize(rows, NONE);
     next.clear();
-    for (c, &(r, _)) in crossings.iter().enumerate() {
+    next.resize(crossings.len(), NONE);
+    for ((c, &(r, _)), n) in crossings.iter().enumerate().zip(next.iter_mut()) {
         let h = &mut head[r as usize];
-        next.push(*h);
+        *n = *h;
         *h = c as u32;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{ceil_floor, first_at_or_after};
+    use crate::grid::{Grid, Lattice};
+    use glam::Vec3;
+
+    /// The table look-up with `mesh_rows`' start guess equals the lattice's
+    /// exact `first_at_or_after` clamped to the table, on centres, a
+    /// rounding step either side, between centres, outside the table, far
+    /// outside (where the guess is garbage), infinite and NaN.
+    #[test]
+    fn table_look_ups_equal_the_lattice() {
+        let grid = Grid::new(Vec3::new(-3.3, 0.0, 0.0), Vec3::new(7.1, 1.0, 1.0), [37, 1, 1]).unwrap();
+        let lat = Lattice::new(&grid);
+        for (i0, i1) in [(0, 36), (-5, 3), (30, 50), (7, 7)] {
+            let ci: Vec<f64> = (i0..=i1).map(|i| f64::from(lat.centre(0, i))).collect();
+            let (inv0, g0) = (1.0 / lat.size(0), lat.coord(0, 0.0) - i0 as f64 + 0.5);
+            let mut xs = vec![f64::INFINITY, f64::NEG_INFINITY, f64::NAN, 1e300, -1e300];
+            // Guesses near `−1.5 · 2⁵²` (negative sums with small bits).
+            xs.extend([0.5, 1.0, 1.5, 1.99].map(|f| -f * 6_755_399_441_055_744.0 * lat.size(0)));
+            for i in i0 - 3..=i1 + 3 {
+                let c = f64::from(lat.centre(0, i));
+                xs.extend([c, c.next_up(), c.next_down(), c + 0.3 * lat.size(0), c - 0.5 * lat.size(0)]);
+            }
+            for x in xs {
+                let want = lat.first_at_or_after(0, x).clamp(i0, i1 + 1);
+                assert_eq!(i0 + first_at_or_after(&ci, x, x * inv0 + g0), want, "{x} in {i0}..={i1}");
+            }
+        }
+    }
+
+    /// The rounding trick equals `ceil`/`floor` on integers, ties, both
+    /// zeros and values a rounding step off them, up to the lattice limit
+    /// and beyond (2⁵¹).
+    #[test]
+    fn ceil_floor_equals_libm() {
+        let mut xs = vec![0.0, -0.0, 2f64.powi(51), -(2f64.powi(51)), 2f64.powi(31) + 1.0, -(2f64.powi(31)) - 1.0];
+        for i in -300..300 {
+            for f in [0.0, 0.25, 0.5, 0.75, 1e-9, -1e-9, 1.5] {
+                let x = f64::from(i) + f;
+                xs.extend([x, x.next_up(), x.next_down(), x * 1e5, x * 1.7e9]);
+            }
+        }
+        for x in xs {
+            let (c, f) = ceil_floor(x, x);
+            assert_eq!((c, f), (x.ceil() as i64, x.floor() as i64), "{x}");
+        }
     }
 }

@@ -108,7 +108,7 @@ struct Out<'a> {
 }
 
 /// Adds the held span `lo..=hi` of lattice row `(j, k)`.
-#[inline]
+#[inline(always)]
 fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
     let len = (hi - lo + 1) as u64;
     match lat.row(j, k) {

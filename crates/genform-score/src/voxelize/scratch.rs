@@ -161,12 +161,21 @@ impl VolumeScratch {
         let base = self.off + r * self.stride;
         let (occ, ovl) = self.data[base..base + self.stride].split_at_mut(self.words);
         let t = target.get(r * self.words..(r + 1) * self.words);
-        for w in wa..wb + 1 {
-            let lo = if w == wa { a % 64 } else { 0 };
-            let hi = if w == wb { b % 64 } else { 63 };
-            let m = bit_range(lo as u32, hi as u32);
-            mark(&mut occ[w], &mut ovl[w], m, (hi - lo + 1) as u64, t.map(|t| t[w]), &mut self.counts);
+        // Counts in a local (registers); the first, middle and last word
+        // masks written out rather than chosen per word.
+        let mut c = self.counts;
+        let (la, lb) = ((a % 64) as u32, (b % 64) as u32);
+        if wa == wb {
+            let m = bit_range(la, lb);
+            mark(&mut occ[wa], &mut ovl[wa], m, u64::from(lb - la + 1), t.map(|t| t[wa]), &mut c);
+        } else {
+            mark(&mut occ[wa], &mut ovl[wa], u64::MAX << la, u64::from(64 - la), t.map(|t| t[wa]), &mut c);
+            for w in wa + 1..wb {
+                mark(&mut occ[w], &mut ovl[w], u64::MAX, 64, t.map(|t| t[w]), &mut c);
+            }
+            mark(&mut occ[wb], &mut ovl[wb], u64::MAX >> (63 - lb), u64::from(lb + 1), t.map(|t| t[wb]), &mut c);
         }
+        self.counts = c;
     }
 
     /// Remembers the `n` consecutive rows from `first` as touched, covering
