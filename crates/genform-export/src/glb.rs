@@ -16,6 +16,10 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_SHORT: u32 = 5123;
 const UNSIGNED_INT: u32 = 5125;
+/// A node rotation (x, y, z, w) of −90° about x: it takes a surface's
+/// +z (up as grown) to glTF's +y and its +y to −z.
+pub const Z_UP_TO_Y_UP: [f32; 4] = [-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2];
+
 const MODE_LINES: u32 = 1;
 
 /// Writes `scene` as binary glTF 2.0 (a `.glb` file), split into nodes
@@ -73,6 +77,8 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
 ///   material, then one `LINES` primitive per edge type in ascending order
 ///   (untyped last), sharing the surface's `POSITION` accessor, with the
 ///   material `edge<N>` (`edge_untyped`) coloured by [`crate::edge_color`].
+///   Surfaces grow with +z as the seed's normal (HEMLS) while glTF's up is
+///   +y, so their nodes carry [`Z_UP_TO_Y_UP`] (the vertices stay as grown).
 ///   Guides are not written.
 ///
 /// # Panics
@@ -482,6 +488,9 @@ impl Doc {
                 );
             }
             self.named_mesh_node(&crate::surfaces::surface_name(scene, k), prims);
+            if let Some(node) = self.nodes.last_mut() {
+                node["rotation"] = json!(Z_UP_TO_Y_UP);
+            }
         }
     }
 
@@ -763,6 +772,15 @@ mod tests {
         check_accessors(&json, &bin);
         let names: Vec<&str> = json["nodes"].as_array().unwrap().iter().map(|n| n["name"].as_str().unwrap()).collect();
         assert_eq!(names, ["hull_0", "shell_surface0", "shell_surface1"]);
+        // Surfaces are turned +z → +y (glTF's up); other nodes are not.
+        let rotation = |n: usize| json["nodes"][n].get("rotation").cloned();
+        assert_eq!(rotation(0), None);
+        for n in [1, 2] {
+            let q: Vec<f32> =
+                rotation(n).unwrap().as_array().unwrap().iter().map(|v| v.as_f64().unwrap() as f32).collect();
+            let turned = glam::Quat::from_xyzw(q[0], q[1], q[2], q[3]) * Vec3::Z;
+            assert!(turned.abs_diff_eq(Vec3::Y, 1e-6), "{turned}");
+        }
         let grid = &json["meshes"][1]["primitives"];
         assert_eq!(grid.as_array().unwrap().len(), 3, "faces, type 1, type 2");
         // The lines share the faces' positions: the grid's 9 vertices.

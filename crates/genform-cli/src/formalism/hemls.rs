@@ -5,7 +5,6 @@
 use anyhow::{Result, anyhow, bail};
 use genform_core::{Scene, SourceFile, Surface};
 use genform_hemls::{Environment, GrowError, Settings};
-use glam::Vec3;
 use std::path::{Path, PathBuf};
 
 use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
@@ -197,30 +196,13 @@ impl LoadedGrammar for HemlsFile {
     }
 }
 
-/// `scene` turned so its +z points up in the preview (the renderer's up is
-/// +y; HEMLS surfaces grow in the xy plane with +z as the seed's normal).
-fn z_up_preview(scene: &Scene) -> Scene {
-    let turn = |p: Vec3| Vec3::new(p.x, p.z, -p.y);
-    let mut s = scene.clone();
-    for surface in &mut s.surfaces {
-        surface.positions.iter_mut().for_each(|p| *p = turn(*p));
-    }
-    for g in &mut s.guides {
-        match &mut g.kind {
-            genform_core::GuideKind::Point { at, .. } => *at = turn(*at),
-            genform_core::GuideKind::Mesh(m) => {
-                let mut mesh = (**m).clone();
-                mesh.positions.iter_mut().for_each(|p| *p = turn(*p));
-                *m = std::sync::Arc::new(mesh);
-            }
-        }
-    }
-    s
-}
-
 /// Writes `scene` to `out`; PNG previews are seen with +z up.
 fn write_surface_scene(scene: &Scene, out: &Path) -> Result<()> {
-    if ends_with_any(out, &[".png"]) { write_model(&z_up_preview(scene), out) } else { write_model(scene, out) }
+    if ends_with_any(out, &[".png"]) {
+        write_model(&crate::codon_report::z_up(scene), out)
+    } else {
+        write_model(scene, out)
+    }
 }
 
 /// `dir/name.ext` → `dir/name-step{k}.ext`.
