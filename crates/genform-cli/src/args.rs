@@ -67,6 +67,30 @@ pub enum Command {
     /// Map a codon genome through a BNF grammar (grammatical evolution) and
     /// show the phenotype and every codon read.
     Map(MapArgs),
+    /// Start the studio: a local web page to explore grammars, watch and
+    /// steer runs, and breed models by eye.
+    Serve(ServeArgs),
+}
+
+/// Arguments of `genform serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// A scene config (.toml) or grammar to open first; its folder is
+    /// served too (as `scene/…`).
+    pub file: Option<PathBuf>,
+    /// Port to listen on; 0 picks a free one.
+    #[arg(long, default_value_t = 8150)]
+    pub port: u16,
+    /// Address to listen on (default 127.0.0.1, this machine only). Any
+    /// other address lets other machines start runs and read results.
+    #[arg(long, value_name = "ADDR")]
+    pub host: Option<String>,
+    /// Folder for run folders, breeding saves and sampled models.
+    #[arg(long, short, default_value = "studio-runs")]
+    pub out: PathBuf,
+    /// Folder of example grammars and scenes (default: ./examples if it exists).
+    #[arg(long, value_name = "DIR")]
+    pub examples: Option<PathBuf>,
 }
 
 /// Arguments of `genform map`.
@@ -330,6 +354,11 @@ pub struct EvolveArgs {
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Replay the steering of an earlier run: its `run.json` (or a JSON list
+    /// of `{"generation": N, "set": {"weights": {…}, "targets": {…}}}`);
+    /// each change takes effect at the same generation as before.
+    #[arg(long, value_name = "FILE")]
+    pub steering: Option<PathBuf>,
     #[command(flatten)]
     pub limits: LimitArgs,
 }

@@ -21,6 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(a) => crate::evolve::compare(a),
         Command::Sweep(a) => crate::evolve::sweep(a),
         Command::Map(a) => map(a),
+        Command::Serve(a) => crate::serve::serve(a),
     }
 }
 

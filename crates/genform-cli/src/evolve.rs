@@ -3,7 +3,9 @@
 //!
 //! Tree scenes live here, codon scenes in [`codon`]; both go through the
 //! same run loop ([`drive`], with a [`Session`] for what differs) and the
-//! same `compare` loop ([`race`], with a [`Contest`]).
+//! same `compare` loop ([`race`], with a [`Contest`]). `genform serve`
+//! runs the same loop ([`evolve_with`]) with a [`Watch`] that sees every
+//! generation, pauses the run and steers it ([`steering`]).
 
 use anyhow::{Context, Result, bail};
 use genform_cli::archive::Reports;
@@ -17,7 +19,8 @@ use genform_cli::scene_config::{LoadedScene, RunConfig, SceneConfig, parse_durat
 use genform_cli::targets;
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::{
-    AnyOptimizer, GenerationStats, Genotype, Horizon, Individual, Objective, Optimizer, Settings, Stop, StopReason, run,
+    AnyOptimizer, GenerationStats, Genotype, Horizon, Individual, Objective, Optimizer, Rescore, Settings, Stop,
+    StopReason, run,
 };
 use genform_export::{ExportOptions, Format, RenderOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -29,8 +32,10 @@ use std::time::{Duration, Instant};
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, ScoreArgs};
 
 mod codon;
+pub mod steering;
 mod sweep;
 
+pub use steering::{SteerEntry, SteerSet, Steerable};
 pub use sweep::sweep;
 
 /// How often results are written during a run, so a crash loses little.
@@ -106,10 +111,61 @@ fn stop_at(horizon: Horizon, cancel: &AtomicBool) -> Stop<'_> {
     Stop { generations: horizon.generations, budget: horizon.budget, evaluations: horizon.evaluations, cancel }
 }
 
-/// Runs `genform evolve`.
+/// Runs `genform evolve`: Ctrl-C stops the run (its results are written),
+/// `--steering` replays an earlier run's steering.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
+    let schedule = match &a.steering {
+        Some(path) => steering::read_log(path)?,
+        None => Vec::new(),
+    };
+    evolve_with(&a, Control { cancel: cancel_on_ctrl_c(), schedule, watch: None })
+}
+
+/// How a run is controlled from outside the loop.
+pub struct Control<'w> {
+    /// Stops the run after the current generation (its results are written
+    /// as for Ctrl-C).
+    pub cancel: Arc<AtomicBool>,
+    /// Changes to apply before given generations (a replayed log), sorted
+    /// by generation.
+    pub schedule: Vec<SteerEntry>,
+    /// Sees every generation and may steer (the studio server).
+    pub watch: Option<&'w mut (dyn Watch + Send)>,
+}
+
+/// What a [`Watch`] sees after each generation.
+pub struct Tick<'a> {
+    /// The optimizer's statistics of the generation.
+    pub stats: &'a GenerationStats,
+    /// Wall-clock seconds since the run began.
+    pub seconds: f64,
+    /// The best fitness so far.
+    pub best: Option<f64>,
+    /// Surface scenes: each criterion's `w / (1 + e)` for the best so far; empty otherwise.
+    pub criteria: Vec<(&'static str, f64)>,
+}
+
+/// Watches a run from another thread's point of view (`genform serve`):
+/// called on the run's thread between generations.
+pub trait Watch {
+    /// Before the first generation: the fitness the best model could reach
+    /// and the steerable values.
+    fn started(&mut self, max_reachable: f64, steerable: &Steerable);
+    /// After each generation. It may block (a paused run waits here); what
+    /// it returns is applied before the next generation.
+    fn generation(&mut self, tick: &Tick) -> Option<SteerSet>;
+    /// Whether to render the gallery of the current population after `generation`.
+    fn wants_gallery(&mut self, generation: usize) -> bool;
+    /// The gallery picture (PNG) after `generation`.
+    fn gallery(&mut self, generation: usize, png: Vec<u8>);
+    /// A change took effect; `now` is what steering can change after it.
+    fn steered(&mut self, entry: &SteerEntry, now: &Steerable);
+}
+
+/// Runs `genform evolve` on `a` under `control`.
+pub fn evolve_with(a: &EvolveArgs, mut control: Control) -> Result<()> {
     if genform_cli::codon_scene::is_codon_scene(&a.scene) {
-        return codon::evolve(a);
+        return codon::evolve(a, control);
     }
     let LoadedScene { path: scene_path, mut config } = SceneConfig::load(&a.scene)?;
     apply_preset(&mut config, a.preset.as_deref());
@@ -123,27 +179,26 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
         );
     }
     let scorers = targets::build(&config)?;
-    let horizon = stop_rules(&a, &config.run)?;
+    let horizon = stop_rules(a, &config.run)?;
     let pool = worker_pool(a.threads)?;
-    let cancel = cancel_on_ctrl_c();
-    let objective =
-        described(SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers }, &config);
-    let ctx = RunContext {
+    let cancel = control.cancel.clone();
+    let mut ctx = RunContext {
         common: Common {
-            args: &a,
+            args: a,
             algorithm: algorithm.name(),
             scene_path: &scene_path,
-            stop: stop_at(horizon, &cancel),
             threads: pool.current_num_threads(),
         },
         config: &config,
         generator: loaded.generator.as_ref(),
         limits,
-        scorers: &scorers,
+        scorers,
+        steerable: Steerable::Fitness(config.fitness.clone()),
+        descriptors: Descriptor::pair(&config.map_elites),
     };
     let opt = AnyOptimizer::new(algorithm, loaded.generator.graph(), &limits, &config.settings(), a.seed, horizon)
         .map_err(|e| anyhow::anyhow!("{}: {e}", section(algorithm)))?;
-    pool.install(|| drive(&ctx, opt, &objective))
+    pool.install(|| drive(&mut ctx, opt, stop_at(horizon, &cancel), &mut control))
 }
 
 /// Sets the scene's GA preset from a `--preset` flag (clap admits only
@@ -389,16 +444,17 @@ struct Common<'a> {
     /// The algorithm's name.
     algorithm: &'static str,
     scene_path: &'a Path,
-    stop: Stop<'a>,
     threads: usize,
 }
 
 /// How a run ended.
 #[derive(Clone, Copy)]
-struct Ended {
+struct Ended<'s> {
     /// The `stopped_by` word.
     reason: &'static str,
     elapsed: Duration,
+    /// The changes that took effect, for `run.json`.
+    steering: &'s [SteerEntry],
 }
 
 impl Common<'_> {
@@ -431,6 +487,9 @@ impl Common<'_> {
             "best_length": best.map(|b| b.genome.length()),
             "max_reachable_fitness": max_reachable,
         });
+        if !ended.steering.is_empty() {
+            run["steering"] = serde_json::to_value(ended.steering).context("cannot encode the steering log")?;
+        }
         if let (Some(all), serde_json::Value::Object(own)) = (run.as_object_mut(), own) {
             all.extend(own);
         }
@@ -443,8 +502,24 @@ impl Common<'_> {
 trait Session<G> {
     /// What the run records per generation beside the statistics rows.
     type Record: Default;
+    /// The objective as steered so far.
+    type Objective<'s>: Objective<G>
+    where
+        Self: 's;
     /// What every run knows.
     fn common(&self) -> &Common<'_>;
+    /// The objective of the next generation.
+    fn objective(&self) -> Self::Objective<'_>;
+    /// The weights and targets steering can change, as they are now.
+    fn steerable(&self) -> &Steerable;
+    /// Applies a change to the objective (nothing changes on error).
+    fn steer(&mut self, set: &SteerSet) -> Result<()>;
+    /// Surface scenes: the best's per-criterion scores of the last generation.
+    fn criteria(&self, _rec: &Self::Record) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+    /// The gallery picture of the population's distinct best (`gallery.png`).
+    fn gallery(&self, opt: &dyn Optimizer<G>) -> Result<Vec<u8>>;
     /// The fitness the shortest genome could reach, for the summary line.
     fn max_reachable(&self) -> f64;
     /// Records one generation; returns what the progress message adds at
@@ -478,56 +553,123 @@ fn progress(stop: &Stop, quiet: bool) -> ProgressBar {
     bar
 }
 
-/// The run loop of `evolve`: the progress bar, checkpoints, Ctrl-C, the
-/// result files and the summary line.
-fn drive<G, S: Session<G>, P: Optimizer<G>, O: Objective<G>>(session: &S, mut opt: P, objective: &O) -> Result<()> {
-    let c = session.common();
-    let out = &c.args.out;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
-    let bar = progress(&c.stop, c.args.quiet);
+/// An objective used through a reference (a session that owns its objective).
+struct ByRef<'a, O>(&'a O);
+
+impl<G, O: Objective<G>> Objective<G> for ByRef<'_, O> {
+    type Scratch = O::Scratch;
+
+    fn scratch(&self) -> O::Scratch {
+        self.0.scratch()
+    }
+
+    fn evaluate(&self, genome: &G, scratch: &mut O::Scratch) -> f64 {
+        self.0.evaluate(genome, scratch)
+    }
+
+    fn evaluate_described(&self, genome: &G, scratch: &mut O::Scratch, descriptors: &mut [f64; 2]) -> f64 {
+        self.0.evaluate_described(genome, scratch, descriptors)
+    }
+}
+
+/// The run loop of `evolve` (and of `genform serve`'s runs): the progress
+/// bar, checkpoints, cancellation, steering changes before the generations
+/// they take effect at (each followed by re-scoring what the optimizer
+/// stores), the watcher, the result files and the summary line.
+fn drive<G, S: Session<G>, P: Rescore<G>>(
+    session: &mut S,
+    mut opt: P,
+    stop: Stop,
+    control: &mut Control,
+) -> Result<()> {
+    let (out, quiet, scene) = {
+        let c = session.common();
+        (c.args.out.clone(), c.args.quiet, c.scene_path.display().to_string())
+    };
+    // A replayed log is checked whole before the run starts.
+    let mut probe = session.steerable().clone();
+    for e in &control.schedule {
+        probe.apply(&e.set).with_context(|| format!("steering of generation {}", e.generation))?;
+    }
+    std::fs::create_dir_all(&out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    let bar = progress(&stop, quiet);
     let mut rows: Vec<Row> = Vec::new();
     let mut rec = S::Record::default();
+    let mut log: Vec<SteerEntry> = Vec::new();
+    let mut scheduled = control.schedule.iter().peekable();
+    let mut live: Option<SteerSet> = None;
     let mut last_checkpoint = Instant::now();
-    let mut failed = None;
+    if let Some(w) = control.watch.as_deref_mut() {
+        w.started(session.max_reachable(), session.steerable());
+    }
     let start = Instant::now();
-    let summary = run(&mut opt, objective, &c.stop, |stats, opt| {
+    let reason = loop {
+        if let Some(reason) = genform_evolve::run::reached(&opt, &stop, start) {
+            break reason;
+        }
+        // Changes take effect at the generation made next.
+        let next = if opt.is_initialized() { opt.generation() + 1 } else { 0 };
+        let mut changes: Vec<SteerEntry> = Vec::new();
+        while let Some(e) = scheduled.next_if(|e| e.generation <= next) {
+            changes.push(e.clone());
+        }
+        if let Some(set) = live.take().filter(|s| !s.is_empty()) {
+            changes.push(SteerEntry { generation: next, set });
+        }
+        let steered = changes.iter().any(|e| !e.set.is_empty());
+        for entry in changes {
+            session.steer(&entry.set).with_context(|| format!("steering of generation {}", entry.generation))?;
+            if let Some(w) = control.watch.as_deref_mut() {
+                w.steered(&entry, session.steerable());
+            }
+            log.push(entry);
+        }
+        // What the optimizer stores was scored under the old weights: re-score
+        // it, so elites and the best compete on the new scale.
+        if steered && opt.is_initialized() {
+            opt.rescore(&session.objective());
+        }
+        let stats = opt.step(&session.objective());
         let secs = start.elapsed().as_secs_f64();
         rows.push((stats.clone(), secs));
-        let tail = session.record(&mut rec, stats, opt, !c.args.quiet && bar.is_hidden());
-        let best = opt.best().map_or(f64::NAN, |b| b.fitness);
+        let tail = session.record(&mut rec, &stats, &opt, !quiet && bar.is_hidden());
+        let best = opt.best().map(|b| b.fitness);
         let rate = stats.total_evaluations as f64 / secs.max(1e-9);
-        let msg = format!("best {best:.4} · {rate:.0} evals/s{tail}");
-        if c.stop.generations.is_some() {
+        let msg = format!("best {:.4} · {rate:.0} evals/s{tail}", best.unwrap_or(f64::NAN));
+        if stop.generations.is_some() {
             bar.set_position(stats.generation as u64);
             bar.set_message(msg);
         } else {
             bar.set_position((secs * 1000.0) as u64);
             bar.set_message(format!("gen {} · {msg}", stats.generation));
         }
-        if failed.is_none() && last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
-            if let Err(e) = session.write_progress(opt, &rows, &rec) {
-                failed = Some(e);
-                c.stop.cancel.store(true, Ordering::SeqCst);
-            }
+        if last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+            session.write_progress(&opt, &rows, &rec)?;
             last_checkpoint = Instant::now();
         }
-    })?;
-    if let Some(e) = failed {
-        return Err(e);
-    }
+        if let Some(w) = control.watch.as_deref_mut() {
+            if w.wants_gallery(stats.generation)
+                && let Ok(png) = session.gallery(&opt)
+            {
+                w.gallery(stats.generation, png);
+            }
+            let tick = Tick { stats: &stats, seconds: secs, best, criteria: session.criteria(&rec) };
+            live = w.generation(&tick);
+        }
+    };
+    let elapsed = start.elapsed();
     bar.finish_and_clear();
-    if summary.reason == StopReason::Cancelled {
+    if reason == StopReason::Cancelled {
         eprintln!("interrupted: writing the results of generation {}", opt.generation());
     }
-    let ended = Ended { reason: stop_reason_name(summary.reason), elapsed: summary.elapsed };
+    let ended = Ended { reason: stop_reason_name(reason), elapsed, steering: &log };
     session.write_all(&opt, &rows, &rec, ended)?;
     eprintln!(
-        "{}: {} generations, {} evaluations in {:.1} s ({:.0}/s); best fitness {:.6} (max reachable {:.4}){} → {}",
-        c.scene_path.display(),
+        "{scene}: {} generations, {} evaluations in {:.1} s ({:.0}/s); best fitness {:.6} (max reachable {:.4}){} → {}",
         opt.generation(),
         opt.evaluations(),
-        summary.elapsed.as_secs_f64(),
-        opt.evaluations() as f64 / summary.elapsed.as_secs_f64().max(1e-9),
+        elapsed.as_secs_f64(),
+        opt.evaluations() as f64 / elapsed.as_secs_f64().max(1e-9),
         opt.best().map_or(f64::NAN, |b| b.fitness),
         session.max_reachable(),
         session.summary_tail(&rec),
@@ -549,17 +691,50 @@ fn write_models(out: &Path, scene: &Scene) -> Result<()> {
 /// One `evolve` run of a tree scene.
 struct RunContext<'a> {
     common: Common<'a>,
+    /// The scene as written (steering changes `scorers` and `steerable` only).
     config: &'a SceneConfig,
     generator: &'a dyn Generator,
     limits: Limits,
-    scorers: &'a Scorers,
+    /// The targets, with the fitness constants as steered so far.
+    scorers: Scorers,
+    /// The `[fitness]` constants as steered so far.
+    steerable: Steerable,
+    descriptors: [Descriptor; 2],
 }
 
 impl Session<Genome> for RunContext<'_> {
     type Record = BestHistory<Genome>;
+    type Objective<'s>
+        = DescribedObjective<'s>
+    where
+        Self: 's;
 
     fn common(&self) -> &Common<'_> {
         &self.common
+    }
+
+    fn objective(&self) -> DescribedObjective<'_> {
+        let objective = SceneObjective { generator: self.generator, limits: self.limits, scorers: &self.scorers };
+        DescribedObjective { objective, descriptors: self.descriptors }
+    }
+
+    fn steerable(&self) -> &Steerable {
+        &self.steerable
+    }
+
+    fn steer(&mut self, set: &SteerSet) -> Result<()> {
+        self.steerable.apply(set)?;
+        if let Steerable::Fitness(f) = &self.steerable {
+            let mut config = self.config.clone();
+            config.fitness = f.clone();
+            self.scorers.fitness = config.fitness();
+        }
+        Ok(())
+    }
+
+    fn gallery(&self, opt: &dyn Optimizer) -> Result<Vec<u8>> {
+        let reports = self.reports();
+        Ok(reports.gallery_png(&reports.describe(opt.population())?))
     }
 
     fn max_reachable(&self) -> f64 {
@@ -591,7 +766,7 @@ impl Session<Genome> for RunContext<'_> {
             // best-model.png: the model alone in a fitted 3/4 view;
             // best.png: with its target behind it (see genform_cli::pictures).
             write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
-            let target = TargetPicture::new(self.config, self.scorers)?;
+            let target = TargetPicture::new(self.config, &self.scorers)?;
             write_atomic(&out.join("best.png"), &target.best_png(&scene))?;
             pictures::write_silhouettes(out, &self.scorers.images, &scene)?;
             self.write_evolution(&target, rec)?;
@@ -631,12 +806,16 @@ impl RunContext<'_> {
         Ok(scene)
     }
 
+    fn reports(&self) -> Reports<'_> {
+        Reports { generator: self.generator, limits: self.limits, config: self.config.map_elites() }
+    }
+
     /// `gallery.png` (the best distinct individuals of `population`) and,
     /// for MAP-Elites, whose population is its archive, `archive.csv`,
     /// `archive.png` and `elites/`.
     fn write_diversity(&self, population: &[Individual]) -> Result<()> {
         let out = &self.common.args.out;
-        let reports = Reports { generator: self.generator, limits: self.limits, config: self.config.map_elites() };
+        let reports = self.reports();
         let described = reports.describe(population)?;
         write_atomic(&out.join("gallery.png"), &reports.gallery_png(&described))?;
         if self.common.algorithm == genform_evolve::Algorithm::MapElites.name() {

@@ -4,6 +4,7 @@
 mod args;
 mod commands;
 mod evolve;
+mod serve;
 
 use std::process::ExitCode;
 

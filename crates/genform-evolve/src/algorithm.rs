@@ -9,6 +9,7 @@ use crate::mcmc::Mh;
 use crate::objective::Objective;
 use crate::optimizer::{Individual, Optimizer};
 use crate::random::RandomSearch;
+use crate::rescore::Rescore;
 use crate::smc::{Order, Smc};
 use crate::stats::GenerationStats;
 use genform_core::{GeneratorGraph, Limits};
@@ -177,6 +178,19 @@ impl Optimizer for AnyOptimizer {
 
     fn is_initialized(&self) -> bool {
         self.inner().is_initialized()
+    }
+}
+
+impl Rescore for AnyOptimizer {
+    fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
+        match self {
+            AnyOptimizer::Ga(o) => o.rescore(objective),
+            AnyOptimizer::Random(o) => o.rescore(objective),
+            AnyOptimizer::Mh(o) => o.rescore(objective),
+            AnyOptimizer::Smc(o) => o.rescore(objective),
+            AnyOptimizer::Hybrid(o) => o.rescore(objective),
+            AnyOptimizer::MapElites(o) => o.rescore(objective),
+        }
     }
 }
 

@@ -17,6 +17,7 @@ use crate::ga::Ga;
 use crate::mcmc::Mh;
 use crate::objective::Objective;
 use crate::optimizer::{Individual, Optimizer};
+use crate::rescore::{Rescore, rescored_best};
 use crate::smc::{Order, Smc, reopen};
 use crate::stats::GenerationStats;
 use genform_core::{GeneratorGraph, Limits};
@@ -51,7 +52,7 @@ pub enum Phase {
     /// SOSMC building the initial population.
     Seed(Smc),
     /// The GA.
-    Evolve(Ga),
+    Evolve(Box<Ga>),
     /// MH chains polishing the GA's best.
     Polish(Mh),
 }
@@ -69,7 +70,7 @@ impl Phase {
     fn optimizer(&self) -> &dyn Optimizer {
         match self {
             Phase::Seed(o) => o,
-            Phase::Evolve(o) => o,
+            Phase::Evolve(o) => o.as_ref(),
             Phase::Polish(o) => o,
         }
     }
@@ -175,9 +176,12 @@ impl Hybrid {
                     .iter()
                     .map(|p| Individual { genome: reopen(&p.genome), fitness: p.fitness })
                     .collect();
-                Ga::from_population(&self.graph, &self.limits, self.ga.clone(), self.seed, individuals)
+                // No GA restarts: a restart would throw the particles away,
+                // and the hybrid hands a stalled GA to MH instead.
+                let ga = GaConfig { restart_after: 0, ..self.ga.clone() };
+                Ga::from_population(&self.graph, &self.limits, ga, self.seed, individuals)
                     .ok()
-                    .map(Phase::Evolve)
+                    .map(|ga| Phase::Evolve(Box::new(ga)))
             }
             Phase::Evolve(ga)
                 if self.stagnant >= self.config.stagnation
@@ -233,6 +237,27 @@ impl Optimizer for Hybrid {
 
     fn is_initialized(&self) -> bool {
         self.generation.is_some()
+    }
+}
+
+impl Rescore for Hybrid {
+    /// Re-scores the current phase's optimizer, then the hybrid's best
+    /// (which may come from an earlier phase) against the phase's; that
+    /// evaluation counts with the finished phases'.
+    fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
+        if self.generation.is_none() {
+            return 0;
+        }
+        let evaluations = match &mut self.phase {
+            Phase::Seed(o) => o.rescore(objective),
+            Phase::Evolve(o) => o.rescore(objective),
+            Phase::Polish(o) => o.rescore(objective),
+        };
+        let phase_best: Vec<Individual> = self.phase.optimizer().best().cloned().into_iter().collect();
+        let (best, more) = rescored_best(objective, self.best.take(), &phase_best);
+        self.best = best;
+        self.done_evaluations += more;
+        evaluations + more
     }
 }
 

@@ -22,12 +22,17 @@
 //! - [`mcmc`]: RJMCMC with parallel tempering, delayed rejection and annealing.
 //! - [`run`](mod@run): the driver with generation, time, evaluation and cancel stops.
 //! - [`algorithm`]: every optimizer behind one run-time choice.
+//! - [`ask_tell`]: any optimizer driven by ask/tell (scores computed elsewhere:
+//!   Python workers, a person picking favourites).
+//! - [`rescore`]: re-scoring what an optimizer stores when the objective
+//!   changes mid-run (steering).
 //! - [`config`], [`stats`], [`optimizer`]: settings, per-generation
 //!   statistics, the shared [`Optimizer`] trait.
 //! - [`fixtures`]: toy graphs and objectives for tests and benchmarks.
 #![warn(missing_docs)]
 
 pub mod algorithm;
+pub mod ask_tell;
 #[cfg(test)]
 mod chi2;
 pub mod config;
@@ -43,6 +48,7 @@ pub mod operators;
 pub mod optimizer;
 mod population;
 pub mod random;
+pub mod rescore;
 pub mod run;
 pub mod selection;
 pub mod smc;
@@ -62,6 +68,7 @@ pub use objective::{FnObjective, Objective};
 pub use operators::{LengthBounds, MutationKind, MutationMix};
 pub use optimizer::{Genotype, Individual, Optimizer};
 pub use random::RandomSearch;
+pub use rescore::Rescore;
 pub use run::{RunSummary, Stop, StopReason, Unbounded, run};
 pub use selection::Selection;
 pub use smc::{Order, Smc};

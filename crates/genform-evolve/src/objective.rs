@@ -14,8 +14,9 @@ use genform_core::Genome;
 /// [`Objective::Scratch`] (voxel grids, scenes, buffers), so `evaluate` can
 /// run allocation-free after warm-up. It must be deterministic: the same
 /// genome gives the same value, whatever thread evaluates it, because
-/// optimizers cache fitness (elites are never re-evaluated) and promise
-/// identical results at any thread count.
+/// optimizers cache fitness (elites are never re-evaluated, unless the
+/// objective itself changes: see [`Rescore`](crate::rescore::Rescore)) and
+/// promise identical results at any thread count.
 ///
 /// A non-finite result (NaN or ±∞, e.g. the genome could not be expressed)
 /// marks the individual *invalid*: it gets weight 0 in roulette selection,

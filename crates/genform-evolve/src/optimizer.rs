@@ -53,7 +53,9 @@ pub fn sort_population<G>(population: &mut [Individual<G>]) {
 /// search codon strings).
 ///
 /// The generic [`Optimizer::step`] is left out of the vtable, so drivers can
-/// hand `&dyn Optimizer` to callbacks that only read the state.
+/// hand `&dyn Optimizer` to callbacks that only read the state. Drivers
+/// whose objective changes mid-run also need
+/// [`Rescore`](crate::rescore::Rescore).
 pub trait Optimizer<G = Genome> {
     /// Runs one generation; the first call builds and evaluates generation 0.
     fn step<O: Objective<G>>(&mut self, objective: &O) -> GenerationStats

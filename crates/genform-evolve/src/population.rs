@@ -10,6 +10,7 @@
 use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::optimizer::{Genotype, Individual, sort_population, update_best};
+use crate::rescore::{reevaluate, rescored_best};
 use crate::stats::{GenerationStats, ReproductionCounts};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -165,6 +166,32 @@ impl<G: Genotype + Clone + Send + Sync> Population<G> {
             reproduction,
             ..GenerationStats::summarize(generation, &self.members)
         }
+    }
+}
+
+impl<G: Genotype + Clone + PartialEq + Send + Sync> Population<G> {
+    /// Re-evaluates every member under `objective` (see
+    /// [`Rescore`](crate::rescore::Rescore)), re-sorts, and makes the best
+    /// the better of the re-scored old best and the new first member;
+    /// returns the evaluations made (counted).
+    pub fn rescore<O: Objective<G>>(&mut self, objective: &O) -> u64 {
+        if self.is_empty() {
+            return 0;
+        }
+        let mut evaluations = reevaluate(objective, &mut self.members);
+        sort_population(&mut self.members);
+        let (best, more) = rescored_best(objective, self.best.take(), &self.members);
+        self.best = best;
+        evaluations += more;
+        self.evaluations += evaluations;
+        evaluations
+    }
+
+    /// Makes the best valid of `candidates` (already scored under the
+    /// current objective) the best so far when it is strictly better.
+    pub fn consider_best(&mut self, candidates: &[Individual<G>]) {
+        let top = candidates.iter().filter(|c| c.is_valid()).reduce(|a, b| if b.fitness > a.fitness { b } else { a });
+        update_best(&mut self.best, top.map(std::slice::from_ref).unwrap_or_default());
     }
 }
 

@@ -66,6 +66,13 @@ impl Optimizer for RandomSearch {
     }
 }
 
+impl crate::rescore::Rescore for RandomSearch {
+    /// Re-scores the kept individuals and the best.
+    fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
+        self.state.rescore(objective)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

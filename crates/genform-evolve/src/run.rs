@@ -91,8 +91,11 @@ pub fn run<G, P: Optimizer<G>, O: Objective<G>>(
     })
 }
 
-/// The first condition that holds, cancellation first.
-fn reached<G>(optimizer: &impl Optimizer<G>, stop: &Stop, start: Instant) -> Option<StopReason> {
+/// The first condition of `stop` that holds for `optimizer` in a run that
+/// began at `start`, cancellation first: what [`run`] checks before each
+/// generation, for drivers that step an optimizer themselves (e.g. to
+/// change the objective between generations).
+pub fn reached<G>(optimizer: &impl Optimizer<G>, stop: &Stop, start: Instant) -> Option<StopReason> {
     if stop.cancel.load(Ordering::Relaxed) {
         return Some(StopReason::Cancelled);
     }

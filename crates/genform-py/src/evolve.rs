@@ -78,8 +78,9 @@ impl RunResult {
 
 /// A message from the run thread.
 enum Event {
-    Generation(GenerationStats, Option<f64>, f64),
-    Done(Result<genform_evolve::RunSummary, genform_evolve::Unbounded>, AnyOptimizer, BestHistory<Genome>),
+    // Both payloads are boxed: they are large and unequal (clippy's large_enum_variant).
+    Generation(Box<GenerationStats>, Option<f64>, f64),
+    Done(Result<genform_evolve::RunSummary, genform_evolve::Unbounded>, Box<AnyOptimizer>, BestHistory<Genome>),
 }
 
 /// The `stopped_by` word of `run.json`.
@@ -161,10 +162,10 @@ pub fn evolve(
                 run(&mut opt, &objective, &stop, |stats, o| {
                     history.record(stats.generation, o.best().map(|b| (&b.genome, b.fitness)));
                     let best = o.best().map(|b| b.fitness);
-                    let _ = tx.send(Event::Generation(stats.clone(), best, start.elapsed().as_secs_f64()));
+                    let _ = tx.send(Event::Generation(Box::new(stats.clone()), best, start.elapsed().as_secs_f64()));
                 })
             });
-            let _ = tx.send(Event::Done(summary, opt, history));
+            let _ = tx.send(Event::Done(summary, Box::new(opt), history));
         });
         loop {
             match py.detach(|| rx.lock().expect("not poisoned").recv_timeout(Duration::from_millis(50))) {
@@ -178,9 +179,9 @@ pub fn evolve(
                         cancel.store(true, Ordering::SeqCst);
                     }
                     dicts.push(row.unbind());
-                    rows.push((stats, secs));
+                    rows.push((*stats, secs));
                 }
-                Ok(Event::Done(summary, opt, history)) => return Ok((summary, opt, history)),
+                Ok(Event::Done(summary, opt, history)) => return Ok((summary, *opt, history)),
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 Err(mpsc::RecvTimeoutError::Disconnected) => return Err(error("the run thread stopped unexpectedly")),
             }

@@ -4,7 +4,6 @@
 //! optimizers of `genform-evolve`; this crate only converts between Rust
 //! and Python (and adapts step-based optimizers to ask/tell).
 
-mod ask_tell;
 mod errors;
 mod evolve;
 mod grammar;

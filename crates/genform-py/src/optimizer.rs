@@ -1,5 +1,5 @@
 //! `genform.Optimizer`: ask/tell for a fitness computed in Python (or on
-//! Ray workers), over [`crate::ask_tell::AskTell`].
+//! Ray workers), over [`genform_evolve::ask_tell::AskTell`].
 
 use genform_core::Limits;
 use genform_evolve::{AnyOptimizer, Horizon, Optimizer as _, Settings};
@@ -9,11 +9,11 @@ use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Duration;
 
-use crate::ask_tell::{AskTell, Score};
 use crate::errors::{OrRaise, error};
 use crate::grammar::{Grammar, GrammarCore, Model, path_arg};
 use crate::scene::{Scene, SceneCore};
 use crate::settings;
+use genform_evolve::ask_tell::{AskTell, Score};
 
 /// Ask/tell over any algorithm.
 #[pyclass(module = "genform")]

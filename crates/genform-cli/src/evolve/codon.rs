@@ -18,8 +18,8 @@ use genform_export::RenderOptions;
 use std::path::Path;
 
 use super::{
-    Common, Contest, Ended, Session, cancel_on_ctrl_c, distinct, drive, race, race_budget, stop_at, stop_rules, title,
-    worker_pool, write_models,
+    ByRef, Common, Contest, Control, Ended, Session, SteerSet, Steerable, distinct, drive, race, race_budget, stop_at,
+    stop_rules, title, worker_pool, write_models,
 };
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, LimitArgs, ScoreArgs};
 
@@ -98,36 +98,42 @@ pub fn score(a: ScoreArgs) -> Result<()> {
     Ok(())
 }
 
-/// Runs `genform evolve` on a codon scene.
-pub fn evolve(a: EvolveArgs) -> Result<()> {
+/// Runs `genform evolve` on a codon scene under `control`.
+pub fn evolve(a: &EvolveArgs, mut control: Control) -> Result<()> {
     refuse_tree_limits(&a.limits)?;
     let scene = CodonSceneConfig::load(&a.scene)?;
     let algorithm = codon_algorithm(a.algorithm.unwrap_or(Algorithm::Ge), &scene.path)?;
     let config = &scene.config;
-    let horizon = stop_rules(&a, &config.run)?;
+    let horizon = stop_rules(a, &config.run)?;
     let objective = CodonObjective::new(&scene)?;
     let opt = AnyCodonOptimizer::new(algorithm, &config.ge, a.seed).map_err(|e| anyhow::anyhow!("[ge]: {e}"))?;
     let pool = worker_pool(a.threads)?;
-    let cancel = cancel_on_ctrl_c();
-    let ctx = Run {
+    let cancel = control.cancel.clone();
+    let mut ctx = Run {
         common: Common {
-            args: &a,
+            args: a,
             algorithm: algorithm.name(),
             scene_path: &scene.path,
-            stop: stop_at(horizon, &cancel),
             threads: pool.current_num_threads(),
         },
         scene: &scene,
-        objective: &objective,
+        objective,
+        steerable: Steerable::of_codon_scene(config),
+        split_before: EvalSplit::default(),
     };
-    pool.install(|| drive(&ctx, opt, &objective))
+    pool.install(|| drive(&mut ctx, opt, stop_at(horizon, &cancel), &mut control))
 }
 
 /// One `evolve` run of a codon scene.
 struct Run<'a> {
     common: Common<'a>,
+    /// The scene as written (steering changes `objective` and `steerable` only).
     scene: &'a LoadedCodonScene,
-    objective: &'a CodonObjective,
+    /// The objective as steered so far (rebuilt at each change).
+    objective: CodonObjective,
+    steerable: Steerable,
+    /// The time split of the objectives that steering replaced.
+    split_before: EvalSplit,
 }
 
 /// What a codon run records per generation beside the statistics rows.
@@ -152,9 +158,45 @@ impl Record {
 
 impl Session<Codons> for Run<'_> {
     type Record = Record;
+    type Objective<'s>
+        = ByRef<'s, CodonObjective>
+    where
+        Self: 's;
 
     fn common(&self) -> &Common<'_> {
         &self.common
+    }
+
+    fn objective(&self) -> ByRef<'_, CodonObjective> {
+        ByRef(&self.objective)
+    }
+
+    fn steerable(&self) -> &Steerable {
+        &self.steerable
+    }
+
+    fn steer(&mut self, set: &SteerSet) -> Result<()> {
+        let mut steerable = self.steerable.clone();
+        steerable.apply(set)?;
+        let mut scene = self.scene.clone();
+        match &steerable {
+            Steerable::Surface(s) => scene.config.surface = Some(*s),
+            Steerable::Fitness(f) => scene.config.fitness = f.clone(),
+        }
+        let objective = CodonObjective::new(&scene)?;
+        let old = std::mem::replace(&mut self.objective, objective);
+        // Invalid counts were taken by the last generation's record; the time split carries over.
+        self.split_before = add_split(self.split_before, old.eval_split());
+        self.steerable = steerable;
+        Ok(())
+    }
+
+    fn criteria(&self, rec: &Record) -> Vec<(&'static str, f64)> {
+        rec.criteria.last().map(|r| r.contributions.clone()).unwrap_or_default()
+    }
+
+    fn gallery(&self, opt: &dyn Optimizer<Codons>) -> Result<Vec<u8>> {
+        Ok(self.gallery(opt.population()))
     }
 
     fn max_reachable(&self) -> f64 {
@@ -214,7 +256,7 @@ impl Session<Codons> for Run<'_> {
         let by_reason = |c: &InvalidCounts| {
             serde_json::Value::Object(c.nonzero().map(|(n, v)| (n.to_string(), serde_json::json!(v))).collect())
         };
-        let split = self.objective.eval_split();
+        let split = add_split(self.split_before, self.objective.eval_split());
         let per = |s: f64| if split.evaluations > 0 { s / split.evaluations as f64 * 1e6 } else { 0.0 };
         let EvalSplit { evaluations: timed, mapping, build, scoring } = split;
         let components = expressed.as_ref().map(|e| match &e.detail {
@@ -252,6 +294,16 @@ impl Session<Codons> for Run<'_> {
 
     fn summary_tail(&self, rec: &Record) -> String {
         format!("; invalid evaluations: {}", rec.invalid_totals())
+    }
+}
+
+/// The sum of two time splits.
+fn add_split(a: EvalSplit, b: EvalSplit) -> EvalSplit {
+    EvalSplit {
+        evaluations: a.evaluations + b.evaluations,
+        mapping: a.mapping + b.mapping,
+        build: a.build + b.build,
+        scoring: a.scoring + b.scoring,
     }
 }
 

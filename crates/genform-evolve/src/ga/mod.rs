@@ -9,15 +9,19 @@
 //! up to five times and then copying the parents. Once the best has not
 //! improved for `tune_after` generations, the default GA adds a drift
 //! mutation (`mutation.drift`) and replaces children that duplicate a
-//! member or an earlier child (`avoid_duplicates`); the thesis preset
-//! turns both off. Evaluate only the new children, tallying which
-//! operators beat their parents. Pairs and evaluations run on the current
+//! member or an earlier child (`avoid_duplicates`). Once the best has not
+//! improved for `restart_after` generations, the default GA restarts: a
+//! new epoch from fresh individuals, the best seen kept (see `epoch`). The
+//! thesis preset turns all three off. Evaluate only the new children,
+//! tallying which operators beat their parents. Pairs and evaluations run on the current
 //! rayon pool and are collected in index order, so a seed gives the same
 //! populations and statistics at any thread count.
 
 mod adapt;
 mod duplicates;
+mod epoch;
 mod reproduce;
+mod rescore;
 #[cfg(test)]
 mod tests;
 
@@ -28,10 +32,12 @@ use crate::operators::{MutationMix, initial, reference_initial};
 use crate::optimizer::{Individual, Optimizer, sort_population};
 use crate::population::{Population, breed};
 use crate::selection::Selector;
-use crate::stats::GenerationStats;
+use crate::stats::{GenerationStats, ReproductionCounts};
 use adapt::Rates;
 use duplicates::{distinct, handle_duplicates, tally};
+use epoch::Epoch;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
+use rayon::prelude::*;
 use reproduce::{Context, reproduce_pair};
 
 pub use duplicates::DEDUP_STREAM;
@@ -41,6 +47,8 @@ use std::time::Instant;
 pub const INIT_STREAM: u64 = 0x4741_494e_4954; // "GAINIT"
 /// Stream id of reproduction: `(seed, PAIR_STREAM, generation, pair)`.
 pub const PAIR_STREAM: u64 = 0x4741_5041_4952; // "GAPAIR"
+/// Stream id of restarted individuals: `(seed, RESTART_STREAM, restart, index)`.
+pub const RESTART_STREAM: u64 = 0x4741_5253_5452; // "GARSTR"
 
 /// The genetic algorithm over one generator graph.
 #[derive(Clone, Debug)]
@@ -53,11 +61,12 @@ pub struct Ga {
     seed: u64,
     state: Population<Genome>,
     rates: Rates,
-    /// Generations since the best improved.
-    stagnant: usize,
-    /// Whether the tuning phase (drift, duplicate avoidance) has started
-    /// (see [`GaConfig::tune_after`]).
-    tuning: bool,
+    /// The current epoch's phase and stall counts.
+    epoch: Epoch,
+    /// Restarts so far.
+    restarts: usize,
+    /// The best member of each finished epoch, in order.
+    champions: Vec<Individual>,
 }
 
 impl Ga {
@@ -69,8 +78,18 @@ impl Ga {
         let config = config.effective();
         let limits = crate::optimizer::length_capped(limits, config.max_length);
         let rates = Rates::new(config.mutation_rate, config.mutation, config.adapt_rates);
-        let tuning = config.tune_after == 0;
-        Ok(Ga { graph: graph.clone(), limits, config, seed, state: Population::default(), rates, stagnant: 0, tuning })
+        let epoch = Epoch::start(&config, f64::NEG_INFINITY);
+        Ok(Ga {
+            graph: graph.clone(),
+            limits,
+            config,
+            seed,
+            state: Population::default(),
+            rates,
+            epoch,
+            restarts: 0,
+            champions: Vec::new(),
+        })
     }
 
     /// A GA whose generation 0 is `individuals` (with the fitness they
@@ -94,6 +113,7 @@ impl Ga {
         sort_population(&mut individuals);
         let n = ga.config.population;
         ga.state = Population::seeded(individuals.iter().cycle().take(n).cloned().collect());
+        ga.epoch = Epoch::start(&ga.config, ga.epoch_top());
         Ok(ga)
     }
 
@@ -127,20 +147,72 @@ impl Ga {
         self.state.evaluations()
     }
 
+    /// Restarts so far (see [`GaConfig::restart_after`]).
+    pub fn restarts(&self) -> usize {
+        self.restarts
+    }
+
+    /// The best member of each epoch that ended in a restart, oldest first:
+    /// usually different structures (the current population holds only the
+    /// current epoch's; [`Ga::best`] is the best of all).
+    pub fn champions(&self) -> &[Individual] {
+        &self.champions
+    }
+
+    /// The maker of generation-0 genomes for the configured initialization.
+    fn maker(&self) -> fn(&GeneratorGraph, &Limits, [usize; 2], &mut Rng) -> Genome {
+        match self.config.initialization {
+            Initialization::Grammar => initial,
+            Initialization::Reference => reference_initial,
+        }
+    }
+
+    /// Back to the state of a new run for the phase and rate bookkeeping.
+    fn reset_epoch(&mut self) {
+        self.rates = Rates::new(self.config.mutation_rate, self.config.mutation, self.config.adapt_rates);
+        self.epoch = Epoch::start(&self.config, self.epoch_top());
+    }
+
+    /// The best valid fitness in the current population.
+    fn epoch_top(&self) -> f64 {
+        self.state.members().first().filter(|i| i.is_valid()).map_or(f64::NEG_INFINITY, |i| i.fitness)
+    }
+
+    /// A restart: the `restart_keep` best members stay, the rest is new
+    /// generation-0 individuals from stream `(seed, RESTART_STREAM,
+    /// restart, i)`. The best seen so far is kept by the population either
+    /// way.
+    fn restart<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        let started = Instant::now();
+        self.restarts += 1;
+        self.champions.extend(self.state.members().first().filter(|i| i.is_valid()).cloned());
+        let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
+        let (make, restart) = (self.maker(), self.restarts as u64);
+        let keep = self.config.restart_keep;
+        let fresh: Vec<Child> = (0..self.config.population - keep)
+            .into_par_iter()
+            .map(|i| Child {
+                genome: make(graph, limits, length, &mut Rng::stream(seed, &[RESTART_STREAM, restart, i as u64])),
+                fitness: None,
+            })
+            .collect();
+        let stats = self.state.advance(objective, keep, fresh, ReproductionCounts::default(), started);
+        self.reset_epoch();
+        GenerationStats { distinct: Some(distinct(self.state.members())), ..stats }
+    }
+
     /// Builds and evaluates generation 0 (discarding any population):
     /// individual `i` is [`initial`] (or [`reference_initial`]) from stream
     /// `(seed, INIT_STREAM, i)`.
     pub fn initialize<O: Objective>(&mut self, objective: &O) -> GenerationStats {
+        let make = self.maker();
         let (graph, limits, length, seed) = (&self.graph, &self.limits, self.config.initial_length, self.seed);
-        let make = match self.config.initialization {
-            Initialization::Grammar => initial,
-            Initialization::Reference => reference_initial,
-        };
-        self.rates = Rates::new(self.config.mutation_rate, self.config.mutation, self.config.adapt_rates);
-        (self.stagnant, self.tuning) = (0, self.config.tune_after == 0);
         let stats = self.state.initialize(objective, self.config.population, |i| {
             make(graph, limits, length, &mut Rng::stream(seed, &[INIT_STREAM, i as u64]))
         });
+        self.restarts = 0;
+        self.champions.clear();
+        self.reset_epoch();
         GenerationStats { distinct: Some(distinct(self.state.members())), ..stats }
     }
 
@@ -149,12 +221,14 @@ impl Ga {
         if self.state.is_empty() {
             return self.initialize(objective);
         }
+        if self.epoch.restart_due(&self.config) {
+            return self.restart(objective);
+        }
         let started = Instant::now();
         let generation = self.state.generation() + 1;
         let fitness = self.state.fitness();
         let held = MutationMix { drift: 0.0, ..self.rates.mix };
-        let mix = if self.tuning || !held.is_valid() { &self.rates.mix } else { &held };
-        let best_before = self.state.best().map(|b| b.fitness);
+        let mix = if self.epoch.tuning || !held.is_valid() { &self.rates.mix } else { &held };
         let ctx = Context {
             graph: &self.graph,
             limits: &self.limits,
@@ -174,7 +248,7 @@ impl Ga {
         });
         let (mut children, mut origins): (Vec<Child>, Vec<_>) =
             tagged.into_iter().map(|c| (Child { genome: c.genome.0, fitness: c.fitness }, c.genome.1)).unzip();
-        let replace = self.config.avoid_duplicates && self.tuning;
+        let replace = self.config.avoid_duplicates && self.epoch.tuning;
         handle_duplicates(&ctx, &mut children, &mut origins, &mut counts, replace, (seed, generation as u64));
         let reproduction_time = started.elapsed();
         let fresh: Vec<bool> = children.iter().map(|c| c.fitness.is_none()).collect();
@@ -183,14 +257,8 @@ impl Ga {
         self.state.count_evaluations(evaluations);
         self.rates.update(&counts.operators);
         let stats = self.state.advance(objective, self.config.elitism, children, counts, started);
-        let best_after = self.state.best().map(|b| b.fitness);
-        let improved = match (best_before, best_after) {
-            (Some(a), Some(b)) => b > a,
-            (None, b) => b.is_some(),
-            _ => false,
-        };
-        self.stagnant = if improved { 0 } else { self.stagnant + 1 };
-        self.tuning |= self.stagnant >= self.config.tune_after;
+        let top = self.epoch_top();
+        self.epoch.observe(&self.config, top);
         GenerationStats {
             evaluations,
             eval_time,

@@ -291,3 +291,65 @@ fn drift_starts_after_tune_after_generations_without_a_new_best() {
     eager.step(&flat);
     assert!(eager.step(&flat).reproduction.mutations.drift > 0);
 }
+
+#[test]
+fn a_stalled_ga_restarts_from_fresh_individuals_and_keeps_the_best_seen() {
+    // A flat objective never improves, so every epoch stalls after
+    // `restart_after` generations: generations 4, 8, … are restarts.
+    let flat = FnObjective(|g: &Genome| -((g.len() as f64 - 17.0).abs()));
+    let config = GaConfig { restart_after: 3, tune_after: 2, ..small() };
+    let mut stalling = ga(config, 19);
+    stalling.step(&flat);
+    let mut best = f64::NEG_INFINITY;
+    let mut restarts = Vec::new();
+    for _ in 0..40 {
+        let before = stalling.restarts();
+        let s = stalling.step(&flat);
+        if stalling.restarts() > before {
+            restarts.push(s.generation);
+            // Every member but the kept ones (none) is new and evaluated.
+            assert_eq!(s.evaluations, 30);
+            assert_eq!(s.reproduction, Default::default());
+        }
+        let b = stalling.best().unwrap().fitness;
+        assert!(b >= best, "the best seen never drops");
+        best = b;
+        assert!(stalling.population()[0].fitness <= b);
+    }
+    assert!(restarts.len() >= 2, "restarts at {restarts:?}");
+    assert_eq!(stalling.champions().len(), restarts.len(), "one champion per finished epoch");
+    let top = stalling.champions().iter().map(|c| c.fitness).fold(f64::NEG_INFINITY, f64::max);
+    assert!(top <= best && stalling.champions().iter().all(|c| c.is_valid()));
+    assert!(restarts.windows(2).all(|w| w[1] - w[0] > 3), "{restarts:?}");
+    // The restarted population is not the old one: it starts from the prior.
+    let mut fresh = ga(GaConfig { restart_after: 1, restart_keep: 2, ..small() }, 5);
+    let objective = FnObjective(|_: &Genome| 1.0);
+    fresh.step(&objective);
+    fresh.step(&objective);
+    let old = snapshot(&fresh);
+    let s = fresh.step(&objective);
+    assert_eq!(fresh.restarts(), 1);
+    assert_eq!(s.evaluations, 28, "restart_keep members keep their fitness");
+    assert_eq!(snapshot(&fresh)[..2], old[..2]);
+    assert!(snapshot(&fresh)[2..].iter().all(|m| !old.contains(m)));
+}
+
+#[test]
+fn restarts_are_deterministic_at_any_thread_count_and_off_in_the_thesis_preset() {
+    let objective = ShipToy { target: 17 };
+    let config = GaConfig { restart_after: 4, restart_tolerance: 0.01, tune_after: 2, ..small() };
+    let run = |config: GaConfig, threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut ga = ga(config, 23);
+            let stats: Vec<_> = (0..40).map(|_| fitness_columns(&ga.step(&objective))).collect();
+            (snapshot(&ga), stats, ga.restarts(), ga.best().unwrap().fitness.to_bits())
+        })
+    };
+    let one = run(config.clone(), 1);
+    assert!(one.2 > 0, "the toy stalls within 40 generations");
+    let four = run(config.clone(), 4);
+    assert!(one == four, "results differ between 1 and 4 threads");
+    let thesis = run(config.with_preset(crate::GaPreset::Thesis), 1);
+    assert_eq!(thesis.2, 0, "the thesis GA never restarts");
+}

@@ -91,3 +91,12 @@ impl Optimizer<Codons> for AnyCodonOptimizer {
         self.inner().evaluations()
     }
 }
+
+impl crate::rescore::Rescore<Codons> for AnyCodonOptimizer {
+    fn rescore<O: Objective<Codons>>(&mut self, objective: &O) -> u64 {
+        match self {
+            AnyCodonOptimizer::Ge(o) => o.rescore(objective),
+            AnyCodonOptimizer::Random(o) => o.rescore(objective),
+        }
+    }
+}

@@ -147,3 +147,10 @@ impl Optimizer<Codons> for Ge {
         Ge::evaluations(self)
     }
 }
+
+impl crate::rescore::Rescore<Codons> for Ge {
+    /// Re-scores the population and the best.
+    fn rescore<O: Objective<Codons>>(&mut self, objective: &O) -> u64 {
+        self.state.rescore(objective)
+    }
+}

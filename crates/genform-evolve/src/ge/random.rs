@@ -71,6 +71,13 @@ impl Optimizer<Codons> for CodonRandom {
     }
 }
 
+impl crate::rescore::Rescore<Codons> for CodonRandom {
+    /// Re-scores the kept individuals and the best.
+    fn rescore<O: Objective<Codons>>(&mut self, objective: &O) -> u64 {
+        self.state.rescore(objective)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -28,6 +28,7 @@ use crate::config::{ConfigError, GaConfig};
 use crate::objective::Objective;
 use crate::operators::{crossover, initial, mutate};
 use crate::optimizer::{Individual, Optimizer, sort_population};
+use crate::rescore::{Rescore, reevaluate, rescored_best};
 use crate::selection::Selector;
 use crate::stats::{GenerationStats, ReproductionCounts};
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
@@ -263,6 +264,38 @@ impl MapElites {
                 *slot = Some(Elite { individual, descriptors: c.descriptors, cell });
             }
         }
+    }
+}
+
+impl Rescore for MapElites {
+    /// Re-scores every cell's elite, then the population and the best. A
+    /// cell keeps its elite (descriptors do not depend on the weights),
+    /// unless the elite is now invalid: invalid individuals are never
+    /// filed, so its cell is emptied.
+    fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
+        if !self.initialized {
+            return 0;
+        }
+        let mut elites: Vec<Individual> = self.elites().map(|e| e.individual.clone()).collect();
+        let mut evaluations = reevaluate(objective, &mut elites);
+        let cells = &mut self.cells;
+        for (&index, rescored) in self.filled.iter().zip(&elites) {
+            cells[index].as_mut().expect("filled cell").individual.fitness = rescored.fitness;
+        }
+        self.filled.retain(|&index| {
+            let valid = cells[index].as_ref().is_some_and(|e| e.individual.is_valid());
+            if !valid {
+                cells[index] = None;
+            }
+            valid
+        });
+        self.population = self.elites().map(|e| e.individual.clone()).collect();
+        sort_population(&mut self.population);
+        let (best, more) = rescored_best(objective, self.best.take(), &self.population);
+        self.best = best;
+        evaluations += more;
+        self.evaluations += evaluations;
+        evaluations
     }
 }
 

@@ -44,6 +44,7 @@ use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::{LengthBounds, initial};
 use crate::optimizer::{Individual, Optimizer, length_capped, sort_population, update_best};
+use crate::rescore::{Rescore, reevaluate, rescored_best};
 use crate::stats::{GenerationStats, MoveCounts};
 use genform_core::genome::GenePos;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
@@ -258,6 +259,36 @@ impl Optimizer for Mh {
 
     fn evaluations(&self) -> u64 {
         self.evaluations
+    }
+}
+
+impl Rescore for Mh {
+    /// Re-scores every chain's state and the best. With an automatic
+    /// temperature (`temperature` unset) the inverse temperatures were set
+    /// from the chains' fitness spread, so they are scaled by old spread /
+    /// new spread: each chain keeps its temperature relative to the fitness
+    /// scale, annealing so far included. A set temperature is in units the
+    /// user chose and stays.
+    fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
+        if self.chains.is_empty() {
+            return 0;
+        }
+        let before = spread(&self.chains);
+        let mut evaluations = reevaluate(objective, &mut self.chains);
+        if self.config.temperature.is_none()
+            && let (Some(old), Some(new)) = (before, spread(&self.chains))
+        {
+            for b in &mut self.betas {
+                *b *= old / new;
+            }
+        }
+        self.sorted.clone_from(&self.chains);
+        sort_population(&mut self.sorted);
+        let (best, more) = rescored_best(objective, self.best.take(), &self.sorted);
+        self.best = best;
+        evaluations += more;
+        self.evaluations += evaluations;
+        evaluations
     }
 }
 

@@ -14,9 +14,10 @@
 //! batch of the same generation. Steps run on a one-thread pool, so the
 //! order genomes are asked in never depends on scheduling.
 
+use crate::{AnyOptimizer, GenerationStats, Objective, Optimizer};
 use genform_core::Genome;
-use genform_evolve::{AnyOptimizer, GenerationStats, Objective, Optimizer};
 use std::collections::{HashMap, HashSet};
+use std::hash::Hash;
 use std::sync::Mutex;
 
 /// A fitness and the two behaviour descriptors (NaN when unknown).
@@ -25,24 +26,26 @@ pub type Score = (f64, [f64; 2]);
 /// The most batches one generation may take before it is called stuck.
 const MAX_ROUNDS: usize = 100_000;
 
-/// An optimizer driven by ask/tell.
-pub struct AskTell {
-    opt: AnyOptimizer,
-    known: HashMap<Genome, Score>,
-    pending: Vec<Genome>,
+/// An optimizer `P` over genomes `G` driven by ask/tell: by default any
+/// tree optimizer ([`AnyOptimizer`]); codon optimizers work the same way
+/// (`AskTell<Codons, AnyCodonOptimizer>`).
+pub struct AskTell<G = Genome, P = AnyOptimizer> {
+    opt: P,
+    known: HashMap<G, Score>,
+    pending: Vec<G>,
     pool: rayon::ThreadPool,
     rounds: usize,
 }
 
 /// The objective of a replayed generation: scores told so far; unknown
 /// genomes are recorded.
-struct Replay<'a> {
-    known: &'a HashMap<Genome, Score>,
-    missing: Mutex<Vec<Genome>>,
+struct Replay<'a, G> {
+    known: &'a HashMap<G, Score>,
+    missing: Mutex<Vec<G>>,
 }
 
-impl Replay<'_> {
-    fn score(&self, genome: &Genome) -> Score {
+impl<G: Clone + Eq + Hash> Replay<'_, G> {
+    fn score(&self, genome: &G) -> Score {
         match self.known.get(genome) {
             Some(s) => *s,
             None => {
@@ -53,38 +56,38 @@ impl Replay<'_> {
     }
 }
 
-impl Objective for Replay<'_> {
+impl<G: Clone + Eq + Hash + Send + Sync> Objective<G> for Replay<'_, G> {
     type Scratch = ();
 
     fn scratch(&self) {}
 
-    fn evaluate(&self, genome: &Genome, _: &mut ()) -> f64 {
+    fn evaluate(&self, genome: &G, _: &mut ()) -> f64 {
         self.score(genome).0
     }
 
-    fn evaluate_described(&self, genome: &Genome, _: &mut (), descriptors: &mut [f64; 2]) -> f64 {
+    fn evaluate_described(&self, genome: &G, _: &mut (), descriptors: &mut [f64; 2]) -> f64 {
         let (f, d) = self.score(genome);
         *descriptors = d;
         f
     }
 }
 
-impl AskTell {
+impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell<G, P> {
     /// Drives `opt` by ask/tell.
-    pub fn new(opt: AnyOptimizer) -> Result<Self, String> {
+    pub fn new(opt: P) -> Result<Self, String> {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| e.to_string())?;
         Ok(AskTell { opt, known: HashMap::new(), pending: Vec::new(), pool, rounds: 0 })
     }
 
     /// The optimizer as of the last completed generation.
-    pub fn optimizer(&self) -> &AnyOptimizer {
+    pub fn optimizer(&self) -> &P {
         &self.opt
     }
 
     /// The genomes to score next (the same until [`AskTell::tell`]), and
     /// the statistics of generations that completed without needing any
     /// new score on the way.
-    pub fn ask(&mut self) -> Result<(&[Genome], Vec<GenerationStats>), String> {
+    pub fn ask(&mut self) -> Result<(&[G], Vec<GenerationStats>), String> {
         let mut completed = Vec::new();
         while self.pending.is_empty() {
             if let Some(stats) = self.replay()? {
@@ -130,5 +133,40 @@ impl AskTell {
         let mut seen = HashSet::new();
         self.pending = missing.into_iter().filter(|g| seen.insert(g.clone())).collect();
         Ok(None)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::{ShipToy, ship};
+    use crate::{GaConfig, Horizon, Settings};
+    use genform_core::Limits;
+
+    fn ga() -> AnyOptimizer {
+        let ga = GaConfig { population: 12, elitism: 2, initial_length: [4, 10], ..GaConfig::default() };
+        let settings = Settings { ga, ..Settings::default() };
+        AnyOptimizer::new(crate::Algorithm::Ga, &ship(), &Limits::default(), &settings, 7, Horizon::default()).unwrap()
+    }
+
+    #[test]
+    fn ask_tell_makes_the_generations_a_direct_run_makes() {
+        let objective = ShipToy { target: 8 };
+        let mut direct = ga();
+        let mut driven = AskTell::new(ga()).unwrap();
+        for _ in 0..4 {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+            pool.install(|| direct.step(&objective));
+            loop {
+                let (batch, _) = driven.ask().unwrap();
+                let scores: Vec<Score> =
+                    batch.iter().map(|g| (objective.evaluate(g, &mut ()), [f64::NAN; 2])).collect();
+                if driven.tell(&scores).unwrap().is_some() {
+                    break;
+                }
+            }
+            assert_eq!(driven.optimizer().population(), direct.population());
+        }
+        assert!(driven.tell(&[]).unwrap_err().contains("without ask"));
     }
 }

@@ -1,0 +1,460 @@
+//! Breeding by eye (interactive evolution): an optimizer driven by
+//! ask/tell (`genform_evolve::ask_tell`) with the user's favourites as the
+//! fitness: a favourite scores 1, the others 0, optionally mixed with the
+//! scene's fitness (rescaled to 0..1 over the individuals shown) as
+//! `(1 − mix)·favourite + mix·scene`. Tree grammars and tree scenes breed
+//! with the GA, codon scenes (Genr8 surfaces, GE L-systems, codon-driven
+//! box-split and graph grammars) with GE; both keep no elites (elitism 0),
+//! so every generation shown is new children of the favourites, and the GA
+//! never restarts.
+//!
+//! Same path, seed, size, mix and picks → the same individuals.
+
+use axum::extract::{Path as UrlPath, State};
+use axum::response::{IntoResponse, Response};
+use genform_cli::codon_objective::CodonObjective;
+use genform_cli::codon_scene::CodonSceneConfig;
+use genform_cli::grammar::{self, LimitOverrides};
+use genform_cli::objective::{SceneObjective, Scorers};
+use genform_cli::output::write_atomic;
+use genform_cli::scene_config::SceneConfig;
+use genform_core::{Generator, Genome, Limits, Scene};
+use genform_evolve::ask_tell::{AskTell, Score};
+use genform_evolve::{AnyCodonOptimizer, AnyOptimizer, CodonAlgorithm, Codons, Horizon, Objective, Settings};
+use genform_export::{ExportOptions, Format, RenderOptions};
+use serde::Deserialize;
+use serde_json::{Value, json};
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
+use super::{App, Shared};
+
+/// Preview pictures' size in pixels.
+const PREVIEW: (u32, u32) = (320, 240);
+/// Breeding sessions kept; older ones are forgotten.
+const KEEP: usize = 32;
+
+/// Every breeding session of this server.
+#[derive(Default)]
+pub struct Breeds {
+    inner: Table<Mutex<Breed>>,
+}
+
+impl Breeds {
+    fn get(&self, id: &str) -> Result<Arc<Mutex<Breed>>, ApiError> {
+        let n = id.strip_prefix('b').and_then(|n| n.parse::<u64>().ok());
+        let guard = self.inner.lock().unwrap_or_else(|p| p.into_inner());
+        n.and_then(|n| guard.1.get(&n).cloned())
+            .ok_or_else(|| ApiError::not_found(format!("no breeding session `{id}`")))
+    }
+}
+
+fn lock(b: &Mutex<Breed>) -> MutexGuard<'_, Breed> {
+    b.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+/// The optimizer and the individuals shown, by genome kind.
+enum Pool {
+    /// Derivation trees of a grammar; `scorers` when a scene's fitness is mixed in.
+    Tree {
+        generator: Arc<dyn Generator>,
+        limits: Limits,
+        scorers: Option<Box<Scorers>>,
+        ask: Box<AskTell>,
+        batch: Vec<Genome>,
+    },
+    /// Codons of a codon scene, scored by the scene.
+    Codon { objective: Arc<CodonObjective>, ask: Box<AskTell<Codons, AnyCodonOptimizer>>, batch: Vec<Codons> },
+}
+
+/// What it takes to build one individual's model away from the session's lock.
+enum Job {
+    Tree(Arc<dyn Generator>, Limits, Genome),
+    Codon(Arc<CodonObjective>, Codons),
+}
+
+impl Job {
+    /// The model, and whether it is a surface (previews turn those +z up).
+    fn scene(&self) -> Result<(Scene, bool), String> {
+        match self {
+            Job::Tree(generator, limits, genome) => {
+                let mut scene = Scene::new();
+                generator.express(genome, limits, &mut scene).map_err(|e| e.to_string())?;
+                Ok((scene, false))
+            }
+            Job::Codon(objective, codons) => {
+                let e = objective.express(codons).map_err(|r| r.to_string())?;
+                let surface = !e.scene.surfaces.is_empty();
+                Ok((e.scene, surface))
+            }
+        }
+    }
+}
+
+impl Pool {
+    fn len(&self) -> usize {
+        match self {
+            Pool::Tree { batch, .. } => batch.len(),
+            Pool::Codon { batch, .. } => batch.len(),
+        }
+    }
+
+    /// Asks for the next individuals; their scene fitness where there is one.
+    fn next_batch(&mut self) -> Result<Vec<Option<f64>>, ApiError> {
+        let finite = |f: f64| Some(f).filter(|f| f.is_finite());
+        match self {
+            Pool::Tree { generator, limits, scorers, ask, batch } => {
+                *batch = ask.ask().map_err(ApiError::internal)?.0.to_vec();
+                let Some(scorers) = scorers else { return Ok(Vec::new()) };
+                let objective = SceneObjective { generator: generator.as_ref(), limits: *limits, scorers };
+                let mut scratch = objective.scratch();
+                Ok(batch.iter().map(|g| finite(objective.evaluate(g, &mut scratch))).collect())
+            }
+            Pool::Codon { objective, ask, batch } => {
+                *batch = ask.ask().map_err(ApiError::internal)?.0.to_vec();
+                let mut scratch = objective.scratch();
+                Ok(batch.iter().map(|c| finite(objective.evaluate(c, &mut scratch))).collect())
+            }
+        }
+    }
+
+    fn tell(&mut self, scores: &[Score]) -> Result<(), ApiError> {
+        match self {
+            Pool::Tree { ask, .. } => ask.tell(scores).map(drop).map_err(ApiError::internal),
+            Pool::Codon { ask, .. } => ask.tell(scores).map(drop).map_err(ApiError::internal),
+        }
+    }
+
+    fn job(&self, i: usize) -> Job {
+        match self {
+            Pool::Tree { generator, limits, batch, .. } => Job::Tree(generator.clone(), *limits, batch[i].clone()),
+            Pool::Codon { objective, batch, .. } => Job::Codon(objective.clone(), batch[i].clone()),
+        }
+    }
+
+    /// Individual `i` as a file: tree genomes as `genform derive` reads
+    /// them (`.json`), codons as a JSON list (`genform score --genome`).
+    fn genome_file(&self, i: usize) -> String {
+        match self {
+            Pool::Tree { generator, batch, .. } => batch[i].to_json(generator.graph()),
+            Pool::Codon { batch, .. } => serde_json::to_string(&batch[i]).unwrap_or_default(),
+        }
+    }
+}
+
+/// One breeding session.
+struct Breed {
+    id: String,
+    path: String,
+    seed: u64,
+    size: usize,
+    mix: f64,
+    pool: Pool,
+    /// Picks made so far: the generation shown.
+    round: usize,
+    /// The scene fitness of the individuals shown (empty without a scene).
+    fitness: Vec<Option<f64>>,
+    /// Earlier picks: (generation, favourite indices, their genome files).
+    history: Vec<(usize, Vec<usize>, Vec<String>)>,
+    previews: HashMap<(usize, String), Arc<Vec<u8>>>,
+}
+
+impl Breed {
+    fn json(&self) -> Value {
+        let individuals: Vec<Value> = (0..self.pool.len())
+            .map(|i| {
+                json!({
+                    "index": i,
+                    "preview": format!("/api/breed/{}/{}/{i}.png", self.id, self.round),
+                    "model": format!("/api/breed/{}/{}/{i}.glb", self.id, self.round),
+                    "fitness": self.fitness.get(i).copied().flatten(),
+                })
+            })
+            .collect();
+        let history: Vec<Value> =
+            self.history.iter().map(|(g, f, _)| json!({ "generation": g, "favourites": f })).collect();
+        let kind = if matches!(self.pool, Pool::Tree { .. }) { "tree" } else { "codon" };
+        json!({
+            "id": self.id, "path": self.path, "seed": self.seed, "generation": self.round, "size": self.size,
+            "mix": self.mix, "scene": !self.fitness.is_empty(), "genomes": kind, "individuals": individuals,
+            "history": history,
+        })
+    }
+
+    /// Asks for the next individuals to show.
+    fn next_batch(&mut self) -> Result<(), ApiError> {
+        self.fitness = self.pool.next_batch()?;
+        self.previews.clear();
+        Ok(())
+    }
+
+    /// The scores of the individuals shown: favourites 1, others 0, mixed
+    /// with the scene fitness rescaled to 0..1 over them.
+    fn scores(&self, favourites: &[usize]) -> Vec<Score> {
+        let valid = self.fitness.iter().flatten();
+        let lo = valid.clone().fold(f64::INFINITY, |a, b| a.min(*b));
+        let hi = valid.fold(f64::NEG_INFINITY, |a, b| a.max(*b));
+        (0..self.pool.len())
+            .map(|i| {
+                let liked = if favourites.contains(&i) { 1.0 } else { 0.0 };
+                let scene = match self.fitness.get(i).copied().flatten() {
+                    Some(f) if hi > lo => (f - lo) / (hi - lo),
+                    Some(_) => 1.0,
+                    None => 0.0,
+                };
+                ((1.0 - self.mix) * liked + self.mix * scene, [f64::NAN; 2])
+            })
+            .collect()
+    }
+}
+
+fn twelve() -> usize {
+    12
+}
+
+/// Body of `POST /api/breed`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StartBody {
+    path: String,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default = "twelve")]
+    size: usize,
+    #[serde(default)]
+    mix: f64,
+}
+
+/// `POST /api/breed`: a new session showing its first generation.
+pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody>) -> Result<Response, ApiError> {
+    if !(9..=16).contains(&body.size) {
+        return Err(ApiError::bad_request(format!("size must be 9..=16, not {}", body.size)));
+    }
+    if !(0.0..=1.0).contains(&body.mix) {
+        return Err(ApiError::bad_request(format!("mix must be in 0..=1, not {}", body.mix)));
+    }
+    let file = app.roots.resolve(&body.path)?;
+    let answer = blocking(move || {
+        let breed = open(&app, &file, body)?;
+        let answer = breed.json();
+        let mut guard = app.breeds.inner.lock().unwrap_or_else(|p| p.into_inner());
+        let n: u64 = breed.id[1..].parse().unwrap_or_default();
+        guard.1.insert(n, Arc::new(Mutex::new(breed)));
+        while guard.1.len() > KEEP {
+            guard.1.pop_first();
+        }
+        Ok(answer)
+    })
+    .await?;
+    Ok(axum::Json(answer).into_response())
+}
+
+/// A session on the grammar or scene at `file`.
+fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
+    let shown = |n: &str| app.shown(n);
+    let err = |e: anyhow::Error| ApiError::from_anyhow(&e, shown);
+    let is_scene = genform_cli::formalism::ends_with_any(file, &[".toml"]);
+    let pool = if is_scene && genform_cli::codon_scene::is_codon_scene(file) {
+        let scene = CodonSceneConfig::load(file).map_err(err)?;
+        let objective = Arc::new(CodonObjective::new(&scene).map_err(err)?);
+        let mut ge = scene.config.ge.clone();
+        ge.population = body.size;
+        ge.elitism = 0;
+        let opt = AnyCodonOptimizer::new(CodonAlgorithm::Ge, &ge, body.seed)
+            .map_err(|e| ApiError::bad_request(format!("[ge]: {e}")))?;
+        Pool::Codon { objective, ask: Box::new(AskTell::new(opt).map_err(ApiError::internal)?), batch: Vec::new() }
+    } else {
+        let (loaded, limits, mut settings, scorers) = if is_scene {
+            let config = SceneConfig::load(file).map_err(err)?.config;
+            let loaded = grammar::load(&config.grammar).map_err(err)?;
+            let l = &config.limits;
+            let limits = LimitOverrides { max_genes: l.genes, max_depth: l.depth, max_primitives: l.primitives }
+                .apply(loaded.limits);
+            // The targets are built (voxelized) only when they are mixed in.
+            let scorers =
+                if body.mix > 0.0 { Some(Box::new(genform_cli::targets::build(&config).map_err(err)?)) } else { None };
+            (loaded, limits, config.settings(), scorers)
+        } else {
+            if body.mix > 0.0 {
+                return Err(ApiError::bad_request("mix > 0 mixes in a scene's fitness: breed a scene (.toml)"));
+            }
+            let loaded = grammar::load(file).map_err(err)?;
+            let limits = loaded.limits;
+            (loaded, limits, Settings::default(), None)
+        };
+        settings.ga.population = body.size;
+        settings.ga.elitism = 0;
+        settings.ga.restart_after = 0;
+        let generator: Arc<dyn Generator> = Arc::from(loaded.generator);
+        let opt = AnyOptimizer::new(
+            genform_evolve::Algorithm::Ga,
+            generator.graph(),
+            &limits,
+            &settings,
+            body.seed,
+            Horizon::default(),
+        )
+        .map_err(|e| ApiError::bad_request(format!("[ga]: {e}")))?;
+        let ask = Box::new(AskTell::new(opt).map_err(ApiError::internal)?);
+        Pool::Tree { generator, limits, scorers, ask, batch: Vec::new() }
+    };
+    let id = {
+        let mut guard = app.breeds.inner.lock().unwrap_or_else(|p| p.into_inner());
+        // Like runs: skip numbers whose saved folder an earlier server left.
+        let mut n = guard.0 + 1;
+        while app.out.join(format!("breed-b{n}")).exists() {
+            n += 1;
+        }
+        guard.0 = n;
+        format!("b{n}")
+    };
+    let mut breed = Breed {
+        id,
+        path: app.roots.display(file).unwrap_or_default(),
+        seed: body.seed,
+        size: body.size,
+        mix: body.mix,
+        pool,
+        round: 0,
+        fitness: Vec::new(),
+        history: Vec::new(),
+        previews: HashMap::new(),
+    };
+    breed.next_batch()?;
+    Ok(breed)
+}
+
+/// `GET /api/breed/<id>`.
+pub async fn state(State(app): State<Shared>, UrlPath(id): UrlPath<String>) -> Result<Response, ApiError> {
+    let b = app.breeds.get(&id)?;
+    let v = lock(&b).json();
+    Ok(axum::Json(v).into_response())
+}
+
+/// Body of `POST /api/breed/<id>/pick`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PickBody {
+    favourites: Vec<usize>,
+}
+
+/// `POST /api/breed/<id>/pick`: the next generation, bred from the favourites.
+pub async fn pick(
+    State(app): State<Shared>,
+    UrlPath(id): UrlPath<String>,
+    JsonBody(body): JsonBody<PickBody>,
+) -> Result<Response, ApiError> {
+    let b = app.breeds.get(&id)?;
+    let answer = blocking(move || {
+        let mut breed = lock(&b);
+        let mut favourites = body.favourites;
+        favourites.sort_unstable();
+        favourites.dedup();
+        if let Some(bad) = favourites.iter().find(|i| **i >= breed.pool.len()) {
+            return Err(ApiError::bad_request(format!(
+                "favourite {bad} is not shown: the indices are 0..{}",
+                breed.pool.len()
+            )));
+        }
+        let scores = breed.scores(&favourites);
+        breed.pool.tell(&scores)?;
+        let genomes = favourites.iter().map(|i| breed.pool.genome_file(*i)).collect();
+        let round = breed.round;
+        breed.history.push((round, favourites, genomes));
+        breed.round += 1;
+        breed.next_batch()?;
+        Ok(breed.json())
+    })
+    .await?;
+    Ok(axum::Json(answer).into_response())
+}
+
+/// `POST /api/breed/<id>/save`: the favourites and the individuals shown
+/// as genome files (for `genform derive`) under `--out/breed-<id>/`.
+pub async fn save(State(app): State<Shared>, UrlPath(id): UrlPath<String>) -> Result<Response, ApiError> {
+    let b = app.breeds.get(&id)?;
+    let answer = blocking(move || {
+        let breed = lock(&b);
+        let dir = app.out.join(format!("breed-{}", breed.id));
+        let mut files = Vec::new();
+        let mut write = |rel: String, text: &str| -> Result<(), ApiError> {
+            write_atomic(&dir.join(&rel), text.as_bytes()).map_err(|e| ApiError::internal(format!("{e:#}")))?;
+            files.push(rel);
+            Ok(())
+        };
+        for (g, favs, genomes) in &breed.history {
+            for (i, genome) in favs.iter().zip(genomes) {
+                write(format!("gen-{g}/fav-{i}.json"), genome)?;
+            }
+        }
+        for i in 0..breed.pool.len() {
+            write(format!("gen-{}/ind-{i}.json", breed.round), &breed.pool.genome_file(i))?;
+        }
+        let summary = json!({
+            "path": breed.path, "seed": breed.seed, "size": breed.size, "mix": breed.mix, "generation": breed.round,
+            "history": breed.history.iter().map(|(g, f, _)| json!({ "generation": g, "favourites": f })).collect::<Vec<_>>(),
+        });
+        write("favourites.json".into(), &serde_json::to_string_pretty(&summary).unwrap_or_default())?;
+        Ok(json!({ "folder": format!("runs/breed-{}", breed.id), "files": files }))
+    })
+    .await?;
+    Ok(axum::Json(answer).into_response())
+}
+
+/// `GET /api/breed/<id>/<generation>/<index>.png|glb`: an individual shown.
+pub async fn model(
+    State(app): State<Shared>,
+    UrlPath((id, generation, file)): UrlPath<(String, String, String)>,
+) -> Result<Response, ApiError> {
+    let b = app.breeds.get(&id)?;
+    let missing = || {
+        ApiError::not_found(format!(
+            "no individual `{generation}/{file}` in `{id}` (only the generation shown is kept)"
+        ))
+    };
+    let (index, ext) = file.split_once('.').ok_or_else(missing)?;
+    let (index, ext) = (index.parse::<usize>().map_err(|_| missing())?, ext.to_string());
+    if ext != "png" && ext != "glb" {
+        return Err(missing());
+    }
+    let (job, key) = {
+        let breed = lock(&b);
+        if generation.parse::<usize>().ok() != Some(breed.round) || index >= breed.pool.len() {
+            return Err(missing());
+        }
+        let key = (index, ext.clone());
+        if let Some(bytes) = breed.previews.get(&key) {
+            let kind = if ext == "png" { "image/png" } else { "model/gltf-binary" };
+            return Ok(bytes_response(kind, bytes.to_vec()));
+        }
+        (breed.pool.job(index), key)
+    };
+    let png = ext == "png";
+    let bytes = blocking(move || {
+        // An individual that builds no model (an invalid codon string) previews as an empty picture.
+        let built = job.scene();
+        if png {
+            let scene = match &built {
+                Ok((scene, true)) => genform_cli::codon_report::z_up(scene),
+                Ok((scene, false)) => scene.clone(),
+                Err(_) => Scene::new(),
+            };
+            let options = RenderOptions { width: PREVIEW.0, height: PREVIEW.1, ..RenderOptions::default() };
+            Ok(genform_export::render_png(&scene, &options))
+        } else {
+            let (scene, _) = built.map_err(|e| ApiError::not_found(format!("this individual has no model: {e}")))?;
+            genform_export::export(&scene, Format::Glb, &ExportOptions::default())
+                .map_err(|e| ApiError::internal(format!("cannot export: {e}")))
+        }
+    })
+    .await?;
+    let bytes = Arc::new(bytes);
+    let mut breed = lock(&b);
+    if generation.parse::<usize>().ok() == Some(breed.round) {
+        breed.previews.insert(key, bytes.clone());
+    }
+    drop(breed);
+    Ok(bytes_response(if png { "image/png" } else { "model/gltf-binary" }, bytes.to_vec()))
+}

@@ -1,0 +1,451 @@
+//! Exploring grammars: the list of grammars and scenes under the roots,
+//! their text, and sampling through the formalism table — the same
+//! `LoadedGrammar::sample` and `Sample::write` as `genform sample`.
+
+use axum::extract::{Path as UrlPath, Query, State};
+use axum::http::{HeaderValue, header};
+use axum::response::{IntoResponse, Response};
+use genform_cli::codon_scene::{CodonSceneConfig, is_codon_scene};
+use genform_cli::formalism::{self, Sample, SampleRequest};
+use genform_cli::scene_config::SceneConfig;
+use genform_core::Scene;
+use genform_export::{ExportOptions, Format, Granularity};
+use serde::Deserialize;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
+use super::assets::content_type;
+use super::files::walk;
+use super::{App, Shared};
+use crate::evolve::Steerable;
+
+/// The `sample` options the studio passes on (the others name side files).
+pub const STUDIO_OPTIONS: &[&str] = &[
+    "steps",
+    "max-modules",
+    "box",
+    "env",
+    "smooth",
+    "max-genes",
+    "max-depth",
+    "max-primitives",
+    "granularity",
+    "schem-version",
+    "data-version",
+];
+
+/// Samples kept for download; older ones are forgotten (their files stay).
+const KEEP_SAMPLES: usize = 64;
+
+/// A sampled model and the formats it can be downloaded in.
+pub struct SampleEntry {
+    sample: Box<dyn Sample>,
+    formats: Vec<String>,
+    export: ExportOptions,
+    /// Its folder under `--out/.samples/`.
+    dir: PathBuf,
+    /// For download names.
+    stem: String,
+    seed: u64,
+    /// One writer at a time.
+    writing: Mutex<()>,
+}
+
+/// The samples of this server, by number.
+#[derive(Default)]
+pub struct Samples {
+    entries: Table<SampleEntry>,
+}
+
+impl Samples {
+    fn insert(&self, make: impl FnOnce(u64) -> SampleEntry) -> (u64, Arc<SampleEntry>) {
+        let mut guard = self.entries.lock().unwrap_or_else(|p| p.into_inner());
+        guard.0 += 1;
+        let id = guard.0;
+        let entry = Arc::new(make(id));
+        guard.1.insert(id, entry.clone());
+        while guard.1.len() > KEEP_SAMPLES {
+            guard.1.pop_first();
+        }
+        (id, entry)
+    }
+
+    fn get(&self, id: u64) -> Option<Arc<SampleEntry>> {
+        self.entries.lock().unwrap_or_else(|p| p.into_inner()).1.get(&id).cloned()
+    }
+}
+
+/// `GET /api/grammars`.
+pub async fn grammars(State(app): State<Shared>) -> Result<Response, ApiError> {
+    let list = blocking(move || Ok(list(&app))).await?;
+    Ok(axum::Json(list).into_response())
+}
+
+/// Every grammar and scene under the roots `examples` and `scene`.
+fn list(app: &App) -> Vec<Value> {
+    let mut seen: Vec<PathBuf> = Vec::new();
+    let mut out = Vec::new();
+    // The given file's own folder first, so its files carry `scene/` paths.
+    for name in ["scene", "examples"] {
+        let Some(root) = app.roots.get(name) else { continue };
+        for file in walk(&root.dir, 6, 5000) {
+            if seen.contains(&file) {
+                continue;
+            }
+            let Some(shown) = app.roots.display(&file) else { continue };
+            if let Some(mut item) = describe(&file, &shown) {
+                item["default"] = json!(app.default.as_deref() == Some(file.as_path()));
+                out.push(item);
+                seen.push(file);
+            }
+        }
+    }
+    out
+}
+
+/// The list entry of `file`, or `None` when it is neither a grammar nor a scene.
+fn describe(file: &Path, shown: &str) -> Option<Value> {
+    let stem = file.file_name()?.to_string_lossy().split('.').next().unwrap_or_default().to_string();
+    if formalism::ends_with_any(file, &[".toml"]) {
+        let text = std::fs::read_to_string(file).ok()?;
+        let table = text.parse::<toml::Table>().ok()?;
+        table.get("grammar")?.as_str()?;
+        let title = table.get("description").and_then(|d| d.as_str()).map_or(stem, str::to_string);
+        let codon = is_codon_scene(file);
+        let mut item = json!({
+            "path": shown, "kind": "scene", "formalism": if codon { "codon scene" } else { "scene" }, "title": title,
+            "algorithms": if codon { json!(["ge", "random"]) } else {
+                json!(["ga", "mh", "smc", "sosmc", "hybrid", "map-elites", "random"])
+            },
+        });
+        match steerable(file) {
+            Ok(s) => item["criteria"] = json!(s.values()),
+            Err(e) => item["error"] = json!(format!("{e:#}")),
+        }
+        if let Some(targets) = targets(file, shown) {
+            item["targets"] = targets;
+        }
+        return Some(item);
+    }
+    let f = formalism::for_path(file).ok()?;
+    let options: Vec<&str> = f
+        .sample_options()
+        .iter()
+        .chain(formalism::COMMON_SAMPLE_OPTIONS)
+        .map(|o| o.trim_start_matches("--"))
+        .filter(|o| STUDIO_OPTIONS.contains(o))
+        .collect();
+    Some(json!({ "path": shown, "kind": "grammar", "formalism": f.name(), "title": stem, "options": options }))
+}
+
+/// What steering can change in the scene at `file`.
+pub fn steerable(file: &Path) -> anyhow::Result<Steerable> {
+    Ok(if is_codon_scene(file) {
+        Steerable::of_codon_scene(&CodonSceneConfig::load(file)?.config)
+    } else {
+        Steerable::Fitness(SceneConfig::load(file)?.config.fitness)
+    })
+}
+
+/// `{"glb": url | null, "images": [url]}`: where the scene's targets can be
+/// fetched (`shown` is its root path); `None` for scenes without targets.
+pub fn targets(file: &Path, shown: &str) -> Option<Value> {
+    let config = target_config(file).ok()?;
+    let q = query_path(shown);
+    let volume = config.volume.is_some().then(|| format!("/api/target.glb?path={q}"));
+    let images: Vec<String> = (0..config.image.len())
+        .filter(|i| !formalism::ends_with_any(&config.image[*i].target, &[".pfm"]))
+        .map(|i| format!("/api/target.png?path={q}&index={i}"))
+        .collect();
+    Some(json!({ "glb": volume, "images": images }))
+}
+
+/// The targets part of a scene: a tree scene's config, or a codon scene's
+/// targets seen as one (surface scenes have none).
+fn target_config(file: &Path) -> anyhow::Result<SceneConfig> {
+    Ok(if is_codon_scene(file) {
+        let scene = CodonSceneConfig::load(file)?;
+        if scene.config.surface.is_some() {
+            anyhow::bail!("a surface scene has no target model");
+        }
+        scene.config.targets_view()
+    } else {
+        SceneConfig::load(file)?.config
+    })
+}
+
+/// A root path as a query value (`/` kept; the few characters that would
+/// break a query escaped).
+fn query_path(path: &str) -> String {
+    path.replace('%', "%25").replace('&', "%26").replace('#', "%23").replace('+', "%2B").replace(' ', "%20")
+}
+
+/// Query of `GET /api/target.glb` and `/api/target.png`.
+#[derive(Deserialize)]
+pub struct TargetQuery {
+    path: String,
+    #[serde(default)]
+    index: usize,
+}
+
+/// `GET /api/target.glb?path=SCENE`: the scene's volume targets (meshes, or
+/// fixed genomes expressed) as one GLB, for showing with the model.
+pub async fn target_glb(State(app): State<Shared>, Query(q): Query<TargetQuery>) -> Result<Response, ApiError> {
+    let file = app.roots.resolve(&q.path)?;
+    let bytes = blocking(move || {
+        let config = target_config(&file).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
+        let volume =
+            config.volume.ok_or_else(|| ApiError::not_found(format!("`{}` has no [volume] target", q.path)))?;
+        let mut scene = Scene::new();
+        let tag = scene.tag("target");
+        for (i, t) in volume.target.iter().enumerate() {
+            let mesh = match (&t.mesh, &t.grammar, &t.genome) {
+                (Some(m), _, _) => genform_cli::targets::read_mesh(m),
+                (None, Some(g), Some(genome)) => {
+                    genform_cli::targets::fixed_genome_scene(g, genome).map(|s| flatten(&s))
+                }
+                _ => continue,
+            }
+            .map_err(|e| ApiError::bad_request(format!("[[volume.target]] #{}: {e:#}", i + 1)))?;
+            let id = scene.mesh(&Arc::new(mesh));
+            let transform = glam::Affine3A::IDENTITY;
+            scene.instances.push(genform_core::Instance {
+                transform,
+                primitive: genform_core::Primitive::Mesh(id),
+                tag,
+            });
+        }
+        genform_export::export(&scene, Format::Glb, &ExportOptions::default())
+            .map_err(|e| ApiError::internal(format!("cannot export the target: {e}")))
+    })
+    .await?;
+    Ok(bytes_response("model/gltf-binary", bytes))
+}
+
+/// `GET /api/target.png?path=SCENE&index=I`: the scene's I-th image target picture.
+pub async fn target_png(State(app): State<Shared>, Query(q): Query<TargetQuery>) -> Result<Response, ApiError> {
+    let file = app.roots.resolve(&q.path)?;
+    let bytes = blocking(move || {
+        let config = target_config(&file).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
+        let image = config
+            .image
+            .get(q.index)
+            .filter(|i| formalism::ends_with_any(&i.target, &[".png"]))
+            .ok_or_else(|| ApiError::not_found(format!("`{}` has no PNG image target #{}", q.path, q.index)))?;
+        std::fs::read(&image.target).map_err(|e| ApiError::not_found(format!("{}: {e}", image.target.display())))
+    })
+    .await?;
+    Ok(bytes_response("image/png", bytes))
+}
+
+/// A scene's triangles as one mesh.
+fn flatten(scene: &Scene) -> genform_core::Mesh {
+    let mut m = genform_core::Mesh { name: "target".into(), ..genform_core::Mesh::default() };
+    scene.for_each_triangle(Default::default(), |t, _| {
+        let i = m.positions.len() as u32;
+        m.positions.extend(t);
+        m.triangles.push([i, i + 1, i + 2]);
+    });
+    m
+}
+
+/// Query of `GET /api/grammars/source`.
+#[derive(Deserialize)]
+pub struct SourceQuery {
+    path: String,
+}
+
+/// `GET /api/grammars/source?path=P`: the text of a grammar or scene.
+pub async fn source(State(app): State<Shared>, Query(q): Query<SourceQuery>) -> Result<Response, ApiError> {
+    let file = app.roots.resolve(&q.path)?;
+    let text = blocking(move || {
+        let meta = std::fs::metadata(&file).map_err(|e| ApiError::not_found(e.to_string()))?;
+        if !meta.is_file() || meta.len() > super::BODY_LIMIT as u64 {
+            return Err(ApiError::bad_request(format!("`{}` is not a text file of at most 1 MiB", q.path)));
+        }
+        let text = std::fs::read_to_string(&file).map_err(|e| ApiError::bad_request(e.to_string()))?;
+        Ok(json!({ "path": q.path, "text": text }))
+    })
+    .await?;
+    Ok(axum::Json(text).into_response())
+}
+
+/// Body of `POST /api/sample`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SampleBody {
+    path: String,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    options: serde_json::Map<String, Value>,
+    #[serde(default)]
+    format: Option<String>,
+}
+
+/// `POST /api/sample`.
+pub async fn sample(State(app): State<Shared>, JsonBody(body): JsonBody<SampleBody>) -> Result<Response, ApiError> {
+    let file = app.roots.resolve(&body.path)?;
+    let answer = blocking(move || {
+        let f = formalism::for_path(&file).map_err(|e| ApiError::bad_request(e.to_string()))?;
+        let (request, export) = request(&app, body.seed, &body.options)?;
+        formalism::check_request(f, &request).map_err(|e| ApiError::bad_request(e.to_string()))?;
+        let shown = |name: &str| app.shown(name);
+        let loaded = f.load(&file).map_err(|e| ApiError::from_anyhow(&e, shown))?;
+        let sampled = loaded.sample(&request).map_err(|e| ApiError::from_anyhow(&e, shown))?;
+        let formats = formats(sampled.scene(), f.output_extensions());
+        let preview = if is_flat(sampled.scene()) { "svg" } else { "glb" };
+        let format = body.format.unwrap_or_else(|| preview.to_string());
+        if !formats.contains(&format) {
+            return Err(ApiError::bad_request(format!("format `{format}`: use one of {}", formats.join(", "))));
+        }
+        let summary = sampled.summary();
+        let stem = file.file_name().map(|n| n.to_string_lossy().split('.').next().unwrap_or("model").to_string());
+        let (id, _) = app.samples.insert(|id| SampleEntry {
+            sample: sampled,
+            formats: formats.clone(),
+            export,
+            dir: app.out.join(".samples").join(format!("s{id}")),
+            stem: stem.unwrap_or_default(),
+            seed: body.seed,
+            writing: Mutex::new(()),
+        });
+        Ok(json!({
+            "id": format!("s{id}"), "summary": summary, "formats": formats, "preview": preview,
+            "model": format!("/api/models/s{id}.{format}"),
+        }))
+    })
+    .await?;
+    Ok(axum::Json(answer).into_response())
+}
+
+/// The `SampleRequest` of a studio request: each option checked as the
+/// command line checks it, and named in `given` so the formalism table
+/// refuses options its formalism does not read with the CLI's message.
+fn request(
+    app: &App,
+    seed: u64,
+    options: &serde_json::Map<String, Value>,
+) -> Result<(SampleRequest, ExportOptions), ApiError> {
+    let mut r = SampleRequest::new(seed);
+    let mut export = ExportOptions::default();
+    for (raw, value) in options {
+        let name = raw.trim_start_matches("--").replace('_', "-");
+        let bad = |what: &str| ApiError::bad_request(format!("option `{name}` must be {what}, not {value}"));
+        let int = |max: u64| value.as_u64().filter(|v| *v <= max).ok_or_else(|| bad(&format!("an integer 0..={max}")));
+        let text = || value.as_str().ok_or_else(|| bad("a string"));
+        match name.as_str() {
+            "steps" => r.steps = Some(int(u32::MAX as u64)? as u32),
+            "smooth" => r.smooth = Some(int(u32::MAX as u64)? as u32),
+            "max-modules" => r.max_modules = Some(int(usize::MAX as u64)? as usize),
+            "max-genes" => r.limits.max_genes = Some(int(usize::MAX as u64)? as usize),
+            "max-depth" => r.limits.max_depth = Some(int(usize::MAX as u64)? as usize),
+            "max-primitives" => r.limits.max_primitives = Some(int(usize::MAX as u64)? as usize),
+            "schem-version" => {
+                r.schem_version = value.as_u64().filter(|v| (2..=3).contains(v)).ok_or_else(|| bad("2 or 3"))? as u8
+            }
+            "data-version" => {
+                r.data_version =
+                    value.as_i64().and_then(|v| i32::try_from(v).ok()).ok_or_else(|| bad("a 32-bit integer"))?
+            }
+            "box" => r.box_corners = Some(text()?.to_string()),
+            "env" => r.env = Some(app.roots.resolve(text()?)?),
+            "granularity" => {
+                export.granularity =
+                    text()?.parse::<Granularity>().map_err(|e| ApiError::bad_request(format!("granularity: {e}")))?
+            }
+            _ => {
+                return Err(ApiError::bad_request(format!(
+                    "unknown option `{raw}`; the studio's sample options are {}",
+                    STUDIO_OPTIONS.join(", ")
+                )));
+            }
+        }
+        r.given.push(format!("--{name}"));
+    }
+    Ok((r, export))
+}
+
+/// The formats a sample can be written in: the Scene formats (block
+/// formats only for block models) and what the formalism writes itself
+/// (except region files, which need a world to copy).
+fn formats(scene: &Scene, own: &[&str]) -> Vec<String> {
+    let mut out: Vec<String> = Format::extensions()
+        .iter()
+        .filter(|e| !scene.blocks.is_empty() || !matches!(**e, "schem" | "litematic" | "vox"))
+        .map(|e| e.to_string())
+        .collect();
+    out.extend(own.iter().map(|e| e.trim_start_matches('.').to_string()).filter(|e| e != "mca" && e != "yml"));
+    out
+}
+
+/// Whether a model is a flat drawing (shown as SVG): 2D shapes, or only
+/// lines and polygons in the plane z = 0.
+fn is_flat(scene: &Scene) -> bool {
+    let solid = !scene.instances.is_empty() || !scene.surfaces.is_empty() || !scene.blocks.is_empty();
+    if solid {
+        return false;
+    }
+    if !scene.shapes2d.is_empty() {
+        return true;
+    }
+    let mut points =
+        scene.polylines.iter().flat_map(|l| &l.points).chain(scene.polygons.iter().flat_map(|p| &p.points));
+    let mut any = false;
+    points.all(|p| {
+        any = true;
+        p.z == 0.0
+    }) && any
+}
+
+/// Query of `GET /api/models/…`.
+#[derive(Deserialize)]
+pub struct ModelQuery {
+    #[serde(default)]
+    download: Option<String>,
+}
+
+/// `GET /api/models/<id>.<ext>`: the sample written as `genform sample --out x.<ext>` writes it.
+pub async fn model(
+    State(app): State<Shared>,
+    UrlPath(file): UrlPath<String>,
+    Query(q): Query<ModelQuery>,
+) -> Result<Response, ApiError> {
+    let (id, ext) = file.split_once('.').ok_or_else(|| ApiError::not_found(format!("no model `{file}`")))?;
+    let entry =
+        id.strip_prefix('s').and_then(|n| n.parse::<u64>().ok()).and_then(|n| app.samples.get(n)).ok_or_else(|| {
+            ApiError::not_found(format!("no sample `{id}` (samples are kept for the last {KEEP_SAMPLES})"))
+        })?;
+    if !entry.formats.iter().any(|f| f == ext) {
+        return Err(ApiError::not_found(format!(
+            "sample `{id}` has no format `{ext}`; it has {}",
+            entry.formats.join(", ")
+        )));
+    }
+    let ext = ext.to_string();
+    let out = ext.clone();
+    let bytes = blocking(move || {
+        let path = entry.dir.join(format!("model.{out}"));
+        let _one = entry.writing.lock().unwrap_or_else(|p| p.into_inner());
+        if !path.is_file() {
+            std::fs::create_dir_all(&entry.dir).map_err(|e| ApiError::internal(e.to_string()))?;
+            let written =
+                entry.sample.write(&path, &entry.export).map_err(|e| ApiError::from_anyhow(&e, |n| n.into()))?;
+            if !written.contains(&path) {
+                return Err(ApiError::internal(format!("the {out} writer did not write one file")));
+            }
+        }
+        let bytes = std::fs::read(&path).map_err(|e| ApiError::internal(e.to_string()))?;
+        Ok((bytes, format!("{}-{}.{out}", entry.stem, entry.seed)))
+    })
+    .await?;
+    let mut r = bytes_response(content_type(&format!("m.{ext}")), bytes.0);
+    if q.download.is_some()
+        && let Ok(v) = HeaderValue::from_str(&format!("attachment; filename=\"{}\"", bytes.1))
+    {
+        r.headers_mut().insert(header::CONTENT_DISPOSITION, v);
+    }
+    Ok(r)
+}

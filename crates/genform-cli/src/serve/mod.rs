@@ -1,0 +1,181 @@
+//! `genform serve`: the studio, a local web server for one page (embedded,
+//! [`assets`]) and a JSON API over the same code the verbs use.
+//!
+//! - [`explore`]: the grammar list and sampling (the formalism table).
+//! - [`runs`]: `evolve` runs on their own threads through the CLI's run
+//!   loop (`evolve::evolve_with`), watched over Server-Sent Events, paused,
+//!   stopped and steered.
+//! - [`breed`]: interactive evolution, the GA driven by ask/tell with the
+//!   user's favourites as the fitness.
+//! - [`files`]: the roots the server may touch and the path checks.
+//!
+//! Threads: a tokio runtime serves HTTP; CLI work (compiling, sampling,
+//! rendering) runs on its blocking pool; each run has a thread of its own
+//! with its own rayon pool. See ARCHITECTURE.md ("genform serve").
+
+pub mod api;
+pub mod assets;
+pub mod breed;
+pub mod explore;
+pub mod files;
+pub mod runs;
+
+use anyhow::{Context, Result};
+use axum::Router;
+use axum::extract::{DefaultBodyLimit, Path as UrlPath};
+use axum::http::StatusCode;
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use crate::args::ServeArgs;
+use api::{ApiError, bytes_response};
+use files::Roots;
+
+/// Largest request body (1 MiB); larger ones get 413.
+pub const BODY_LIMIT: usize = 1 << 20;
+
+/// What every handler shares.
+pub struct App {
+    /// The folders the server may touch.
+    pub roots: Roots,
+    /// `--out`, canonical.
+    pub out: PathBuf,
+    /// The file given on the command line, canonical.
+    pub default: Option<PathBuf>,
+    /// Sampled models.
+    pub samples: explore::Samples,
+    /// Evolution runs.
+    pub runs: runs::Runs,
+    /// Breeding sessions.
+    pub breeds: breed::Breeds,
+}
+
+impl App {
+    /// A file name as a client may see it: its root path, else its name alone.
+    pub fn shown(&self, name: &str) -> String {
+        let path = std::path::Path::new(name);
+        path.canonicalize()
+            .ok()
+            .and_then(|p| self.roots.display(&p))
+            .unwrap_or_else(|| path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()))
+    }
+}
+
+/// The state handlers get.
+pub type Shared = Arc<App>;
+
+/// Runs `genform serve` until the process is stopped.
+pub fn serve(a: ServeArgs) -> Result<()> {
+    let app = Arc::new(app(&a)?);
+    let host = a.host.clone().unwrap_or_else(|| "127.0.0.1".to_string());
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .context("cannot start the server's threads")?;
+    runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::bind((host.as_str(), a.port))
+            .await
+            .with_context(|| format!("cannot listen on {host}:{}", a.port))?;
+        let addr = listener.local_addr()?;
+        let shown = if addr.is_ipv6() { format!("[{}]", addr.ip()) } else { addr.ip().to_string() };
+        println!("genform studio: http://{shown}:{}/", addr.port());
+        let _ = std::io::stdout().flush();
+        if a.host.is_some() {
+            eprintln!(
+                "warning: listening on {host}: anyone who can reach this address can read the examples and run \
+                 folders and start runs on this machine"
+            );
+        }
+        axum::serve(listener, router(app)).await.context("the server stopped")
+    })
+}
+
+/// The shared state of `a`: the roots, created `--out`, the given file.
+fn app(a: &ServeArgs) -> Result<App> {
+    let mut roots = Roots::default();
+    let default = match &a.file {
+        Some(f) => {
+            let f = f.canonicalize().with_context(|| format!("cannot open {}", f.display()))?;
+            let dir = f.parent().map(PathBuf::from).unwrap_or_default();
+            roots.add("scene", &dir).with_context(|| format!("cannot open folder {}", dir.display()))?;
+            Some(f)
+        }
+        None => None,
+    };
+    let examples = match &a.examples {
+        Some(e) if !e.is_dir() => anyhow::bail!("--examples {}: not a folder", e.display()),
+        Some(e) => Some(e.clone()),
+        None => Some(PathBuf::from("examples")).filter(|e| e.is_dir()),
+    };
+    if let Some(e) = examples {
+        roots.add("examples", &e).with_context(|| format!("cannot open folder {}", e.display()))?;
+    }
+    roots.add("runs", &a.out).with_context(|| format!("cannot create output folder {}", a.out.display()))?;
+    let out = roots.get("runs").map(|r| r.dir.clone()).context("the output folder")?;
+    // Samples are a cache numbered from 1 by each server: an earlier
+    // server's `.samples/sN` must never answer for this one's `sN`.
+    let samples = out.join(".samples");
+    if samples.exists() {
+        std::fs::remove_dir_all(&samples).with_context(|| format!("cannot clear {}", samples.display()))?;
+    }
+    Ok(App {
+        roots,
+        out,
+        default,
+        samples: explore::Samples::default(),
+        runs: runs::Runs::default(),
+        breeds: breed::Breeds::default(),
+    })
+}
+
+/// Every route.
+pub fn router(app: Shared) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route("/studio/{*path}", get(asset))
+        .route("/api/grammars", get(explore::grammars))
+        .route("/api/grammars/source", get(explore::source))
+        .route("/api/sample", post(explore::sample))
+        .route("/api/models/{file}", get(explore::model))
+        .route("/api/target.glb", get(explore::target_glb))
+        .route("/api/target.png", get(explore::target_png))
+        .route("/api/runs", post(runs::start).get(runs::list))
+        .route("/api/runs/{id}", get(runs::snapshot))
+        .route("/api/runs/{id}/events", get(runs::events))
+        .route("/api/runs/{id}/pause", post(runs::pause))
+        .route("/api/runs/{id}/resume", post(runs::resume))
+        .route("/api/runs/{id}/stop", post(runs::stop))
+        .route("/api/runs/{id}/steer", post(runs::steer))
+        .route("/api/runs/{id}/files/{*name}", get(runs::file))
+        .route("/api/runs/{id}/gallery/{file}", get(runs::gallery))
+        .route("/api/breed", post(breed::start))
+        .route("/api/breed/{id}", get(breed::state))
+        .route("/api/breed/{id}/pick", post(breed::pick))
+        .route("/api/breed/{id}/save", post(breed::save))
+        .route("/api/breed/{id}/{generation}/{file}", get(breed::model))
+        .fallback(not_found)
+        .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .with_state(app)
+}
+
+async fn index() -> Response {
+    match assets::get("index.html") {
+        Some(bytes) => bytes_response(assets::content_type("index.html"), bytes.to_vec()),
+        None => bytes_response("text/html; charset=utf-8", assets::PLACEHOLDER.as_bytes().to_vec()),
+    }
+}
+
+async fn asset(UrlPath(path): UrlPath<String>) -> Response {
+    match assets::get(&path) {
+        Some(bytes) => bytes_response(assets::content_type(&path), bytes.to_vec()),
+        None => ApiError::not_found(format!("no studio file `{path}`")).into_response(),
+    }
+}
+
+async fn not_found(uri: axum::http::Uri) -> ApiError {
+    ApiError::new(StatusCode::NOT_FOUND, format!("no such endpoint: {}", uri.path()))
+}

@@ -1,0 +1,594 @@
+//! End-to-end tests of `genform serve`: the real binary on a free port,
+//! driven over HTTP (ureq, and raw sockets where a client would clean up
+//! the path).
+
+mod common;
+
+use common::{fitness_columns, json, ok, root, s, small_scene};
+use serde_json::{Value, json};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// A running `genform serve`, killed when dropped.
+struct Server {
+    child: Child,
+    url: String,
+    stderr: mpsc::Receiver<String>,
+    agent: ureq::Agent,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// An HTTP answer.
+struct Answer {
+    status: u16,
+    content_type: String,
+    body: Vec<u8>,
+}
+
+impl Answer {
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body)
+            .unwrap_or_else(|e| panic!("not JSON ({e}): {}", String::from_utf8_lossy(&self.body)))
+    }
+
+    fn ok(self) -> Self {
+        assert!(self.status < 300, "status {}: {}", self.status, String::from_utf8_lossy(&self.body));
+        self
+    }
+}
+
+impl Server {
+    /// `genform serve ARGS --port 0 --out out --examples <repo>/examples` in `dir`.
+    fn start(dir: &Path, args: &[&str]) -> Server {
+        let examples = root().join("examples");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_genform"))
+            .current_dir(dir)
+            .arg("serve")
+            .args(args)
+            .args(["--port", "0", "--out", "out", "--examples", s(&examples)])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap()).read_line(&mut line).unwrap();
+        let url = line.trim().strip_prefix("genform studio: ").unwrap_or_else(|| panic!("first line: {line:?}"));
+        let (tx, stderr) = mpsc::channel();
+        let mut err = child.stderr.take().unwrap();
+        std::thread::spawn(move || {
+            let mut text = String::new();
+            let _ = err.read_to_string(&mut text);
+            let _ = tx.send(text);
+        });
+        let config = ureq::Agent::config_builder()
+            .http_status_as_error(false)
+            .timeout_global(Some(Duration::from_secs(120)))
+            .build();
+        Server { child, url: url.trim_end_matches('/').to_string(), stderr, agent: config.into() }
+    }
+
+    fn answer(mut r: ureq::http::Response<ureq::Body>) -> Answer {
+        let status = r.status().as_u16();
+        let content_type =
+            r.headers().get("content-type").and_then(|v| v.to_str().ok()).unwrap_or_default().to_string();
+        let body = r.body_mut().with_config().limit(64 << 20).read_to_vec().unwrap();
+        Answer { status, content_type, body }
+    }
+
+    fn get(&self, path: &str) -> Answer {
+        Self::answer(self.agent.get(format!("{}{path}", self.url)).call().unwrap())
+    }
+
+    fn post(&self, path: &str, body: &Value) -> Answer {
+        self.post_raw(path, &body.to_string())
+    }
+
+    fn post_raw(&self, path: &str, body: &str) -> Answer {
+        let r = self
+            .agent
+            .post(format!("{}{path}", self.url))
+            .header("content-type", "application/json")
+            .send(body)
+            .unwrap();
+        Self::answer(r)
+    }
+
+    /// The status of `GET target` sent as is (no client-side path cleaning).
+    fn raw_status(&self, target: &str) -> u16 {
+        let addr = self.url.trim_start_matches("http://");
+        let mut stream = TcpStream::connect(addr).unwrap();
+        write!(stream, "GET {target} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+        let mut text = String::new();
+        stream.read_to_string(&mut text).unwrap();
+        let status = text.split_whitespace().nth(1).unwrap_or_default();
+        status.parse().unwrap_or_else(|_| panic!("no status in {text:?}"))
+    }
+
+    /// Sends only the head of a POST declaring a `length`-byte body; the
+    /// status and the text of the answer.
+    fn raw_post_head(&self, path: &str, length: usize) -> (u16, String) {
+        let addr = self.url.trim_start_matches("http://");
+        let mut stream = TcpStream::connect(addr).unwrap();
+        write!(
+            stream,
+            "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {length}\r\n\r\n{{"
+        )
+        .unwrap();
+        stream.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+        let mut bytes = Vec::new();
+        let _ = stream.read_to_end(&mut bytes);
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        let status = text.split_whitespace().nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+        (status, text)
+    }
+
+    /// Polls run `id` until `done` holds for its snapshot (at most a minute).
+    fn wait_run(&self, id: &str, what: &str, done: impl Fn(&Value) -> bool) -> Value {
+        let start = Instant::now();
+        loop {
+            let snap = self.get(&format!("/api/runs/{id}")).ok().json();
+            if done(&snap) {
+                return snap;
+            }
+            assert!(start.elapsed() < Duration::from_secs(60), "run {id} never {what}: {snap:#}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// Everything the server said on stderr (ends it).
+    fn stderr(mut self) -> String {
+        let _ = self.child.kill();
+        self.stderr.recv_timeout(Duration::from_secs(10)).unwrap_or_default()
+    }
+}
+
+/// A small spaceship scene (tiny population and grid) in `dir`.
+fn ship(dir: &Path) -> PathBuf {
+    small_scene(
+        dir,
+        "spaceship_volume.toml",
+        &[
+            ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
+            ("population = 150", "population = 24"),
+            ("elitism = 30", "elitism = 4"),
+            ("initial_length = [50, 50]", "initial_length = [10, 30]"),
+            ("generations = 130", "generations = 6"),
+        ],
+    )
+}
+
+/// Reads Server-Sent Events from `url` on a thread until the stream ends
+/// or `max` events came; each as (event name, data JSON).
+fn listen(url: String, max: usize) -> std::thread::JoinHandle<Vec<(String, Value)>> {
+    std::thread::spawn(move || {
+        let agent: ureq::Agent =
+            ureq::Agent::config_builder().timeout_global(Some(Duration::from_secs(120))).build().into();
+        let r = agent.get(&url).call().unwrap();
+        assert!(r.headers().get("content-type").unwrap().to_str().unwrap().starts_with("text/event-stream"));
+        let mut lines = BufReader::new(r.into_body().into_reader()).lines();
+        let mut events = Vec::new();
+        let mut name = String::new();
+        while let Some(Ok(line)) = lines.next() {
+            if let Some(n) = line.strip_prefix("event: ") {
+                name = n.to_string();
+            } else if let Some(d) = line.strip_prefix("data: ") {
+                events.push((name.clone(), serde_json::from_str(d).unwrap()));
+                if events.len() >= max {
+                    break;
+                }
+            }
+        }
+        events
+    })
+}
+
+#[test]
+fn the_page_and_the_grammars_are_served() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let page = server.get("/").ok();
+    assert!(page.content_type.starts_with("text/html"), "{}", page.content_type);
+    let list = server.get("/api/grammars").ok().json();
+    let find = |p: &str| list.as_array().unwrap().iter().find(|g| g["path"] == p).cloned();
+    let ship = find("examples/shape/spaceship.sg").expect("spaceship.sg listed");
+    assert_eq!((ship["kind"].as_str(), ship["formalism"].as_str()), (Some("grammar"), Some("shape grammar")));
+    let ls = find("examples/lsystem/koch_snowflake.ls").expect("an L-system listed");
+    assert!(ls["options"].as_array().unwrap().contains(&json!("steps")), "{ls}");
+    let given = find("scene/spaceship_volume.toml").expect("the given scene listed under scene/");
+    assert_eq!(given["default"], true);
+    assert_eq!(given["criteria"]["weights"]["good"], 2.0);
+    let target = server.get(given["targets"]["glb"].as_str().expect("a volume target")).ok();
+    assert_eq!(&target.body[..4], b"glTF");
+    let sketch = find("examples/scenes/tree_sketch.toml").unwrap();
+    let png = server.get(sketch["targets"]["images"][0].as_str().expect("an image target")).ok();
+    assert_eq!(&png.body[..4], b"\x89PNG");
+    assert!(sketch["targets"]["glb"].is_null());
+    let genr8 = find("examples/scenes/genr8_canopy.toml").unwrap();
+    assert!(genr8["targets"].is_null(), "surface scenes have no target model");
+    assert_eq!(
+        (genr8["formalism"].as_str(), genr8["criteria"]["targets"]["size"].as_f64()),
+        (Some("codon scene"), Some(10.0))
+    );
+    let text = server.get("/api/grammars/source?path=examples/shape/spaceship.sg").ok().json();
+    assert!(text["text"].as_str().unwrap().len() > 10);
+    assert_eq!(server.get("/studio/no-such-file.js").status, 404);
+    assert!(!server.stderr().contains("warning: listening"), "no warning on the default host");
+}
+
+#[test]
+fn sampling_goes_through_the_formalism_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let server = Server::start(tmp.path(), &[]);
+    // A shape grammar: the GLB is byte for byte what `genform sample` writes.
+    let a = server.post("/api/sample", &json!({"path": "examples/shape/spaceship.sg", "seed": 3})).ok().json();
+    assert_eq!(a["preview"], "glb");
+    assert!(a["formats"].as_array().unwrap().iter().any(|f| f == "stl"), "{a}");
+    let glb = server.get(a["model"].as_str().unwrap()).ok();
+    assert_eq!(&glb.body[..4], b"glTF");
+    assert_eq!(glb.content_type, "model/gltf-binary");
+    ok(tmp.path(), &["sample", s(&root().join("examples/shape/spaceship.sg")), "--seed", "3", "--out", "cli.glb"]);
+    assert_eq!(glb.body, std::fs::read(tmp.path().join("cli.glb")).unwrap(), "the CLI's bytes");
+    let id = a["id"].as_str().unwrap();
+    let obj = server.get(&format!("/api/models/{id}.obj?download=1")).ok();
+    assert!(String::from_utf8_lossy(&obj.body).contains("\nv "), "an OBJ");
+    assert_eq!(server.get(&format!("/api/models/{id}.mca")).status, 404);
+    // An L-system with a parameter; a 3D one previews as GLB.
+    let l = server
+        .post("/api/sample", &json!({"path": "examples/lsystem/bush_3d.ls", "options": {"steps": 2}}))
+        .ok()
+        .json();
+    assert_eq!(&server.get(l["model"].as_str().unwrap()).ok().body[..4], b"glTF");
+    // A graph grammar is a drawing: SVG.
+    let g = server.post("/api/sample", &json!({"path": "examples/graph/tree.gg.yaml", "seed": 1})).ok().json();
+    assert_eq!(g["preview"], "svg");
+    let svg = server.get(g["model"].as_str().unwrap()).ok();
+    assert!(svg.content_type.starts_with("image/svg+xml") && String::from_utf8_lossy(&svg.body).contains("<svg"));
+    // Options are checked as on the command line.
+    let e = server.post("/api/sample", &json!({"path": "examples/shape/spaceship.sg", "options": {"steps": 2}}));
+    assert_eq!(e.status, 400);
+    assert!(e.json()["error"].as_str().unwrap().starts_with("--steps applies to L-systems"));
+    let e = server.post("/api/sample", &json!({"path": "examples/lsystem/bush_3d.ls", "options": {"steps": -1}}));
+    assert_eq!(e.status, 400);
+    // Compile errors come with their diagnostics.
+    std::fs::create_dir_all(tmp.path().join("g")).unwrap();
+    std::fs::write(tmp.path().join("g/broken.sg"), "Start {\n  boxx;\n}\n").unwrap();
+    let server = Server::start(tmp.path(), &[s(&tmp.path().join("g/broken.sg"))]);
+    let e = server.post("/api/sample", &json!({"path": "scene/broken.sg"}));
+    assert_eq!(e.status, 400);
+    let d = &e.json()["diagnostics"][0];
+    assert_eq!((d["file"].as_str(), d["line"].as_u64()), (Some("scene/broken.sg"), Some(2)), "{d}");
+}
+
+#[test]
+fn a_run_is_watched_paused_steered_stopped_and_replayed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let r = server.post("/api/runs", &json!({"scene": "scene/spaceship_volume.toml", "seed": 5, "budget": "10m"}));
+    assert_eq!(r.status, 201, "{}", String::from_utf8_lossy(&r.body));
+    let id = r.json()["id"].as_str().unwrap().to_string();
+    let events = format!("{}/api/runs/{id}/events", server.url);
+    let (one, two) = (listen(events.clone(), 100_000), listen(events.clone(), 100_000));
+    // A client that leaves after two events neither stops nor blocks the run.
+    let gone = listen(events, 2);
+    server.wait_run(&id, "reached generation 2", |s| s["generation"].as_u64() >= Some(2));
+    assert_eq!(gone.join().unwrap().len(), 2);
+    // Pause: the generation stands still.
+    assert_eq!(server.post(&format!("/api/runs/{id}/pause"), &json!({})).ok().json()["status"], "paused");
+    // The generation under way ends, then the run waits.
+    std::thread::sleep(Duration::from_millis(500));
+    let held = server.get(&format!("/api/runs/{id}")).json()["generation"].clone();
+    std::thread::sleep(Duration::from_millis(400));
+    let snap = server.get(&format!("/api/runs/{id}")).json();
+    assert_eq!((snap["status"].as_str(), &snap["generation"]), (Some("paused"), &held));
+    // Steer while paused: it takes effect at the next generation.
+    let bad = server.post(&format!("/api/runs/{id}/steer"), &json!({"weights": {"godo": 3}}));
+    assert_eq!(bad.status, 400);
+    assert!(bad.json()["error"].as_str().unwrap().contains("did you mean `good`"));
+    let q = server.post(&format!("/api/runs/{id}/steer"), &json!({"weights": {"good": 3.5}})).ok().json();
+    let at = held.as_u64().unwrap() + 1;
+    assert_eq!(q["generation"].as_u64(), Some(at));
+    server.post(&format!("/api/runs/{id}/resume"), &json!({})).ok();
+    let snap = server.wait_run(&id, "applied the steering", |s| s["generation"].as_u64() >= Some(at + 2));
+    assert_eq!(snap["steering"], json!([{"generation": at, "set": {"weights": {"good": 3.5}}}]));
+    assert_eq!(snap["criteria"]["weights"]["good"], 3.5);
+    let target = server.get(snap["targets"]["glb"].as_str().expect("the scene's target")).ok();
+    assert_eq!(&target.body[..4], b"glTF");
+    server.post(&format!("/api/runs/{id}/stop"), &json!({})).ok();
+    let snap = server.wait_run(&id, "stopped", |s| s["status"] == "stopped");
+    assert_eq!(server.post(&format!("/api/runs/{id}/resume"), &json!({})).status, 409);
+    // Both clients saw the same generations, the steering and the end.
+    for events in [one.join().unwrap(), two.join().unwrap()] {
+        let seen: Vec<u64> =
+            events.iter().filter(|(n, _)| n == "generation").map(|(_, d)| d["generation"].as_u64().unwrap()).collect();
+        assert!(seen.windows(2).all(|w| w[1] == w[0] + 1), "every generation once, in order: {seen:?}");
+        assert_eq!(seen.last().copied(), snap["generation"].as_u64());
+        let steered: Vec<&Value> = events.iter().filter(|(n, _)| n == "steering").map(|(_, d)| d).collect();
+        assert_eq!(steered.len(), 1);
+        assert_eq!(steered[0]["generation"].as_u64(), Some(at));
+        assert!(events.iter().any(|(n, _)| n == "gallery"));
+        assert_eq!(events.last().unwrap().1["status"], "stopped");
+    }
+    // The run folder is a CLI run's, interrupted where it was stopped.
+    let folder = tmp.path().join("out").join(&id);
+    let run = json(&folder.join("run.json"));
+    assert_eq!(run["stopped_by"], "interrupted");
+    assert_eq!(run["steering"], json!([{"generation": at, "set": {"weights": {"good": 3.5}}}]));
+    let files = snap["files"].as_array().unwrap();
+    for f in ["best.glb", "best-genome.json", "stats.csv", "gallery.png", "run.json"] {
+        assert!(files.contains(&json!(f)), "{f} missing from {files:?}");
+    }
+    let glb = server.get(&format!("/api/runs/{id}/files/best.glb")).ok();
+    assert_eq!(&glb.body[..4], b"glTF");
+    let gallery = server.get(snap["gallery"].as_str().unwrap()).ok();
+    assert_eq!(&gallery.body[..4], b"\x89PNG");
+    // Replaying the log gives the same run; without it, another.
+    let generations = run["generations"].to_string();
+    let replay = |out: &str, steering: Option<&Path>| {
+        let mut args = vec!["evolve", s(&scene), "--seed", "5", "--generations", &generations, "--out", out, "-q"];
+        if let Some(p) = steering {
+            args.extend(["--steering", s(p)]);
+        }
+        ok(tmp.path(), &args);
+        let csv = std::fs::read_to_string(tmp.path().join(out).join("stats.csv")).unwrap();
+        (std::fs::read(tmp.path().join(out).join("best-genome.json")).unwrap(), fitness_columns(&csv))
+    };
+    let served = (
+        std::fs::read(folder.join("best-genome.json")).unwrap(),
+        fitness_columns(&std::fs::read_to_string(folder.join("stats.csv")).unwrap()),
+    );
+    assert!(served == replay("replay", Some(&folder.join("run.json"))), "replaying run.json gives the same run");
+    std::fs::write(tmp.path().join("log.json"), run["steering"].to_string()).unwrap();
+    assert!(served == replay("replay2", Some(&tmp.path().join("log.json"))), "a bare list works too");
+    assert!(served.1 != replay("plain", None).1, "steering changed the run");
+}
+
+#[test]
+fn breeding_by_eye_picks_favourites_for_two_generations() {
+    let tmp = tempfile::tempdir().unwrap();
+    let server = Server::start(tmp.path(), &[]);
+    let start = json!({"path": "examples/shape/spaceship.sg", "seed": 2, "size": 9});
+    let b = server.post("/api/breed", &start).ok().json();
+    let id = b["id"].as_str().unwrap().to_string();
+    let shown = b["individuals"].as_array().unwrap();
+    assert!((2..=9).contains(&shown.len()) && b["generation"] == 0, "{b}");
+    let png = server.get(shown[0]["preview"].as_str().unwrap()).ok();
+    assert_eq!((&png.body[..4], png.content_type.as_str()), (&b"\x89PNG"[..], "image/png"));
+    assert_eq!(&server.get(shown[1]["model"].as_str().unwrap()).ok().body[..4], b"glTF");
+    let pick = format!("/api/breed/{id}/pick");
+    assert_eq!(server.post(&pick, &json!({"favourites": [99]})).status, 400);
+    let g1 = server.post(&pick, &json!({"favourites": [0, 2]})).ok().json();
+    assert_eq!(g1["generation"], 1);
+    assert_eq!(server.get(shown[0]["preview"].as_str().unwrap()).status, 404, "old generations are gone");
+    let g2 = server.post(&pick, &json!({"favourites": [1]})).ok().json();
+    assert_eq!(g2["generation"], 2);
+    assert_eq!(server.get(&format!("/api/breed/{id}")).ok().json()["history"].as_array().unwrap().len(), 2);
+    let model = |state: &Value| server.get(state["individuals"][0]["model"].as_str().unwrap()).ok().body;
+    // The same seed and picks breed the same models.
+    let again = server.post("/api/breed", &start).ok().json();
+    let id2 = again["id"].as_str().unwrap();
+    server.post(&format!("/api/breed/{id2}/pick"), &json!({"favourites": [0, 2]})).ok();
+    let again = server.post(&format!("/api/breed/{id2}/pick"), &json!({"favourites": [1]})).ok().json();
+    assert_eq!(model(&g2), model(&again));
+    let saved = server.post(&format!("/api/breed/{id}/save"), &json!({})).ok().json();
+    let dir = tmp.path().join("out").join(format!("breed-{id}"));
+    assert!(dir.join("favourites.json").is_file() && dir.join("gen-0/fav-0.json").is_file(), "{saved}");
+    let genome = dir.join("gen-1/fav-1.json");
+    ok(tmp.path(), &["derive", s(&root().join("examples/shape/spaceship.sg")), "--genome", s(&genome), "-o", "f.obj"]);
+    // Sizes, mixes and grammars without a generator are refused.
+    assert_eq!(server.post("/api/breed", &json!({"path": "examples/shape/spaceship.sg", "size": 5})).status, 400);
+    let mix = server.post("/api/breed", &json!({"path": "examples/shape/spaceship.sg", "mix": 0.5}));
+    assert_eq!(mix.status, 400);
+    assert_eq!(server.post("/api/breed", &json!({"path": "examples/graph/tree.gg.yaml"})).status, 400);
+}
+
+#[test]
+fn breeding_mixes_in_a_scene_fitness() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let b = server
+        .post("/api/breed", &json!({"path": "scene/spaceship_volume.toml", "seed": 1, "size": 9, "mix": 0.5}))
+        .ok()
+        .json();
+    assert!(b["individuals"][0]["fitness"].is_number(), "{b}");
+    let id = b["id"].as_str().unwrap();
+    assert_eq!(server.post(&format!("/api/breed/{id}/pick"), &json!({"favourites": []})).ok().json()["generation"], 1);
+}
+
+#[test]
+fn nothing_outside_the_roots_is_read_or_served() {
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(tmp.path().join("scene")).unwrap();
+    let scene = ship(&tmp.path().join("scene"));
+    let outside = tmp.path().join("outside");
+    std::fs::create_dir_all(&outside).unwrap();
+    std::fs::write(outside.join("secret.sg"), "Start {\n  box;\n}\n").unwrap();
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(outside.join("secret.sg"), tmp.path().join("scene/leak.sg")).unwrap();
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    for path in ["scene/../outside/secret.sg", "/etc/passwd", "examples/../Cargo.toml", "scene/./leak.sg", "out/x"] {
+        let a = server.post("/api/sample", &json!({"path": path}));
+        assert!(a.status == 403 || a.status == 400, "{path}: {}", a.status);
+        assert!(a.json()["error"].is_string());
+    }
+    #[cfg(unix)]
+    {
+        let a = server.post("/api/sample", &json!({"path": "scene/leak.sg"}));
+        assert_eq!(a.status, 403, "a symbolic link out of the root");
+        let list = server.get("/api/grammars").ok().json();
+        assert!(!list.to_string().contains("leak.sg"), "links out of a root are not listed");
+    }
+    for target in [
+        "/api/grammars/source?path=examples/..%2f..%2fCargo.toml",
+        "/api/grammars/source?path=%2e%2e/Cargo.toml",
+        "/api/grammars/source?path=%2Fetc%2Fpasswd",
+        "/api/grammars/source?path=scene%2F..%2Foutside%2Fsecret.sg",
+    ] {
+        assert_eq!(server.raw_status(target), 403, "{target}");
+    }
+    // A run's files: encoded and plain `..`, absolute paths, links out.
+    let id =
+        server.post("/api/runs", &json!({"scene": "scene/spaceship_volume.toml", "generations": 1})).ok().json()["id"]
+            .as_str()
+            .unwrap()
+            .to_string();
+    server.wait_run(&id, "finished", |s| s["status"] == "finished");
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(outside.join("secret.sg"), tmp.path().join("out").join(&id).join("link.sg")).unwrap();
+    assert_eq!(server.raw_status(&format!("/api/runs/{id}/files/run.json")), 200);
+    for name in [
+        "%2e%2e/%2e%2e/outside/secret.sg",
+        "..%2f..%2foutside%2fsecret.sg",
+        "../../outside/secret.sg",
+        "%2Fetc%2Fpasswd",
+    ] {
+        assert_eq!(server.raw_status(&format!("/api/runs/{id}/files/{name}")), 403, "{name}");
+    }
+    #[cfg(unix)]
+    assert_eq!(server.raw_status(&format!("/api/runs/{id}/files/link.sg")), 403);
+    assert_eq!(server.raw_status("/studio/..%2f..%2fCargo.toml"), 404, "assets are only the embedded files");
+    assert_eq!(server.raw_status("/studio/../../Cargo.toml"), 404);
+}
+
+#[test]
+fn bad_requests_get_json_errors() {
+    let tmp = tempfile::tempdir().unwrap();
+    let server = Server::start(tmp.path(), &["--host", "127.0.0.1"]);
+    // A body over 1 MiB is refused from its declared length, before it is read.
+    let (status, text) = server.raw_post_head("/api/sample", 2 << 20);
+    assert_eq!(status, 413, "{text}");
+    assert!(text.contains("larger than"), "{text}");
+    let a = server.post_raw("/api/sample", &format!("{{\"path\": \"{}\"}}", "x".repeat(1000)));
+    assert_eq!(a.status, 400, "a body under the limit is read");
+    let a = server.post_raw("/api/sample", "{not json");
+    assert_eq!(a.status, 400);
+    assert!(a.json()["error"].as_str().unwrap().starts_with("bad JSON"));
+    assert_eq!(server.post("/api/sample", &json!({"path": 3})).status, 400);
+    assert_eq!(
+        server.post("/api/runs", &json!({"scene": "examples/scenes/tree_volume.toml", "algorithm": "ants"})).status,
+        400
+    );
+    assert_eq!(server.post("/api/runs", &json!({"scene": "examples/shape/spaceship.sg"})).status, 400);
+    for path in ["/api/runs/r999", "/api/runs/zz/events", "/api/breed/b999", "/api/models/s999.glb", "/api/nothing"] {
+        let a = server.get(path);
+        assert_eq!(a.status, 404, "{path}");
+        assert!(a.json()["error"].is_string(), "{path}");
+    }
+    assert_eq!(server.post("/api/runs/r999/stop", &json!({})).status, 404);
+    assert!(server.stderr().contains("warning: listening on 127.0.0.1"), "--host warns");
+}
+
+#[test]
+fn genr8_criteria_are_watched_per_criterion_and_their_targets_steered() {
+    let tmp = tempfile::tempdir().unwrap();
+    let edits = [("population = 100", "population = 14")];
+    let scene = small_scene(tmp.path(), "genr8_canopy.toml", &edits);
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let r = server.post("/api/runs", &json!({"scene": "scene/genr8_canopy.toml", "seed": 4, "budget": "10m"}));
+    let id = r.ok().json()["id"].as_str().unwrap().to_string();
+    server.wait_run(&id, "made generation 1", |s| s["generation"].as_u64() >= Some(1));
+    server.post(&format!("/api/runs/{id}/pause"), &json!({})).ok();
+    std::thread::sleep(Duration::from_millis(500));
+    let change = json!({"weights": {"symmetry": 2.0}, "targets": {"size": 4.0}});
+    let at = server.post(&format!("/api/runs/{id}/steer"), &change).ok().json()["generation"].as_u64().unwrap();
+    server.post(&format!("/api/runs/{id}/resume"), &json!({})).ok();
+    let snap = server.wait_run(&id, "steered", |s| s["generation"].as_u64() > Some(at));
+    assert_eq!(snap["criteria"]["targets"]["size"], 4.0);
+    let names = snap["criteria_names"].as_array().unwrap();
+    assert!(names.contains(&json!("size")) && names.contains(&json!("symmetry")), "{names:?}");
+    assert!(snap["stats"][0]["criteria"]["size"].is_number(), "{}", snap["stats"][0]);
+    server.post(&format!("/api/runs/{id}/stop"), &json!({})).ok();
+    server.wait_run(&id, "stopped", |s| s["status"] == "stopped");
+    let folder = tmp.path().join("out").join(&id);
+    let run = json(&folder.join("run.json"));
+    assert_eq!(run["steering"], json!([{"generation": at, "set": change}]));
+    let generations = run["generations"].to_string();
+    let log = folder.join("run.json");
+    let args = [
+        "evolve",
+        s(&scene),
+        "--seed",
+        "4",
+        "--generations",
+        &generations,
+        "--out",
+        "replay",
+        "-q",
+        "--steering",
+        s(&log),
+    ];
+    ok(tmp.path(), &args);
+    let codons = |dir: &Path| json(&dir.join("best-codons.json"))["codons"].clone();
+    assert_eq!(codons(&folder), codons(&tmp.path().join("replay")));
+    let csv = |dir: &Path| fitness_columns(&std::fs::read_to_string(dir.join("stats.csv")).unwrap());
+    assert_eq!(csv(&folder), csv(&tmp.path().join("replay")));
+}
+
+#[test]
+fn steering_logs_with_mistakes_are_refused_before_the_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let log = tmp.path().join("log.json");
+    std::fs::write(&log, r#"[{"generation": 3, "set": {"weights": {"goood": 1}}}]"#).unwrap();
+    let err = common::fails(tmp.path(), &["evolve", s(&scene), "--steering", s(&log), "--out", "run", "-q"]);
+    assert!(err.contains("steering of generation 3") && err.contains("did you mean `good`"), "{err}");
+    assert!(!tmp.path().join("run/stats.csv").exists(), "nothing ran");
+    std::fs::write(&log, r#"{"steering": [{"generation": 1, "set": {"targets": {"size": 3}}}]}"#).unwrap();
+    let err = common::fails(tmp.path(), &["evolve", s(&scene), "--steering", s(&log), "--out", "run", "-q"]);
+    assert!(err.contains("no target `size`"), "{err}");
+}
+
+#[test]
+fn genr8_surfaces_breed_by_eye_with_ge() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = small_scene(tmp.path(), "genr8_canopy.toml", &[]);
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let start = json!({"path": "scene/genr8_canopy.toml", "seed": 3, "size": 9, "mix": 0.25});
+    let b = server.post("/api/breed", &start).ok().json();
+    assert_eq!((b["genomes"].as_str(), b["scene"].as_bool()), (Some("codon"), Some(true)), "{b}");
+    let id = b["id"].as_str().unwrap().to_string();
+    let png = server.get(b["individuals"][0]["preview"].as_str().unwrap()).ok();
+    assert_eq!(&png.body[..4], b"\x89PNG");
+    let g1 = server.post(&format!("/api/breed/{id}/pick"), &json!({"favourites": [0, 1]})).ok().json();
+    let g2 = server.post(&format!("/api/breed/{id}/pick"), &json!({"favourites": [2]})).ok().json();
+    assert_eq!((g1["generation"].as_u64(), g2["generation"].as_u64()), (Some(1), Some(2)));
+    server.post(&format!("/api/breed/{id}/save"), &json!({})).ok();
+    let fav = tmp.path().join("out").join(format!("breed-{id}")).join("gen-0/fav-0.json");
+    let text = ok(tmp.path(), &["score", s(&scene), "--genome", s(&fav)]).stdout();
+    assert!(text.starts_with("fitness "), "a saved codon genome scores: {text}");
+}
+
+#[test]
+fn a_restarted_server_never_answers_with_an_earlier_servers_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let first = Server::start(tmp.path(), &[]);
+    let a = first.post("/api/sample", &json!({"path": "examples/shape/spaceship.sg", "seed": 3})).ok().json();
+    let old = first.get(a["model"].as_str().unwrap()).ok().body;
+    let b = first.post("/api/breed", &json!({"path": "examples/shape/spaceship.sg", "seed": 1, "size": 9})).ok().json();
+    first.post(&format!("/api/breed/{}/save", b["id"].as_str().unwrap()), &json!({})).ok();
+    drop(first);
+    // Same --out: the new server's first sample and breeding session get
+    // fresh files, not the earlier server's under the same number.
+    let second = Server::start(tmp.path(), &[]);
+    let c = second.post("/api/sample", &json!({"path": "examples/shape/spaceship.sg", "seed": 4})).ok().json();
+    assert_eq!(c["id"], a["id"], "numbering starts again");
+    let new = second.get(c["model"].as_str().unwrap()).ok().body;
+    ok(tmp.path(), &["sample", s(&root().join("examples/shape/spaceship.sg")), "--seed", "4", "--out", "cli4.glb"]);
+    assert_eq!(new, std::fs::read(tmp.path().join("cli4.glb")).unwrap(), "seed 4's model, not seed 3's");
+    assert_ne!(new, old);
+    let d =
+        second.post("/api/breed", &json!({"path": "examples/shape/spaceship.sg", "seed": 1, "size": 9})).ok().json();
+    assert_ne!(d["id"], b["id"], "a saved session's folder is not reused");
+}
