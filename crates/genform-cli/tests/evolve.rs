@@ -5,22 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 mod common;
-use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, scored, small_scene};
+use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, scored, small_scene, small_ship};
 
+/// The small spaceship of the end-to-end tests, in `dir`.
 fn ship(dir: &Path) -> PathBuf {
-    small_scene(
-        dir,
-        "spaceship_volume.toml",
-        &[
-            ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-            ("population = 150", "population = 24"),
-            ("elitism = 30", "elitism = 4"),
-            ("initial_length = [50, 50]", "initial_length = [10, 30]"),
-            ("generations = 130", "generations = 6"),
-            ("chains = 70", "chains = 8"),
-            ("particles = 500", "particles = 40"),
-        ],
-    )
+    small_ship(dir, &[])
 }
 
 #[test]

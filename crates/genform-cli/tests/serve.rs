@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{fitness_columns, json, ok, root, s, small_scene};
+use common::{fitness_columns, json, ok, root, s, small_scene, small_ship};
 use serde_json::{Value, json};
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
@@ -154,17 +154,7 @@ impl Server {
 
 /// A small spaceship scene (tiny population and grid) in `dir`.
 fn ship(dir: &Path) -> PathBuf {
-    small_scene(
-        dir,
-        "spaceship_volume.toml",
-        &[
-            ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-            ("population = 150", "population = 24"),
-            ("elitism = 30", "elitism = 4"),
-            ("initial_length = [50, 50]", "initial_length = [10, 30]"),
-            ("generations = 130", "generations = 6"),
-        ],
-    )
+    small_ship(dir, &[])
 }
 
 /// Reads Server-Sent Events from `url` on a thread until the stream ends

@@ -4,24 +4,8 @@
 
 mod common;
 
-use common::{fitness_columns, json, ok, s, scored, small_scene};
-use std::path::{Path, PathBuf};
-
-/// The small spaceship scene of the serve tests, in `dir`, with `more`
-/// edits (e.g. other `[fitness]` weights).
-fn ship(dir: &Path, more: &[(&str, &str)]) -> PathBuf {
-    let mut edits = vec![
-        ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-        ("population = 150", "population = 24"),
-        ("elitism = 30", "elitism = 4"),
-        ("chains = 70", "chains = 8"),
-        ("initial_length = [50, 50]", "initial_length = [10, 30]"),
-        ("generations = 130", "generations = 6"),
-    ];
-    edits.extend_from_slice(more);
-    std::fs::create_dir_all(dir).unwrap();
-    small_scene(dir, "spaceship_volume.toml", &edits)
-}
+use common::{fitness_columns, json, ok, s, scored, small_scene, small_ship};
+use std::path::Path;
 
 /// Runs `evolve scene` with `extra` arguments into `dir/out`; returns
 /// `run.json` and the stats without their timing columns.
@@ -41,12 +25,12 @@ fn last_max(stats: &[String]) -> f64 {
 fn after_steering_the_best_is_scored_under_the_new_weights() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    let scene = ship(dir, &[]);
+    let scene = small_ship(dir, &[]);
     // Lower weights: individuals scored before the change would keep
     // fitness no one can reach after it.
     let log = dir.join("log.json");
     std::fs::write(&log, r#"[{"generation": 3, "set": {"weights": {"good": 0.5, "length": 1.0}}}]"#).unwrap();
-    let steered = ship(&dir.join("steered"), &[("good = 2.0", "good = 0.5"), ("length = 0.1", "length = 1.0")]);
+    let steered = small_ship(&dir.join("steered"), &[("good = 2.0", "good = 0.5"), ("length = 0.1", "length = 1.0")]);
     for algorithm in ["ga", "mh"] {
         let out = format!("run-{algorithm}");
         let (run, stats) = evolve(dir, &scene, &out, &["--algorithm", algorithm, "--steering", s(&log)]);

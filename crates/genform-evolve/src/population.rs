@@ -10,7 +10,7 @@
 use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::optimizer::{Genotype, Individual, sort_population, update_best};
-use crate::rescore::{reevaluate, rescored_best};
+use crate::rescore::rescore_population;
 use crate::stats::{GenerationStats, ReproductionCounts};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -175,16 +175,7 @@ impl<G: Genotype + Clone + PartialEq + Send + Sync> Population<G> {
     /// the better of the re-scored old best and the new first member;
     /// returns the evaluations made (counted).
     pub fn rescore<O: Objective<G>>(&mut self, objective: &O) -> u64 {
-        if self.is_empty() {
-            return 0;
-        }
-        let mut evaluations = reevaluate(objective, &mut self.members);
-        sort_population(&mut self.members);
-        let (best, more) = rescored_best(objective, self.best.take(), &self.members);
-        self.best = best;
-        evaluations += more;
-        self.evaluations += evaluations;
-        evaluations
+        rescore_population(objective, &mut self.members, &mut self.best, &mut self.evaluations)
     }
 
     /// Makes the best valid of `candidates` (already scored under the

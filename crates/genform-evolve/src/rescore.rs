@@ -82,5 +82,27 @@ pub(crate) fn rescored_best<G: PartialEq + Clone, O: Objective<G>>(
     (best, evaluations)
 }
 
+/// Re-scores a sorted population and its best so far (the common case:
+/// GA-like populations, SMC particles): re-evaluates `members`, re-sorts
+/// them, recomputes `best` and adds the evaluations made to `evaluations`.
+/// Returns them.
+pub(crate) fn rescore_population<G: PartialEq + Clone + Send + Sync, O: Objective<G>>(
+    objective: &O,
+    members: &mut [Individual<G>],
+    best: &mut Option<Individual<G>>,
+    evaluations: &mut u64,
+) -> u64 {
+    if members.is_empty() {
+        return 0;
+    }
+    let mut made = reevaluate(objective, members);
+    crate::optimizer::sort_population(members);
+    let (rescored, more) = rescored_best(objective, best.take(), members);
+    *best = rescored;
+    made += more;
+    *evaluations += made;
+    made
+}
+
 #[cfg(test)]
 mod tests;

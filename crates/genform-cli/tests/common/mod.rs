@@ -84,6 +84,24 @@ pub fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
     path
 }
 
+/// The spaceship scene made small (a 25×25×50 grid, 24 individuals, 6
+/// generations, 8 MH chains, 40 SMC particles) with `more` edits after
+/// those, written into `dir` (created).
+pub fn small_ship(dir: &Path, more: &[(&str, &str)]) -> PathBuf {
+    let mut edits = vec![
+        ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
+        ("population = 150", "population = 24"),
+        ("elitism = 30", "elitism = 4"),
+        ("initial_length = [50, 50]", "initial_length = [10, 30]"),
+        ("generations = 130", "generations = 6"),
+        ("chains = 70", "chains = 8"),
+        ("particles = 500", "particles = 40"),
+    ];
+    edits.extend_from_slice(more);
+    std::fs::create_dir_all(dir).unwrap();
+    small_scene(dir, "spaceship_volume.toml", &edits)
+}
+
 /// The JSON file at `path`.
 pub fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap_or_else(|_| panic!("{} missing", path.display())))

@@ -27,7 +27,7 @@ use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::{Connection, grow_one};
 use crate::optimizer::{Individual, Optimizer, length_capped, sort_population, update_best};
-use crate::rescore::{Rescore, reevaluate, rescored_best};
+use crate::rescore::Rescore;
 use crate::stats::GenerationStats;
 use genform_core::genome::{GenePos, Link};
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
@@ -193,16 +193,7 @@ impl Rescore for Smc {
     /// one weighs them by the new values; copies made by the last
     /// resampling are evaluated once.
     fn rescore<O: Objective>(&mut self, objective: &O) -> u64 {
-        if self.particles.is_empty() {
-            return 0;
-        }
-        let mut evaluations = reevaluate(objective, &mut self.particles);
-        sort_population(&mut self.particles);
-        let (best, more) = rescored_best(objective, self.best.take(), &self.particles);
-        self.best = best;
-        evaluations += more;
-        self.evaluations += evaluations;
-        evaluations
+        crate::rescore::rescore_population(objective, &mut self.particles, &mut self.best, &mut self.evaluations)
     }
 }
 
