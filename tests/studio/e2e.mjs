@@ -47,6 +47,7 @@ let serverLog = '';
 let context = null;
 let page = null;
 const pageErrors = [];
+const liveModels = [];
 let currentStep = 'setup';
 
 class TestFailure extends Error {}
@@ -188,6 +189,10 @@ async function main() {
     });
     page = context.pages()[0] || (await context.newPage());
     page.on('pageerror', (err) => pageErrors.push(`page error: ${err.message}`));
+    // Live best models the page fetched while runs went (`/api/runs/<id>/best.glb`).
+    page.on('response', (r) => {
+      if (r.url().includes('/best.glb?') && r.ok()) liveModels.push(r.url());
+    });
     page.on('console', (msg) => {
       if (msg.type() === 'error') pageErrors.push(`console error: ${msg.text()}`);
     });
@@ -325,12 +330,16 @@ async function main() {
   }
   await screenshot('steer');
 
-  await step('run: gallery, pause and resume', async () => {
+  await step('run: gallery, live best model, pause and resume', async () => {
     await page.click(byId('tab-run'));
     await waitFor('a gallery picture', () => {
       const img = document.querySelector('[data-testid="run-gallery-image"]');
       return img.getAttribute('src') && img.complete && img.naturalWidth > 0;
     }, null, 120_000);
+    // The viewer showed the best so far before the run ended.
+    const live = `api/runs/${runId}/best.glb?`;
+    for (let i = 0; i < 100 && !liveModels.some((u) => u.includes(live)); i++) await page.waitForTimeout(100);
+    check(liveModels.some((u) => u.includes(live)), `no live best model of run ${runId} was shown (fetched: ${liveModels.join(', ') || 'none'})`);
     await page.click(byId('run-pause'));
     await waitFor('the run to pause', () => document.querySelector('[data-testid="run-status"]').dataset.status === 'paused', null, 60_000);
     const g1 = (await getJson(`api/runs/${runId}`)).generation;

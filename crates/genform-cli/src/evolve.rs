@@ -158,6 +158,9 @@ pub trait Watch {
     fn wants_gallery(&mut self, generation: usize) -> bool;
     /// The gallery picture (PNG) after `generation`.
     fn gallery(&mut self, generation: usize, png: Vec<u8>);
+    /// The best model so far as GLB after `generation` (offered with the
+    /// gallery when the best changed).
+    fn best_model(&mut self, generation: usize, glb: Vec<u8>);
     /// A change took effect; `now` is what steering can change after it.
     fn steered(&mut self, entry: &SteerEntry, now: &Steerable);
 }
@@ -520,6 +523,8 @@ trait Session<G> {
     }
     /// The gallery picture of the population's distinct best (`gallery.png`).
     fn gallery(&self, opt: &dyn Optimizer<G>) -> Result<Vec<u8>>;
+    /// The best individual's model, if there is a best.
+    fn best_scene(&self, opt: &dyn Optimizer<G>) -> Result<Option<Scene>>;
     /// The fitness the shortest genome could reach, for the summary line.
     fn max_reachable(&self) -> f64;
     /// Records one generation; returns what the progress message adds at
@@ -599,6 +604,8 @@ fn drive<G, S: Session<G>, P: Rescore<G>>(
     let mut scheduled = control.schedule.iter().peekable();
     let mut live: Option<SteerSet> = None;
     let mut last_checkpoint = Instant::now();
+    // The fitness of the last live best model offered to the watcher.
+    let mut shown_best: Option<u64> = None;
     if let Some(w) = control.watch.as_deref_mut() {
         w.started(session.max_reachable(), session.steerable());
     }
@@ -648,10 +655,19 @@ fn drive<G, S: Session<G>, P: Rescore<G>>(
             last_checkpoint = Instant::now();
         }
         if let Some(w) = control.watch.as_deref_mut() {
-            if w.wants_gallery(stats.generation)
-                && let Ok(png) = session.gallery(&opt)
-            {
-                w.gallery(stats.generation, png);
+            if w.wants_gallery(stats.generation) {
+                if let Ok(png) = session.gallery(&opt) {
+                    w.gallery(stats.generation, png);
+                }
+                // The live best model, when the best changed since the last one.
+                let now = opt.best().map(|b| b.fitness.to_bits());
+                if now != shown_best
+                    && let Ok(Some(scene)) = session.best_scene(&opt)
+                    && let Ok(glb) = genform_export::export(&scene, Format::Glb, &ExportOptions::default())
+                {
+                    shown_best = now;
+                    w.best_model(stats.generation, glb);
+                }
             }
             let tick = Tick { stats: &stats, seconds: secs, best, criteria: session.criteria(&rec) };
             live = w.generation(&tick);
@@ -732,9 +748,16 @@ impl Session<Genome> for RunContext<'_> {
         Ok(())
     }
 
+    fn best_scene(&self, opt: &dyn Optimizer) -> Result<Option<Scene>> {
+        opt.best().map(|b| self.express(&b.genome)).transpose()
+    }
+
     fn gallery(&self, opt: &dyn Optimizer) -> Result<Vec<u8>> {
         let reports = self.reports();
-        Ok(reports.gallery_png(&reports.describe(opt.population())?))
+        // Earlier epochs' champions compete too: after a restart the best
+        // answer so far may no longer be in the population.
+        let pool: Vec<Individual> = opt.population().iter().chain(opt.champions()).cloned().collect();
+        Ok(reports.gallery_png(&reports.describe(&pool)?))
     }
 
     fn max_reachable(&self) -> f64 {

@@ -295,8 +295,12 @@ fn a_run_is_watched_paused_steered_stopped_and_replayed() {
     assert_eq!(snap["criteria"]["weights"]["good"], 3.5);
     let target = server.get(snap["targets"]["glb"].as_str().expect("the scene's target")).ok();
     assert_eq!(&target.body[..4], b"glTF");
+    // While the run goes, its best so far is offered as a model.
+    let live = server.get(snap["best_model"].as_str().expect("a live best model")).ok();
+    assert_eq!(&live.body[..4], b"glTF");
     server.post(&format!("/api/runs/{id}/stop"), &json!({})).ok();
     let snap = server.wait_run(&id, "stopped", |s| s["status"] == "stopped");
+    assert!(snap["best_model"].is_null(), "an ended run's answer is its folder's best.glb");
     assert_eq!(server.post(&format!("/api/runs/{id}/resume"), &json!({})).status, 409);
     // Both clients saw the same generations, the steering and the end.
     for events in [one.join().unwrap(), two.join().unwrap()] {

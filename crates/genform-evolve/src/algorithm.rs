@@ -164,6 +164,10 @@ impl Optimizer for AnyOptimizer {
         self.inner().population()
     }
 
+    fn champions(&self) -> &[Individual] {
+        self.inner().champions()
+    }
+
     fn best(&self) -> Option<&Individual> {
         self.inner().best()
     }
@@ -228,5 +232,32 @@ mod tests {
             assert!(opt.best().is_some_and(|b| b.fitness.is_finite()), "{algorithm}");
             assert!(!opt.population().is_empty());
         }
+    }
+
+    /// A restarting GA behind `AnyOptimizer` hands out its earlier epochs'
+    /// champions (the gallery's candidates besides the population).
+    #[test]
+    fn champions_pass_through() {
+        let settings = Settings {
+            ga: GaConfig {
+                population: 12,
+                elitism: 2,
+                initial_length: [5, 15],
+                max_length: 40,
+                restart_after: 2,
+                ..GaConfig::default()
+            },
+            ..Settings::default()
+        };
+        let horizon = Horizon::default();
+        let mut opt = AnyOptimizer::new(Algorithm::Ga, &ship(), &Limits::default(), &settings, 3, horizon).unwrap();
+        // A flat objective stalls every epoch.
+        let flat = crate::objective::FnObjective(|_: &genform_core::Genome| 0.0);
+        for _ in 0..12 {
+            opt.step(&flat);
+        }
+        let AnyOptimizer::Ga(ga) = &opt else { unreachable!() };
+        assert!(!ga.champions().is_empty());
+        assert_eq!(Optimizer::champions(&opt).len(), ga.champions().len());
     }
 }

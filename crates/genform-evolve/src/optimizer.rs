@@ -65,6 +65,12 @@ pub trait Optimizer<G = Genome> {
     /// The current population, best first.
     fn population(&self) -> &[Individual<G>];
 
+    /// Earlier answers the current population no longer holds (the GA's
+    /// best of each epoch that ended in a restart); empty by default.
+    fn champions(&self) -> &[Individual<G>] {
+        &[]
+    }
+
     /// The best valid individual seen so far; `None` before the first
     /// generation or while none was valid.
     fn best(&self) -> Option<&Individual<G>>;

@@ -78,7 +78,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
 ///   (untyped last), sharing the surface's `POSITION` accessor, with the
 ///   material `edge<N>` (`edge_untyped`) coloured by [`crate::edge_color`].
 ///   Surfaces grow with +z as the seed's normal (HEMLS) while glTF's up is
-///   +y, so their nodes carry [`Z_UP_TO_Y_UP`] (the vertices stay as grown).
+///   +y, so their nodes carry a −90° turn about x (the vertices stay as grown).
 ///   Guides are not written.
 ///
 /// # Panics

@@ -1,6 +1,6 @@
 //! L-systems (`.ls`): the classic rewriting systems of *The Algorithmic
 //! Beauty of Plants* and L-Py, with a 2D/3D turtle, and an L-system as a
-//! genform [`Generator`] for evolutionary control.
+//! genform [`Generator`](genform_core::Generator) for evolutionary control.
 //!
 //! - [`compile`] reads a `.ls` file (every error at once, with positions).
 //! - [`LSystem::derive`] rewrites the axiom in parallel steps:

@@ -199,6 +199,12 @@ impl Session<Codons> for Run<'_> {
         Ok(self.gallery(opt.population()))
     }
 
+    fn best_scene(&self, opt: &dyn Optimizer<Codons>) -> Result<Option<Scene>> {
+        let Some(b) = opt.best() else { return Ok(None) };
+        let e = self.objective.express(&b.genome).map_err(|r| anyhow::anyhow!("cannot rebuild the best: {r}"))?;
+        Ok(Some(e.scene))
+    }
+
     fn max_reachable(&self) -> f64 {
         self.objective.max_reachable(self.scene.config.ge.initial_length[0])
     }

@@ -152,6 +152,7 @@ pub fn router(app: Shared) -> Router {
         .route("/api/runs/{id}/steer", post(runs::steer))
         .route("/api/runs/{id}/files/{*name}", get(runs::file))
         .route("/api/runs/{id}/gallery/{file}", get(runs::gallery))
+        .route("/api/runs/{id}/best.glb", get(runs::best_model))
         .route("/api/breed", post(breed::start))
         .route("/api/breed/{id}", get(breed::state))
         .route("/api/breed/{id}/pick", post(breed::pick))

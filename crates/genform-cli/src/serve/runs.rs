@@ -100,6 +100,9 @@ struct RunState {
     steerable: Steerable,
     pending: Option<SteerSet>,
     galleries: VecDeque<(usize, Arc<Vec<u8>>)>,
+    /// The best model so far (GLB) and the generation it is from, while
+    /// the run goes.
+    best_model: Option<(usize, Arc<Vec<u8>>)>,
 }
 
 impl RunHandle {
@@ -132,6 +135,9 @@ impl RunHandle {
             "max_reachable": s.max_reachable, "criteria_names": s.criteria_names, "stats": s.stats,
             "steering": s.steering, "criteria": s.steerable.values(), "pending": s.pending,
             "gallery": s.galleries.back().map(|(g, _)| format!("/api/runs/{}/gallery/{g}.png", self.id)),
+            // Only while the run goes: then the folder's best.glb is the answer.
+            "best_model": s.best_model.as_ref().filter(|_| s.status == Status::Running)
+                .map(|(g, _)| format!("/api/runs/{}/best.glb?generation={g}", self.id)),
             "files": self.files(),
         });
         if let (Some(all), Value::Object(status)) = (v.as_object_mut(), self.status_json(&s)) {
@@ -207,6 +213,10 @@ impl Watch for Watcher {
             json!({ "generation": generation, "url": format!("/api/runs/{}/gallery/{generation}.png", h.id) }),
             false,
         );
+    }
+
+    fn best_model(&mut self, generation: usize, glb: Vec<u8>) {
+        self.0.lock().best_model = Some((generation, Arc::new(glb)));
     }
 
     fn steered(&mut self, entry: &SteerEntry, now: &Steerable) {
@@ -301,6 +311,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
                 steerable,
                 pending: None,
                 galleries: VecDeque::new(),
+                best_model: None,
             }),
             wake: Condvar::new(),
             events: tx,
@@ -501,4 +512,15 @@ pub async fn gallery(
         ))
     })?;
     Ok(bytes_response("image/png", png.to_vec()))
+}
+
+/// `GET /api/runs/<id>/best.glb`: the best model so far of a running run
+/// (made with each gallery picture when the best changed; the folder's
+/// `best.glb` once the run ended).
+pub async fn best_model(State(app): State<Shared>, UrlPath(id): UrlPath<String>) -> Result<Response, ApiError> {
+    let h = app.runs.get(&id)?;
+    let glb = h.lock().best_model.as_ref().map(|(_, glb)| glb.clone()).ok_or_else(|| {
+        ApiError::not_found("no live best model yet (one comes with the gallery when the best changes)".to_string())
+    })?;
+    Ok(bytes_response("model/gltf-binary", glb.to_vec()))
 }

@@ -278,6 +278,10 @@ impl Optimizer for Ga {
         Ga::population(self)
     }
 
+    fn champions(&self) -> &[Individual] {
+        Ga::champions(self)
+    }
+
     fn best(&self) -> Option<&Individual> {
         Ga::best(self)
     }

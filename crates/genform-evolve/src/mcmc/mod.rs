@@ -7,7 +7,7 @@
 //! prior is the generator graph's: every link expressed with its slot
 //! probability, every parameter from its distribution.
 //!
-//! **Moves** (see [`moves`]), with gene `v` picked uniformly or
+//! **Moves** (module `moves`), with gene `v` picked uniformly or
 //! level-biased (`P(v | x)`):
 //! - *diffusion*: new parameters for `v` (redrawn, or a Gaussian drift of
 //!   the continuous ones). Acceptance `min(1, exp(β Δf) · prior ratio of
