@@ -58,6 +58,9 @@ fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         g.bench_function(format!("evaluate/fast/{threads}-thread"), |b| {
             b.iter(|| {
+                // Unrelated generation-0 genomes: nothing from the previous
+                // iteration may be replayed.
+                s.scorers.clear_caches();
                 pool.install(|| {
                     s.population
                         .par_iter()
@@ -82,11 +85,41 @@ fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
     });
 }
 
+/// Evaluations per second of a whole GA run (`[ga]` of the scene, seed 1,
+/// `generations` generations, 2 threads, caches emptied first): what a
+/// user's `evolve` gets, where children share most of their models with
+/// their parents.
+fn ga_run(g: &mut BenchmarkGroup<WallTime>, s: &Setup, generations: usize) {
+    let objective = SceneObjective { generator: s.generator.as_ref(), limits: s.limits, scorers: &s.scorers };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+    let run = || {
+        s.scorers.clear_caches();
+        pool.install(|| {
+            let mut ga = Ga::new(s.generator.graph(), &s.limits, s.config.ga.clone(), 1).unwrap();
+            let cancel = AtomicBool::new(false);
+            let stop = genform_evolve::Stop {
+                generations: Some(generations),
+                budget: None,
+                evaluations: None,
+                cancel: &cancel,
+            };
+            genform_evolve::run(&mut ga, &objective, &stop, |_, _| {}).unwrap();
+            ga.evaluations()
+        })
+    };
+    g.throughput(Throughput::Elements(run()));
+    g.sampling_mode(SamplingMode::Flat).sample_size(10);
+    g.bench_function(format!("ga_run/{generations}-generations/2-thread"), |b| b.iter(run));
+}
+
 fn bench(c: &mut Criterion) {
     for name in SCENES {
         let s = setup(name);
         let mut g = c.benchmark_group(name);
         evaluate(&mut g, &s);
+        if name.starts_with("tree_") {
+            ga_run(&mut g, &s, 30);
+        }
         if name != "spaceship_volume" {
             g.finish();
             continue;

@@ -35,6 +35,14 @@ impl Scorers {
         }
     }
 
+    /// Empties the caches the scorers keep across evaluations (results
+    /// never depend on them; measurements of unrelated models clear them).
+    pub fn clear_caches(&self) {
+        if let Some(v) = &self.volume {
+            v.clear_caches();
+        }
+    }
+
     /// The summed counts of every target.
     pub fn counts(&self, scene: &Scene, scratch: &mut ScorerScratch) -> Counts {
         let mut c = Counts::default();

@@ -25,7 +25,7 @@ use crate::error::ScoreError;
 use crate::fitness::Counts;
 use crate::grid::{Grid, Lattice};
 use crate::voxel_set::VoxelSet;
-use crate::voxelize::{Plane, VolumeScratch, Voxelized, rasterize};
+use crate::voxelize::{CachePool, Plane, VolumeScratch, Voxelized, rasterize};
 use genform_core::scene::Scene;
 
 /// One target volume and its weights.
@@ -53,6 +53,9 @@ pub struct VolumeScorer {
     lat: Lattice,
     targets: Vec<VolumeTarget>,
     target_total: f64,
+    /// The scratches' caches of mesh instances (see
+    /// [`crate::voxelize::CachePool`]); clones share it.
+    caches: CachePool,
 }
 
 impl VolumeScorer {
@@ -68,7 +71,7 @@ impl VolumeScorer {
             }
         }
         let target_total = targets.iter().map(|t| t.fill.max(0.0) * t.voxels.count() as f64).sum();
-        Ok(VolumeScorer { lat: Lattice::new(&grid), targets, target_total })
+        Ok(VolumeScorer { lat: Lattice::new(&grid), targets, target_total, caches: CachePool::default() })
     }
 
     /// The grid.
@@ -81,9 +84,17 @@ impl VolumeScorer {
         &self.targets
     }
 
-    /// Fresh working memory for one thread.
+    /// Fresh working memory for one thread, with a cache of mesh
+    /// instances' spans that outlives it (given back when it is dropped).
     pub fn scratch(&self) -> VolumeScratch {
-        VolumeScratch::new(&self.lat)
+        VolumeScratch::with_cache(&self.lat, &self.caches)
+    }
+
+    /// Empties the caches of mesh instances' spans (for measurements that
+    /// must not profit from earlier evaluations; results never depend on
+    /// them).
+    pub fn clear_caches(&self) {
+        self.caches.clear();
     }
 
     fn ready(&self, s: &mut VolumeScratch) {

@@ -92,7 +92,7 @@ pub(super) fn rasterize_blocks(lat: &Lattice, scene: &Scene, s: &mut VolumeScrat
     let mut open = s.take_cells();
     for g in &scene.blocks {
         let mut tally = Tally::default();
-        let mut out = Out { s, tally: &mut tally, target };
+        let mut out = Out { s, tally: &mut tally, target, record: None };
         for_each_box(g, &mut open, |min, max| {
             let r = [0, 1, 2].map(|l| held_range(lat, l, min[lat.axes[l]], max[lat.axes[l]]));
             lattice_box(lat, r[0], r[1], r[2], &mut out);

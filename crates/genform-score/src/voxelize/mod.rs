@@ -47,6 +47,7 @@
 //! rows it touched, so that clearing visits only those.
 
 mod blocks;
+mod cache;
 mod crossing;
 mod mesh_rows;
 pub mod oracle;
@@ -55,6 +56,8 @@ mod scratch;
 mod shape;
 mod spans;
 
+pub use cache::CachePool;
+pub(crate) use cache::{CacheSlot, Lookup, Span, SpanCache};
 pub(crate) use crossing::crossing;
 use mesh_rows::mesh_rows;
 use prepare::{Body, prepare};
@@ -64,7 +67,7 @@ use spans::{separable_box, solid_rows, split_box};
 
 use crate::grid::{Grid, Lattice};
 use crate::voxel_set::VoxelSet;
-use genform_core::scene::Scene;
+use genform_core::scene::{Primitive, Scene};
 
 /// A voxelized Scene: the voxels it holds, those held more than once, and
 /// how many held lattice voxels lie outside the grid.
@@ -105,6 +108,8 @@ struct Out<'a> {
     s: &'a mut VolumeScratch,
     tally: &'a mut Tally,
     target: &'a [u64],
+    /// Where the marked spans are recorded too, if they are.
+    record: Option<&'a mut Vec<Span>>,
 }
 
 /// Adds the held span `lo..=hi` of lattice row `(j, k)`.
@@ -116,6 +121,9 @@ fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
             let (a, b) = (lo.max(0), hi.min(lat.dims[0] - 1));
             if a <= b {
                 out.s.write(r, a as usize, b as usize, out.target);
+                if let Some(rec) = &mut out.record {
+                    rec.push((r as u32, a as u32, b as u32));
+                }
                 let n = (b - a + 1) as u64;
                 out.tally.in_grid += n;
                 out.tally.outside += len - n;
@@ -132,22 +140,60 @@ fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
 /// layout of the lattice, or empty).
 pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, target: &[u64]) {
     let mut verts = s.take_verts();
+    let (mut cache, mut spans, mut keys) = s.take_cache();
+    // Per mesh of the scene: its cache key, once looked up.
+    keys.clear();
     for inst in &scene.instances {
-        let Some(p) = prepare(lat, scene, inst, &mut verts) else { continue };
-        let mut tally = Tally::default();
-        match &p.body {
-            Body::Solid(solid) => {
-                let out = &mut Out { s, tally: &mut tally, target };
-                match (solid.separable, solid.split) {
-                    (Some(perm), _) => separable_box(lat, &p, solid, perm, out),
-                    (None, Some(split)) => split_box(lat, &p, solid, split, out),
-                    (None, None) => solid_rows(lat, &p, solid, out),
+        let key = match (inst.primitive, cache.as_mut()) {
+            (Primitive::Mesh(id), Some(c)) => {
+                let id = id as usize;
+                if keys.len() <= id {
+                    keys.resize(scene.meshes.len().max(id + 1), None);
+                }
+                *keys[id].get_or_insert_with(|| scene.meshes.get(id).and_then(|m| c.mesh_key(m)))
+            }
+            _ => None,
+        };
+        let mut record = false;
+        if let (Some(k), Some(c)) = (key, cache.as_mut()) {
+            match c.lookup(k, inst) {
+                Lookup::Hit { spans, outside } => {
+                    for &(r, a, b) in spans {
+                        s.write(r as usize, a as usize, b as usize, target);
+                    }
+                    s.outside = s.outside.saturating_add(outside);
+                    continue;
+                }
+                Lookup::Record => record = true,
+                Lookup::Voxelize => {}
+            }
+        }
+        spans.clear();
+        let mut outside = 0;
+        if let Some(p) = prepare(lat, scene, inst, &mut verts) {
+            let mut tally = Tally::default();
+            match &p.body {
+                Body::Solid(solid) => {
+                    let out = &mut Out { s, tally: &mut tally, target, record: None };
+                    match (solid.separable, solid.split) {
+                        (Some(perm), _) => separable_box(lat, &p, solid, perm, out),
+                        (None, Some(split)) => split_box(lat, &p, solid, split, out),
+                        (None, None) => solid_rows(lat, &p, solid, out),
+                    }
+                }
+                Body::Mesh(mesh) => {
+                    let record = record.then_some(&mut spans);
+                    mesh_rows(lat, &p, mesh, &verts, &mut Out { s, tally: &mut tally, target, record });
                 }
             }
-            Body::Mesh(mesh) => mesh_rows(lat, &p, mesh, &verts, &mut Out { s, tally: &mut tally, target }),
+            outside = p.outside(tally.in_grid, tally.outside);
+            s.outside = s.outside.saturating_add(outside);
         }
-        s.outside = s.outside.saturating_add(p.outside(tally.in_grid, tally.outside));
+        if let (true, Some(k), Some(c)) = (record, key, cache.as_mut()) {
+            c.insert(k, inst, &spans, outside);
+        }
     }
+    s.put_cache(cache, spans, keys);
     s.put_verts(verts);
     blocks::rasterize_blocks(lat, scene, s, target);
 }

@@ -1,6 +1,7 @@
 //! The fast voxelizer's per-thread working memory.
 
 use super::mesh_rows::MeshBuffers;
+use super::{CacheSlot, Span, SpanCache};
 use crate::bits::{BitRows, bit_range};
 use crate::grid::Lattice;
 use glam::Vec3;
@@ -103,6 +104,12 @@ pub struct VolumeScratch {
     mesh: MeshBuffers,
     /// Block cells not yet covered by a box (block structures).
     cells: Vec<bool>,
+    /// Mesh instances' spans kept across evaluations (scorers' scratches
+    /// only), and the spans of the instance being recorded.
+    cache: CacheSlot,
+    spans: Vec<Span>,
+    /// Per mesh of the Scene being voxelized: its cache key, once looked up.
+    mesh_keys: Vec<Option<Option<u64>>>,
 }
 
 impl VolumeScratch {
@@ -123,7 +130,15 @@ impl VolumeScratch {
             verts: Vec::new(),
             mesh: MeshBuffers::default(),
             cells: Vec::new(),
+            cache: CacheSlot::default(),
+            spans: Vec::new(),
+            mesh_keys: Vec::new(),
         }
+    }
+
+    /// A scratch whose mesh instances are cached in a cache of `pool`.
+    pub(crate) fn with_cache(lat: &Lattice, pool: &super::CachePool) -> VolumeScratch {
+        VolumeScratch { cache: pool.take(), ..VolumeScratch::new(lat) }
     }
 
     /// Whether this scratch has the shape `lat` needs.
@@ -345,6 +360,23 @@ impl VolumeScratch {
 
     pub(crate) fn put_mesh_buffers(&mut self, m: MeshBuffers) {
         self.mesh = m;
+    }
+
+    /// Mesh instances replayed from this scratch's cache so far.
+    #[cfg(test)]
+    pub(crate) fn cache_hits(&self) -> u64 {
+        self.cache.cache.as_ref().map_or(0, |c| c.hits)
+    }
+
+    /// The cache, the recording buffer and the mesh keys' buffer.
+    pub(crate) fn take_cache(&mut self) -> (Option<SpanCache>, Vec<Span>, Vec<Option<Option<u64>>>) {
+        (self.cache.cache.take(), std::mem::take(&mut self.spans), std::mem::take(&mut self.mesh_keys))
+    }
+
+    pub(crate) fn put_cache(&mut self, cache: Option<SpanCache>, spans: Vec<Span>, keys: Vec<Option<Option<u64>>>) {
+        self.cache.cache = cache;
+        self.spans = spans;
+        self.mesh_keys = keys;
     }
 
     pub(crate) fn take_cells(&mut self) -> Vec<bool> {

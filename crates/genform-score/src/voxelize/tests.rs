@@ -275,7 +275,7 @@ pub(crate) fn cube_mesh() -> Mesh {
 
 /// The tree grammars' assets (`examples/shape/assets`): a 16-sided
 /// frustum and a low-poly leaf.
-fn tree_assets() -> [Mesh; 2] {
+pub(crate) fn tree_assets() -> [Mesh; 2] {
     [
         Mesh::from_obj("trunk", include_str!("../../tests/data/trunk.obj")).unwrap(),
         Mesh::from_obj("leaf", include_str!("../../tests/data/leaf_low_poly.obj")).unwrap(),
