@@ -21,6 +21,7 @@
 //! old map is dropped and the young one takes its place (a hit in the old
 //! map moves the entry back to the young one).
 
+use crate::grid::Lattice;
 use genform_core::scene::{Instance, Mesh};
 use std::collections::HashMap;
 use std::collections::hash_map::DefaultHasher;
@@ -58,6 +59,8 @@ struct Entry {
 /// One thread's cache of mesh instances' spans.
 #[derive(Clone, Debug, Default)]
 pub struct SpanCache {
+    /// The lattice the spans are on (a scratch may move to another scorer).
+    lattice: Option<Lattice>,
     young: HashMap<Key, Entry>,
     old: HashMap<Key, Entry>,
     young_spans: usize,
@@ -81,6 +84,13 @@ pub(crate) enum Lookup<'a> {
 }
 
 impl SpanCache {
+    /// Empties the cache unless its spans are on `lat`.
+    pub(crate) fn on_lattice(&mut self, lat: &Lattice) {
+        if self.lattice.as_ref() != Some(lat) {
+            *self = SpanCache { lattice: Some(lat.clone()), hits: self.hits, ..SpanCache::default() };
+        }
+    }
+
     /// The hash of `mesh` if its instances may be cached: the mesh is known
     /// under it (remembered now if there is room).
     pub(crate) fn mesh_key(&mut self, mesh: &Mesh) -> Option<u64> {
@@ -224,7 +234,12 @@ mod tests {
 
     /// A scorer on a 40³ grid whose target is the voxels with x < 20.
     fn scorer() -> VolumeScorer {
-        let grid = Grid::new(Vec3::splat(-2.5), Vec3::splat(2.5), [40; 3]).unwrap();
+        scorer_at(-2.5)
+    }
+
+    /// The same on a grid whose corner is at `min` (5 units a side).
+    fn scorer_at(min: f32) -> VolumeScorer {
+        let grid = Grid::new(Vec3::splat(min), Vec3::splat(min + 5.0), [40; 3]).unwrap();
         let mut t = VoxelSet::new(&grid);
         for x in 0..20 {
             for y in 0..40 {
@@ -279,6 +294,21 @@ mod tests {
         assert_eq!(s.cache_hits(), 0);
         // A clone of a scratch starts without a cache.
         assert_eq!(s.clone().cache_hits(), 0);
+    }
+
+    /// A scratch handed from one scorer to another of the same size (so it
+    /// is kept, not remade) forgets the first one's spans.
+    #[test]
+    fn a_scratch_moved_to_another_grid_forgets_its_spans() {
+        let (a, b) = (scorer_at(-2.5), scorer_at(-2.0));
+        let scene = forest(4, 1.0);
+        let mut s = a.scratch();
+        for _ in 0..3 {
+            a.counts(&scene, &mut s);
+        }
+        let mut fresh = VolumeScratch::new(&Lattice::new(b.grid()));
+        assert_eq!(b.counts(&scene, &mut s), b.counts(&scene, &mut fresh));
+        assert_eq!(s.cache_hits(), 15, "only a's replays");
     }
 
     /// Meshes too large, or met after the cache knows enough of them, are

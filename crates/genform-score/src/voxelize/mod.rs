@@ -141,6 +141,9 @@ fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
 pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, target: &[u64]) {
     let mut verts = s.take_verts();
     let (mut cache, mut spans, mut keys) = s.take_cache();
+    if let Some(c) = cache.as_mut() {
+        c.on_lattice(lat);
+    }
     // Per mesh of the scene: its cache key, once looked up.
     keys.clear();
     for inst in &scene.instances {
