@@ -41,6 +41,9 @@ impl Scorers {
         if let Some(v) = &self.volume {
             v.clear_caches();
         }
+        for i in &self.images {
+            i.clear_caches();
+        }
     }
 
     /// The summed counts of every target.

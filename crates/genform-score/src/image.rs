@@ -36,6 +36,7 @@ pub use raster::ImageScratch;
 pub use target::{ImageTarget, PngMode};
 
 use crate::fitness::Counts;
+use crate::span_cache::CachePool;
 use genform_core::camera::{Camera, Projection};
 use genform_core::scene::{Scene, Tessellation};
 use project::Frame;
@@ -56,6 +57,9 @@ pub struct ImageScorer {
     frame: Frame,
     target: ImageTarget,
     tess: Tessellation,
+    /// The scratches' caches of mesh instances (see `span_cache`); clones
+    /// share it.
+    caches: CachePool<Frame>,
 }
 
 impl ImageScorer {
@@ -87,7 +91,14 @@ impl ImageScorer {
             )));
         }
         let projection = camera.projection(width, height);
-        Ok(ImageScorer { camera, projection, frame: Frame::new(&projection), target, tess: Tessellation::default() })
+        Ok(ImageScorer {
+            camera,
+            projection,
+            frame: Frame::new(&projection),
+            target,
+            tess: Tessellation::default(),
+            caches: CachePool::default(),
+        })
     }
 
     /// The same scorer clipping at other distances (the reference uses
@@ -137,9 +148,18 @@ impl ImageScorer {
         self.target.height()
     }
 
-    /// Buffers for [`ImageScorer::counts`]; keep one per thread.
+    /// Buffers for [`ImageScorer::counts`]; keep one per thread. It comes
+    /// with a cache of mesh instances' spans that outlives it (given back
+    /// when it is dropped).
     pub fn scratch(&self) -> ImageScratch {
-        ImageScratch::new(self.frame.width, self.frame.height, self.tess)
+        ImageScratch::with_cache(self.frame.width, self.frame.height, self.tess, &self.caches)
+    }
+
+    /// Empties the caches of mesh instances' spans (for measurements that
+    /// must not profit from earlier evaluations; results never depend on
+    /// them).
+    pub fn clear_caches(&self) {
+        self.caches.clear();
     }
 
     /// What the silhouette of `scene` covers: `good` = Σ covered positive

@@ -10,6 +10,7 @@ pub mod image;
 mod bits;
 pub mod error;
 pub mod grid;
+mod span_cache;
 pub mod surface;
 pub mod target;
 pub mod volume;

@@ -24,8 +24,9 @@
 use crate::error::ScoreError;
 use crate::fitness::Counts;
 use crate::grid::{Grid, Lattice};
+use crate::span_cache::CachePool;
 use crate::voxel_set::VoxelSet;
-use crate::voxelize::{CachePool, Plane, VolumeScratch, Voxelized, rasterize};
+use crate::voxelize::{Plane, VolumeScratch, Voxelized, rasterize};
 use genform_core::scene::Scene;
 
 /// One target volume and its weights.
@@ -53,9 +54,9 @@ pub struct VolumeScorer {
     lat: Lattice,
     targets: Vec<VolumeTarget>,
     target_total: f64,
-    /// The scratches' caches of mesh instances (see
-    /// [`crate::voxelize::CachePool`]); clones share it.
-    caches: CachePool,
+    /// The scratches' caches of mesh instances (see `span_cache`); clones
+    /// share it.
+    caches: CachePool<Lattice>,
 }
 
 impl VolumeScorer {

@@ -2,7 +2,9 @@
 //! remembers which rows and words it touched (so only those are counted and
 //! cleared), and [`Coverage`], an owned copy for callers and tests.
 
+use super::raster::or_span;
 use super::words_per_row;
+use crate::span_cache::{Bounds, Span};
 
 /// Which pixels a silhouette covers: one bit per pixel, rows from the top,
 /// each row [`Coverage::words_per_row`] `u64` words with pixel `x` at bit
@@ -94,6 +96,9 @@ pub(crate) struct Mask {
     hi: Vec<u32>,
     /// One bit per row: touched since the last drain.
     rows: Vec<u64>,
+    /// Where the spans being filled are recorded too, if they are (a mesh
+    /// instance's for the span cache).
+    pub record: Option<Vec<Span>>,
 }
 
 impl Mask {
@@ -107,6 +112,20 @@ impl Mask {
             lo: vec![u32::MAX; height],
             hi: vec![0; height],
             rows: vec![0; height.div_ceil(64)],
+            record: None,
+        }
+    }
+
+    /// Fills recorded spans `(y, x0, x1)` again; `[y0, y1, x0, x1]` bound
+    /// them (marked once, as a polygon's box is).
+    pub fn replay(&mut self, spans: &[Span], [y0, y1, x0, x1]: Bounds) {
+        if spans.is_empty() {
+            return;
+        }
+        self.mark(y0 as usize..y1 as usize + 1, x0 as usize / 64, x1 as usize / 64);
+        for &(y, a, b) in spans {
+            let y = y as usize;
+            or_span(&mut self.words[y * self.wpr..(y + 1) * self.wpr], i64::from(a), i64::from(b));
         }
     }
 

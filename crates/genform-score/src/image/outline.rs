@@ -190,6 +190,7 @@ pub(crate) fn fill_outline(
     }
     // Cursors now hold each row's end: its start is the previous end.
     mask.mark(row0 as usize..row_end as usize, col0 as usize / 64, col1 as usize / 64);
+    let mut record = mask.record.take();
     let (words, wpr) = mask.words_mut();
     let mut begin = 0usize;
     for (r, &end) in starts[..rows].iter().enumerate() {
@@ -208,10 +209,15 @@ pub(crate) fn fill_outline(
             if !was && sum > 0 {
                 from = x;
             } else if was && sum <= 0 && from < x {
-                or_span(line, from, (x - 1).min(x_max));
+                let to = (x - 1).min(x_max);
+                or_span(line, from, to);
+                if let Some(rec) = &mut record {
+                    rec.push(((row0 as usize + r) as u32, from as u32, to as u32));
+                }
             }
         }
     }
+    mask.record = record;
     false
 }
 

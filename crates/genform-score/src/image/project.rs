@@ -34,7 +34,7 @@ pub(crate) const MAX_CLIPPED: usize = 9;
 pub(crate) type Pt = [i64; 2];
 
 /// A camera and image size prepared for rasterizing.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Frame {
     view: DAffine3,
     focal: f64,

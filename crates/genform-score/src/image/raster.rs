@@ -19,8 +19,9 @@
 use super::coverage::Mask;
 use super::outline::{EdgeTable, OutlineBuffers, fill_outline};
 use super::project::{Frame, HALF, ONE, Projector, Pt, SUB, Shapes};
+use crate::span_cache::{CachePool, CacheSlot, Lookup, MeshKeys, Span};
 use genform_core::scene::triangulate_polygon;
-use genform_core::scene::{Mesh, Primitive, Scene, Tessellation};
+use genform_core::scene::{Instance, Mesh, Primitive, Scene, Tessellation};
 use std::sync::Arc;
 
 /// Per-thread buffers of an image scorer: the mask, the tessellated unit
@@ -34,6 +35,12 @@ pub struct ImageScratch {
     rows: Rows,
     closed: ClosedMeshes,
     outline: OutlineBuffers,
+    /// Mesh instances' spans kept across evaluations (scorers' scratches),
+    /// the spans of the instance being recorded, and per mesh of the Scene
+    /// its cache key once looked up.
+    cache: CacheSlot<Frame>,
+    spans: Vec<Span>,
+    mesh_keys: MeshKeys,
 }
 
 impl ImageScratch {
@@ -45,7 +52,21 @@ impl ImageScratch {
             rows: Rows::default(),
             closed: ClosedMeshes::default(),
             outline: OutlineBuffers::default(),
+            cache: CacheSlot::default(),
+            spans: Vec::new(),
+            mesh_keys: Vec::new(),
         }
+    }
+
+    /// A scratch whose mesh instances are cached in a cache of `pool`.
+    pub(crate) fn with_cache(width: usize, height: usize, tess: Tessellation, pool: &CachePool<Frame>) -> ImageScratch {
+        ImageScratch { cache: pool.take(), ..ImageScratch::new(width, height, tess) }
+    }
+
+    /// Mesh instances replayed from this scratch's cache so far.
+    #[cfg(test)]
+    pub(crate) fn cache_hits(&self) -> u64 {
+        self.cache.cache.as_ref().map_or(0, |c| c.hits)
     }
 
     /// Makes the buffers fit a scorer (a scratch made for another one is
@@ -107,30 +128,64 @@ pub(crate) fn is_closed(mesh: &Mesh) -> bool {
 
 /// Rasterizes every instance and polygon of `scene` into `s.mask`.
 pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
+    let mut cache = s.cache.cache.take();
+    if let Some(c) = cache.as_mut() {
+        c.drawn_on(frame);
+    }
+    let mut keys = std::mem::take(&mut s.mesh_keys);
+    keys.clear();
     for inst in &scene.instances {
-        let Some(to_view) = frame.instance_view(&inst.transform) else { continue };
-        let (mesh, table) = match inst.primitive {
-            Primitive::Mesh(id) => {
-                let Some(mesh) = scene.meshes.get(id as usize) else { continue };
-                (&**mesh, s.closed.get(mesh))
-            }
-            p => s.shapes.get_with_edges(p),
+        // Mesh instances met before are filled from their recorded spans.
+        let key = match (inst.primitive, cache.as_mut()) {
+            (Primitive::Mesh(id), Some(c)) => c.scene_mesh_key(scene, id, &mut keys),
+            _ => None,
         };
-        let kept = s.projector.project(frame, &to_view, &mesh.positions);
-        match table {
-            // A closed surface, all on screen: its outline.
-            Some(table) if kept => {
-                fill_outline(frame, mesh, table, s.projector.snapped(), &mut s.mask, &mut s.outline);
+        let Some((k, c)) = key.zip(cache.as_mut()) else {
+            draw(frame, scene, inst, s);
+            continue;
+        };
+        match c.lookup(k, inst) {
+            Lookup::Hit { spans, bounds, .. } => s.mask.replay(spans, bounds),
+            Lookup::Voxelize => draw(frame, scene, inst, s),
+            Lookup::Record => {
+                let mut spans = std::mem::take(&mut s.spans);
+                spans.clear();
+                s.mask.record = Some(spans);
+                draw(frame, scene, inst, s);
+                let spans = s.mask.record.take().unwrap_or_default();
+                c.insert(k, inst, &spans, 0);
+                s.spans = spans;
             }
-            _ => s.projector.projected_triangles(frame, mesh.triangles.iter().copied(), false, |t| {
-                fill_triangle(frame, t, &mut s.mask, &mut s.rows)
-            }),
         }
     }
+    s.cache.cache = cache;
+    s.mesh_keys = keys;
     let view = frame.world_view();
     for poly in &scene.polygons {
         let tris = triangulate_polygon(&poly.points).into_iter();
         s.projector.triangles(frame, &view, &poly.points, tris, |t| fill_triangle(frame, t, &mut s.mask, &mut s.rows));
+    }
+}
+
+/// Rasterizes one instance into `s.mask`.
+fn draw(frame: &Frame, scene: &Scene, inst: &Instance, s: &mut ImageScratch) {
+    let Some(to_view) = frame.instance_view(&inst.transform) else { return };
+    let (mesh, table) = match inst.primitive {
+        Primitive::Mesh(id) => {
+            let Some(mesh) = scene.meshes.get(id as usize) else { return };
+            (&**mesh, s.closed.get(mesh))
+        }
+        p => s.shapes.get_with_edges(p),
+    };
+    let kept = s.projector.project(frame, &to_view, &mesh.positions);
+    match table {
+        // A closed surface, all on screen: its outline.
+        Some(table) if kept => {
+            fill_outline(frame, mesh, table, s.projector.snapped(), &mut s.mask, &mut s.outline);
+        }
+        _ => s.projector.projected_triangles(frame, mesh.triangles.iter().copied(), false, |t| {
+            fill_triangle(frame, t, &mut s.mask, &mut s.rows)
+        }),
     }
 }
 
@@ -383,9 +438,10 @@ pub(crate) fn fill_convex(frame: &Frame, poly: &[Pt], mask: &mut Mask, rows: &mu
     walk_chains(poly, top, bottom, (row0, row_end), rows);
     // Bookkeeping once per polygon, not per span.
     mask.mark(row0 as usize..row_end as usize, col0 as usize / 64, col1 as usize / 64);
+    let mut record = mask.record.take();
     let (words, wpr) = mask.words_mut();
     let lines = words.chunks_exact_mut(wpr).skip(row0 as usize);
-    for ((line, &xl), &xr) in lines.zip(&rows.left[..len]).zip(&rows.right[..len]) {
+    for (y, ((line, &xl), &xr)) in (row0..).zip(lines.zip(&rows.left[..len]).zip(&rows.right[..len])) {
         // Center i·ONE + HALF >= xl  ⇔  i >= ceil((xl − HALF) / ONE).
         let x0 = ((xl - HALF + ONE - 1) >> SUB).max(col0);
         let x1 = ((xr - HALF) >> SUB).min(col1);
@@ -393,7 +449,11 @@ pub(crate) fn fill_convex(frame: &Frame, poly: &[Pt], mask: &mut Mask, rows: &mu
             continue;
         }
         or_span(line, x0, x1);
+        if let Some(r) = &mut record {
+            r.push((y as u32, x0 as u32, x1 as u32));
+        }
     }
+    mask.record = record;
 }
 
 /// Covers pixels `x0..=x1` (`0 <= x0 <= x1`, within the row) of one row's

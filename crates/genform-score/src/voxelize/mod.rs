@@ -47,7 +47,6 @@
 //! rows it touched, so that clearing visits only those.
 
 mod blocks;
-mod cache;
 mod crossing;
 mod mesh_rows;
 pub mod oracle;
@@ -56,8 +55,6 @@ mod scratch;
 mod shape;
 mod spans;
 
-pub use cache::CachePool;
-pub(crate) use cache::{CacheSlot, Lookup, Span, SpanCache};
 pub(crate) use crossing::crossing;
 use mesh_rows::mesh_rows;
 use prepare::{Body, prepare};
@@ -66,6 +63,7 @@ pub use scratch::VolumeScratch;
 use spans::{separable_box, solid_rows, split_box};
 
 use crate::grid::{Grid, Lattice};
+use crate::span_cache::{Lookup, Span};
 use crate::voxel_set::VoxelSet;
 use genform_core::scene::{Primitive, Scene};
 
@@ -142,25 +140,19 @@ pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, tar
     let mut verts = s.take_verts();
     let (mut cache, mut spans, mut keys) = s.take_cache();
     if let Some(c) = cache.as_mut() {
-        c.on_lattice(lat);
+        c.drawn_on(lat);
     }
     // Per mesh of the scene: its cache key, once looked up.
     keys.clear();
     for inst in &scene.instances {
         let key = match (inst.primitive, cache.as_mut()) {
-            (Primitive::Mesh(id), Some(c)) => {
-                let id = id as usize;
-                if keys.len() <= id {
-                    keys.resize(scene.meshes.len().max(id + 1), None);
-                }
-                *keys[id].get_or_insert_with(|| scene.meshes.get(id).and_then(|m| c.mesh_key(m)))
-            }
+            (Primitive::Mesh(id), Some(c)) => c.scene_mesh_key(scene, id, &mut keys),
             _ => None,
         };
         let mut record = false;
         if let (Some(k), Some(c)) = (key, cache.as_mut()) {
             match c.lookup(k, inst) {
-                Lookup::Hit { spans, outside } => {
+                Lookup::Hit { spans, outside, .. } => {
                     for &(r, a, b) in spans {
                         s.write(r as usize, a as usize, b as usize, target);
                     }
@@ -202,4 +194,4 @@ pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, tar
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

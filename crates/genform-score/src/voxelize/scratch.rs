@@ -1,9 +1,9 @@
 //! The fast voxelizer's per-thread working memory.
 
 use super::mesh_rows::MeshBuffers;
-use super::{CacheSlot, Span, SpanCache};
 use crate::bits::{BitRows, bit_range};
 use crate::grid::Lattice;
+use crate::span_cache::{CachePool, CacheSlot, MeshKeys, Span, SpanCache};
 use glam::Vec3;
 
 /// One of the scratch's two bit planes.
@@ -106,10 +106,10 @@ pub struct VolumeScratch {
     cells: Vec<bool>,
     /// Mesh instances' spans kept across evaluations (scorers' scratches
     /// only), and the spans of the instance being recorded.
-    cache: CacheSlot,
+    cache: CacheSlot<Lattice>,
     spans: Vec<Span>,
     /// Per mesh of the Scene being voxelized: its cache key, once looked up.
-    mesh_keys: Vec<Option<Option<u64>>>,
+    mesh_keys: MeshKeys,
 }
 
 impl VolumeScratch {
@@ -137,7 +137,7 @@ impl VolumeScratch {
     }
 
     /// A scratch whose mesh instances are cached in a cache of `pool`.
-    pub(crate) fn with_cache(lat: &Lattice, pool: &super::CachePool) -> VolumeScratch {
+    pub(crate) fn with_cache(lat: &Lattice, pool: &CachePool<Lattice>) -> VolumeScratch {
         VolumeScratch { cache: pool.take(), ..VolumeScratch::new(lat) }
     }
 
@@ -369,11 +369,11 @@ impl VolumeScratch {
     }
 
     /// The cache, the recording buffer and the mesh keys' buffer.
-    pub(crate) fn take_cache(&mut self) -> (Option<SpanCache>, Vec<Span>, Vec<Option<Option<u64>>>) {
+    pub(crate) fn take_cache(&mut self) -> (Option<SpanCache<Lattice>>, Vec<Span>, MeshKeys) {
         (self.cache.cache.take(), std::mem::take(&mut self.spans), std::mem::take(&mut self.mesh_keys))
     }
 
-    pub(crate) fn put_cache(&mut self, cache: Option<SpanCache>, spans: Vec<Span>, keys: Vec<Option<Option<u64>>>) {
+    pub(crate) fn put_cache(&mut self, cache: Option<SpanCache<Lattice>>, spans: Vec<Span>, keys: MeshKeys) {
         self.cache.cache = cache;
         self.spans = spans;
         self.mesh_keys = keys;

@@ -1,8 +1,10 @@
-//! Spans of mesh instances kept across evaluations.
+//! Spans of mesh instances kept across evaluations, for the voxelizer and
+//! the silhouette rasterizer.
 //!
-//! A mesh instance's spans depend only on the lattice, the mesh and the
-//! instance's transform, so an instance seen before can be marked again
-//! from its recorded spans instead of being voxelized. Evolution sees the
+//! A mesh instance's spans depend only on where they are drawn (the
+//! lattice, or the camera and image), the mesh and the instance's
+//! transform, so an instance seen before can be marked again from its
+//! recorded spans instead of being voxelized or rasterized. Evolution sees the
 //! same instances again and again: in a GA run on `tree_avoid`, 95–97 % of
 //! the mesh instances of the individuals evaluated after generation 5 had
 //! the same mesh and the same transform bits as one evaluated before
@@ -21,10 +23,8 @@
 //! old map is dropped and the young one takes its place (a hit in the old
 //! map moves the entry back to the young one).
 
-use crate::grid::Lattice;
-use genform_core::scene::{Instance, Mesh};
-use std::collections::HashMap;
-use std::collections::hash_map::DefaultHasher;
+use genform_core::scene::{Instance, Mesh, Scene};
+use rustc_hash::{FxHashMap, FxHashSet, FxHasher};
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
@@ -42,52 +42,113 @@ const MAX_MESHES: usize = 64;
 /// them would cost a good part of voxelizing them).
 const MAX_TRIANGLES: usize = 1 << 14;
 
-/// `(lattice row, first index, last index)` of a marked span.
+/// `(row, first index, last index)` of a marked span (a lattice row, or a
+/// pixel row).
 pub(crate) type Span = (u32, u32, u32);
 
 /// An instance: its mesh's hash and its transform's bits.
 type Key = (u64, [u32; 12]);
 
-/// What replaying an instance takes.
-#[derive(Clone, Debug)]
+/// Where an instance's spans lie in its generation's arena.
+#[derive(Clone, Copy, Debug)]
 struct Entry {
-    spans: Box<[Span]>,
-    /// The instance's contribution to `outside`.
+    start: usize,
+    len: usize,
+    /// The instance's contribution to `outside` (voxels).
     outside: u64,
+    /// The spans' rows `first..=last` and index range `lo..=hi`.
+    bounds: Bounds,
 }
 
-/// One thread's cache of mesh instances' spans.
+/// Per mesh id of a Scene: its cache key once looked up (`Some(None)`: not
+/// cached).
+pub(crate) type MeshKeys = Vec<Option<Option<u64>>>;
+
+/// `[first row, last row, least index, greatest index]` of some spans.
+pub(crate) type Bounds = [u32; 4];
+
+/// The entries of one generation and their spans, back to back (one
+/// allocation for all, reused when the generation is dropped).
 #[derive(Clone, Debug, Default)]
-pub struct SpanCache {
-    /// The lattice the spans are on (a scratch may move to another scorer).
-    lattice: Option<Lattice>,
-    young: HashMap<Key, Entry>,
-    old: HashMap<Key, Entry>,
-    young_spans: usize,
+struct Generation {
+    entries: FxHashMap<Key, Entry>,
+    spans: Vec<Span>,
+}
+
+impl Generation {
+    fn clear(&mut self) {
+        self.entries.clear();
+        self.spans.clear();
+    }
+
+    fn spans(&self, e: &Entry) -> &[Span] {
+        &self.spans[e.start..e.start + e.len]
+    }
+}
+
+/// One thread's cache of mesh instances' spans drawn on an `O` (a lattice,
+/// a camera frame).
+#[derive(Clone, Debug)]
+pub(crate) struct SpanCache<O> {
+    /// Where the spans are drawn (a scratch may move to another scorer).
+    owner: Option<O>,
+    young: Generation,
+    old: Generation,
     /// Fingerprints of the keys met once and not recorded.
-    seen: std::collections::HashSet<u64>,
+    seen: FxHashSet<u64>,
     /// Every mesh met, by hash (`None`: another mesh had the same hash;
     /// never cached).
-    meshes: HashMap<u64, Option<Mesh>>,
+    meshes: FxHashMap<u64, Option<Mesh>>,
+    /// An old entry's spans on their way to the young generation.
+    moving: Vec<Span>,
     /// Instances replayed so far.
     pub(crate) hits: u64,
 }
 
 /// What to do with an instance.
 pub(crate) enum Lookup<'a> {
-    /// Replay these spans and add `outside`.
-    Hit { spans: &'a [Span], outside: u64 },
+    /// Replay these spans (within `bounds`) and add `outside`.
+    Hit { spans: &'a [Span], outside: u64, bounds: Bounds },
     /// Voxelize it and record its spans (met before).
     Record,
     /// Voxelize it (first met).
     Voxelize,
 }
 
-impl SpanCache {
-    /// Empties the cache unless its spans are on `lat`.
-    pub(crate) fn on_lattice(&mut self, lat: &Lattice) {
-        if self.lattice.as_ref() != Some(lat) {
-            *self = SpanCache { lattice: Some(lat.clone()), hits: self.hits, ..SpanCache::default() };
+impl<O> Default for SpanCache<O> {
+    fn default() -> SpanCache<O> {
+        SpanCache {
+            owner: None,
+            young: Generation::default(),
+            old: Generation::default(),
+            seen: FxHashSet::default(),
+            meshes: FxHashMap::default(),
+            moving: Vec::new(),
+            hits: 0,
+        }
+    }
+}
+
+impl<O> SpanCache<O> {
+    /// Empties the cache, keeping its memory.
+    fn reset(&mut self) {
+        self.owner = None;
+        self.young.clear();
+        self.old.clear();
+        self.seen.clear();
+        self.meshes.clear();
+        self.hits = 0;
+    }
+}
+
+impl<O: PartialEq + Clone> SpanCache<O> {
+    /// Empties the cache unless its spans are drawn on `owner`.
+    pub(crate) fn drawn_on(&mut self, owner: &O) {
+        if self.owner.as_ref() != Some(owner) {
+            let hits = self.hits;
+            self.reset();
+            self.owner = Some(owner.clone());
+            self.hits = hits;
         }
     }
 
@@ -97,7 +158,7 @@ impl SpanCache {
         if mesh.triangles.len() > MAX_TRIANGLES {
             return None;
         }
-        let mut h = DefaultHasher::new();
+        let mut h = FxHasher::default();
         for p in &mesh.positions {
             p.to_array().map(f32::to_bits).hash(&mut h);
         }
@@ -119,39 +180,65 @@ impl SpanCache {
         }
     }
 
+    /// The key of mesh `id` of `scene`, looked up once per Scene (`keys`:
+    /// per mesh id, emptied for each Scene).
+    pub(crate) fn scene_mesh_key(
+        &mut self,
+        scene: &Scene,
+        id: u32,
+        keys: &mut Vec<Option<Option<u64>>>,
+    ) -> Option<u64> {
+        let id = id as usize;
+        if keys.len() <= id {
+            keys.resize(scene.meshes.len().max(id + 1), None);
+        }
+        *keys[id].get_or_insert_with(|| scene.meshes.get(id).and_then(|m| self.mesh_key(m)))
+    }
+
     /// What to do with `inst` (of the mesh with key `mesh`).
     pub(crate) fn lookup(&mut self, mesh: u64, inst: &Instance) -> Lookup<'_> {
         let key = key(mesh, inst);
-        if !self.young.contains_key(&key) {
-            let Some(entry) = self.old.remove(&key) else {
-                let mut h = DefaultHasher::new();
+        if !self.young.entries.contains_key(&key) {
+            let Some(e) = self.old.entries.remove(&key) else {
+                let mut h = FxHasher::default();
                 key.hash(&mut h);
                 if self.seen.len() >= SEEN_MAX {
                     self.seen.clear();
                 }
                 return if self.seen.insert(h.finish()) { Lookup::Voxelize } else { Lookup::Record };
             };
-            self.insert_entry(key, entry);
+            // Back into the young generation (through a buffer: making room
+            // may drop the old one).
+            let mut moving = std::mem::take(&mut self.moving);
+            moving.clear();
+            moving.extend_from_slice(self.old.spans(&e));
+            self.insert_entry(key, &moving, e.outside);
+            self.moving = moving;
         }
         self.hits += 1;
-        match self.young.get(&key) {
-            Some(e) => Lookup::Hit { spans: &e.spans, outside: e.outside },
+        match self.young.entries.get(&key) {
+            Some(e) => Lookup::Hit { spans: self.young.spans(e), outside: e.outside, bounds: e.bounds },
             None => Lookup::Voxelize,
         }
     }
 
     /// Records the spans of `inst` (of the mesh with key `mesh`).
     pub(crate) fn insert(&mut self, mesh: u64, inst: &Instance, spans: &[Span], outside: u64) {
-        self.insert_entry(key(mesh, inst), Entry { spans: spans.into(), outside });
+        self.insert_entry(key(mesh, inst), spans, outside);
     }
 
-    fn insert_entry(&mut self, key: Key, entry: Entry) {
-        if self.young_spans + entry.spans.len() > YOUNG_SPANS {
-            self.old = std::mem::take(&mut self.young);
-            self.young_spans = 0;
+    fn insert_entry(&mut self, key: Key, spans: &[Span], outside: u64) {
+        if self.young.spans.len() + spans.len() > YOUNG_SPANS {
+            // The old generation goes; its allocations serve the new young.
+            std::mem::swap(&mut self.old, &mut self.young);
+            self.young.clear();
         }
-        self.young_spans += entry.spans.len();
-        self.young.insert(key, entry);
+        let start = self.young.spans.len();
+        self.young.spans.extend_from_slice(spans);
+        let bounds = spans.iter().fold([u32::MAX, 0, u32::MAX, 0], |[r0, r1, x0, x1], &(r, a, b)| {
+            [r0.min(r), r1.max(r), x0.min(a), x1.max(b)]
+        });
+        self.young.entries.insert(key, Entry { start, len: spans.len(), outside, bounds });
     }
 }
 
@@ -162,37 +249,58 @@ fn key(mesh: u64, inst: &Instance) -> Key {
 /// The caches of one scorer's scratches: a scratch takes one when it is
 /// made and gives it back when it is dropped, so a cache outlives the
 /// per-generation scratches of a run.
-#[derive(Clone, Debug, Default)]
-pub struct CachePool(Arc<Mutex<Vec<SpanCache>>>);
+#[derive(Debug)]
+pub(crate) struct CachePool<O>(Arc<Mutex<Vec<SpanCache<O>>>>);
 
-impl CachePool {
+impl<O> Default for CachePool<O> {
+    fn default() -> CachePool<O> {
+        CachePool(Arc::default())
+    }
+}
+
+impl<O> Clone for CachePool<O> {
+    fn clone(&self) -> CachePool<O> {
+        CachePool(self.0.clone())
+    }
+}
+
+impl<O> CachePool<O> {
     /// A cache for a new scratch (one given back, or an empty one).
-    pub(crate) fn take(&self) -> CacheSlot {
+    pub(crate) fn take(&self) -> CacheSlot<O> {
         let cache = self.0.lock().unwrap_or_else(|p| p.into_inner()).pop().unwrap_or_default();
         CacheSlot { cache: Some(cache), pool: Some(self.clone()) }
     }
 
-    /// Empties every cache given back (benchmarks measuring cold caches).
-    pub fn clear(&self) {
-        self.0.lock().unwrap_or_else(|p| p.into_inner()).clear();
+    /// Empties every cache given back, keeping their memory (benchmarks
+    /// measuring cold caches).
+    pub(crate) fn clear(&self) {
+        for c in self.0.lock().unwrap_or_else(|p| p.into_inner()).iter_mut() {
+            c.reset();
+        }
     }
 }
 
 /// A scratch's cache, given back to its pool on drop. A clone starts
 /// without one (a cache is one thread's).
-#[derive(Debug, Default)]
-pub(crate) struct CacheSlot {
-    pub cache: Option<SpanCache>,
-    pool: Option<CachePool>,
+#[derive(Debug)]
+pub(crate) struct CacheSlot<O> {
+    pub cache: Option<SpanCache<O>>,
+    pool: Option<CachePool<O>>,
 }
 
-impl Clone for CacheSlot {
-    fn clone(&self) -> CacheSlot {
+impl<O> Default for CacheSlot<O> {
+    fn default() -> CacheSlot<O> {
+        CacheSlot { cache: None, pool: None }
+    }
+}
+
+impl<O> Clone for CacheSlot<O> {
+    fn clone(&self) -> CacheSlot<O> {
         CacheSlot::default()
     }
 }
 
-impl Drop for CacheSlot {
+impl<O> Drop for CacheSlot<O> {
     fn drop(&mut self) {
         if let (Some(cache), Some(pool)) = (self.cache.take(), &self.pool) {
             pool.0.lock().unwrap_or_else(|p| p.into_inner()).push(cache);
@@ -202,11 +310,11 @@ impl Drop for CacheSlot {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::{cube_mesh, tree_assets};
     use super::*;
     use crate::grid::{Grid, Lattice};
     use crate::voxel_set::VoxelSet;
     use crate::voxelize::VolumeScratch;
+    use crate::voxelize::tests::{cube_mesh, tree_assets};
     use crate::{VolumeScorer, VolumeTarget};
     use genform_core::scene::{Primitive, Scene};
     use glam::{Affine3A, Quat, Vec3};
@@ -315,7 +423,7 @@ mod tests {
     /// not cached; a known mesh is recognised by its content.
     #[test]
     fn which_meshes_are_cached() {
-        let mut c = SpanCache::default();
+        let mut c = SpanCache::<()>::default();
         let cube = cube_mesh();
         let k = c.mesh_key(&cube).unwrap();
         assert_eq!(c.mesh_key(&cube.clone()), Some(k));
@@ -329,6 +437,6 @@ mod tests {
         assert_eq!(c.mesh_key(&late), None, "the cache knows {MAX_MESHES} meshes already");
         let huge =
             Mesh { positions: vec![Vec3::ZERO; 3], triangles: vec![[0, 1, 2]; MAX_TRIANGLES + 1], ..Mesh::default() };
-        assert_eq!(SpanCache::default().mesh_key(&huge), None);
+        assert_eq!(SpanCache::<()>::default().mesh_key(&huge), None);
     }
 }
