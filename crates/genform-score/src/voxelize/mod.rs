@@ -44,7 +44,9 @@
 //! Spans go into a [`VolumeScratch`] with two bit planes, occupied and
 //! overlap (`overlap |= occupied & span; occupied |= span`), which counts
 //! new held, overlap and target voxels as it marks them and remembers the
-//! rows it touched, so that clearing visits only those.
+//! rows it touched, so that clearing visits only those. A scorer's scratch
+//! also brings a span cache (`span_cache`): a mesh instance met before is
+//! marked from its recorded spans instead of being scanned again.
 
 mod blocks;
 mod crossing;
