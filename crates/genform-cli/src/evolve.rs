@@ -609,7 +609,7 @@ fn drive<G, S: Session<G>, P: Rescore<G>>(
     if let Some(w) = control.watch.as_deref_mut() {
         w.started(session.max_reachable(), session.steerable());
     }
-    let start = Instant::now();
+    let mut start = Instant::now();
     let reason = loop {
         if let Some(reason) = genform_evolve::run::reached(&opt, &stop, start) {
             break reason;
@@ -670,7 +670,11 @@ fn drive<G, S: Session<G>, P: Rescore<G>>(
                 }
             }
             let tick = Tick { stats: &stats, seconds: secs, best, criteria: session.criteria(&rec) };
+            // A paused run waits in here: that time is not the run's (its
+            // budget and its seconds leave it out).
+            let held = Instant::now();
             live = w.generation(&tick);
+            start += held.elapsed();
         }
     };
     let elapsed = start.elapsed();

@@ -348,6 +348,34 @@ fn a_run_is_watched_paused_steered_stopped_and_replayed() {
     assert!(served.1 != replay("plain", None).1, "steering changed the run");
 }
 
+/// Time spent paused does not count against a run's budget: a run paused
+/// past its budget still goes on after resuming, and its folder reports
+/// the running time only.
+#[test]
+fn a_paused_run_keeps_its_budget() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let r = server.post("/api/runs", &json!({"scene": "scene/spaceship_volume.toml", "seed": 2, "budget": "3s"}));
+    assert_eq!(r.status, 201, "{}", String::from_utf8_lossy(&r.body));
+    let id = r.json()["id"].as_str().unwrap().to_string();
+    server.wait_run(&id, "reached generation 1", |s| s["generation"].as_u64() >= Some(1));
+    server.post(&format!("/api/runs/{id}/pause"), &json!({})).ok();
+    server.wait_run(&id, "paused", |s| s["status"] == "paused");
+    std::thread::sleep(Duration::from_millis(300));
+    let held = server.get(&format!("/api/runs/{id}")).json()["generation"].as_u64().unwrap();
+    // Paused longer than the whole budget.
+    std::thread::sleep(Duration::from_millis(3200));
+    server.post(&format!("/api/runs/{id}/resume"), &json!({})).ok();
+    let snap = server.wait_run(&id, "finished", |s| s["status"] == "finished");
+    let end = snap["generation"].as_u64().unwrap();
+    assert!(end > held + 1, "the run went on after resuming: paused at generation {held}, ended at {end}");
+    let run = json(&tmp.path().join("out").join(&id).join("run.json"));
+    assert_eq!(run["stopped_by"], "budget");
+    let seconds = run["seconds"].as_f64().unwrap();
+    assert!((2.9..4.5).contains(&seconds), "{seconds} s of running time, the pause left out");
+}
+
 #[test]
 fn breeding_by_eye_picks_favourites_for_two_generations() {
     let tmp = tempfile::tempdir().unwrap();
