@@ -109,10 +109,10 @@ pub(crate) struct SpanCache<O> {
 pub(crate) enum Lookup<'a> {
     /// Replay these spans (within `bounds`) and add `outside`.
     Hit { spans: &'a [Span], outside: u64, bounds: Bounds },
-    /// Voxelize it and record its spans (met before).
+    /// Draw it (voxelize or rasterize) and record its spans (met before).
     Record,
-    /// Voxelize it (first met).
-    Voxelize,
+    /// Draw it (first met).
+    Draw,
 }
 
 impl<O> Default for SpanCache<O> {
@@ -205,7 +205,7 @@ impl<O: PartialEq + Clone> SpanCache<O> {
                 if self.seen.len() >= SEEN_MAX {
                     self.seen.clear();
                 }
-                return if self.seen.insert(h.finish()) { Lookup::Voxelize } else { Lookup::Record };
+                return if self.seen.insert(h.finish()) { Lookup::Draw } else { Lookup::Record };
             };
             // Back into the young generation (through a buffer: making room
             // may drop the old one).
@@ -218,7 +218,7 @@ impl<O: PartialEq + Clone> SpanCache<O> {
         self.hits += 1;
         match self.young.entries.get(&key) {
             Some(e) => Lookup::Hit { spans: self.young.spans(e), outside: e.outside, bounds: e.bounds },
-            None => Lookup::Voxelize,
+            None => Lookup::Draw,
         }
     }
 

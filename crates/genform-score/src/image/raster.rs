@@ -146,7 +146,7 @@ pub(crate) fn rasterize(frame: &Frame, scene: &Scene, s: &mut ImageScratch) {
         };
         match c.lookup(k, inst) {
             Lookup::Hit { spans, bounds, .. } => s.mask.replay(spans, bounds),
-            Lookup::Voxelize => draw(frame, scene, inst, s),
+            Lookup::Draw => draw(frame, scene, inst, s),
             Lookup::Record => {
                 let mut spans = std::mem::take(&mut s.spans);
                 spans.clear();

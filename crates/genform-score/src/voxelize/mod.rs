@@ -162,7 +162,7 @@ pub(crate) fn rasterize(lat: &Lattice, scene: &Scene, s: &mut VolumeScratch, tar
                     continue;
                 }
                 Lookup::Record => record = true,
-                Lookup::Voxelize => {}
+                Lookup::Draw => {}
             }
         }
         spans.clear();
