@@ -18,17 +18,17 @@
 //! the second time it is met (the first time only its key's fingerprint
 //! is remembered), so models that never repeat — a batch of unrelated
 //! random genomes — pay almost nothing for the cache. Two generations
-//! bound the memory:
-//! new spans go into the young map; when it holds [`YOUNG_SPANS`] spans the
-//! old map is dropped and the young one takes its place (a hit in the old
-//! map moves the entry back to the young one).
+//! bound the memory: new spans go into the young one; when it holds
+//! [`YOUNG_SPANS`] spans the old one is dropped and the young one takes its
+//! place (a hit in the old one moves the entry back to the young one).
 
 use genform_core::scene::{Instance, Mesh, Scene};
 use rustc_hash::{FxHashMap, FxHashSet, FxHasher};
 use std::hash::{Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
-/// Spans the young map holds before it becomes the old one (12 bytes each).
+/// Spans the young generation holds before it becomes the old one (12
+/// bytes each).
 const YOUNG_SPANS: usize = 1 << 19;
 
 /// Fingerprints of instances met once kept before they are forgotten.
@@ -38,8 +38,8 @@ const SEEN_MAX: usize = 1 << 18;
 /// model do not fill it with ones never seen again).
 const MAX_MESHES: usize = 64;
 
-/// Meshes larger than this are voxelized every time (hashing and comparing
-/// them would cost a good part of voxelizing them).
+/// Meshes larger than this are drawn every time (hashing and comparing
+/// them would cost a good part of drawing them).
 const MAX_TRIANGLES: usize = 1 << 14;
 
 /// `(row, first index, last index)` of a marked span (a lattice row, or a
