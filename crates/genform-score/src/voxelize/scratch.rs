@@ -169,8 +169,26 @@ impl VolumeScratch {
     /// Marks bits `a..=b` of row `r` held by one more instance, counting
     /// new held voxels, new overlap voxels and new held voxels set in
     /// `target` (a [`BitRows`] layout of the lattice, or empty).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn write(&mut self, r: usize, a: usize, b: usize, target: &[u64]) {
+        let w = a / 64;
+        if w != b / 64 {
+            return self.write_words(r, a, b, target);
+        }
+        // One word (most spans of meshes): inlined, a few bounds checks.
+        self.touch(r, w, w);
+        let i = self.off + r * self.stride + w;
+        let t = target.get(r * self.words + w).copied();
+        let (data, counts) = (&mut self.data, &mut self.counts);
+        let (lo, hi) = data.split_at_mut(i + self.words);
+        let (la, lb) = ((a % 64) as u32, (b % 64) as u32);
+        mark(&mut lo[i], &mut hi[0], bit_range(la, lb), u64::from(lb - la + 1), t, counts);
+    }
+
+    /// [`VolumeScratch::write`] of a span over two or more words (`a / 64 <
+    /// b / 64`).
+    #[inline(never)]
+    fn write_words(&mut self, r: usize, a: usize, b: usize, target: &[u64]) {
         let (wa, wb) = (a / 64, b / 64);
         self.touch(r, wa, wb);
         let base = self.off + r * self.stride;
@@ -180,16 +198,11 @@ impl VolumeScratch {
         // masks written out rather than chosen per word.
         let mut c = self.counts;
         let (la, lb) = ((a % 64) as u32, (b % 64) as u32);
-        if wa == wb {
-            let m = bit_range(la, lb);
-            mark(&mut occ[wa], &mut ovl[wa], m, u64::from(lb - la + 1), t.map(|t| t[wa]), &mut c);
-        } else {
-            mark(&mut occ[wa], &mut ovl[wa], u64::MAX << la, u64::from(64 - la), t.map(|t| t[wa]), &mut c);
-            for w in wa + 1..wb {
-                mark(&mut occ[w], &mut ovl[w], u64::MAX, 64, t.map(|t| t[w]), &mut c);
-            }
-            mark(&mut occ[wb], &mut ovl[wb], u64::MAX >> (63 - lb), u64::from(lb + 1), t.map(|t| t[wb]), &mut c);
+        mark(&mut occ[wa], &mut ovl[wa], u64::MAX << la, u64::from(64 - la), t.map(|t| t[wa]), &mut c);
+        for w in wa + 1..wb {
+            mark(&mut occ[w], &mut ovl[w], u64::MAX, 64, t.map(|t| t[w]), &mut c);
         }
+        mark(&mut occ[wb], &mut ovl[wb], u64::MAX >> (63 - lb), u64::from(lb + 1), t.map(|t| t[wb]), &mut c);
         self.counts = c;
     }
 
