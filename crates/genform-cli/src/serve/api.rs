@@ -13,6 +13,17 @@ use serde::de::DeserializeOwned;
 /// the last number given out.
 pub type Table<T> = std::sync::Mutex<(u64, std::collections::BTreeMap<u64, std::sync::Arc<T>>)>;
 
+/// The next number after `last` that `taken` does not refuse (a folder an
+/// earlier server left under that id), now the last one handed out.
+pub fn claim_id(last: &mut u64, taken: impl Fn(u64) -> bool) -> u64 {
+    let mut n = *last + 1;
+    while taken(n) {
+        n += 1;
+    }
+    *last = n;
+    n
+}
+
 /// One diagnostic of a grammar or scene that did not compile.
 #[derive(Clone, Debug, Serialize)]
 pub struct Diag {

@@ -28,7 +28,7 @@ use std::collections::HashMap;
 use std::path::Path;
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
+use super::api::{ApiError, JsonBody, Table, blocking, bytes_response, claim_id};
 use super::{App, Shared};
 
 /// Preview pictures' size in pixels.
@@ -303,12 +303,7 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
     let id = {
         let mut guard = app.breeds.inner.lock().unwrap_or_else(|p| p.into_inner());
         // Like runs: skip numbers whose saved folder an earlier server left.
-        let mut n = guard.0 + 1;
-        while app.out.join(format!("breed-b{n}")).exists() {
-            n += 1;
-        }
-        guard.0 = n;
-        format!("b{n}")
+        format!("b{}", claim_id(&mut guard.0, |n| app.out.join(format!("breed-b{n}")).exists()))
     };
     let mut breed = Breed {
         id,

@@ -23,7 +23,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::time::Duration;
 use tokio::sync::broadcast;
 
-use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
+use super::api::{ApiError, JsonBody, Table, blocking, bytes_response, claim_id};
 use super::assets::content_type;
 use super::files::resolve_in;
 use super::{Shared, explore};
@@ -283,11 +283,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     let (tx, _) = broadcast::channel(CHANNEL);
     let handle = {
         let mut guard = app.runs.inner.lock().unwrap_or_else(|p| p.into_inner());
-        let mut n = guard.0 + 1;
-        while app.out.join(format!("r{n}")).exists() {
-            n += 1;
-        }
-        guard.0 = n;
+        let n = claim_id(&mut guard.0, |n| app.out.join(format!("r{n}")).exists());
         let id = format!("r{n}");
         let handle = Arc::new(RunHandle {
             folder: app.out.join(&id),
