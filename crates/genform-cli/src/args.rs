@@ -449,6 +449,11 @@ pub struct ScoreArgs {
     /// scenes `best-codons.json` or a JSON list of codons).
     #[arg(long, value_name = "G.json")]
     pub genome: PathBuf,
+    /// Score under this `[fitness] form` instead of the scene's (volume and
+    /// image targets): `paper`, `separate-overlap`, `image`, `linear` or
+    /// `reference-cpu` (the reference implementation's CPU counting).
+    #[arg(long, value_name = "NAME")]
+    pub form: Option<String>,
     #[command(flatten)]
     pub limits: LimitArgs,
 }

@@ -67,7 +67,8 @@ pub fn score(a: ScoreArgs) -> Result<()> {
     if genform_cli::codon_scene::is_codon_scene(&a.scene) {
         return codon::score(a);
     }
-    let LoadedScene { config, .. } = SceneConfig::load(&a.scene)?;
+    let LoadedScene { mut config, .. } = SceneConfig::load(&a.scene)?;
+    config.fitness.override_form(a.form.as_deref())?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, a.limits.overrides());
     let scorers = targets::build(&config)?;
@@ -75,8 +76,9 @@ pub fn score(a: ScoreArgs) -> Result<()> {
     let objective = SceneObjective { generator: loaded.generator.as_ref(), limits, scorers: &scorers };
     let c = objective.counts(&genome, &mut objective.scratch()).context("cannot build the model")?;
     println!(
-        "fitness {} (max reachable {}); genes {}; good {} bad {} overlap {} outside {} target {}",
+        "fitness {} (form {}, max reachable {}); genes {}; good {} bad {} overlap {} outside {} target {}",
         scorers.fitness.eval(&c, genome.len()),
+        scorers.fitness.form.name(),
         scorers.fitness.max_reachable(genome.len()),
         genome.len(),
         c.good,

@@ -151,6 +151,25 @@ pub struct FitnessConfig {
     pub length_range: Option<[f64; 2]>,
 }
 
+impl FitnessConfig {
+    /// Replaces the form with `form` (e.g. `genform score --form`) after
+    /// checking its name.
+    pub fn override_form(&mut self, form: Option<&str>) -> Result<()> {
+        if let Some(form) = form {
+            if genform_score::Form::from_name(form).is_none() {
+                bail!("form `{form}` is unknown; use one of: {}", form_names());
+            }
+            self.form = Some(form.to_string());
+        }
+        Ok(())
+    }
+}
+
+/// The names of every fitness form, comma-separated.
+fn form_names() -> String {
+    genform_score::Form::NAMES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+}
+
 impl Default for FitnessConfig {
     fn default() -> Self {
         FitnessConfig { form: None, good: 2.0, bad: 15.0, overlap: 1.0, length: 0.1, length_range: None }
@@ -297,8 +316,7 @@ impl SceneConfig {
         if let Some(form) = &self.fitness.form
             && genform_score::Form::from_name(form).is_none()
         {
-            let names: Vec<&str> = genform_score::Form::NAMES.iter().map(|(n, _)| *n).collect();
-            bail!("[fitness] form `{form}` is unknown; use one of: {}", names.join(", "));
+            bail!("[fitness] form `{form}` is unknown; use one of: {}", form_names());
         }
         for (k, v) in [
             ("good", self.fitness.good),

@@ -205,7 +205,12 @@ pub struct GaConfig {
     /// it, 62.4 with both from the start).
     pub tune_after: usize,
     /// Whether the mutation rate and the mutation weights adapt to each
-    /// operator's recent success (the configured values are the start).
+    /// operator's recent success (the configured values are the start). On
+    /// by default: within the reference's 130 generations on
+    /// spaceship_volume it lifts the median best of 10 seeds from 0.14 to
+    /// 0.87 on the reference's scale (`form = "reference-cpu"`) and from
+    /// 1.56 to 1.65 on the paper's, and no scene's standard run is worse by
+    /// more than its spread (docs/comparison.md).
     pub adapt_rates: bool,
     /// Generations without a gain of the current epoch's best (see
     /// `restart_tolerance`) before the GA restarts: the best individual
@@ -243,7 +248,7 @@ impl Default for GaConfig {
             preset: GaPreset::Default,
             avoid_duplicates: true,
             initialization: Initialization::Grammar,
-            adapt_rates: false,
+            adapt_rates: true,
             tune_after: DEFAULT_TUNE_AFTER,
             restart_after: DEFAULT_RESTART_AFTER,
             restart_tolerance: DEFAULT_RESTART_TOLERANCE,
@@ -559,8 +564,8 @@ mod tests {
             [10.0, 45.0, 45.0, crate::operators::DEFAULT_DRIFT_WEIGHT, crate::operators::DEFAULT_REGROW_WEIGHT]
         );
         assert_eq!(
-            (c.preset, c.avoid_duplicates, c.initialization),
-            (GaPreset::Default, true, Initialization::Grammar)
+            (c.preset, c.avoid_duplicates, c.initialization, c.adapt_rates),
+            (GaPreset::Default, true, Initialization::Grammar, true)
         );
         assert_eq!(c.selection.first, Selection::Tournament(10));
         assert_eq!((c.restart_after, c.restart_tolerance, c.restart_keep), (400, 0.0, 0));

@@ -52,15 +52,24 @@ pub enum Form {
     /// `T` so weights keep their meaning across grid resolutions:
     /// `(g·good − b·(bad+outside) − o·overlap) / T − l·S(lo,hi,len)`.
     Linear,
+    /// What the reference implementation's CPU volume evaluator
+    /// (`GenericVolumeEvaluator.cpp`, the one behind its measured runs)
+    /// computes: `g·S(0,T,good) − b·S(0,2T,missed+bad) − l·S(lo,hi,len)`
+    /// with `missed = T − good`. A target cell the model misses costs as
+    /// much as a model cell outside the target; overlap and cells outside
+    /// the grid are not counted at all (that evaluator only sets voxels
+    /// and skips those off the grid).
+    ReferenceCpu,
 }
 
 impl Form {
     /// Every form with its configuration name.
-    pub const NAMES: [(&'static str, Form); 4] = [
+    pub const NAMES: [(&'static str, Form); 5] = [
         ("paper", Form::Paper),
         ("separate-overlap", Form::SeparateOverlap),
         ("image", Form::Image),
         ("linear", Form::Linear),
+        ("reference-cpu", Form::ReferenceCpu),
     ];
 
     /// The form named `name` (see [`Form::NAMES`]).
@@ -124,6 +133,10 @@ impl Fitness {
                     - self.overlap * s(0.0, c.good + c.bad, c.overlap + c.outside)
             }
             Form::Image => self.good * s(0.0, t, c.good) - self.bad * s(0.0, t, c.bad + c.outside),
+            Form::ReferenceCpu => {
+                let missed = (t - c.good).max(0.0);
+                self.good * s(0.0, t, c.good) - self.bad * s(0.0, 2.0 * t, missed + c.bad)
+            }
             Form::Linear => {
                 if t > 0.0 {
                     (self.good * c.good - self.bad * (c.bad + c.outside) - self.overlap * c.overlap) / t
@@ -168,6 +181,24 @@ mod tests {
         assert!(close(f.eval(&c, 10), 2.0 * 0.5 - 15.0 * 0.5));
         let full = Counts { good: 100.0, target: 100.0, ..Counts::default() };
         assert!(close(f.eval(&full, 10), 2.0));
+    }
+
+    #[test]
+    fn reference_cpu_form_counts_missed_target_as_bad_and_ignores_overlap() {
+        let f = Fitness { form: Form::ReferenceCpu, length: 0.0, ..Fitness::default() };
+        // T = 100, good = 50 → 2·S(0,100,50) = 1; missed 50 + extra 50 = 100
+        // of 2T → 15·0.5. Overlap and out-of-grid cells change nothing.
+        let c = Counts { good: 50.0, bad: 50.0, overlap: 40.0, outside: 9.0, target: 100.0 };
+        assert!(close(f.eval(&c, 10), 2.0 * 0.5 - 15.0 * 0.5));
+        // The paper form sees 99 bad cells less than half of 2T here.
+        let paper = Fitness { form: Form::Paper, ..f };
+        assert!(paper.eval(&c, 10) > f.eval(&c, 10));
+        // An empty model misses everything: −15·S(0,2T,T) = −7.5.
+        let empty = Counts { target: 100.0, ..Counts::default() };
+        assert!(close(f.eval(&empty, 10), -7.5));
+        let full = Counts { good: 100.0, overlap: 30.0, target: 100.0, ..Counts::default() };
+        assert!(close(f.eval(&full, 10), 2.0));
+        assert!(close(f.max_reachable(4), 2.0));
     }
 
     #[test]

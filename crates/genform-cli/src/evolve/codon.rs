@@ -63,7 +63,11 @@ fn kind_name(kind: CodonKind) -> &'static str {
 /// part of it.
 pub fn score(a: ScoreArgs) -> Result<()> {
     refuse_tree_limits(&a.limits)?;
-    let scene = CodonSceneConfig::load(&a.scene)?;
+    let mut scene = CodonSceneConfig::load(&a.scene)?;
+    if a.form.is_some() && scene.config.surface.is_some() {
+        bail!("--form chooses how volume and image targets count; {} scores a surface", a.scene.display());
+    }
+    scene.config.fitness.override_form(a.form.as_deref())?;
     let objective = CodonObjective::new(&scene)?;
     let codons = read_codons(&a.genome)?;
     let e = objective.express(&codons).map_err(|r| {
