@@ -42,7 +42,7 @@ def runs(name):
 
 def stats(values):
     q = statistics.quantiles(values, n=4, method="inclusive")
-    return f"{statistics.median(values):.3f} ({q[0]:.3f}–{q[2]:.3f})"
+    return f"{statistics.median(values):.3f} ({q[0]:.3f} to {q[2]:.3f})"
 
 def at(run, key, limit):
     """The best so far of `run` at the last row whose `key` (0: generation,
@@ -75,5 +75,5 @@ for name, ref in [("mh", "−0.857"), ("smc", "−3.21"), ("sosmc", "−2.17")]:
     finals = [r[-1] for v in t.values() for r in v.values()]
     vals = [b for _, _, b in finals]
     evals = statistics.median(e for _, e, _ in finals)
-    print(f"| {name.upper()} | {evals:,.0f} | {ref} | {stats(vals)} | {min(vals):.3f} – {max(vals):.3f} |")
+    print(f"| {name.upper()} | {evals:,.0f} | {ref} | {stats(vals)} | {min(vals):.3f} to {max(vals):.3f} |")
 PY
