@@ -7,7 +7,7 @@
 //
 //   node tests/studio/e2e.mjs            (from anywhere; scripts/test-studio installs and builds first)
 //
-// Environment: GENFORM_BIN (default target/debug/genform), CHROMIUM (default /usr/bin/chromium),
+// Environment: GENFORM_BIN (default target/debug/genform, under CARGO_TARGET_DIR when set), CHROMIUM (default /usr/bin/chromium),
 // STUDIO_SCREENSHOTS (folder, default docs/img; "none" to skip), STUDIO_KEEP=1 keeps the temp folders,
 // STUDIO_URL (test a server that is already running instead of starting one).
 
@@ -21,7 +21,7 @@ import validator from 'gltf-validator';
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const REPO = path.resolve(HERE, '../..');
-const BIN = path.resolve(REPO, process.env.GENFORM_BIN || 'target/debug/genform');
+const BIN = path.resolve(REPO, process.env.GENFORM_BIN || path.join(process.env.CARGO_TARGET_DIR || 'target', 'debug/genform'));
 const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
 const SHOTS = process.env.STUDIO_SCREENSHOTS === 'none' ? null : path.resolve(REPO, process.env.STUDIO_SCREENSHOTS || 'docs/img');
 const KEEP = process.env.STUDIO_KEEP === '1';

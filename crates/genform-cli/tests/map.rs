@@ -1,5 +1,6 @@
 //! `genform map`: the codon-by-codon view of a GE mapping, checked against
-//! the golden traces (shared/reference/ge) through the real binary.
+//! the golden traces (crates/genform-ge/tests/data/golden-traces) through
+//! the real binary.
 
 mod common;
 
@@ -7,7 +8,7 @@ use common::*;
 use serde_json::Value;
 
 fn traces(name: &str) -> Vec<Value> {
-    let path = root().join("../shared/reference/ge").join(format!("{name}.jsonl"));
+    let path = root().join("crates/genform-ge/tests/data/golden-traces").join(format!("{name}.jsonl"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     text.lines().map(|l| serde_json::from_str(l).unwrap()).collect()
 }

@@ -1,6 +1,6 @@
 //! The standard mapper against the golden GE traces of
-//! `shared/reference/ge` (finchge 1.0.1b16 cross-checked with an
-//! independent mapper): every line of every `.jsonl` must come out equal,
+//! `tests/data/golden-traces` (finchge 1.0.1b16 cross-checked with an
+//! independent mapper; see SOURCE.md there): every line of every `.jsonl` must come out equal,
 //! field by field, including each step's non-terminal, position, codon,
 //! modulus, choice and depth.
 
@@ -10,7 +10,7 @@ use serde_json::Value;
 use std::path::{Path, PathBuf};
 
 fn reference_dir() -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/reference/ge")).to_path_buf()
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/golden-traces")).to_path_buf()
 }
 
 /// Maps every genome of `name.jsonl` over `name.bnf`; returns the number of
