@@ -114,6 +114,25 @@ impl Server {
         status.parse().unwrap_or_else(|_| panic!("no status in {text:?}"))
     }
 
+    /// `method target` with `headers` (each `Name: value`) and `body`, sent
+    /// as is: the status and the text of the answer.
+    fn raw(&self, method: &str, target: &str, headers: &[&str], body: &str) -> (u16, String) {
+        let addr = self.url.trim_start_matches("http://");
+        let mut stream = TcpStream::connect(addr).unwrap();
+        let mut head = format!("{method} {target} HTTP/1.1\r\nConnection: close\r\n");
+        if !headers.iter().any(|h| h.to_ascii_lowercase().starts_with("host:")) {
+            head.push_str(&format!("Host: {addr}\r\n"));
+        }
+        for h in headers {
+            head.push_str(&format!("{h}\r\n"));
+        }
+        write!(stream, "{head}Content-Length: {}\r\n\r\n{body}", body.len()).unwrap();
+        let mut text = String::new();
+        stream.read_to_string(&mut text).unwrap();
+        let status = text.split_whitespace().nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
+        (status, text)
+    }
+
     /// Sends only the head of a POST declaring a `length`-byte body; the
     /// status and the text of the answer.
     fn raw_post_head(&self, path: &str, length: usize) -> (u16, String) {
@@ -482,6 +501,60 @@ fn nothing_outside_the_roots_is_read_or_served() {
     assert_eq!(server.raw_status(&format!("/api/runs/{id}/files/link.sg")), 403);
     assert_eq!(server.raw_status("/studio/..%2f..%2fCargo.toml"), 404, "assets are only the embedded files");
     assert_eq!(server.raw_status("/studio/../../Cargo.toml"), 404);
+}
+
+/// What a page on another site could make a browser send is refused: a
+/// simple cross-site POST (`text/plain`, foreign `Origin`), a rebound
+/// `Host`; the server's own page and plain clients are served; error
+/// answers show no absolute server path; at most four runs go at once.
+#[test]
+fn requests_a_foreign_page_could_send_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(&tmp.path().join("scene"));
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let addr = server.url.trim_start_matches("http://").to_string();
+    let start = r#"{"scene": "scene/spaceship_volume.toml", "generations": 1}"#;
+    let json = "Content-Type: application/json";
+    let evil_origin = "Origin: http://evil.example";
+    let (status, text) = server.raw("POST", "/api/runs", &["Content-Type: text/plain", evil_origin], start);
+    assert_eq!(status, 403, "{text}");
+    let (status, text) = server.raw("POST", "/api/runs", &["Content-Type: text/plain"], start);
+    assert_eq!(status, 415, "{text}");
+    let (status, text) = server.raw("POST", "/api/runs", &[json, evil_origin], start);
+    assert_eq!(status, 403, "{text}");
+    let (status, text) = server.raw("POST", "/api/runs", &[json, "Sec-Fetch-Site: cross-site"], start);
+    assert_eq!(status, 403, "{text}");
+    for host in ["Host: evil.example", "Host: evil.example:80", "Host: localhost.evil.example"] {
+        let (status, text) = server.raw("POST", "/api/runs", &[host, json], start);
+        assert_eq!(status, 421, "{host}: {text}");
+        let (status, text) = server.raw("GET", "/api/grammars", &[host], "");
+        assert_eq!(status, 421, "{host}: {text}");
+    }
+    assert!(!server.get("/api/runs").ok().json().to_string().contains("\"r1\""), "no refused request started a run");
+    // The page's own requests and clients without Origin go through.
+    let own = format!("Origin: http://{addr}");
+    let (status, text) = server.raw("POST", "/api/runs", &[json, &own, "Sec-Fetch-Site: same-origin"], start);
+    assert_eq!(status, 201, "{text}");
+    let (status, _) =
+        server.raw("GET", "/api/grammars", &[&format!("Host: localhost:{}", addr.rsplit(':').next().unwrap())], "");
+    assert_eq!(status, 200);
+    assert!(!text.contains("Access-Control-Allow-Origin"), "no CORS: {text}");
+    // Error answers name roots, not the server's folders.
+    let (status, text) = server.raw("POST", "/api/sample", &[json], r#"{"path": "scene/missing.sg"}"#);
+    assert!(status >= 400, "{text}");
+    let folder = tmp.path().canonicalize().unwrap();
+    assert!(!text.contains(s(&folder)), "absolute path in {text}");
+    // At most four runs at once.
+    let long = json!({"scene": "scene/spaceship_volume.toml", "generations": 100000000});
+    let ids: Vec<String> =
+        (0..4).map(|_| server.post("/api/runs", &long).json()["id"].as_str().unwrap_or_default().to_string()).collect();
+    let fifth = server.post("/api/runs", &long);
+    assert_eq!(fifth.status, 429, "{}", String::from_utf8_lossy(&fifth.body));
+    for id in ids.iter().filter(|id| !id.is_empty()) {
+        server.post(&format!("/api/runs/{id}/stop"), &json!({})).ok();
+        server.wait_run(id, "stopped", |s| s["status"] != "running");
+    }
+    server.post("/api/runs", &json!({"scene": "scene/spaceship_volume.toml", "generations": 1})).ok();
 }
 
 #[test]

@@ -56,7 +56,12 @@ impl Roots {
         resolve_parts(&root.dir, rest, path)
     }
 
-    /// The root path of `file` (canonical), if it lies in a root.
+    /// Every root, in the order they were added.
+    pub fn list(&self) -> &[Root] {
+        &self.roots
+    }
+
+    /// `file` (canonical) as a root path (`examples/…`), if it lies in a root.
     pub fn display(&self, file: &Path) -> Option<String> {
         self.roots.iter().find_map(|r| {
             let rel = file.strip_prefix(&r.dir).ok()?;

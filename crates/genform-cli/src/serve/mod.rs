@@ -18,6 +18,7 @@ pub mod assets;
 pub mod breed;
 pub mod explore;
 pub mod files;
+pub mod guard;
 pub mod runs;
 
 use anyhow::{Context, Result};
@@ -51,6 +52,8 @@ pub struct App {
     pub runs: runs::Runs,
     /// Breeding sessions.
     pub breeds: breed::Breeds,
+    /// The `Host` names requests may carry (see [`guard`]).
+    pub allowed: guard::Allowed,
 }
 
 impl App {
@@ -129,6 +132,7 @@ fn app(a: &ServeArgs) -> Result<App> {
         samples: explore::Samples::default(),
         runs: runs::Runs::default(),
         breeds: breed::Breeds::default(),
+        allowed: guard::Allowed { host: a.host.as_ref().map(|h| h.to_ascii_lowercase()) },
     })
 }
 
@@ -160,6 +164,7 @@ pub fn router(app: Shared) -> Router {
         .route("/api/breed/{id}/{generation}/{file}", get(breed::model))
         .fallback(not_found)
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .layer(axum::middleware::from_fn_with_state(app.clone(), guard::guard))
         .with_state(app)
 }
 

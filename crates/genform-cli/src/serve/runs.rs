@@ -44,6 +44,10 @@ pub struct Runs {
     inner: Table<RunHandle>,
 }
 
+/// Runs that may go at once: each has its own thread pool, so more would
+/// only share the cores and the memory.
+pub const MAX_RUNNING: usize = 4;
+
 impl Runs {
     fn get(&self, id: &str) -> Result<Arc<RunHandle>, ApiError> {
         let n = id.strip_prefix('r').and_then(|n| n.parse::<u64>().ok());
@@ -108,6 +112,11 @@ struct RunState {
 impl RunHandle {
     fn lock(&self) -> MutexGuard<'_, RunState> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Whether the run is still going (paused counts).
+    fn is_running(&self) -> bool {
+        matches!(self.lock().status, Status::Running)
     }
 
     fn send(&self, name: &'static str, data: Value, last: bool) {
@@ -283,6 +292,13 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     let (tx, _) = broadcast::channel(CHANNEL);
     let handle = {
         let mut guard = app.runs.inner.lock().unwrap_or_else(|p| p.into_inner());
+        let running = guard.1.values().filter(|h| h.is_running()).count();
+        if running >= MAX_RUNNING {
+            return Err(ApiError::new(
+                StatusCode::TOO_MANY_REQUESTS,
+                format!("{running} runs are going already (at most {MAX_RUNNING}); stop one or wait for it to end"),
+            ));
+        }
         let n = claim_id(&mut guard.0, |n| app.out.join(format!("r{n}")).exists());
         let id = format!("r{n}");
         let handle = Arc::new(RunHandle {
