@@ -130,8 +130,9 @@ pub struct CameraConfig {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct FitnessConfig {
-    /// "paper", "separate-overlap", "image" or "linear".
-    #[serde(default)]
+    /// "paper", "separate-overlap", "image", "linear" or "reference-cpu";
+    /// an unknown name is an error at its line:col.
+    #[serde(default, deserialize_with = "known_form")]
     pub form: Option<String>,
     /// Weight of covered target (α).
     #[serde(default = "two")]
@@ -163,6 +164,16 @@ impl FitnessConfig {
         }
         Ok(())
     }
+}
+
+/// Reads a `form` value, refusing names that are not a fitness form (the
+/// TOML reader adds the value's position).
+fn known_form<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<String>, D::Error> {
+    let name = String::deserialize(d)?;
+    if genform_score::Form::from_name(&name).is_none() {
+        return Err(serde::de::Error::custom(format!("form `{name}` is unknown; use one of: {}", form_names())));
+    }
+    Ok(Some(name))
 }
 
 /// The names of every fitness form, comma-separated.
