@@ -15,7 +15,8 @@ use crate::report::{self, Row};
 pub struct CriteriaRow {
     /// Generation index.
     pub generation: usize,
-    /// Each criterion's `w / (1 + e)`.
+    /// Each criterion's contribution: `w / (1 + e)` (bounded form) or
+    /// `−w·e` (paper form).
     pub contributions: Vec<(&'static str, f64)>,
     /// Their sum, the fitness.
     pub total: f64,
@@ -60,8 +61,10 @@ fn criterion_color(name: &str) -> &'static str {
 
 /// `fitness.svg` of a codon run: max/avg/min fitness by generation; for
 /// surface scenes the best individual's contribution of every criterion
-/// and their total by generation; fitness by time.
-pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow]) -> String {
+/// and their total by generation, the chart titled with the form's
+/// `formula` (`w/(1+e)` or `−w·e`, [`genform_score::SurfaceForm::contribution_formula`]);
+/// fitness by time.
+pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow], formula: &str) -> String {
     let mut charts = vec![report::fitness_by_generation(title, rows)];
     if let Some(first) = criteria.first() {
         let mut series: Vec<Series> = first
@@ -85,7 +88,7 @@ pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow]) -> Strin
             band: Vec::new(),
         });
         charts.push(Chart {
-            title: "best individual: contribution w/(1+e) of each criterion".into(),
+            title: format!("best individual: contribution {formula} of each criterion"),
             x_label: "generation".into(),
             y_label: "contribution".into(),
             series,
@@ -157,11 +160,12 @@ mod tests {
         let criteria: Vec<CriteriaRow> = (0..3)
             .map(|g| CriteriaRow { generation: g, contributions: vec![("size", 0.5), ("symmetry", 0.9)], total: 1.4 })
             .collect();
-        let svg = fitness_svg("t", &[row(0), row(1), row(2)], &criteria);
+        let svg = fitness_svg("t", &[row(0), row(1), row(2)], &criteria, "−w·e");
         // 3 panels: max/avg/min twice, size + symmetry + total once.
         assert_eq!(svg.matches("<polyline").count(), 9, "{svg}");
         assert!(svg.contains("symmetry") && svg.contains("total"));
-        assert_eq!(fitness_svg("t", &[row(0), row(1)], &[]).matches("<polyline").count(), 6);
+        assert!(svg.contains("contribution −w·e of each criterion"), "the form names the contribution");
+        assert_eq!(fitness_svg("t", &[row(0), row(1)], &[], "w/(1+e)").matches("<polyline").count(), 6);
     }
 
     #[test]

@@ -143,7 +143,8 @@ pub struct Tick<'a> {
     pub seconds: f64,
     /// The best fitness so far.
     pub best: Option<f64>,
-    /// Surface scenes: each criterion's `w / (1 + e)` for the best so far; empty otherwise.
+    /// Surface scenes: each criterion's contribution (`w / (1 + e)`, or
+    /// `−w·e` in the paper form) for the best so far; empty otherwise.
     pub criteria: Vec<(&'static str, f64)>,
 }
 

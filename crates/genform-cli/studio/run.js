@@ -61,8 +61,8 @@ export function mount(section) {
   const targetTitle = h('div', { class: 'panel-title', text: 'Target' });
   const targetPanel = h('div', { class: 'panel run-target', testid: 'run-target-panel', hidden: true }, targetTitle, targetImg);
   const plotHost = h('div', { class: 'panel run-plot' }, h('div', { class: 'panel-title', text: 'Fitness' }));
-  const criteriaHost = h('div', { class: 'panel run-criteria', testid: 'run-criteria-panel', hidden: true },
-    h('div', { class: 'panel-title', text: 'Criteria (best individual, w/(1+e))' }));
+  const criteriaTitle = h('div', { class: 'panel-title', text: 'Criteria (best individual, w/(1+e))' });
+  const criteriaHost = h('div', { class: 'panel run-criteria', testid: 'run-criteria-panel', hidden: true }, criteriaTitle);
   const bottom = h('div', { class: 'run-bottom' });
   const mainArea = h('div', { class: 'main run-main' },
     h('div', { class: 'run-top' }, viewHost, h('div', { class: 'run-charts' }, plotHost, criteriaHost)),
@@ -75,7 +75,7 @@ export function mount(section) {
   gallery = new Gallery(bottom);
   bottom.append(targetPanel);
   els = { scene, algorithm, seed, generations, budget, start, pause, resume, stop, previous, status, stats, files, folder,
-    error, targetImg, targetTitle, targetPanel, criteriaHost };
+    error, targetImg, targetTitle, targetPanel, criteriaHost, criteriaTitle };
 
   on('entries', fillScenes);
   if (store.entries.length) fillScenes();
@@ -256,6 +256,8 @@ function plotRow(row) {
   const names = Object.keys(criteria);
   if (names.length > 1) {
     els.criteriaHost.hidden = false;
+    // The scene's form: w/(1+e) (bounded, the default) or −w·e (paper).
+    els.criteriaTitle.textContent = `Criteria (best individual, ${store.run?.criteria_formula || 'w/(1+e)'})`;
     for (const name of names) criteriaPlot.push(name, g, criteria[name]);
   }
 }

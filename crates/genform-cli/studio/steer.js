@@ -25,13 +25,14 @@ export function mount(section) {
   const side = h('aside', { class: 'side' },
     h('h2', { text: 'Steer the run' }), runLine, form, h('div', { class: 'actions' }, apply, reset), note);
   const plotHost = h('div', { class: 'panel' }, h('div', { class: 'panel-title', text: 'Best so far, with the changes marked' }));
-  const criteriaHost = h('div', { class: 'panel', hidden: true },
-    h('div', { class: 'panel-title', text: 'Criteria of the best individual, w/(1+e)' }));
+  const criteriaTitle = h('div', { class: 'panel-title', text: 'Criteria of the best individual, w/(1+e)' });
+  const criteriaHost = h('div', { class: 'panel', hidden: true }, criteriaTitle);
   const logPanel = h('div', { class: 'panel steer-log-panel' }, h('div', { class: 'panel-title', text: 'Steering log' }), log);
   section.append(h('div', { class: 'layout' }, side, h('div', { class: 'main steer-main' }, logPanel, plotHost, criteriaHost)));
   plot = new LinePlot(plotHost, { testid: 'steer-plot', yLabel: 'fitness', height: 220 });
   criteriaPlot = new LinePlot(criteriaHost, { testid: 'steer-criteria-plot', yLabel: 'contribution', height: 220 });
   criteriaPlot.host = criteriaHost;
+  criteriaPlot.title = criteriaTitle;
   els = { runLine, form, apply, reset, log };
 
   on('run', () => {
@@ -88,6 +89,8 @@ function plotRow(row) {
   const criteria = Object.entries(row.criteria || {});
   if (criteria.length > 1) {
     criteriaPlot.host.hidden = false;
+    // The scene's form: w/(1+e) (bounded, the default) or −w·e (paper).
+    criteriaPlot.title.textContent = `Criteria of the best individual, ${store.run?.criteria_formula || 'w/(1+e)'}`;
     for (const [name, value] of criteria) criteriaPlot.push(name, row.generation, value);
   }
 }

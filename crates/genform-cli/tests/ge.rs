@@ -74,6 +74,42 @@ fn genr8_canopy_runs_regrows_and_rescores() {
 }
 
 #[test]
+fn genr8_paper_form_evolves_and_rescores_to_the_bit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene =
+        small_scene(tmp.path(), "genr8_canopy.toml", &[FEW, &[("[surface]", "[surface]\nform = \"paper\"")]].concat());
+    let r = run_and_check(tmp.path(), &scene, Some("gr8"), 3);
+    assert_eq!(r["max_reachable_fitness"], 0.0, "the paper form is 0 on every target");
+    // −Σ w·e: each contribution is minus its weight times its error.
+    let best = r["best_fitness"].as_f64().unwrap();
+    let parts = r["best_components"].as_array().unwrap();
+    assert_eq!(parts.len(), 4);
+    let f = |c: &serde_json::Value, k: &str| c[k].as_f64().unwrap();
+    for c in parts {
+        assert_eq!(f(c, "contribution"), 0.0 - f(c, "weight") * f(c, "error"), "{c}");
+    }
+    let sum: f64 = parts.iter().map(|c| f(c, "contribution")).sum();
+    assert!(best < 0.0 && (sum - best).abs() < 1e-12, "{best} vs {sum}");
+    let text = rescores_exactly(tmp.path(), &scene, &r);
+    assert!(text.contains("(paper form, max reachable 0)"), "{text}");
+    let svg = std::fs::read_to_string(tmp.path().join("run/fitness.svg")).unwrap();
+    assert!(svg.contains("contribution −w·e of each criterion"));
+    // Deterministic: the same seed evolves the same best genome.
+    let first = std::fs::read(tmp.path().join("run/best-codons.json")).unwrap();
+    ok(tmp.path(), &["evolve", scene.to_str().unwrap(), "--seed", "2", "--out", "again", "-q", "--threads", "2"]);
+    assert_eq!(std::fs::read(tmp.path().join("again/best-codons.json")).unwrap(), first);
+    // The bounded form of the same scene scores the same genome in (0, max].
+    let bounded = small_scene(tmp.path(), "genr8_canopy.toml", FEW);
+    let (b, _) = scored(tmp.path(), &bounded, "run/best-codons.json");
+    assert!(b > 0.0 && b <= 4.0, "{b}");
+    // An unknown form names the file, the key and both valid forms.
+    let bad = small_scene(tmp.path(), "genr8_canopy.toml", &[("[surface]", "[surface]\nform = \"papr\"")]);
+    let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
+    assert!(err.contains("genr8_canopy.toml:") && err.contains("papr"), "{err}");
+    assert!(err.contains("`bounded`") && err.contains("`paper`"), "{err}");
+}
+
+#[test]
 fn genr8_in_an_environment_regrows_with_the_environment() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = small_scene(tmp.path(), "genr8_undulating_box.toml", FEW);

@@ -604,6 +604,7 @@ fn genr8_criteria_are_watched_per_criterion_and_their_targets_steered() {
     let names = snap["criteria_names"].as_array().unwrap();
     assert!(names.contains(&json!("size")) && names.contains(&json!("symmetry")), "{names:?}");
     assert!(snap["stats"][0]["criteria"]["size"].is_number(), "{}", snap["stats"][0]);
+    assert_eq!(snap["criteria_formula"], "w/(1+e)", "the bounded form's contribution");
     server.post(&format!("/api/runs/{id}/stop"), &json!({})).ok();
     server.wait_run(&id, "stopped", |s| s["status"] == "stopped");
     let folder = tmp.path().join("out").join(&id);

@@ -16,7 +16,11 @@
 //! join pass runs. Each edge is rewritten at most once per step. Rule choice
 //! per edge: context rules before context-free ones, then file order; the
 //! rule's condition and context must hold, evaluated on the map as it is when
-//! the pass begins; no rule means the identity. Edges are visited in
+//! the pass begins; no rule means the identity. Edge frames, too, read the
+//! face normals (and, where a normal runs along the edge, the faces' vertex
+//! means) as they are when the pass begins, so that rewriting one edge never
+//! changes the frame of another in the same pass: a mirror-symmetric
+//! surface with palindromic successors stays symmetric. Edges are visited in
 //! creation order, which is the map's edge order: a rewrite appends its
 //! pieces in successor order and retires the old edge, a join appends its
 //! edge (so the order is that of a string rewrite, and the pieces of one
@@ -266,6 +270,10 @@ struct Engine<'a> {
     pieces: Vec<Piece>,
     fixed: Vec<bool>,
     scratch: Vec<u32>,
+    /// Face normals as they were when the current rewrite pass began.
+    pass_normals: Vec<Option<DVec3>>,
+    /// The vertex count when the current rewrite pass began.
+    pass_first_vertex: usize,
     prm: JoinParams,
 }
 
@@ -310,6 +318,8 @@ impl<'a> Engine<'a> {
             pieces: Vec::new(),
             fixed: Vec::new(),
             scratch: Vec::new(),
+            pass_normals: Vec::new(),
+            pass_first_vertex: 0,
             prm: JoinParams { cos: 0.0, max_d2: f64::INFINITY },
         }
     }
@@ -469,6 +479,12 @@ impl<'a> Engine<'a> {
         self.map.reserve(dv, dv + todo.len(), 0, limits);
         self.stamp.reserve(dv + todo.len());
         self.joiner.reserve(nb);
+        // Edge frames read the face normals as they are when the pass begins,
+        // so an edge's frame does not depend on which edges of its faces were
+        // rewritten before it in this pass.
+        self.pass_normals.clear();
+        self.pass_normals.extend((0..self.map.face_he.len() as u32).map(|f| self.map.normal_of(f)));
+        self.pass_first_vertex = self.map.vertex_count();
         for &(e, r) in &todo {
             self.apply(e, r as usize, step, draws);
         }
@@ -499,12 +515,26 @@ impl<'a> Engine<'a> {
         let mut un = DVec3::ZERO;
         for f in [fr, fl] {
             if f != OUTER
-                && let Some(n) = m.normal_of(f)
+                && let Some(n) = self.pass_normals[f as usize]
             {
                 un += n;
             }
         }
-        let up = orthonormal_up(un, hd);
+        let up = match perpendicular(un, hd) {
+            Some(up) => up,
+            // The faces' normal runs along the edge (an edge standing
+            // straight up out of its face): take "left" from where the faces
+            // lie instead, which mirrors with the surface (reflecting a
+            // surface and reversing an edge maps this frame onto the
+            // mirrored edge's), where a fixed fallback axis would not.
+            None => match perpendicular(
+                towards_left(m, &mut self.scratch, self.pass_first_vertex, [fr, fl], pa + 0.5 * ab),
+                hd,
+            ) {
+                Some(left) => hd.cross(left),
+                None => orthonormal_up(un, hd),
+            },
+        };
         let left = up.cross(hd);
 
         let age = m.edge_age[e as usize];
@@ -543,6 +573,36 @@ impl<'a> Engine<'a> {
             self.joiner.add(m, base, dir, bt.sym.kind, face, bt.sym.reversed);
         }
     }
+}
+
+/// A vector from an edge's midpoint `mid` towards its left face and away
+/// from its right face (`[right, left]`), each through the mean of the
+/// face's vertices older than `first_new` (the pass's first new vertex: the
+/// older ones have not moved in this pass, so this is the face as the pass
+/// began); the outer face counts for nothing.
+fn towards_left(m: &Map, scratch: &mut Vec<u32>, first_new: usize, [fr, fl]: [u32; 2], mid: DVec3) -> DVec3 {
+    let mut v = DVec3::ZERO;
+    for (f, sign) in [(fl, 1.0), (fr, -1.0)] {
+        if f == OUTER {
+            continue;
+        }
+        scratch.clear();
+        m.loop_vertices(f, scratch);
+        let old = scratch.iter().filter(|&&q| (q as usize) < first_new);
+        let (sum, n) = old.fold((DVec3::ZERO, 0usize), |(s, n), &q| (s + m.pos[q as usize], n + 1));
+        if n > 0 {
+            v += sign * (sum / n as f64 - mid);
+        }
+    }
+    v
+}
+
+/// `n` made perpendicular to the unit `heading` and unit, unless that
+/// leaves (almost) nothing of it.
+fn perpendicular(n: DVec3, heading: DVec3) -> Option<DVec3> {
+    let u = n - n.dot(heading) * heading;
+    let l = u.length();
+    (l > 1e-12 * n.length().max(1e-300) && l.is_finite()).then(|| u / l)
 }
 
 /// The unit "up" of an edge frame: the mean face normal made perpendicular
@@ -599,6 +659,40 @@ mod tests {
         // The vertices stay on the square's edges (straight chains).
         for p in g.map.positions() {
             assert!((p.x.abs() - 0.5).abs() < 1e-12 || (p.y.abs() - 0.5).abs() < 1e-12);
+        }
+    }
+
+    /// Whether the vertex set is its own mirror image in x → −x (within
+    /// 1e-9 of its size).
+    fn mirrored_in_x(m: &Map) -> bool {
+        let size = m.positions().iter().map(|p| p.length()).fold(0.0, f64::max);
+        m.positions().iter().all(|p| {
+            let q = DVec3::new(-p.x, p.y, p.z);
+            m.positions().iter().any(|r| (*r - q).length() <= 1e-9 * size)
+        })
+    }
+
+    #[test]
+    fn palindromes_that_leave_the_plane_keep_the_seeds_mirror() {
+        // Palindromic successors on a square (mirror x → −x): the pitched one
+        // tilts its face's normal as each edge is rewritten, and its 45°
+        // pitches pile up into edges standing straight up out of their face
+        // (frames that need the fallback). Frames read as the pass began,
+        // with the fallback taken from where the faces lie, keep the mirror.
+        let rules = [
+            "Edge0 -> Edge1 - Edge1 + & Edge2 ^ + Edge3 - - Edge3 + ^ Edge2 & + Edge1 - Edge1",
+            "Edge1 -> Edge0",
+            "Edge2 -> Edge0 - Edge3 + + Edge3 - Edge0",
+            "Edge3 -> Edge1",
+        ];
+        for sync in [false, true] {
+            let h = hemls("Edge0 + Edge0 + Edge0 + Edge0", &rules, 45.0, sync);
+            for steps in 1..=4 {
+                let g = run(&h, &settings(steps, 1.5));
+                assert!(mirrored_in_x(&g.map), "sync {sync}, {steps} steps");
+            }
+            let g = run(&h, &settings(4, 1.5));
+            assert!(g.map.positions().iter().any(|p| p.z.abs() > 0.1), "the surface leaves the plane");
         }
     }
 

@@ -23,8 +23,8 @@ pub use error::ScoreError;
 pub use grid::{Grid, MAX_VOXELS};
 pub use image::{Coverage, ImageError, ImageScorer, ImageScratch, ImageTarget, PngMode};
 pub use surface::{
-    SurfaceComponent, SurfaceCriterion, SurfaceError, SurfaceGoal, SurfaceMeasures, SurfaceObjective, SurfaceScore,
-    SurfaceScorer,
+    SurfaceComponent, SurfaceCriterion, SurfaceError, SurfaceForm, SurfaceGoal, SurfaceMeasures, SurfaceObjective,
+    SurfaceScore, SurfaceScorer,
 };
 pub use target::TargetReport;
 pub use volume::{VolumeScorer, VolumeTarget};

@@ -30,8 +30,8 @@
 //!   ulps off it; the tolerance here is [`SYMMETRY_TOLERANCE`] × (extent +
 //!   |centre|), about a hundred ulps, so such nodes still count as on it.
 //!
-//! [`SurfaceScorer`] combines the criteria (see [`scorer`] for the form and
-//! why).
+//! [`SurfaceScorer`] combines the criteria, in the bounded form (the
+//! default) or the paper's (see [`scorer`] for both and why).
 
 mod measures;
 pub mod scorer;
@@ -40,7 +40,9 @@ pub mod scorer;
 mod tests;
 
 pub use measures::{SYMMETRY_TOLERANCE, SurfaceMeasures};
-pub use scorer::{SurfaceComponent, SurfaceError, SurfaceGoal, SurfaceObjective, SurfaceScore, SurfaceScorer};
+pub use scorer::{
+    SurfaceComponent, SurfaceError, SurfaceForm, SurfaceGoal, SurfaceObjective, SurfaceScore, SurfaceScorer,
+};
 
 /// One of the six criteria.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

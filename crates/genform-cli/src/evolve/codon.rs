@@ -74,8 +74,12 @@ pub fn score(a: ScoreArgs) -> Result<()> {
         anyhow::anyhow!("{} is an invalid individual of {}: {r}", a.genome.display(), a.scene.display())
     })?;
     let best = objective.max_reachable(scene.config.ge.initial_length[0]);
+    let form = match objective.scoring() {
+        Scoring::Surface(s) => format!("{} form, ", s.objective().form.name()),
+        Scoring::Targets(_) => String::new(),
+    };
     println!(
-        "fitness {} (max reachable {best}); {} codons, {} read, {} wraps",
+        "fitness {} ({form}max reachable {best}); {} codons, {} read, {} wraps",
         e.fitness,
         codons.len(),
         e.codons_read,
@@ -236,7 +240,11 @@ impl Session<Codons> for Run<'_> {
     fn write_all(&self, opt: &dyn Optimizer<Codons>, rows: &[Row], rec: &Record, ended: Ended) -> Result<()> {
         let out = &self.common.args.out;
         self.write_progress(opt, rows, rec)?;
-        let svg = codon_report::fitness_svg(&title(&self.scene.path), rows, &rec.criteria);
+        let formula = match self.objective.scoring() {
+            Scoring::Surface(s) => s.objective().form.contribution_formula(),
+            Scoring::Targets(_) => "",
+        };
+        let svg = codon_report::fitness_svg(&title(&self.scene.path), rows, &rec.criteria, formula);
         write_atomic(&out.join("fitness.svg"), svg.as_bytes())?;
         let best = opt.best();
         let expressed =

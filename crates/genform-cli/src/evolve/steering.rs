@@ -154,6 +154,15 @@ impl Steerable {
         set
     }
 
+    /// What one criterion adds to a surface scene's fitness, in words
+    /// (`w/(1+e)` or, in the paper form, `−w·e`); `None` for `[fitness]`.
+    pub fn contribution_formula(&self) -> Option<&'static str> {
+        match self {
+            Steerable::Surface(s) => Some(s.form.contribution_formula()),
+            Steerable::Fitness(_) => None,
+        }
+    }
+
     /// What a codon scene steers: `[surface]` when it has one, else `[fitness]`.
     pub fn of_codon_scene(config: &CodonSceneConfig) -> Steerable {
         match &config.surface {
@@ -229,6 +238,19 @@ mod tests {
         assert!(e.starts_with("[surface]"), "{e}");
         assert!(s.apply(&set(&[("sise", 1.0)], &[])).unwrap_err().to_string().contains("did you mean `size`"));
         assert!(s.apply(&set(&[("size", -1.0)], &[])).unwrap_err().to_string().contains("at least 0"));
+        assert_eq!(s.contribution_formula(), Some("w/(1+e)"));
+    }
+
+    #[test]
+    fn steering_a_paper_form_scene_keeps_its_form() {
+        let mut o = SurfaceObjective::default().with(SurfaceCriterion::Size, 10.0, 1.0);
+        o.form = genform_score::SurfaceForm::Paper;
+        let mut s = Steerable::Surface(o);
+        s.apply(&set(&[("size", 2.0)], &[("size", 8.0)])).unwrap();
+        let Steerable::Surface(now) = &s else { panic!() };
+        assert_eq!((now.form, now.size.weight, now.size.target), (genform_score::SurfaceForm::Paper, 2.0, 8.0));
+        assert_eq!(s.contribution_formula(), Some("−w·e"));
+        assert_eq!(Steerable::Fitness(FitnessConfig::default()).contribution_formula(), None);
     }
 
     #[test]

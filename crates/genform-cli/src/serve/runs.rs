@@ -143,6 +143,7 @@ impl RunHandle {
             "generation": s.generation, "evaluations": s.evaluations, "best": s.best,
             "max_reachable": s.max_reachable, "criteria_names": s.criteria_names, "stats": s.stats,
             "steering": s.steering, "criteria": s.steerable.values(), "pending": s.pending,
+            "criteria_formula": s.steerable.contribution_formula(),
             "gallery": s.galleries.back().map(|(g, _)| format!("/api/runs/{}/gallery/{g}.png", self.id)),
             // Only while the run goes: then the folder's best.glb is the answer.
             "best_model": s.best_model.as_ref().filter(|_| s.status == Status::Running)

@@ -8,15 +8,21 @@
 //! `e_i = |F_i − T_i| / max(|T_i|, ε_i)`
 //!
 //! (relative error, measured in units of `ε_i` when the target is near 0),
-//! and the fitness optimizers maximize is
+//! and the errors combine in one of two forms ([`SurfaceForm`], the scene's
+//! `[surface] form`):
 //!
-//! `fitness = Σ_i w_i / (1 + e_i)`,
+//! - **bounded** (the default, genform's departure from the paper):
+//!   `fitness = Σ_i w_i / (1 + e_i)`, so each criterion's score
+//!   `1 / (1 + e_i)` lies in (0, 1], is 1 exactly on target and falls
+//!   strictly as the measure moves away. The fitness lies in [0, Σ w_i]:
+//!   [`SurfaceScorer::best`] on every target, 0 the worst.
+//! - **paper**: the paper's weighted sum of the criteria, each criterion
+//!   being its error: Genr8 minimises `Σ_i w_i e_i`, and since genform's
+//!   optimizers maximise, `fitness = −Σ_i w_i e_i`, in (−∞, 0], 0 on every
+//!   target. The contribution of a criterion is `−w_i e_i`, linear in its
+//!   distance from the target.
 //!
-//! so each criterion's score `1 / (1 + e_i)` lies in (0, 1], is 1 exactly on
-//! target and falls strictly as the measure moves away. The fitness lies in
-//! [0, Σ w_i]: [`SurfaceScorer::best`] on every target, 0 the worst.
-//!
-//! Why this bounded form rather than `−Σ w_i e_i`:
+//! Why the bounded form is the default rather than the paper's sum:
 //!
 //! - Growth is exponential in the number of steps, so errors span orders of
 //!   magnitude (size 400 against a target of 10 is e = 39). In an unbounded
@@ -34,10 +40,12 @@
 //!   measure scores its criterion exactly 0), so any invalid marker below 0
 //!   — genform-evolve's convention is a non-finite fitness — ranks below
 //!   every valid surface; and `fitness / best` is a fraction in [0, 1] for
-//!   reports.
+//!   reports. In the paper form a non-finite measure has an infinite error,
+//!   so such a surface scores −∞ and ranks with the invalid individuals.
 //!
 //! The price: far from a target the score is flat (its slope is
-//! `1/(1 + e)²`), so roulette pressure among very poor individuals is weak.
+//! `1/(1 + e)²`), so roulette pressure among very poor individuals is weak;
+//! the paper form keeps a constant slope `w_i` there.
 
 use super::{SurfaceCriterion, SurfaceMeasures};
 use genform_core::scene::Scene;
@@ -65,6 +73,76 @@ fn one() -> f64 {
     1.0
 }
 
+/// How the criteria's errors `e_i` combine into one fitness: the scene's
+/// `[surface] form` (see the [module](self) docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SurfaceForm {
+    /// `Σ w_i / (1 + e_i)`, in [0, Σ w_i]: genform's default and its
+    /// departure from the paper.
+    #[default]
+    Bounded,
+    /// `−Σ w_i e_i`, in (−∞, 0]: the paper's weighted sum of the criteria
+    /// (negated, since genform maximises).
+    Paper,
+}
+
+impl<'de> Deserialize<'de> for SurfaceForm {
+    /// A form by name; another name is an error that lists the forms.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        SurfaceForm::from_name(&name).ok_or_else(|| {
+            serde::de::Error::custom(format!(
+                "`{name}` is not a surface fitness form; the forms are `bounded` (Σ w/(1+e), the default) and \
+                 `paper` (−Σ w·e, the paper's weighted sum)"
+            ))
+        })
+    }
+}
+
+impl SurfaceForm {
+    /// Both forms, the default first.
+    pub const ALL: [SurfaceForm; 2] = [SurfaceForm::Bounded, SurfaceForm::Paper];
+
+    /// The name in scene files: `bounded` or `paper`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SurfaceForm::Bounded => "bounded",
+            SurfaceForm::Paper => "paper",
+        }
+    }
+
+    /// The form named `name` (see [`SurfaceForm::name`]).
+    pub fn from_name(name: &str) -> Option<SurfaceForm> {
+        SurfaceForm::ALL.into_iter().find(|f| f.name() == name)
+    }
+
+    /// What one criterion adds to the fitness, in words for plot titles:
+    /// `w/(1+e)` or `−w·e`.
+    pub fn contribution_formula(self) -> &'static str {
+        match self {
+            SurfaceForm::Bounded => "w/(1+e)",
+            SurfaceForm::Paper => "−w·e",
+        }
+    }
+
+    /// Whether this is the default (`bounded`), which scene files and
+    /// logs leave unwritten.
+    pub fn is_bounded(&self) -> bool {
+        *self == SurfaceForm::Bounded
+    }
+
+    /// The contribution of a criterion with weight `w` and error `e`
+    /// (`e` may be +∞: `0` bounded, `−∞` paper).
+    pub fn contribution(self, w: f64, e: f64) -> f64 {
+        match self {
+            SurfaceForm::Bounded => w / (1.0 + e),
+            // 0 − w·e, not −(w·e): a criterion on target adds +0, not −0.
+            SurfaceForm::Paper => 0.0 - w * e,
+        }
+    }
+}
+
 impl Default for SurfaceGoal {
     /// Weight 0: the criterion is skipped.
     fn default() -> Self {
@@ -79,13 +157,17 @@ impl SurfaceGoal {
     }
 }
 
-/// The settings of a [`SurfaceScorer`]: one [`SurfaceGoal`] per criterion, the
-/// `[surface]` table of a scene config. Keys are the criteria's
-/// [`SurfaceCriterion::name`]s; unknown keys are rejected; criteria left out are
-/// skipped.
+/// The settings of a [`SurfaceScorer`]: one [`SurfaceGoal`] per criterion and
+/// the form that combines them, the `[surface]` table of a scene config.
+/// Keys are the criteria's [`SurfaceCriterion::name`]s and `form`; unknown
+/// keys are rejected; criteria left out are skipped.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SurfaceObjective {
+    /// How the errors combine (`form = "bounded"`, the default, or
+    /// `"paper"`); an unknown name is an error that lists both.
+    #[serde(skip_serializing_if = "SurfaceForm::is_bounded")]
+    pub form: SurfaceForm,
     /// x-extent + y-extent.
     pub size: SurfaceGoal,
     /// Σ over edges |Δz|.
@@ -181,7 +263,8 @@ pub struct SurfaceComponent {
     pub weight: f64,
     /// `e_i = |F_i − T_i| / max(|T_i|, ε_i)`; +∞ when the measure is not finite.
     pub error: f64,
-    /// `w_i / (1 + e_i)`, what the criterion adds to the fitness.
+    /// What the criterion adds to the fitness: `w_i / (1 + e_i)` in the
+    /// bounded form, `−w_i e_i` in the paper form.
     pub contribution: f64,
 }
 
@@ -201,7 +284,9 @@ pub struct SurfaceScore {
 }
 
 impl SurfaceScore {
-    /// `Σ w_i / (1 + e_i)`, in [0, [`SurfaceScorer::best`]].
+    /// The sum of the components' contributions: `Σ w_i / (1 + e_i)` in
+    /// [0, [`SurfaceScorer::best`]] (bounded form) or `−Σ w_i e_i` ≤ 0
+    /// (paper form).
     pub fn fitness(&self) -> f64 {
         self.fitness
     }
@@ -213,14 +298,15 @@ impl SurfaceScore {
 }
 
 impl fmt::Display for SurfaceScore {
-    /// `fitness F: size 10.1 (target 10, error 0.0125, +0.988), …`.
+    /// `fitness F: size 10.1 (target 10, error 0.0125, +0.988), …` (the
+    /// last number is the contribution, with its sign).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "fitness {:.6}:", self.fitness)?;
         for (i, c) in self.components().iter().enumerate() {
             let sep = if i == 0 { " " } else { ", " };
             write!(
                 f,
-                "{sep}{} {:.6} (target {}, error {:.6}, +{:.6})",
+                "{sep}{} {:.6} (target {}, error {:.6}, {:+.6})",
                 c.name(),
                 c.measure,
                 c.target,
@@ -254,7 +340,7 @@ pub struct SurfaceScorer {
 
 impl SurfaceScorer {
     /// A scorer for `objective`: targets finite, weights finite and ≥ 0 with
-    /// at least one above 0, floors finite and > 0.
+    /// at least one above 0, floors finite and > 0; either form.
     pub fn new(objective: SurfaceObjective) -> Result<SurfaceScorer, SurfaceError> {
         let mut active = Vec::new();
         for criterion in SurfaceCriterion::ALL {
@@ -277,7 +363,10 @@ impl SurfaceScorer {
         if active.is_empty() {
             return Err(SurfaceError::NoCriteria);
         }
-        let best = active.iter().map(|a| a.weight).sum();
+        let best = match objective.form {
+            SurfaceForm::Bounded => active.iter().map(|a| a.weight).sum(),
+            SurfaceForm::Paper => 0.0,
+        };
         Ok(SurfaceScorer { objective, active, best })
     }
 
@@ -286,7 +375,8 @@ impl SurfaceScorer {
         &self.objective
     }
 
-    /// The fitness of a surface that meets every target: `Σ w_i`.
+    /// The fitness of a surface that meets every target: `Σ w_i` (bounded
+    /// form) or 0 (paper form).
     pub fn best(&self) -> f64 {
         self.best
     }
@@ -308,7 +398,7 @@ impl SurfaceScorer {
             let error = (measure - a.target).abs() / a.scale;
             // A non-finite measure (broken geometry) is as far off as can be.
             let error = if error.is_finite() { error } else { f64::INFINITY };
-            let contribution = a.weight / (1.0 + error);
+            let contribution = self.objective.form.contribution(a.weight, error);
             fitness += contribution;
             *item = SurfaceComponent {
                 criterion: a.criterion,

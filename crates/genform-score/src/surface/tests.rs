@@ -402,6 +402,125 @@ fn surface_tables_parse_from_toml() {
     }
 }
 
+/// A hand-computed surface: the 2 × 1 rectangle with a node in the middle of
+/// its bottom side, the top right corner lifted by 0.5 and a chord from the
+/// middle node to it; 2 nodes outside a soft boundary.
+///
+/// ```text
+///  v4 (0,1,0) ──────── v3 (2,1,½)
+///   │                 ╱ │
+///  v0 (0,0,0) ── v1 (1,0,0) ── v2 (2,0,0)
+/// ```
+///
+/// By hand: size = 2 + 1 = 3; smoothness = ½ (v2v3) + ½ (v3v4) + ½ (v1v3)
+/// = 1.5; soft boundary = 2; subdivisions = 5 nodes / 6 edges; symmetry:
+/// about x = 1 two nodes each side (v1 on the line) → 1, about y = ½ three
+/// below, two above → ⅔, so (1 + ⅔)/2 = ⅚; undulation = ½.
+fn hand_surface() -> Scene {
+    let mut surf = points(&[(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (2.0, 0.0, 0.0), (2.0, 1.0, 0.5), (0.0, 1.0, 0.0)]);
+    surf.edges = vec![edge(0, 1, 0), edge(1, 2, 0), edge(2, 3, 1), edge(3, 4, 0), edge(4, 0, 1), edge(1, 3, 2)];
+    surf.push_face(&[0, 1, 3, 4]);
+    surf.push_face(&[1, 2, 3]);
+    surf.outside_soft = 2;
+    scene_of(vec![surf])
+}
+
+/// Each criterion alone in the paper form on [`hand_surface`]: the measure
+/// by hand, its error `|F − T| / max(|T|, ε)` and the fitness `−w·e`.
+#[test]
+fn paper_form_scores_each_criterion_by_hand() {
+    let scene = hand_surface();
+    let m = SurfaceMeasures::of(&scene);
+    // (criterion, measure by hand, target, weight, error by hand)
+    let cases = [
+        (SurfaceCriterion::Size, 3.0, 4.0, 2.0, 0.25),
+        (SurfaceCriterion::Smoothness, 1.5, 0.0, 1.0, 1.5), // floor 1
+        (SurfaceCriterion::SoftBoundary, 2.0, 0.0, 0.5, 2.0), // floor 1
+        (SurfaceCriterion::Subdivisions, 5.0 / 6.0, 0.5, 3.0, 2.0 / 3.0),
+        (SurfaceCriterion::Symmetry, 5.0 / 6.0, 1.0, 1.0, 1.0 / 6.0),
+        (SurfaceCriterion::Undulation, 0.5, 1.0, 1.0, 0.5),
+    ];
+    let mut all = SurfaceObjective { form: SurfaceForm::Paper, ..SurfaceObjective::default() };
+    let mut total = 0.0;
+    for (c, measure, target, weight, error) in cases {
+        assert!(close(m.get(c), measure, 1e-15), "{}: {} by hand {measure}", c.name(), m.get(c));
+        let objective =
+            SurfaceObjective { form: SurfaceForm::Paper, ..SurfaceObjective::default() }.with(c, target, weight);
+        let scorer = SurfaceScorer::new(objective).unwrap();
+        assert_eq!(scorer.best(), 0.0);
+        let score = scorer.score_scene(&scene);
+        let [part] = score.components() else { panic!("one weighted criterion") };
+        assert!(close(part.error, error, 1e-15), "{}: error {} by hand {error}", c.name(), part.error);
+        assert!(close(score.fitness(), -weight * error, 1e-15), "{}: {}", c.name(), score.fitness());
+        assert_eq!(score.fitness(), part.contribution);
+        // The bounded form of the same goal, for contrast: w / (1 + e).
+        let bounded = SurfaceScorer::new(SurfaceObjective { form: SurfaceForm::Bounded, ..objective }).unwrap();
+        assert!(close(bounded.fitness(&scene), weight / (1.0 + error), 1e-15), "{}", c.name());
+        all = all.with(c, target, weight);
+        total -= weight * error;
+    }
+    // All six together: the weighted sum of the six.
+    let score = SurfaceScorer::new(all).unwrap().score_scene(&scene);
+    assert_eq!(score.components().len(), 6);
+    assert!(close(score.fitness(), total, 1e-15), "{} vs {total}", score.fitness());
+    assert!(close(total, -(0.5 + 1.5 + 1.0 + 2.0 + 1.0 / 6.0 + 0.5), 1e-15));
+    assert!(score.to_string().contains("size 3.000000 (target 4, error 0.250000, -0.500000)"), "{score}");
+}
+
+#[test]
+fn paper_form_is_zero_on_target_linear_off_it_and_minus_infinity_when_broken() {
+    let scene = scene_of(vec![four_sided_tiles(4, 1.5)]);
+    let m = SurfaceMeasures::of(&scene);
+    let mut on_target = all_six(&m, 1.5);
+    on_target.form = SurfaceForm::Paper;
+    assert_eq!(SurfaceScorer::new(on_target).unwrap().score(&m).fitness(), 0.0);
+    // Linear: size 2, 3, 4.5, … against 10 costs w·(10 − size)/10 until it passes 10.
+    let objective = SurfaceObjective { form: SurfaceForm::Paper, ..SurfaceObjective::default() }.with(
+        SurfaceCriterion::Size,
+        10.0,
+        2.0,
+    );
+    let scorer = SurfaceScorer::new(objective).unwrap();
+    for n in 0..6 {
+        let size = 2.0 * 1.5f64.powi(n);
+        let f = scorer.fitness(&scene_of(vec![four_sided_tiles(n as u32, 1.5)]));
+        assert!(close(f, -2.0 * (size - 10.0).abs() / 10.0, 1e-6), "n = {n}: {f}");
+    }
+    // Far off, the paper form keeps its slope where the bounded one flattens:
+    // sizes 400 and 800 against 10 (errors 39 and 79, weight 2) differ by 80
+    // in the paper form but by 2/40 − 2/80 = 0.025 in the bounded one.
+    let at = |size: f64, form| {
+        let o = SurfaceObjective { form, ..SurfaceObjective::default() }.with(SurfaceCriterion::Size, 10.0, 2.0);
+        SurfaceScorer::new(o).unwrap().score(&SurfaceMeasures { size, ..m }).fitness()
+    };
+    assert!(close(at(400.0, SurfaceForm::Paper) - at(800.0, SurfaceForm::Paper), 80.0, 1e-12));
+    assert!(close(at(400.0, SurfaceForm::Bounded) - at(800.0, SurfaceForm::Bounded), 0.025, 1e-12));
+    // Broken geometry has an infinite error: −∞, the invalid individuals' rank.
+    let mut surf = unit_square();
+    surf.positions[1].x = f32::NAN;
+    let broken = SurfaceMeasures::of(&scene_of(vec![surf]));
+    let o = SurfaceObjective { form: SurfaceForm::Paper, ..SurfaceObjective::default() }
+        .with(SurfaceCriterion::Size, 2.0, 1.0)
+        .with(SurfaceCriterion::Subdivisions, 1.0, 1.0);
+    assert_eq!(SurfaceScorer::new(o).unwrap().score(&broken).fitness(), f64::NEG_INFINITY);
+}
+
+#[test]
+fn forms_parse_by_name_and_unknown_forms_list_the_valid_ones() {
+    for f in SurfaceForm::ALL {
+        assert_eq!(SurfaceForm::from_name(f.name()), Some(f));
+    }
+    assert_eq!(SurfaceForm::default(), SurfaceForm::Bounded);
+    let c: Config = toml::from_str("[surface]\nform = \"paper\"\nsize = { target = 10 }\n").unwrap();
+    assert_eq!(c.surface.form, SurfaceForm::Paper);
+    assert!(toml::to_string(&c).unwrap().contains("form = \"paper\""));
+    let c: Config = toml::from_str("[surface]\nsize = { target = 10 }\n").unwrap();
+    assert_eq!(c.surface.form, SurfaceForm::Bounded);
+    assert!(!toml::to_string(&c).unwrap().contains("form"), "the default stays unwritten");
+    let err = toml::from_str::<Config>("[surface]\nform = \"papr\"\nsize = { target = 10 }\n").unwrap_err().to_string();
+    assert!(err.contains("papr") && err.contains("`bounded`") && err.contains("`paper`"), "{err}");
+}
+
 /// The paper's formulas over all node pairs and neighbour lists.
 fn oracle(ps: &[Vec3], edges: &[(usize, usize)]) -> (f64, f64, f64) {
     let d = |f: fn(&Vec3) -> f32| {
