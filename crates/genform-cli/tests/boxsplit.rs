@@ -108,7 +108,7 @@ fn box_split_errors_are_clear() {
     assert!(err.contains("observed region itself"), "{err}");
     std::fs::write(tmp.path().join("bad.bsg"), "axiom A;\nA { when X > 100 { fill stone } }\n").unwrap();
     let run = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3", "--trace", "t.json"]).fails();
-    assert!(run.stderr().contains("derivation failed") && run.stderr().contains('A'), "{}", run.stderr());
+    assert!(run.stderr().contains("bad.bsg: the derivation failed") && run.stderr().contains('A'), "{}", run.stderr());
     assert!(tmp.path().join("t.json").exists(), "a failed derivation still writes its trace");
     std::fs::write(tmp.path().join("bad.bsg"), "axiom A;\nA { split q [1] { B } }\n").unwrap();
     let err = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3"]).fails().stderr();

@@ -124,7 +124,8 @@ impl LoadedGrammar for BoxFile {
             Err(f) => {
                 let hint =
                     if request.trace.is_some() { "" } else { " (--trace FILE.json records every choice and failure)" };
-                bail!("{}: the derivation failed: {}{hint}", grammar.name(), f.message);
+                // The file names the grammar in messages: its name may be empty.
+                bail!("{}: the derivation failed: {}{hint}", self.path.display(), f.message);
             }
         };
         let summary = format!(
