@@ -26,6 +26,16 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn sample(a: SampleArgs) -> Result<()> {
+    let inputs: Vec<&std::path::Path> = [Some(a.file.as_path()), a.env.as_deref()].into_iter().flatten().collect();
+    genform_cli::output::refuse_overwriting_inputs(
+        &inputs,
+        &[
+            ("--out", a.out.as_deref()),
+            ("--string-out", a.string_out.as_deref()),
+            ("--trace", a.trace.as_deref()),
+            ("--genome-out", a.genome_out.as_deref()),
+        ],
+    )?;
     let formalism = formalism::for_path(&a.file)?;
     let request = a.request();
     formalism::check_request(formalism, &request)?;
@@ -52,6 +62,7 @@ fn shown(written: &[PathBuf]) -> String {
 }
 
 fn derive(a: DeriveArgs) -> Result<()> {
+    genform_cli::output::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
     output_format(&a.out)?;
     let loaded = grammar::load(&a.file)?;
     let limits = a.limits.overrides().apply(loaded.limits);

@@ -8,6 +8,31 @@ use genform_export::{ExportOptions, Format};
 use std::io::Write;
 use std::path::Path;
 
+/// Refuses a command whose output (flag name, path) would overwrite one of
+/// its inputs: the same file reached by two spellings counts (paths are
+/// compared after resolving the existing folder part).
+pub fn refuse_overwriting_inputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> Result<()> {
+    let real = |p: &Path| -> Option<std::path::PathBuf> {
+        if let Ok(c) = p.canonicalize() {
+            return Some(c);
+        }
+        let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        Some(dir.canonicalize().ok()?.join(p.file_name()?))
+    };
+    for &(flag, out) in outputs {
+        let Some(out) = out else { continue };
+        let Some(o) = real(out) else { continue };
+        if let Some(input) = inputs.iter().find(|i| real(i).as_deref() == Some(o.as_path())) {
+            anyhow::bail!(
+                "{flag} {} is an input of this command ({}); writing it would destroy it: choose another file",
+                out.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The export format `path`'s extension names.
 pub fn output_format(path: &Path) -> Result<Format> {
     Format::from_path(path).ok_or_else(|| unknown_format(path, &[]))

@@ -180,3 +180,23 @@ fn unknown_grammar_extensions_list_every_formalism() {
         assert!(err.contains(want), "missing {want:?} in {err}");
     }
 }
+
+/// An output flag pointing at an input of the same command (under any
+/// spelling) is refused before anything is written; the input is intact.
+#[test]
+fn outputs_never_overwrite_the_commands_inputs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(example("spaceship.sg")).unwrap();
+    std::fs::create_dir(tmp.path().join("sub")).unwrap();
+    std::fs::write(tmp.path().join("ship.sg"), &text).unwrap();
+    for (flag, path) in [("--genome-out", "ship.sg"), ("--trace", "./sub/../ship.sg"), ("--string-out", "ship.sg")] {
+        let err = genform(tmp.path(), &["sample", "ship.sg", flag, path]).fails().stderr();
+        assert!(err.contains(flag) && err.contains("is an input of this command"), "{flag}: {err}");
+    }
+    genform(tmp.path(), &["sample", "ship.sg", "--seed", "3", "--genome-out", "g.json"]).ok();
+    let err =
+        genform(tmp.path(), &["derive", "ship.sg", "--genome", "g.json", "--out", "sub/../g.json"]).fails().stderr();
+    assert!(err.contains("is an input"), "{err}");
+    assert_eq!(std::fs::read_to_string(tmp.path().join("ship.sg")).unwrap(), text);
+    assert!(std::fs::read_to_string(tmp.path().join("g.json")).unwrap().starts_with(['{', '[']));
+}
