@@ -11,7 +11,7 @@ use crate::output::write_atomic;
 use anyhow::{Context, Result};
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::{Individual, MapElitesConfig};
-use genform_export::plot::{caption_rgb, encode_png_rgb};
+use genform_export::plot::{caption_rgb, caption_size, encode_png_rgb};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -181,18 +181,28 @@ fn ramp(t: f64) -> [u8; 3] {
 pub fn archive_png(config: &MapElitesConfig, elites: &[Described]) -> Vec<u8> {
     const EMPTY: [u8; 3] = [200, 200, 200];
     const MARGIN: usize = 8;
-    const HEADER: usize = 3 * 14 + 8;
     let [cols, rows] = config.shape();
-    let px = (480 / cols.max(rows)).clamp(2, 40);
-    let (gw, gh) = (cols * px, rows * px);
-    let width = (gw + 2 * MARGIN).max(400);
-    let height = HEADER + gh + MARGIN;
-    let mut img = vec![255u8; width * height * 3];
     let (lo, hi) = elites
         .iter()
         .map(|e| e.fitness)
         .filter(|f| f.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), f| (a.min(f), b.max(f)));
+    let axis = |k: usize| {
+        let d = &config.descriptors[k];
+        let [a, b] = d.range.unwrap_or([f64::NAN; 2]);
+        format!("{} {} to {} ({} bins)", d.name, short(a), short(b), d.bins)
+    };
+    let fitness = if lo.is_finite() { format!("{lo:.4} dark to {hi:.4} yellow") } else { "none".into() };
+    let header =
+        format!("right: {}\nup: {}\n{} of {} cells, fitness {fitness}", axis(0), axis(1), elites.len(), cols * rows);
+    // The header sets the width when it is wider than the grid, so no line is cut.
+    let (text_w, text_h) = caption_size(&header);
+    let header_h = text_h as usize + 12;
+    let px = (480 / cols.max(rows)).clamp(2, 40);
+    let (gw, gh) = (cols * px, rows * px);
+    let width = (gw + 2 * MARGIN).max(text_w as usize + 2 * MARGIN).max(400);
+    let height = header_h + gh + MARGIN;
+    let mut img = vec![255u8; width * height * 3];
     let mut colour = vec![EMPTY; cols * rows];
     for e in elites.iter().filter(|e| e.fitness.is_finite()) {
         let [c, r] = config.cell(e.descriptors);
@@ -201,7 +211,7 @@ pub fn archive_png(config: &MapElitesConfig, elites: &[Described]) -> Vec<u8> {
     }
     for c in 0..cols {
         for r in 0..rows {
-            let (x0, y0) = (MARGIN + c * px, HEADER + (rows - 1 - r) * px);
+            let (x0, y0) = (MARGIN + c * px, header_h + (rows - 1 - r) * px);
             // One-pixel white seams between cells when they are big enough to show them.
             let seam = usize::from(px >= 6);
             for y in y0..y0 + px - seam {
@@ -211,14 +221,6 @@ pub fn archive_png(config: &MapElitesConfig, elites: &[Described]) -> Vec<u8> {
             }
         }
     }
-    let axis = |k: usize| {
-        let d = &config.descriptors[k];
-        let [a, b] = d.range.unwrap_or([f64::NAN; 2]);
-        format!("{} {} to {} ({} bins)", d.name, short(a), short(b), d.bins)
-    };
-    let fitness = if lo.is_finite() { format!("{lo:.4} dark to {hi:.4} yellow") } else { "none".into() };
-    let header =
-        format!("right: {}\nup: {}\n{} of {} cells, fitness {fitness}", axis(0), axis(1), elites.len(), cols * rows);
     caption_rgb(&mut img, width as u32, MARGIN as u32, 4, &header);
     encode_png_rgb(&img, width as u32, height as u32)
 }

@@ -201,7 +201,8 @@ pub struct SampleArgs {
     #[arg(long, value_name = "ENV.toml")]
     pub env: Option<PathBuf>,
     /// HEMLS (.gr8): write every derivation step, one mesh per step
-    /// (`name-step0.obj` …) and, for .png/.svg, all steps overlaid in one picture.
+    /// (`name-step0.obj` …) and, for .png/.svg, one picture with a labelled
+    /// panel per step, all at one scale.
     #[arg(long)]
     pub every_step: bool,
     /// HEMLS (.gr8): apply K Catmull–Clark subdivision steps to the final surface (at most 6).

@@ -71,24 +71,21 @@ pub fn fitness_svg(title: &str, rows: &[Row], criteria: &[CriteriaRow], formula:
             .contributions
             .iter()
             .enumerate()
-            .map(|(i, (name, _))| Series {
-                name: (*name).into(),
-                color: criterion_color(name).into(),
-                points: criteria
+            .map(|(i, (name, _))| {
+                let points = criteria
                     .iter()
                     .filter_map(|c| c.contributions.get(i).map(|(_, v)| (c.generation as f64, *v)))
-                    .collect(),
-                band: Vec::new(),
+                    .collect();
+                Series::line(*name, criterion_color(name), points)
             })
             .collect();
-        series.push(Series {
-            name: "total".into(),
-            color: "#000000".into(),
-            points: criteria.iter().map(|c| (c.generation as f64, c.total)).collect(),
-            band: Vec::new(),
-        });
+        series.push(Series::line(
+            "total",
+            "#000000",
+            criteria.iter().map(|c| (c.generation as f64, c.total)).collect(),
+        ));
         charts.push(Chart {
-            title: format!("best individual: contribution {formula} of each criterion"),
+            title: format!("best: contribution {formula} per criterion"),
             x_label: "generation".into(),
             y_label: "contribution".into(),
             series,
@@ -119,6 +116,44 @@ pub fn z_up(scene: &Scene) -> Scene {
     s
 }
 
+/// A number to 4 significant digits, for [`look`].
+fn sig4(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() { format!("{v}") } else { format!("{v:.3e}") }
+}
+
+/// What a model looks like in a gallery, as text: per surface its face
+/// count, the scene's instance and polyline counts, its bounds and the
+/// scorer's `measures` (the surface criteria's raw values, or a target's
+/// covered cells), numbers to 4 significant digits. Two individuals with
+/// the same look draw the same picture, give or take an edge's colour or
+/// a vertex splitting a straight edge: GE phenotypes often differ only in
+/// rules that never fire or in an edge type, so a gallery of distinct
+/// phenotype texts can show one surface 16 times. Galleries keep one
+/// individual per look.
+pub fn look(scene: &Scene, measures: &[f64]) -> String {
+    let mut out = String::new();
+    for s in &scene.surfaces {
+        let _ = write!(out, "surface {} faces; ", s.face_count());
+    }
+    let _ = write!(out, "{} instances {} polylines; ", scene.instances.len(), scene.polylines.len());
+    if let Some((lo, hi)) = scene.bounds(Default::default()) {
+        let corners: Vec<String> = lo.to_array().into_iter().chain(hi.to_array()).map(|v| sig4(v.into())).collect();
+        let _ = write!(out, "bounds {}; ", corners.join(" "));
+    }
+    let values: Vec<String> = measures.iter().map(|&m| sig4(m)).collect();
+    let _ = write!(out, "measures {}", values.join(" "));
+    out
+}
+
+/// Up to `n` of `items` (`(look, item)`, best individual first) whose
+/// looks differ: the first of each look, in order. Fewer than `n` when
+/// fewer distinct looks exist, so a converged run shows a short gallery
+/// rather than copies. Reads `items` only until it has `n`.
+pub fn distinct_looks<T>(items: impl IntoIterator<Item = (String, T)>, n: usize) -> Vec<T> {
+    let mut seen = std::collections::HashSet::new();
+    items.into_iter().filter(|(l, _)| seen.insert(l.clone())).map(|(_, t)| t).take(n).collect()
+}
+
 /// `best-codons.json`: the genome with what made and scored it.
 pub fn codons_json(codons: &[u32], fitness: f64, algorithm: &str, seed: u64, scene: &str) -> String {
     let value = serde_json::json!({
@@ -135,6 +170,7 @@ pub fn codons_json(codons: &[u32], fitness: f64, algorithm: &str, seed: u64, sce
 #[cfg(test)]
 mod tests {
     use super::*;
+    use genform_core::surface::Surface;
     use genform_evolve::GenerationStats;
 
     fn row(g: usize) -> Row {
@@ -166,6 +202,45 @@ mod tests {
         assert!(svg.contains("symmetry") && svg.contains("total"));
         assert!(svg.contains("contribution −w·e of each criterion"), "the form names the contribution");
         assert_eq!(fitness_svg("t", &[row(0), row(1)], &[], "w/(1+e)").matches("<polyline").count(), 6);
+    }
+
+    /// A square of `faces` strips in the xy plane, its edges of `edge_type`.
+    fn strips(faces: u32, edge_type: u32) -> Scene {
+        let mut s = Surface::new(0);
+        for k in 0..=faces {
+            let x = k as f32 / faces as f32;
+            s.positions.extend([glam::Vec3::new(x, 0.0, 0.0), glam::Vec3::new(x, 1.0, 0.0)]);
+        }
+        for k in 0..faces {
+            s.push_face(&[2 * k, 2 * k + 2, 2 * k + 3, 2 * k + 1]);
+            s.edges.push(genform_core::surface::SurfaceEdge { a: 2 * k, b: 2 * k + 2, kind: edge_type });
+        }
+        let mut scene = Scene::new();
+        scene.surfaces.push(s);
+        scene
+    }
+
+    #[test]
+    fn galleries_keep_one_individual_per_look() {
+        // A converged population: the best surface five times (two with
+        // another edge type: another phenotype text, the same surface),
+        // then a surface with more faces, then one scored differently.
+        let population = [
+            look(&strips(4, 1), &[10.0, 0.5]),
+            look(&strips(4, 2), &[10.0, 0.5]),
+            look(&strips(4, 1), &[10.0, 0.5]),
+            look(&strips(4, 2), &[10.0, 0.500001]),
+            look(&strips(4, 1), &[10.0, 0.5]),
+            look(&strips(5, 1), &[10.0, 0.5]),
+            look(&strips(4, 1), &[11.0, 0.5]),
+        ];
+        let ranked = || population.iter().cloned().enumerate().map(|(i, l)| (l, i));
+        assert_eq!(distinct_looks(ranked(), 16), [0, 5, 6], "fewer cells when fewer looks exist");
+        let mut read = 0;
+        let counted = ranked().inspect(|_| read += 1);
+        assert_eq!(distinct_looks(counted, 2), [0, 5]);
+        assert_eq!(read, 6, "stops reading once it has enough");
+        assert!(look(&strips(4, 1), &[]).starts_with("surface 4 faces; 0 instances 0 polylines; bounds"));
     }
 
     #[test]

@@ -120,7 +120,7 @@ pub fn mean_sd_series(name: &str, color: &str, values: impl IntoIterator<Item = 
             band.push((x, m - sd, m + sd));
         }
     }
-    Series { name: name.to_string(), color: color.to_string(), points, band }
+    Series { band, ..Series::line(name, color, points) }
 }
 
 /// A colour for line `i` of a plot with many (matplotlib's tab10, cycled).

@@ -3,8 +3,8 @@
 
 use genform_core::Scene;
 use genform_evolve::GenerationStats;
+use genform_export::RenderOptions;
 use genform_export::plot::{Chart, Series, Tile, charts_svg, encode_png_rgb, gallery_rgb};
-use genform_export::{Camera, RenderOptions};
 use std::fmt::Write as _;
 
 /// One generation's line of `stats.csv`: the optimizer's statistics and
@@ -51,7 +51,10 @@ pub fn fitness_svg(title: &str, rows: &[Row]) -> String {
     charts_svg(&[fitness_by_generation(title, rows), fitness_by_time(rows)])
 }
 
-/// The max/avg/min fitness of `rows` against `x`.
+/// The max/avg/min fitness of `rows` against `x`. The y-axis follows max
+/// and avg; min is clipped to it: a population's worst individual is often
+/// far below (a broken design scores very low), and an axis stretched to it
+/// squashes the best and the mean into one line at the top.
 fn fitness_series(rows: &[Row], x: &dyn Fn(&Row) -> f64) -> Vec<Series> {
     [
         ("max", "#d62728", (|r: &Row| r.0.max) as fn(&Row) -> f64),
@@ -60,10 +63,8 @@ fn fitness_series(rows: &[Row], x: &dyn Fn(&Row) -> f64) -> Vec<Series> {
     ]
     .into_iter()
     .map(|(name, color, y)| Series {
-        name: name.into(),
-        color: color.into(),
-        points: rows.iter().map(|r| (x(r), y(r))).collect(),
-        band: Vec::new(),
+        scales_axis: name != "min",
+        ..Series::line(name, color, rows.iter().map(|r| (x(r), y(r))).collect())
     })
     .collect()
 }
@@ -90,8 +91,7 @@ pub fn fitness_by_time(rows: &[Row]) -> Chart {
 }
 
 /// `gallery.png`: the given scenes in a 4-column grid of 256×256 previews,
-/// each captioned with its rank and fitness, all seen through one camera
-/// fitted to them all (so sizes compare).
+/// each captioned with its rank and fitness under it.
 pub fn gallery_png(scenes: &[(Scene, f64)]) -> Vec<u8> {
     let tiles: Vec<(&Scene, String)> =
         scenes.iter().enumerate().map(|(i, (scene, fitness))| (scene, format!("#{} {:.4}", i + 1, fitness))).collect();
@@ -99,13 +99,18 @@ pub fn gallery_png(scenes: &[(Scene, f64)]) -> Vec<u8> {
 }
 
 /// [`gallery_png`] with the captions given (lines split at `\n`).
+///
+/// Every cell is framed on its own model (the renderer's fitted 3/4 view),
+/// so each model fills its cell. One camera fitted to all of them would
+/// keep sizes comparable, but the models rarely share a place: ships grow
+/// from the origin in different directions and lengths, so each one ended
+/// up small in a corner of a frame made for their union. Sizes are in the
+/// captions' descriptors and in `best.png`, which shows the target.
 pub fn gallery_png_captioned(scenes: &[(&Scene, String)]) -> Vec<u8> {
-    let bounds = scenes.iter().filter_map(|(s, _)| s.bounds(Default::default()));
-    let camera = bounds.reduce(|(a, b), (c, d)| (a.min(c), b.max(d))).map(Camera::fit);
     let tiles: Vec<Tile> = scenes
         .iter()
         .map(|(scene, caption)| {
-            let opts = RenderOptions { width: 256, height: 256, camera, ..RenderOptions::default() };
+            let opts = RenderOptions { width: 256, height: 256, camera: None, ..RenderOptions::default() };
             let (rgb, width, height) = genform_export::render_rgb(scene, &opts);
             Tile { rgb, width, height, caption: caption.clone() }
         })

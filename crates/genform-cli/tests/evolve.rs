@@ -167,6 +167,7 @@ fn compare_writes_the_table_the_csv_and_the_plot() {
     let svg = std::fs::read_to_string(tmp.path().join("c/comparison.svg")).unwrap();
     assert_eq!(svg.matches("<polyline").count(), 2);
     assert!(svg.contains(">ga<") && svg.contains(">sosmc<"));
+    common::assert_legends_clear("comparison.svg", &svg);
     assert!(tmp.path().join("c/best-ga-genome.json").exists() && tmp.path().join("c/best-sosmc-genome.json").exists());
 }
 

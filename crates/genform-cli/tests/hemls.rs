@@ -299,7 +299,7 @@ fn stochastic_grammar_repeats_by_seed_and_differs_by_seed() {
 }
 
 #[test]
-fn every_step_writes_a_mesh_per_step_or_one_overlaid_picture() {
+fn every_step_writes_a_mesh_per_step_or_one_picture_of_small_multiples() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let t4 = gr8("tiles4");
@@ -316,17 +316,51 @@ fn every_step_writes_a_mesh_per_step_or_one_overlaid_picture() {
     genform(dir, &["sample", s(&t4), "--out", "grid.obj"]).ok();
     assert_eq!(read(dir, "grid-step4.obj"), read(dir, "grid.obj"), "the last step is the surface");
 
+    // Pictures: small multiples, one labelled panel per step in a 3 × 2 grid.
     genform(dir, &["sample", s(&t4), "--every-step", "--out", "all.png"]).ok();
-    genform(dir, &["sample", s(&t4), "--out", "last.png"]).ok();
     let names: Vec<String> =
         std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(!names.iter().any(|n| n.starts_with("all-step")), "one picture: {names:?}");
     check_png("all", &read(dir, "all.png"));
-    assert_ne!(read(dir, "all.png"), read(dir, "last.png"), "the earlier steps are drawn too");
-    // The SVG overlay holds every step's edges: 4 + 12 + 40 + 144 + 544.
+    let (w, h, _) = read_png(&read(dir, "all.png"));
+    assert_eq!((w, h), (3 * 400 + 4 * 4, 2 * (300 + 18) + 3 * 4), "3 × 2 panels of 400 × 300 with a caption line");
+    // Every panel is seen through one camera: the step-0 square is drawn
+    // smaller than the last step's grid of the same size ×16 in faces.
+    let (w, rgb) = png_rgb(&read(dir, "all.png"));
+    let drawn = |x0: usize, y0: usize| {
+        (y0..y0 + 300)
+            .flat_map(|y| (x0..x0 + 400).map(move |x| (x, y)))
+            .filter(|&(x, y)| rgb[(y * w + x) * 3..][..3] != [236, 238, 241])
+            .count()
+    };
+    let (first, last) = (drawn(4, 4), drawn(4 + 404, 4 + 318 + 4));
+    assert!(first > 0 && last > 4 * first, "step 0 draws {first} pixels, step 4 {last}");
+    // The SVG: every step's edges and faces, each in its own framed cell with its label.
     genform(dir, &["sample", s(&t4), "--every-step", "--out", "all.svg"]).ok();
     let (lines, faces) = read_svg(&read(dir, "all.svg"));
-    assert_eq!((lines, faces), (744, 1 + 4 + 16 + 64 + 256));
+    assert_eq!((lines, faces), (744, 1 + 4 + 16 + 64 + 256), "4 + 12 + 40 + 144 + 544 edges");
+    let text = String::from_utf8(read(dir, "all.svg")).unwrap();
+    for (k, f) in [(0, "1 face"), (1, "4 faces"), (2, "16 faces"), (3, "64 faces"), (4, "256 faces")] {
+        assert!(text.contains(&format!(">step {k}: {f}</text>")), "label of step {k}");
+    }
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let frames: Vec<[f32; 2]> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("rect") && n.attribute("stroke") == Some("#bbbbbb"))
+        .map(|n| ["x", "y"].map(|a| n.attribute(a).unwrap().parse().unwrap()))
+        .collect();
+    assert_eq!(frames.len(), 5, "a frame per step");
+    assert!(frames.windows(2).all(|p| p[0] != p[1]), "no two steps drawn in one place");
+}
+
+/// An RGB PNG's width and pixels.
+fn png_rgb(bytes: &[u8]) -> (usize, Vec<u8>) {
+    let mut reader = png::Decoder::new(std::io::Cursor::new(bytes)).read_info().expect("png decodes");
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgb);
+    buf.truncate(info.buffer_size());
+    (info.width as usize, buf)
 }
 
 #[test]

@@ -55,6 +55,8 @@ fn sweep_writes_a_row_per_generation_of_every_value_and_run() {
     assert!(evals("1").contains(",0,12,"), "{}", evals("1"));
     let svg = read(&out, "sweep.svg");
     assert!(svg.contains("ga.population=8") && svg.contains("ga.population=12"), "one line per value");
+    let layout = common::assert_legends_clear("sweep.svg", &svg);
+    assert_eq!((layout.plots.len(), layout.legends.len()), (2, 1), "both panels share one legend");
     let summary = read(&out, "summary.md");
     assert_eq!(summary.lines().count(), 2 + 2, "{summary}");
     assert!(run.stdout().contains("| 12 | 2 |"), "the summary is printed:\n{}", run.show());

@@ -68,7 +68,7 @@ pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFormat, read_mesh};
 pub use obj::{write_obj, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
-pub use render::{Backdrop, Camera, RenderOptions, render_png, render_rgb, render_rgb_over};
+pub use render::{Backdrop, Camera, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over};
 pub use stl::write_stl;
 pub use svg::{SvgOptions, write_svg};
 

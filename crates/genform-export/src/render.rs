@@ -1,6 +1,6 @@
 //! A small software rasterizer for PNG previews.
 
-use crate::minecraft::{block_color, block_meshes};
+use crate::minecraft::{BlockMesh, block_color, block_meshes};
 use crate::palette::{GuideRole, edge_color, guide_color, lighten, linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
 use genform_core::scene::{Mesh, Primitive, Scene, Tessellation, triangulate_polygon};
@@ -241,24 +241,37 @@ fn render_over(
     (rgb, w, h)
 }
 
+/// The fitted 3/4 view of everything drawn (the scene, its block meshes
+/// and `ghosts`) for an image of `aspect = width / height`.
+fn auto_camera(scene: &Scene, shapes: &Shapes, blocks: &[BlockMesh], ghosts: &[Mesh], aspect: f32) -> Camera {
+    let mut pts = Vec::new();
+    finite_points(scene, shapes, |p| pts.push(p));
+    pts.extend(blocks.iter().flat_map(|m| m.mesh.positions.iter().copied()));
+    pts.extend(ghosts.iter().flat_map(|m| m.positions.iter().copied()).filter(|p| p.is_finite()));
+    let b =
+        pts.iter().fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
+    let mut cam = Camera::fit_aspect(b.unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5))), aspect);
+    refine(&mut cam, aspect, &pts);
+    cam
+}
+
+/// The camera [`render_rgb`] fits to `scene` when
+/// [`RenderOptions::camera`] is `None`, for an image of `width × height`.
+/// Rendering several scenes through the camera fitted to all of them
+/// together shows them at one scale, e.g. the steps of a growth, each
+/// drawn alone but in the frame of the last.
+pub fn fitted_camera(scene: &Scene, width: u32, height: u32) -> Camera {
+    let shapes = Shapes::new(scene, Tessellation::default());
+    let blocks = block_meshes(scene);
+    auto_camera(scene, &shapes, &blocks, &[], width.max(1) as f32 / height.max(1) as f32)
+}
+
 /// Draws instances, polygons and polylines into `r` (`ss` samples per pixel
 /// side).
 fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, ghosts: &[Mesh], tess: Tessellation, ss: usize) {
     let shapes = Shapes::new(scene, tess);
     let blocks = block_meshes(scene);
-    let camera = camera.unwrap_or_else(|| {
-        let aspect = r.w as f32 / r.h as f32;
-        let mut pts = Vec::new();
-        finite_points(scene, &shapes, |p| pts.push(p));
-        pts.extend(blocks.iter().flat_map(|m| m.mesh.positions.iter().copied()));
-        pts.extend(ghosts.iter().flat_map(|m| m.positions.iter().copied()).filter(|p| p.is_finite()));
-        let b = pts
-            .iter()
-            .fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
-        let mut cam = Camera::fit_aspect(b.unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5))), aspect);
-        refine(&mut cam, aspect, &pts);
-        cam
-    });
+    let camera = camera.unwrap_or_else(|| auto_camera(scene, &shapes, &blocks, ghosts, r.w as f32 / r.h as f32));
     let view = View::new(&camera, r.w, r.h);
     let colors: Vec<[f32; 3]> = scene.tags.iter().map(|t| tag_color(t).map(srgb_to_linear)).collect();
     let color_of = |tag: u32| colors.get(tag as usize).copied().unwrap_or([0.5; 3]);

@@ -355,23 +355,20 @@ impl Run<'_> {
         if scene.surfaces.is_empty() { scene.clone() } else { codon_report::z_up(scene) }
     }
 
-    /// The best distinct individuals (distinct models: phenotype text, or
-    /// the codons read), rendered with one shared camera.
+    /// The best individuals that look distinct ([`codon_report::look`]:
+    /// surface faces and vertices, bounds and the scorer's measures), at
+    /// most [`GALLERY`], each framed on its own model; fewer when the
+    /// population holds fewer distinct looks.
     fn gallery(&self, population: &[Individual<Codons>]) -> Vec<u8> {
-        let mut keys: Vec<String> = Vec::new();
-        let mut scenes: Vec<(Scene, f64)> = Vec::new();
-        for ind in population.iter().filter(|i| i.is_valid()) {
-            if scenes.len() == GALLERY {
-                break;
-            }
-            let Ok(e) = self.objective.express(&ind.genome) else { continue };
-            if keys.contains(&e.key) {
-                continue;
-            }
-            keys.push(e.key);
-            scenes.push((self.preview(&e.scene), ind.fitness));
-        }
-        report::gallery_png(&scenes)
+        let looks = population.iter().filter(|i| i.is_valid()).filter_map(|ind| {
+            let e = self.objective.express(&ind.genome).ok()?;
+            let measures: Vec<f64> = match &e.detail {
+                ScoreDetail::Surface(s) => s.components().iter().map(|c| c.measure).collect(),
+                ScoreDetail::Counts(c) => vec![c.good, c.bad, c.overlap, c.outside],
+            };
+            Some((codon_report::look(&e.scene, &measures), (self.preview(&e.scene), ind.fitness)))
+        });
+        report::gallery_png(&codon_report::distinct_looks(looks, GALLERY))
     }
 }
 

@@ -17,8 +17,12 @@ pub struct Hemls;
 /// Most Catmull–Clark steps `--smooth` takes (each multiplies the faces by about 4).
 pub const MAX_SMOOTH: u32 = 6;
 
-/// Pictures that overlay every step in one image with `--every-step`.
+/// Pictures that show every step in one image with `--every-step`: small
+/// multiples, one panel per step.
 const PICTURES: &[&str] = &[".png", ".svg"];
+
+/// Pixel size of one step's panel in an `--every-step` PNG.
+const PANEL_PX: (u32, u32) = (400, 300);
 
 impl Formalism for Hemls {
     fn name(&self) -> &'static str {
@@ -84,6 +88,8 @@ struct Grown {
     /// Every step's surface when `--every-step` was given (the last one is
     /// the final, smoothed, surface).
     steps: Vec<Surface>,
+    /// Catmull–Clark steps taken on the final surface.
+    smooth: u32,
     summary: String,
 }
 
@@ -151,7 +157,7 @@ impl LoadedGrammar for HemlsFile {
             raw.2,
             if smooth > 0 { format!(" (smoothed {smooth}×)") } else { String::new() }
         );
-        Ok(Box::new(Grown { scene, steps, summary }))
+        Ok(Box::new(Grown { scene, steps, smooth, summary }))
     }
 
     fn describe(&self) -> String {
@@ -212,6 +218,130 @@ fn step_path(out: &Path, k: usize) -> PathBuf {
     out.with_file_name(format!("{stem}-step{k}{ext}"))
 }
 
+/// Columns of a grid of `n` panels: about square, never more than 4 (a
+/// row of 5 800-pixel-wide steps would be too wide to read).
+fn grid_columns(n: usize) -> usize {
+    ((n as f64).sqrt().ceil() as usize).clamp(1, 4)
+}
+
+/// `scene` with every surface and guide moved by `by`.
+fn translated(scene: &Scene, by: glam::Vec3) -> Scene {
+    let mut s = scene.clone();
+    for surface in &mut s.surfaces {
+        surface.positions.iter_mut().for_each(|p| *p += by);
+    }
+    for g in &mut s.guides {
+        match &mut g.kind {
+            genform_core::GuideKind::Point { at, .. } => *at += by,
+            genform_core::GuideKind::Mesh(m) => {
+                let mut mesh = (**m).clone();
+                mesh.positions.iter_mut().for_each(|p| *p += by);
+                *m = std::sync::Arc::new(mesh);
+            }
+        }
+    }
+    s
+}
+
+impl Grown {
+    /// Step `k`'s surface with the environment's guides.
+    fn step_scene(&self, k: usize) -> Scene {
+        let mut one = self.scene.clone();
+        one.surfaces = vec![self.steps[k].clone()];
+        one
+    }
+
+    /// The label of step `k`: its number and faces (and the smoothing, on
+    /// the last step).
+    fn step_label(&self, k: usize) -> String {
+        let faces = self.steps[k].face_count();
+        let smoothed = if k + 1 == self.steps.len() && self.smooth > 0 {
+            format!(" (smoothed {}x)", self.smooth)
+        } else {
+            String::new()
+        };
+        format!("step {k}: {faces} face{}{smoothed}", if faces == 1 { "" } else { "s" })
+    }
+
+    /// The steps as small multiples in a PNG: one panel per step, labelled,
+    /// all through one camera fitted to every step together, so growth
+    /// reads as growth (the same place and scale in every panel).
+    fn steps_png(&self) -> Vec<u8> {
+        let (w, h) = PANEL_PX;
+        let mut all = self.scene.clone();
+        all.surfaces = self.steps.clone();
+        let camera = genform_export::fitted_camera(&crate::codon_report::z_up(&all), w, h);
+        let tiles: Vec<genform_export::plot::Tile> = (0..self.steps.len())
+            .map(|k| {
+                let opts =
+                    genform_export::RenderOptions { width: w, height: h, camera: Some(camera), ..Default::default() };
+                let (rgb, width, height) =
+                    genform_export::render_rgb(&crate::codon_report::z_up(&self.step_scene(k)), &opts);
+                genform_export::plot::Tile { rgb, width, height, caption: self.step_label(k) }
+            })
+            .collect();
+        let (rgb, w, h) = genform_export::plot::gallery_rgb(&tiles, grid_columns(tiles.len()));
+        genform_export::plot::encode_png_rgb(&rgb, w, h)
+    }
+
+    /// The steps as small multiples in an SVG drawing: step `k` moved to
+    /// cell `k` of a grid in the xy plane (all at one scale), each cell
+    /// framed, its label above the surface.
+    fn steps_svg(&self) -> Result<String> {
+        let points = self.steps.iter().flat_map(|s| s.positions.iter().copied()).filter(|p| p.is_finite());
+        let (lo, hi) = points
+            .fold(None, |b: Option<(glam::Vec3, glam::Vec3)>, p| Some(b.map_or((p, p), |(l, h)| (l.min(p), h.max(p)))))
+            .unwrap_or((glam::Vec3::ZERO, glam::Vec3::ONE));
+        let extent = (hi - lo).truncate().max(glam::Vec2::splat(1e-3 * (hi - lo).max_element().max(1e-3)));
+        let unit = extent.max_element();
+        let (pad, band, gap) = (0.06 * unit, 0.14 * unit, 0.05 * unit);
+        let cell = glam::Vec2::new(extent.x + 2.0 * pad, extent.y + 2.0 * pad + band);
+        let columns = grid_columns(self.steps.len());
+        let mut out = self.scene.clone();
+        out.surfaces.clear();
+        out.guides.clear();
+        let frame_tag = out.tag("step_frame");
+        let mut labels = Vec::new();
+        for k in 0..self.steps.len() {
+            let (c, r) = ((k % columns) as f32, (k / columns) as f32);
+            // Cells run right, then down; y points up.
+            let corner = glam::Vec2::new(c * (cell.x + gap), -r * (cell.y + gap));
+            let by = (corner + glam::Vec2::splat(pad) - lo.truncate()).extend(0.0);
+            let moved = translated(&self.step_scene(k), by);
+            out.surfaces.extend(moved.surfaces);
+            out.guides.extend(moved.guides);
+            out.shapes2d.push(genform_core::scene::Shape2d {
+                kind: genform_core::scene::Shape2dKind::Rect { min: corner, size: cell },
+                attributes: vec![
+                    ("fill".into(), "none".into()),
+                    ("stroke".into(), "#bbbbbb".into()),
+                    ("stroke-width".into(), format!("{}", 0.004 * unit)),
+                ],
+                tag: frame_tag,
+            });
+            labels.push((corner + glam::Vec2::new(pad, cell.y - 0.75 * band), self.step_label(k)));
+        }
+        let bytes = genform_export::export(&out, genform_export::Format::Svg, &Default::default())?;
+        let mut svg = String::from_utf8(bytes)?;
+        // The writer draws no text: the labels go in last, on top, in its
+        // y-down coordinates.
+        let end = svg.rfind("</svg>").ok_or_else(|| anyhow!("the SVG writer gave no closing tag"))?;
+        let text: String = labels
+            .iter()
+            .map(|(at, label)| {
+                format!(
+                    "<text x=\"{}\" y=\"{}\" font-family=\"sans-serif\" font-size=\"{}\" fill=\"#333333\">{label}</text>\n",
+                    at.x,
+                    -at.y,
+                    0.6 * band
+                )
+            })
+            .collect();
+        svg.insert_str(end, &text);
+        Ok(svg)
+    }
+}
+
 impl Sample for Grown {
     fn scene(&self) -> &Scene {
         &self.scene
@@ -228,10 +358,12 @@ impl Sample for Grown {
             write_surface_scene(&self.scene, out)?;
             return Ok(vec![out.to_path_buf()]);
         }
+        if ends_with_any(out, &[".png"]) {
+            crate::output::write_atomic(out, &self.steps_png())?;
+            return Ok(vec![out.to_path_buf()]);
+        }
         if ends_with_any(out, PICTURES) {
-            let mut overlay = self.scene.clone();
-            overlay.surfaces = self.steps.clone();
-            write_surface_scene(&overlay, out)?;
+            crate::output::write_atomic(out, self.steps_svg()?.as_bytes())?;
             return Ok(vec![out.to_path_buf()]);
         }
         let mut written = Vec::with_capacity(self.steps.len());

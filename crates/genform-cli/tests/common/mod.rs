@@ -143,3 +143,50 @@ pub fn interrupt_evolve(dir: &Path, scene: &Path, after: Duration) {
     assert!(run.out.status.success(), "Ctrl-C should end the run cleanly\n{}", run.show());
     assert!(started.elapsed() < Duration::from_secs(30), "the run must stop soon after Ctrl-C");
 }
+
+/// A chart as `charts_svg` lays it out: the image size, each data area
+/// (`<rect class="plot">`: `[x, y, w, h]`, x-axis and y-axis ranges) and
+/// each legend frame (`<rect class="legend">`: `[x, y, w, h]`).
+pub struct ChartLayout {
+    pub size: (f64, f64),
+    pub plots: Vec<([f64; 4], [f64; 2], [f64; 2])>,
+    pub legends: Vec<[f64; 4]>,
+}
+
+/// Reads a chart's layout back from its SVG text.
+pub fn chart_layout(svg: &str) -> ChartLayout {
+    let doc = roxmltree::Document::parse(svg).expect("the chart is well-formed XML");
+    let num = |n: roxmltree::Node, a: &str| -> f64 { n.attribute(a).unwrap().parse().unwrap() };
+    let pair = |n: roxmltree::Node, a: &str| -> [f64; 2] {
+        let v: Vec<f64> = n.attribute(a).unwrap().split(' ').map(|x| x.parse().unwrap()).collect();
+        [v[0], v[1]]
+    };
+    let rect = |n: roxmltree::Node| [num(n, "x"), num(n, "y"), num(n, "width"), num(n, "height")];
+    let class =
+        |c: &'static str| doc.descendants().filter(move |n| n.has_tag_name("rect") && n.attribute("class") == Some(c));
+    let root = doc.root_element();
+    ChartLayout {
+        size: (num(root, "width"), num(root, "height")),
+        plots: class("plot").map(|n| (rect(n), pair(n, "data-x-range"), pair(n, "data-y-range"))).collect(),
+        legends: class("legend").map(rect).collect(),
+    }
+}
+
+/// Asserts that a chart has a legend, and that every legend lies inside
+/// the image and off every data area.
+pub fn assert_legends_clear(name: &str, svg: &str) -> ChartLayout {
+    let layout = chart_layout(svg);
+    let (w, h) = layout.size;
+    assert!(!layout.plots.is_empty() && !layout.legends.is_empty(), "{name}: no data area or no legend");
+    for l in &layout.legends {
+        assert!(
+            l[0] >= 0.0 && l[1] >= 0.0 && l[0] + l[2] <= w && l[1] + l[3] <= h,
+            "{name}: legend {l:?} leaves {w}×{h}"
+        );
+        for (p, _, _) in &layout.plots {
+            let apart = l[0] >= p[0] + p[2] || p[0] >= l[0] + l[2] || l[1] >= p[1] + p[3] || p[1] >= l[1] + l[3];
+            assert!(apart, "{name}: legend {l:?} covers the data area {p:?}");
+        }
+    }
+    layout
+}
