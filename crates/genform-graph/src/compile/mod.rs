@@ -290,12 +290,23 @@ impl Cx {
 
     /// A host coordinate: a number or a formula of constants.
     fn host_number(&mut self, w: &Written, globals: &[(String, GlobalInfo)]) -> f64 {
+        // A NaN or infinite coordinate would silently vanish from drawings.
+        let finite = |cx: &mut Self, v: f64, span: Span| {
+            if v.is_finite() {
+                return v;
+            }
+            cx.error(span, format!("a host coordinate must be a finite number, not {v}"));
+            0.0
+        };
         match w {
-            Written::Num(v, _) => *v,
+            Written::Num(v, span) => finite(self, *v, *span),
             Written::Str(f) => {
                 let scope = GlobalScope { before: globals };
                 match self.scalar(f, &scope, "a host coordinate") {
-                    Some(p) if p.loads().next().is_none() && !p.uses_rng() => p.eval(&[]),
+                    Some(p) if p.loads().next().is_none() && !p.uses_rng() => {
+                        let v = p.eval(&[]);
+                        finite(self, v, f.content_span())
+                    }
                     Some(_) => {
                         self.error(f.content_span(), "a host coordinate must be a constant")
                             .hints
