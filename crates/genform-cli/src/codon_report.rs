@@ -200,7 +200,7 @@ mod tests {
         // 3 panels: max/avg/min twice, size + symmetry + total once.
         assert_eq!(svg.matches("<polyline").count(), 9, "{svg}");
         assert!(svg.contains("symmetry") && svg.contains("total"));
-        assert!(svg.contains("contribution −w·e of each criterion"), "the form names the contribution");
+        assert!(svg.contains("contribution −w·e per criterion"), "the form names the contribution");
         assert_eq!(fitness_svg("t", &[row(0), row(1)], &[], "w/(1+e)").matches("<polyline").count(), 6);
     }
 
