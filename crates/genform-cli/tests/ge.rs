@@ -93,7 +93,7 @@ fn genr8_paper_form_evolves_and_rescores_to_the_bit() {
     let text = rescores_exactly(tmp.path(), &scene, &r);
     assert!(text.contains("(paper form, max reachable 0)"), "{text}");
     let svg = std::fs::read_to_string(tmp.path().join("run/fitness.svg")).unwrap();
-    assert!(svg.contains("contribution −w·e of each criterion"));
+    assert!(svg.contains("contribution −w·e per criterion"));
     // Deterministic: the same seed evolves the same best genome.
     let first = std::fs::read(tmp.path().join("run/best-codons.json")).unwrap();
     ok(tmp.path(), &["evolve", scene.to_str().unwrap(), "--seed", "2", "--out", "again", "-q", "--threads", "2"]);
