@@ -72,6 +72,19 @@ pub enum Command {
     Serve(ServeArgs),
 }
 
+/// Most worker threads a run may ask for: each has its own stack and
+/// scratch buffers, and no machine this runs on has more cores.
+pub const MAX_THREADS: usize = 1024;
+
+/// Parses `--threads`: 1 to [`MAX_THREADS`].
+fn thread_count(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if (1..=MAX_THREADS).contains(&n) => Ok(n),
+        Ok(_) => Err(format!("must be 1 to {MAX_THREADS} (the default uses every core)")),
+        Err(_) => Err(format!("`{text}` is not a whole number of threads")),
+    }
+}
+
 /// Arguments of `genform serve`.
 #[derive(Debug, Args)]
 pub struct ServeArgs {
@@ -340,7 +353,7 @@ pub struct EvolveArgs {
     #[arg(long, value_name = "N")]
     pub evaluations: Option<u64>,
     /// Worker threads (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = thread_count)]
     pub threads: Option<usize>,
     /// Output folder for the best model, genome, statistics and plots.
     #[arg(long, short, default_value = "evolve-out")]
@@ -383,7 +396,7 @@ pub struct CompareArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads of each run (default: all cores); runs go one after another.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = thread_count)]
     pub threads: Option<usize>,
     /// Output folder for comparison.csv, comparison.svg and each algorithm's best genome.
     #[arg(long, short, default_value = "compare-out")]
@@ -431,7 +444,7 @@ pub struct SweepArgs {
     #[arg(long, value_enum, default_value = "ga")]
     pub algorithm: Algorithm,
     /// Worker threads shared by all runs (default: all cores). Results do not depend on it.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", value_parser = thread_count)]
     pub threads: Option<usize>,
     /// Output folder for sweep.csv, sweep.svg and summary.md.
     #[arg(long, short, default_value = "sweep-out")]

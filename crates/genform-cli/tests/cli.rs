@@ -200,3 +200,16 @@ fn outputs_never_overwrite_the_commands_inputs() {
     assert_eq!(std::fs::read_to_string(tmp.path().join("ship.sg")).unwrap(), text);
     assert!(std::fs::read_to_string(tmp.path().join("g.json")).unwrap().starts_with(['{', '[']));
 }
+
+/// `--threads` is bounded: a hundred thousand threads is refused with the
+/// range before any run starts.
+#[test]
+fn thread_counts_are_bounded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("examples/scenes/spaceship_volume.toml");
+    for n in ["100000", "0", "many"] {
+        let err = genform(tmp.path(), &["evolve", s(&scene), "--generations", "1", "--threads", n]).fails().stderr();
+        assert!(err.contains("--threads"), "{n}: {err}");
+    }
+    assert!(!tmp.path().join("evolve-out").exists());
+}
