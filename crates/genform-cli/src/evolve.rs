@@ -26,7 +26,7 @@ use genform_export::{ExportOptions, Format, RenderOptions};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::path::Path;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::args::{Algorithm, CompareArgs, EvolveArgs, ScoreArgs};
@@ -236,16 +236,30 @@ fn worker_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new().num_threads(threads.unwrap_or(0)).build().context("cannot start worker threads")
 }
 
-/// A flag set by Ctrl-C; a second Ctrl-C quits at once.
+/// Ctrl-Cs received so far.
+static INTERRUPTS: AtomicUsize = AtomicUsize::new(0);
+
+/// A flag set by Ctrl-C. The run stops and writes its results; a second
+/// Ctrl-C (often a key held or pressed twice) does not cut that short but
+/// makes the process exit with 130 once they are written; a third quits at
+/// once.
 pub(crate) fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let _ = ctrlc::set_handler(move || {
-        if flag.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
+        flag.store(true, Ordering::SeqCst);
+        match INTERRUPTS.fetch_add(1, Ordering::SeqCst) + 1 {
+            1 => {}
+            2 => eprintln!("\nsaving the results first; Ctrl-C once more quits without them"),
+            _ => std::process::exit(130),
         }
     });
     cancel
+}
+
+/// Whether Ctrl-C came at least twice (the command then exits with 130).
+pub(crate) fn interrupted_twice() -> bool {
+    INTERRUPTS.load(Ordering::SeqCst) >= 2
 }
 
 /// The scene file's name without its ending, for plot titles.

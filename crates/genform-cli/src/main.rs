@@ -11,6 +11,9 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = args::parse();
     match commands::run(cli) {
+        // Interrupted twice: the results were saved all the same, and the
+        // exit status says the user asked to quit.
+        Ok(()) if evolve::interrupted_twice() => ExitCode::from(130),
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Diagnostics print with their own `Error:` headers; only the summary gets `error:`.

@@ -101,6 +101,32 @@ fn config_mistakes_name_the_file_and_the_key() {
     assert!(err.contains("nope.obj"), "{err}");
 }
 
+/// Two Ctrl-Cs 5 ms apart (a key pressed twice): the results are written
+/// all the same and the exit status is 130.
+#[test]
+fn a_double_ctrl_c_keeps_the_results_and_exits_130() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_genform"))
+        .current_dir(tmp.path())
+        .args(["evolve", scene.to_str().unwrap(), "--budget", "10m", "--out", "run", "-q"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    let pid = child.id().to_string();
+    for _ in 0..2 {
+        assert!(std::process::Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(json(&tmp.path().join("run/run.json"))["stopped_by"], "interrupted");
+    assert!(json(&tmp.path().join("run/best-genome.json")).is_object());
+    assert!(std::fs::read_to_string(tmp.path().join("run/stats.csv")).unwrap().lines().count() > 1);
+}
+
 #[test]
 fn ctrl_c_ends_the_run_and_writes_the_results() {
     let tmp = tempfile::tempdir().unwrap();
