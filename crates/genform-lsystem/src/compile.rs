@@ -492,6 +492,20 @@ impl Compiler {
         let scope = RuleScope { formals: &formals, state: &self.state, locals: &[], defines: &self.defines };
         let cond = p.cond.as_ref().and_then(|e| program(e, &scope, &mut self.errors));
         let weight = p.weight.as_ref().and_then(|e| program(e, &scope, &mut self.errors));
+        // A weight known now must be a usable one; weights that read
+        // parameters are checked where they are drawn (below zero counts as 0).
+        if let (Some(w), Some(e)) = (&weight, &p.weight)
+            && w.loads().next().is_none()
+            && !w.uses_rng()
+        {
+            let v = w.eval(&[]);
+            if !(v.is_finite() && v >= 0.0) {
+                self.errors.push(
+                    Diagnostic::error(e.ast.span.shift(e.at), format!("a production weight must be ≥ 0, not {v}"))
+                        .with_hint("weights are relative chances: write 0 to switch a production off"),
+                );
+            }
+        }
         let mut progs = Vec::new();
         let mut failed = false;
         for call in &p.successor {
