@@ -106,6 +106,10 @@ fn box_split_errors_are_clear() {
     .fails()
     .stderr();
     assert!(err.contains("observed region itself"), "{err}");
+    for corners in ["0,0,0,2147483647,3,3", "-2147483648,0,0,3,3,3", "0,0,0,30000001,3,3"] {
+        let err = genform(tmp.path(), &["sample", s(&castle), "--box", corners]).fails().stderr();
+        assert!(err.contains("past the edge of a Minecraft world"), "{corners}: {err}");
+    }
     std::fs::write(tmp.path().join("bad.bsg"), "axiom A;\nA { when X > 100 { fill stone } }\n").unwrap();
     let run = genform(tmp.path(), &["sample", "bad.bsg", "--box", "0,0,0,3,3,3", "--trace", "t.json"]).fails();
     assert!(run.stderr().contains("bad.bsg: the derivation failed") && run.stderr().contains('A'), "{}", run.stderr());

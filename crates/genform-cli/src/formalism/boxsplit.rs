@@ -231,9 +231,18 @@ pub fn parse_box(text: &str) -> Result<(IVec3, IVec3)> {
     let [x0, y0, z0, x1, y1, z1] = v[..] else {
         bail!("--box `{text}`: expected six integers x0,y0,z0,x1,y1,z1 (two opposite corners, inclusive)");
     };
+    if let Some(v) = v.iter().find(|v| v.unsigned_abs() > MAX_COORDINATE) {
+        bail!(
+            "--box `{text}`: {v} is past the edge of a Minecraft world; coordinates must lie within ±{MAX_COORDINATE}"
+        );
+    }
     let (a, b) = (IVec3::new(x0, y0, z0), IVec3::new(x1, y1, z1));
     Ok((a.min(b), a.max(b) + IVec3::ONE))
 }
+
+/// Largest `--box` coordinate: a Minecraft world's border (so the exclusive
+/// corner and region arithmetic never overflow).
+pub const MAX_COORDINATE: u32 = 30_000_000;
 
 /// The region files a box needs and the coordinates of those not found.
 struct World {
