@@ -326,6 +326,20 @@ fn primitive_limit_is_an_error() {
     assert!(e.to_string().contains("more than 0 primitives"));
 }
 
+/// Interpretation rules that double a straight line 25 times would draw 2²⁵
+/// segments into one polyline (one primitive): segments count against the
+/// limit, so the turtle stops at it.
+#[test]
+fn segments_of_one_line_count_against_the_primitive_limit() {
+    let s = system("axiom: F\ninterpretation:\nmaxdepth: 25\nF -> FF\n");
+    let mut scene = Scene::new();
+    let e = s.interpret(&s.axiom, &mut Rng::from_seed(0), 1000, &mut scene).unwrap_err();
+    assert!(e.to_string().contains("more than 1000 primitives"), "{e}");
+    let short = system("axiom: F\ninterpretation:\nmaxdepth: 9\nF -> FF\n");
+    let end = short.interpret(&short.axiom, &mut Rng::from_seed(0), 1000, &mut Scene::new()).unwrap();
+    assert_eq!(end.segments, 512);
+}
+
 mod generator {
     use super::*;
     use crate::generator::{GeneratorError, LsGenerator};

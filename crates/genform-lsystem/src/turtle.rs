@@ -372,6 +372,9 @@ impl Turtle<'_> {
         let width = self.state.width * self.state.scale;
         let tag = self.tag(self.state.color);
         self.segments += 1;
+        // Segments that extend one polyline add no primitive, yet each costs
+        // memory and time: they count against the limit too.
+        self.over |= self.segments > self.limit;
         if self.dry {
             // Only the state moves.
         } else if let (Some(k), View::Solid) = (self.state.cylinder, st.view) {
