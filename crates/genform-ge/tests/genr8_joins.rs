@@ -72,3 +72,30 @@ fn measure() {
         }
     }
 }
+
+/// Evolved systems under every reading: `GENFORM_GR8="a.gr8 b.gr8" cargo
+/// test --release -p genform-ge --test genr8_joins -- --ignored --nocapture`
+/// (docs/hemls.md measures the bests of `genform evolve` runs).
+#[test]
+#[ignore]
+fn measure_files() {
+    let Ok(paths) = std::env::var("GENFORM_GR8") else { return };
+    for join in JoinTest::ALL {
+        let settings = Settings { steps: 4, join, ..Settings::default() };
+        let (mut faces, mut branches, mut joins, mut four, mut n) = (Vec::new(), 0, 0, 0, 0);
+        for p in paths.split_whitespace() {
+            let text = std::fs::read_to_string(p).unwrap();
+            let h = genform_hemls::parse_str(p, &text).unwrap_or_else(|e| panic!("{}", e.short()));
+            let g = genform_hemls::grow(&h, &settings, &Environment::default(), &mut Rng::from_seed(0)).unwrap();
+            faces.push(g.map.face_count());
+            four += usize::from(g.map.face_count() >= 4);
+            n += 1;
+            (branches, joins) = (branches + g.branches, joins + g.joins);
+        }
+        println!(
+            "{:7} files {n} >=4 faces {four} branches joined {:.1}% faces {faces:?}",
+            join.name(),
+            200.0 * joins as f64 / branches.max(1) as f64
+        );
+    }
+}
