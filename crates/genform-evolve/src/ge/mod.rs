@@ -18,6 +18,17 @@
 //! order, so a seed gives the same populations and statistics at any
 //! thread count.
 //!
+//! When the objective tells which codons its mapping reads
+//! ([`Objective::expressed`]), three things change (each a [`GeConfig`]
+//! switch): crossover cuts and mutation fall inside the read codons
+//! (`effective`, PonyGE2's effective operators); a child whose read codons
+//! were evaluated before is point-mutated until it reads something new,
+//! sequentially from its own stream `(seed, GE_NOVEL_STREAM, generation,
+//! child)` (`novel_children`); and with `distinct_parents` only the first
+//! of members with bit-identical fitness can be selected. The Genr8 scenes
+//! stalled without them: most children re-read a parent's codons, and the
+//! population filled with copies of one surface (docs/evolve.md).
+//!
 //! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
 //! - [`operators`]: random genomes, crossover, mutation.
 //! - [`random`]: [`CodonRandom`], the random-search baseline.
