@@ -622,6 +622,14 @@ impl Objective<Codons> for CodonObjective {
             }
         }
     }
+
+    /// GE scenes: the codons the mapper reads (mapping only); the other
+    /// decoders read codons during derivation, so they do not say.
+    fn expressed(&self, codons: &Codons, s: &mut CodonScratch) -> Option<usize> {
+        let mapper = s.mapper.as_mut()?;
+        let out = mapper.map(codons);
+        Some(if out.wraps > 0 { codons.len() } else { out.used_codons.min(codons.len()) })
+    }
 }
 
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a

@@ -592,6 +592,10 @@ impl<G, O: Objective<G>> Objective<G> for ByRef<'_, O> {
     fn evaluate_described(&self, genome: &G, scratch: &mut O::Scratch, descriptors: &mut [f64; 2]) -> f64 {
         self.0.evaluate_described(genome, scratch, descriptors)
     }
+
+    fn expressed(&self, genome: &G, scratch: &mut O::Scratch) -> Option<usize> {
+        self.0.expressed(genome, scratch)
+    }
 }
 
 /// The run loop of `evolve` (and of `genform serve`'s runs): the progress

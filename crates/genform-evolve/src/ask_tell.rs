@@ -35,13 +35,18 @@ pub struct AskTell<G = Genome, P = AnyOptimizer> {
     pending: Vec<G>,
     pool: rayon::ThreadPool,
     rounds: usize,
+    expressed: Option<Box<ExpressedFn<G>>>,
 }
+
+/// What a genome's decoding reads ([`Objective::expressed`]), for replays.
+type ExpressedFn<G> = dyn Fn(&G) -> Option<usize> + Send + Sync;
 
 /// The objective of a replayed generation: scores told so far; unknown
 /// genomes are recorded.
 struct Replay<'a, G> {
     known: &'a HashMap<G, Score>,
     missing: Mutex<Vec<G>>,
+    expressed: Option<&'a ExpressedFn<G>>,
 }
 
 impl<G: Clone + Eq + Hash> Replay<'_, G> {
@@ -70,13 +75,25 @@ impl<G: Clone + Eq + Hash + Send + Sync> Objective<G> for Replay<'_, G> {
         *descriptors = d;
         f
     }
+
+    fn expressed(&self, genome: &G, _: &mut ()) -> Option<usize> {
+        self.expressed.and_then(|f| f(genome))
+    }
 }
 
 impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell<G, P> {
     /// Drives `opt` by ask/tell.
     pub fn new(opt: P) -> Result<Self, String> {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| e.to_string())?;
-        Ok(AskTell { opt, known: HashMap::new(), pending: Vec::new(), pool, rounds: 0 })
+        Ok(AskTell { opt, known: HashMap::new(), pending: Vec::new(), pool, rounds: 0, expressed: None })
+    }
+
+    /// Tells replays what each genome's decoding reads (the objective's
+    /// [`Objective::expressed`]), so that GE's effective operators and
+    /// novel children act as in a direct run.
+    pub fn with_expressed(mut self, f: impl Fn(&G) -> Option<usize> + Send + Sync + 'static) -> Self {
+        self.expressed = Some(Box::new(f));
+        self
     }
 
     /// The optimizer as of the last completed generation.
@@ -121,7 +138,8 @@ impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell
             return Err(format!("the optimizer asked for new genomes {MAX_ROUNDS} times in one generation"));
         }
         let mut trial = self.opt.clone();
-        let replay = Replay { known: &self.known, missing: Mutex::new(Vec::new()) };
+        let replay =
+            Replay { known: &self.known, missing: Mutex::new(Vec::new()), expressed: self.expressed.as_deref() };
         let stats = self.pool.install(|| trial.step(&replay));
         let missing = replay.missing.into_inner().expect("not poisoned");
         if missing.is_empty() {
@@ -168,5 +186,32 @@ mod tests {
             assert_eq!(driven.optimizer().population(), direct.population());
         }
         assert!(driven.tell(&[]).unwrap_err().contains("without ask"));
+    }
+
+    #[test]
+    fn ge_with_effective_operators_replays_like_a_direct_run() {
+        use crate::fixtures::PrefixToy;
+        use crate::ge::{Codons, Ge, GeConfig};
+        let config = GeConfig { population: 16, mutation_rate: 0.05, ..GeConfig::default() };
+        let mut direct = Ge::new(config.clone(), 11).unwrap();
+        let mut driven = AskTell::new(Ge::new(config, 11).unwrap())
+            .unwrap()
+            .with_expressed(|c: &Codons| PrefixToy.expressed(c, &mut ()));
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        for _ in 0..6 {
+            pool.install(|| direct.step(&PrefixToy));
+            loop {
+                let (batch, _) = driven.ask().unwrap();
+                let scores: Vec<Score> =
+                    batch.iter().map(|g| (PrefixToy.evaluate(g, &mut ()), [f64::NAN; 2])).collect();
+                if driven.tell(&scores).unwrap().is_some() {
+                    break;
+                }
+            }
+            let key = |p: &[crate::Individual<Codons>]| {
+                p.iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>()
+            };
+            assert_eq!(key(driven.optimizer().population()), key(direct.population()));
+        }
     }
 }

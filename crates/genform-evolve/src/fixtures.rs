@@ -137,6 +137,37 @@ impl Objective<Codons> for SevensToy {
     }
 }
 
+/// A toy codon objective that, like a GE mapper, reads a prefix whose
+/// length the genome decides: the first codon picks `k = 8 + c₀ mod 16`,
+/// and the fitness is how many of the first `k` codons are ≡ 0 (mod 7)
+/// (NaN when the genome is shorter than `k`). It tells GE what it reads.
+#[derive(Clone, Copy, Debug)]
+pub struct PrefixToy;
+
+impl PrefixToy {
+    fn reads(codons: &Codons) -> usize {
+        codons.first().map_or(0, |c| 8 + (c % 16) as usize)
+    }
+}
+
+impl Objective<Codons> for PrefixToy {
+    type Scratch = ();
+
+    fn scratch(&self) {}
+
+    fn evaluate(&self, codons: &Codons, _: &mut ()) -> f64 {
+        let k = Self::reads(codons);
+        if k == 0 || codons.len() < k {
+            return f64::NAN;
+        }
+        codons[..k].iter().filter(|&&c| c % 7 == 0).count() as f64
+    }
+
+    fn expressed(&self, codons: &Codons, _: &mut ()) -> Option<usize> {
+        Some(Self::reads(codons).min(codons.len()))
+    }
+}
+
 /// A toy codon objective: match a target codon sequence.
 /// `fitness = −Σ_i |codon_i − target_i|` over the target's positions; a
 /// missing codon costs 1000. 0 is a perfect match.

@@ -45,6 +45,17 @@ pub trait Objective<G = Genome>: Sync {
         *descriptors = [f64::NAN; 2];
         self.evaluate(genome, scratch)
     }
+
+    /// How many leading genes of `genome` decoding reads (a GE mapper's
+    /// codons read; the whole genome when reading wrapped), or `None` when
+    /// the objective cannot tell. Grammatical evolution crosses over and
+    /// mutates inside this region, as PonyGE2's effective operators do: a
+    /// change in the unread tail gives the parent's phenotype again. It
+    /// must be cheap (mapping, no growth or scoring) and deterministic.
+    fn expressed(&self, genome: &G, scratch: &mut Self::Scratch) -> Option<usize> {
+        let _ = (genome, scratch);
+        None
+    }
 }
 
 /// An [`Objective`] from a plain function (no scratch), for tests and small

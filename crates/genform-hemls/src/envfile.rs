@@ -10,6 +10,7 @@
 //! fixed_perimeter = false        # -fp
 //! branch_angle = 30              # -ba (degrees, 0–90)
 //! branch_length = -1             # -bl (negative: no limit)
+//! join = "scalar"                # scalar (default), facing, cone or paper
 //! gravity = { axis = "z", magnitude = -0.1 }   # -g z -0.1
 //! min_distance = 0.001           # genform: smallest distance the charge law uses
 //!
@@ -186,6 +187,7 @@ const TOP_KEYS: &[&str] = &[
     "fixed_perimeter",
     "branch_angle",
     "branch_length",
+    "join",
     "gravity",
     "min_distance",
     "attractor",
@@ -260,6 +262,19 @@ impl Reader {
         }
         if let Some(v) = root.get("branch_length") {
             s.branch_length = self.number(v, "branch_length").unwrap_or(s.branch_length);
+        }
+        if let Some(v) = root.get("join")
+            && let Some(name) = self.string(v, "join")
+        {
+            match crate::settings::JoinTest::from_name(name) {
+                Some(t) => s.join = t,
+                None => {
+                    self.error(
+                        span_of(v),
+                        format!("`join` must be \"facing\", \"cone\", \"paper\" or \"scalar\", not \"{name}\""),
+                    );
+                }
+            }
         }
         if let Some(v) = root.get("limits") {
             self.limits(v, &mut s.limits);

@@ -106,6 +106,10 @@ pub struct Growth {
     pub steps: Vec<StepStats>,
     /// Vertices of the final surface on the wrong side of a soft boundary.
     pub outside_soft: u32,
+    /// Branches drawn over the whole growth (each is joined or removed).
+    pub branches: u64,
+    /// Joins made (each consumes two branches).
+    pub joins: u64,
 }
 
 impl Growth {
@@ -154,7 +158,7 @@ pub fn grow_with(
     } else {
         0
     };
-    Ok(Growth { map: eng.map, steps, outside_soft })
+    Ok(Growth { map: eng.map, steps, outside_soft, branches: eng.joiner.added, joins: eng.joiner.joined })
 }
 
 fn invalid(message: String) -> GrowError {
@@ -320,7 +324,7 @@ impl<'a> Engine<'a> {
             scratch: Vec::new(),
             pass_normals: Vec::new(),
             pass_first_vertex: 0,
-            prm: JoinParams { cos: 0.0, max_d2: f64::INFINITY },
+            prm: JoinParams::new(0.0, f64::INFINITY, s.join),
         }
     }
 
@@ -336,7 +340,7 @@ impl<'a> Engine<'a> {
         } else {
             f64::INFINITY
         };
-        self.prm = JoinParams { cos: beta.to_radians().cos(), max_d2 };
+        self.prm = JoinParams::new(beta.to_radians().cos(), max_d2, s.join);
         self.stamp.clear();
         let first_new = self.map.pos.len();
         let result = self.rewrite_and_join(step, draws);

@@ -63,10 +63,31 @@ type Candidate = (u64, u32, u32, u32, u32);
 /// The join criteria of one pass.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct JoinParams {
-    /// cos β.
-    pub cos: f64,
+    /// Largest scalar product of the two directions: −cos β for the
+    /// anti-parallel readings, cos β for the literal one.
+    pub max_dot: f64,
     /// Largest squared base distance (infinite when unlimited).
     pub max_d2: f64,
+    /// cos of the half-angle of the cone each base must lie in around the
+    /// other branch: cos β for the cone test, 0 for the facing test, −∞ for
+    /// none.
+    pub cone_cos: f64,
+}
+
+impl JoinParams {
+    /// The criteria for BranchAngle `cos` with no distance limit and `test`.
+    pub fn new(cos: f64, max_d2: f64, test: crate::settings::JoinTest) -> Self {
+        use crate::settings::JoinTest;
+        let cone_cos = match test {
+            JoinTest::Cone => cos,
+            // A hair above 0: a partner exactly beside the branch (a
+            // chord at 90° to it) is not in front of it.
+            JoinTest::Facing | JoinTest::Scalar => 1e-6,
+            JoinTest::Paper => f64::NEG_INFINITY,
+        };
+        let max_dot = if test == JoinTest::Scalar { cos } else { -cos };
+        JoinParams { max_dot, max_d2, cone_cos }
+    }
 }
 
 /// Pending branches of the current step and the scratch space of matching
@@ -86,6 +107,10 @@ pub(crate) struct Joiner {
     heap: BinaryHeap<Reverse<Candidate>>,
     /// Largest face group matched by brute force.
     pub brute_force_max: usize,
+    /// Branches added since creation (statistics, never reset by `clear`).
+    pub added: u64,
+    /// Joins made since creation.
+    pub joined: u64,
 }
 
 impl Default for Joiner {
@@ -103,6 +128,8 @@ impl Default for Joiner {
             bvh: Bvh::default(),
             heap: BinaryHeap::new(),
             brute_force_max: 32,
+            added: 0,
+            joined: 0,
         }
     }
 }
@@ -110,7 +137,7 @@ impl Default for Joiner {
 /// Whether p and q pass the static join tests; their squared distance.
 #[inline]
 fn compatible(pos: &[DVec3], a: &Pending, b: &Pending, prm: JoinParams) -> Option<f64> {
-    if a.kind != b.kind || a.base == b.base || a.dir.dot(b.dir) > -prm.cos + EPS {
+    if a.kind != b.kind || a.base == b.base || a.dir.dot(b.dir) > prm.max_dot + EPS {
         return None;
     }
     let v = pos[b.base as usize] - pos[a.base as usize];
@@ -118,7 +145,7 @@ fn compatible(pos: &[DVec3], a: &Pending, b: &Pending, prm: JoinParams) -> Optio
     if !(d2 > 0.0 && d2 <= prm.max_d2) {
         return None;
     }
-    let lim = (prm.cos - EPS) * d2.sqrt();
+    let lim = (prm.cone_cos - EPS) * d2.sqrt();
     (v.dot(a.dir) >= lim && -v.dot(b.dir) >= lim).then_some(d2)
 }
 
@@ -140,6 +167,7 @@ impl Joiner {
         self.vert_head[base as usize] = i;
         self.branches.push(Pending { base, kind, face, next_at, dir, reversed, alive: true });
         self.alive.push(i);
+        self.added += 1;
     }
 
     /// Reserves room for `n` more branches.
@@ -252,7 +280,8 @@ impl Joiner {
         step: u32,
     ) -> Result<(), GrowError> {
         self.bvh.build(&self.group, &self.branches, &map.pos);
-        let beta = (prm.cos - EPS).clamp(-1.0, 1.0).acos();
+        // The cone's half-angle (π: no cone, nothing pruned by it).
+        let beta = (prm.cone_cos - EPS).clamp(-1.0, 1.0).acos();
         self.heap.clear();
         for &p in &self.group {
             if let Some((d, lo, hi, q)) = self.bvh.query(p, &self.branches, map, prm, beta) {
@@ -287,6 +316,7 @@ impl Joiner {
         if map.face_count() >= limits.max_faces {
             return Err(GrowError::Limit { what: "faces", limit: limits.max_faces, step });
         }
+        self.joined += 1;
         let (bp, bq) = (self.branches[p as usize], self.branches[q as usize]);
         let (u, v, f) = (bp.base, bq.base, bp.face);
         self.branches[p as usize].alive = false;
@@ -451,7 +481,7 @@ impl Bvh {
         }
         // Smallest d·e over the direction box must reach −cos β.
         let m = (d * node.dlo).min(d * node.dhi);
-        if m.x + m.y + m.z > -prm.cos + EPS {
+        if m.x + m.y + m.z > prm.max_dot + EPS {
             return None;
         }
         // The box's bounding sphere must meet the cone around d.
@@ -519,6 +549,7 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::grammar::AxiomSide;
+    use crate::settings::JoinTest;
 
     /// A regular n-gon (one face) with `per_vertex` inward branches at every
     /// vertex, their directions fanned by a deterministic jitter.
@@ -537,7 +568,7 @@ mod tests {
                 j.add(&map, v, dir, (s >> 20) as u32 % 2, 1, false);
             }
         }
-        let prm = JoinParams { cos, max_d2: f64::INFINITY };
+        let prm = JoinParams::new(cos, f64::INFINITY, JoinTest::Cone);
         j.pass(&mut map, prm, &GrowthLimits::default(), 1).unwrap();
         map.validate().unwrap();
         map
@@ -570,7 +601,7 @@ mod tests {
         j.add(&map, 0, DVec3::new(1.0, -0.1, 0.0).normalize(), 9, 1, false);
         j.pass(
             &mut map,
-            JoinParams { cos: 30f64.to_radians().cos(), max_d2: f64::INFINITY },
+            JoinParams::new(30f64.to_radians().cos(), f64::INFINITY, JoinTest::Cone),
             &GrowthLimits::default(),
             1,
         )
@@ -589,6 +620,41 @@ mod tests {
     }
 
     #[test]
+    fn the_four_readings_of_the_orientation_criterion() {
+        // Square corners 0 and 2; branches of one type at both.
+        let sides = vec![AxiomSide { kind: 0, reversed: false }; 4];
+        let base = Map::seed(&sides, 1.0, DVec3::ZERO);
+        let joins = |d0: DVec3, d2: DVec3, test: JoinTest| {
+            let mut map = base.clone();
+            let mut j = Joiner::default();
+            j.add(&map, 0, d0.normalize(), 0, 1, false);
+            j.add(&map, 2, d2.normalize(), 0, 1, false);
+            let prm = JoinParams::new(30f64.to_radians().cos(), f64::INFINITY, test);
+            j.pass(&mut map, prm, &GrowthLimits::default(), 1).unwrap();
+            assert_eq!(j.joined as usize, map.face_count() - 1);
+            map.face_count() == 2
+        };
+        let diag = DVec3::new(1.0, -1.0, 0.0);
+        let rot = |deg: f64, v: DVec3| glam::DQuat::from_rotation_z(deg.to_radians()) * v;
+        // Exactly opposite along the chord: every reading joins.
+        assert!(JoinTest::ALL.iter().all(|&t| joins(diag, -diag, t)));
+        // Anti-parallel, both 40° off the chord: not in the cone.
+        let (a, b) = (rot(40.0, diag), rot(40.0, -diag));
+        assert!(!joins(a, b, JoinTest::Cone));
+        assert!(joins(a, b, JoinTest::Facing) && joins(a, b, JoinTest::Paper) && joins(a, b, JoinTest::Scalar));
+        // 90° apart, each pointing 45° off the chord towards the other:
+        // only the literal scalar product (0 < cos 30°) joins.
+        let (a, b) = (rot(45.0, diag), rot(-45.0, -diag));
+        assert!(joins(a, b, JoinTest::Scalar));
+        assert!(!joins(a, b, JoinTest::Cone) && !joins(a, b, JoinTest::Facing) && !joins(a, b, JoinTest::Paper));
+        // Anti-parallel but back to back: only the paper's bare criteria.
+        assert!(joins(-diag, diag, JoinTest::Paper));
+        assert!(!joins(-diag, diag, JoinTest::Facing) && !joins(-diag, diag, JoinTest::Scalar));
+        // Nearly parallel (20° apart) never joins.
+        assert!(JoinTest::ALL.iter().all(|&t| !joins(rot(10.0, diag), rot(-10.0, diag), t)));
+    }
+
+    #[test]
     fn distance_limit_and_cone_block_joins() {
         let sides = vec![AxiomSide { kind: 0, reversed: false }; 4];
         let base = Map::seed(&sides, 1.0, DVec3::ZERO);
@@ -597,8 +663,13 @@ mod tests {
             let mut j = Joiner::default();
             j.add(&map, 0, d0.normalize(), 0, 1, false);
             j.add(&map, 2, d2.normalize(), 0, 1, false);
-            j.pass(&mut map, JoinParams { cos: 30f64.to_radians().cos(), max_d2 }, &GrowthLimits::default(), 1)
-                .unwrap();
+            j.pass(
+                &mut map,
+                JoinParams::new(30f64.to_radians().cos(), max_d2, JoinTest::Cone),
+                &GrowthLimits::default(),
+                1,
+            )
+            .unwrap();
             map.face_count()
         };
         let diag = DVec3::new(1.0, -1.0, 0.0);
@@ -612,7 +683,7 @@ mod tests {
         let mut j = Joiner::default();
         j.add(&map, 0, diag.normalize(), 0, 1, false);
         j.add(&map, 2, -diag.normalize(), 1, 1, false);
-        j.pass(&mut map, JoinParams { cos: 0.5, max_d2: f64::INFINITY }, &GrowthLimits::default(), 1).unwrap();
+        j.pass(&mut map, JoinParams::new(0.5, f64::INFINITY, JoinTest::Cone), &GrowthLimits::default(), 1).unwrap();
         assert_eq!(map.face_count(), 1);
     }
 }

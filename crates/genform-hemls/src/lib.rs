@@ -27,5 +27,5 @@ pub use envfile::{BoundarySpec, EnvSpec, ShapeSpec, parse_env};
 pub use grammar::{Age, AxiomSide, Branch, Cmp, Condition, EdgeSym, Hemls, Item, Predecessor, Rule, Successor, Turn};
 pub use grow::{GrowError, Growth, StepStats, grow, grow_with};
 pub use map::Map;
-pub use settings::{GrowthLimits, Settings};
+pub use settings::{GrowthLimits, JoinTest, Settings};
 pub use syntax::{compile, parse_str};

@@ -40,6 +40,7 @@ fixed_center = true
 fixed_perimeter = true
 branch_angle = 45.5
 branch_length = 1.25
+join = "cone"
 gravity = { axis = "y", magnitude = -0.25 }
 min_distance = 0.01
 
@@ -85,6 +86,7 @@ max_faces = 500
     assert_eq!(s.start_position, DVec3::new(1.0, -2.0, 0.5));
     assert!(s.fixed_center && s.fixed_perimeter);
     assert_eq!((s.branch_angle, s.branch_length), (45.5, 1.25));
+    assert_eq!(s.join, genform_hemls::JoinTest::Cone);
     assert_eq!(s.limits, GrowthLimits { max_vertices: 1000, max_edges: 2000, max_faces: 500 });
     assert_eq!(spec.gravity, Some(Gravity::new(Axis::Y, -0.25)));
     assert_eq!(spec.min_distance, 0.01);
@@ -169,6 +171,20 @@ fn errors_are_all_reported_with_locations_and_hints() {
     assert!(short.contains("hint: did you mean `steps`?"), "{short}");
     assert!(short.contains("bad.toml:3:3: error: unknown key `repellor`"), "{short}");
     assert!(short.contains("did you mean `repeller`?"), "{short}");
+}
+
+#[test]
+fn join_names_one_of_the_four_readings() {
+    for t in genform_hemls::JoinTest::ALL {
+        assert_eq!(parse(&format!("join = \"{}\"\n", t.name())).settings.join, t);
+    }
+    let d = parse_env(&SourceFile::new("j.toml", "join = \"cones\"\n")).unwrap_err();
+    assert!(
+        d.short()
+            .contains("j.toml:1:8: error: `join` must be \"facing\", \"cone\", \"paper\" or \"scalar\", not \"cones\""),
+        "{}",
+        d.short()
+    );
 }
 
 #[test]

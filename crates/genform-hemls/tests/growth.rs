@@ -245,6 +245,27 @@ fn three_sided_tiles_make_equilateral_triangles_with_one_edge_of_each_type() {
 }
 
 #[test]
+fn every_join_reading_grows_the_predefined_grammars_alike() {
+    // The default join test was chosen on random EA grammars; the
+    // hand-written ones must not notice which reading is in force.
+    for (name, h) in [
+        ("koch", koch()),
+        ("quadratic_koch", quadratic_koch()),
+        ("tiles4", four_sided_tiles()),
+        ("tiles3", three_sided_tiles()),
+    ] {
+        let base = grow_checked(&h, &settings(4, 1.5)).unwrap();
+        for join in genform_hemls::JoinTest::ALL {
+            let s = Settings { join, ..settings(4, 1.5) };
+            let g = grow_checked(&h, &s).unwrap();
+            assert_eq!(g.steps, base.steps, "{name} with {join:?}");
+            assert_eq!(g.map.positions(), base.map.positions(), "{name} with {join:?}");
+            assert_eq!(g.map.edge_kinds(), base.map.edge_kinds(), "{name} with {join:?}");
+        }
+    }
+}
+
+#[test]
 fn deterministic_grammars_draw_nothing_and_repeat_exactly() {
     struct Counting(u64);
     impl Draws for Counting {

@@ -264,7 +264,12 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
         ge.elitism = 0;
         let opt = AnyCodonOptimizer::new(CodonAlgorithm::Ge, &ge, body.seed)
             .map_err(|e| ApiError::bad_request(format!("[ge]: {e}")))?;
-        Pool::Codon { objective, ask: Box::new(AskTell::new(opt).map_err(ApiError::internal)?), batch: Vec::new() }
+        let reads = Arc::clone(&objective);
+        let ask = AskTell::new(opt).map_err(ApiError::internal)?.with_expressed(move |c: &Codons| {
+            use genform_evolve::Objective;
+            reads.expressed(c, &mut reads.scratch())
+        });
+        Pool::Codon { objective, ask: Box::new(ask), batch: Vec::new() }
     } else {
         let (loaded, limits, mut settings, scorers) = if is_scene {
             let config = SceneConfig::load(file).map_err(err)?.config;

@@ -39,6 +39,25 @@ pub struct GeConfig {
     pub crossover_rate: f64,
     /// Probability, per codon of every child, that it is redrawn uniformly.
     pub mutation_rate: f64,
+    /// Effective operators (PonyGE2's): crossover cuts and mutation fall
+    /// inside the codons the mapping reads, when the objective tells
+    /// ([`Objective::expressed`](crate::Objective::expressed)). Without
+    /// them most cuts land in the unread tail and give back a parent's
+    /// phenotype. Default on.
+    pub effective: bool,
+    /// Parents are distinct: of individuals with bit-identical fitness
+    /// only the best-placed one may be selected, so copies of one system
+    /// cannot take over the mating pool. Meant for continuous fitness
+    /// (Genr8's surface criteria), where equal scores mean the same
+    /// surface; with a fitness of few values (counts) it would starve the
+    /// mating pool, so it is off by default and the Genr8 scenes turn it on.
+    pub distinct_parents: bool,
+    /// Phenotype-level duplicate removal: a child whose expressed codons
+    /// were evaluated before is point-mutated (up to 8 times) until it
+    /// reads something new, else it reuses the known fitness without an
+    /// evaluation. Needs [`Objective::expressed`](crate::Objective::expressed).
+    /// Default on.
+    pub novel_children: bool,
 }
 
 impl Default for GeConfig {
@@ -52,6 +71,9 @@ impl Default for GeConfig {
             selection: Selection::Tournament(3),
             crossover_rate: 0.9,
             mutation_rate: 0.01,
+            effective: true,
+            distinct_parents: false,
+            novel_children: true,
         }
     }
 }

@@ -18,6 +18,17 @@
 //! order, so a seed gives the same populations and statistics at any
 //! thread count.
 //!
+//! When the objective tells which codons its mapping reads
+//! ([`Objective::expressed`]), three things change (each a [`GeConfig`]
+//! switch): crossover cuts and mutation fall inside the read codons
+//! (`effective`, PonyGE2's effective operators); a child whose read codons
+//! were evaluated before is point-mutated until it reads something new,
+//! sequentially from its own stream `(seed, GE_NOVEL_STREAM, generation,
+//! child)` (`novel_children`); and with `distinct_parents` only the first
+//! of members with bit-identical fitness can be selected. The Genr8 scenes
+//! stalled without them: most children re-read a parent's codons, and the
+//! population filled with copies of one surface (docs/evolve.md).
+//!
 //! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
 //! - [`operators`]: random genomes, crossover, mutation.
 //! - [`random`]: [`CodonRandom`], the random-search baseline.
@@ -43,6 +54,7 @@ use crate::selection::Selector;
 use crate::stats::GenerationStats;
 use genform_core::Rng;
 use reproduce::{Context, reproduce_pair};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// A codon string: the genome of grammatical evolution. Codons lie in
@@ -53,6 +65,12 @@ pub type Codons = Vec<u32>;
 pub const GE_INIT_STREAM: u64 = 0x4745_494e_4954; // "GEINIT"
 /// Stream id of GE's reproduction: `(seed, GE_PAIR_STREAM, generation, pair)`.
 pub const GE_PAIR_STREAM: u64 = 0x4745_5041_4952; // "GEPAIR"
+/// Stream id of re-mutating a child whose expressed codons were already
+/// evaluated: `(seed, GE_NOVEL_STREAM, generation, child)`.
+pub const GE_NOVEL_STREAM: u64 = 0x4745_4e4f_5645; // "GENOVE"
+/// Point mutations tried on a child before it keeps the fitness its
+/// expressed codons already had.
+const NOVEL_TRIES: usize = 8;
 
 /// The grammatical-evolution EA (Genr8's loop with the recommended GE
 /// operators; see the [module](self) documentation).
@@ -61,13 +79,16 @@ pub struct Ge {
     config: GeConfig,
     seed: u64,
     state: Population<Codons>,
+    /// Fitness of every expressed codon prefix evaluated so far (with
+    /// `novel_children`; the objective must tell what it reads).
+    seen: HashMap<Codons, f64>,
 }
 
 impl Ge {
     /// A GE run with no population yet (see [`Ge::initialize`]).
     pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(Ge { config, seed, state: Population::default() })
+        Ok(Ge { config, seed, state: Population::default(), seen: HashMap::new() })
     }
 
     /// The configuration.
@@ -99,6 +120,7 @@ impl Ge {
     /// individual `i` is [`random_codons`](operators::random_codons) from
     /// stream `(seed, GE_INIT_STREAM, i)`.
     pub fn initialize<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
+        self.seen.clear();
         let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
         self.state.initialize(objective, self.config.population, |i| {
             operators::random_codons(length, range, &mut Rng::stream(seed, &[GE_INIT_STREAM, i as u64]))
@@ -112,17 +134,103 @@ impl Ge {
         }
         let started = Instant::now();
         let generation = self.state.generation() + 1;
-        let fitness = self.state.fitness();
+        let mut fitness = self.state.fitness();
+        if self.config.distinct_parents {
+            // Members are sorted best first, so the first of equal scores is kept.
+            let mut seen = std::collections::HashSet::with_capacity(fitness.len());
+            for f in &mut fitness {
+                if f.is_finite() && !seen.insert(f.to_bits()) {
+                    *f = f64::NAN;
+                }
+            }
+        }
+        let wants_expressed = self.config.effective || self.config.novel_children;
+        // Mapping only, once per member and child: cheap next to growth.
+        let mut scratch = wants_expressed.then(|| objective.scratch());
+        let expressed: Vec<usize> = match scratch.as_mut() {
+            Some(scratch) => {
+                let members = self.state.members();
+                let mut e = Vec::with_capacity(members.len());
+                for m in members {
+                    match objective.expressed(&m.genome, scratch) {
+                        Some(n) => e.push(n),
+                        None => break,
+                    }
+                }
+                if e.len() == members.len() { e } else { Vec::new() }
+            }
+            None => Vec::new(),
+        };
+        if self.config.novel_children {
+            // Every member was evaluated (or reused a fitness that was).
+            for (m, &e) in self.state.members().iter().zip(&expressed) {
+                self.seen.entry(m.genome[..e.min(m.genome.len())].to_vec()).or_insert(m.fitness);
+            }
+        }
         let ctx = Context {
             config: &self.config,
             population: self.state.members(),
             selector: Selector::new(self.config.selection, &fitness),
+            expressed: if self.config.effective { &expressed } else { &[] },
         };
         let seed = self.seed;
-        let (children, counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+        let (mut children, mut counts) = breed(self.config.population - self.config.elitism, |pair, need| {
             reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]))
         });
+        if let (Some(scratch), false) = (scratch.as_mut(), expressed.is_empty() || !self.config.novel_children) {
+            self.make_novel(objective, scratch, &mut children, &mut counts, generation);
+        }
         self.state.advance(objective, self.config.elitism, children, counts, started)
+    }
+
+    /// Phenotype-level duplicate removal: a child whose expressed codons
+    /// were evaluated before (by a member, an earlier generation or an
+    /// earlier child of this one) gets up to [`NOVEL_TRIES`] point
+    /// mutations inside its expressed region until it reads something new;
+    /// failing that it keeps the known fitness and costs no evaluation.
+    /// Sequential and from per-child streams: the same at any thread count.
+    fn make_novel<O: Objective<Codons>>(
+        &self,
+        objective: &O,
+        scratch: &mut O::Scratch,
+        children: &mut [crate::evaluate::Child<Codons>],
+        counts: &mut crate::stats::ReproductionCounts,
+        generation: usize,
+    ) {
+        let mut batch: HashMap<Codons, usize> = HashMap::new();
+        for (k, child) in children.iter_mut().enumerate() {
+            let mut rng = None;
+            let mut tries = 0;
+            loop {
+                let Some(e) = objective.expressed(&child.genome, scratch) else { return };
+                let e = e.min(child.genome.len());
+                let prefix = &child.genome[..e];
+                let known = self.seen.get(prefix).copied();
+                if known.is_none() && !batch.contains_key(prefix) {
+                    if tries > 0 {
+                        counts.duplicates_replaced += 1;
+                    }
+                    batch.insert(prefix.to_vec(), k);
+                    break;
+                }
+                if tries == 0 {
+                    counts.duplicates += 1;
+                }
+                if tries == NOVEL_TRIES || e == 0 {
+                    // Known: reuse the fitness (a duplicate within the batch
+                    // is evaluated again, which is deterministic).
+                    child.fitness = known.or(child.fitness);
+                    break;
+                }
+                let rng =
+                    rng.get_or_insert_with(|| Rng::stream(self.seed, &[GE_NOVEL_STREAM, generation as u64, k as u64]));
+                let i = rng.index(e);
+                child.genome[i] = rng.below(self.config.codon_range as u64) as u32;
+                // A changed genome is no longer a parent's copy.
+                child.fitness = None;
+                tries += 1;
+            }
+        }
     }
 }
 

@@ -25,6 +25,26 @@ pub fn crossover(a: &[u32], b: &[u32], max_length: usize, rng: &mut Rng) -> [Cod
     [splice(&a[..i], &b[j..], max_length), splice(&b[..j], &a[i..], max_length)]
 }
 
+/// [`crossover`] with each cut inside the parent's expressed region: `i`
+/// uniform in `1..=ea` and `j` in `1..=eb` (each clamped to the parent's
+/// length; 0 counts as the whole genome). Also returns the length of each
+/// child's inherited expressed part, `i + (eb − j)` and `j + (ea − i)`,
+/// where mutation then acts.
+pub fn effective_crossover(
+    (a, ea): (&[u32], usize),
+    (b, eb): (&[u32], usize),
+    max_length: usize,
+    rng: &mut Rng,
+) -> ([Codons; 2], [usize; 2]) {
+    let region = |len: usize, e: usize| if e == 0 { len } else { e.min(len) };
+    let (ea, eb) = (region(a.len(), ea), region(b.len(), eb));
+    let i = cut_point(ea, rng);
+    let j = cut_point(eb, rng);
+    let children = [splice(&a[..i], &b[j..], max_length), splice(&b[..j], &a[i..], max_length)];
+    let reach = [(i + eb.saturating_sub(j)).min(children[0].len()), (j + ea.saturating_sub(i)).min(children[1].len())];
+    (children, reach)
+}
+
 fn cut_point(len: usize, rng: &mut Rng) -> usize {
     if len == 0 { 0 } else { 1 + rng.index(len) }
 }
@@ -103,6 +123,24 @@ mod tests {
             prop_assert!(m.iter().all(|&c| c < range));
             prop_assert_eq!(changed, m.iter().zip(&before).filter(|(x, y)| x != y).count());
         }
+    }
+
+    #[test]
+    fn effective_cuts_fall_inside_the_expressed_regions() {
+        let a: Vec<u32> = (0..50).collect();
+        let b: Vec<u32> = (100..180).collect();
+        let mut rng = Rng::from_seed(9);
+        for _ in 0..500 {
+            let ([c0, c1], [r0, r1]) = effective_crossover((&a, 10), (&b, 4), 1000, &mut rng);
+            let i = c0.iter().take_while(|&&c| c < 100).count();
+            let j = c1.iter().take_while(|&&c| c >= 100).count();
+            assert!((1..=10).contains(&i) && (1..=4).contains(&j), "cuts {i} {j}");
+            assert_eq!((c0.len(), c1.len()), (i + 80 - j, j + 50 - i));
+            assert_eq!((r0, r1), (i + 4 - j, j + 10 - i));
+        }
+        // 0: nothing known, the whole genome is the region.
+        let ([c0, _], _) = effective_crossover((&a, 0), (&b, 0), 1000, &mut Rng::from_seed(1));
+        assert!(!c0.is_empty());
     }
 
     #[test]

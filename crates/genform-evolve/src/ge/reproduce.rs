@@ -1,6 +1,6 @@
 //! Making the children of one pair.
 
-use super::operators::{crossover, mutate};
+use super::operators::{crossover, effective_crossover, mutate};
 use super::{Codons, GeConfig};
 use crate::evaluate::Child;
 use crate::optimizer::Individual;
@@ -14,6 +14,8 @@ pub(crate) struct Context<'a> {
     pub config: &'a GeConfig,
     pub population: &'a [Individual<Codons>],
     pub selector: Selector<'a>,
+    /// Expressed codons of each member (empty: unknown, whole genomes).
+    pub expressed: &'a [usize],
 }
 
 /// Makes `need` (1 or 2) children: select two parents; with probability
@@ -23,17 +25,26 @@ pub(crate) struct Context<'a> {
 /// fitness instead of being evaluated).
 pub(crate) fn reproduce_pair(ctx: &Context, need: usize, rng: &mut Rng) -> PairOutput<Codons> {
     let config = ctx.config;
-    let parents = [ctx.selector.select(rng), ctx.selector.select(rng)].map(|p| &ctx.population[p]);
+    let picks = [ctx.selector.select(rng), ctx.selector.select(rng)];
+    let parents = picks.map(|p| &ctx.population[p]);
+    // 0: no expressed region known, the whole genome counts.
+    let reach = picks.map(|p| ctx.expressed.get(p).copied().unwrap_or(0));
     let mut counts = ReproductionCounts::default();
-    let mut genomes = if rng.bernoulli(config.crossover_rate) {
+    let (mut genomes, reach) = if rng.bernoulli(config.crossover_rate) {
         counts.crossovers += 1;
-        crossover(&parents[0].genome, &parents[1].genome, config.max_length, rng)
+        if ctx.expressed.is_empty() {
+            (crossover(&parents[0].genome, &parents[1].genome, config.max_length, rng), [0, 0])
+        } else {
+            let (a, b) = (&parents[0].genome, &parents[1].genome);
+            effective_crossover((a, reach[0]), (b, reach[1]), config.max_length, rng)
+        }
     } else {
-        [parents[0].genome.clone(), parents[1].genome.clone()]
+        ([parents[0].genome.clone(), parents[1].genome.clone()], reach)
     };
     let mut children = Vec::with_capacity(need);
-    for genome in genomes.iter_mut().take(need) {
-        if mutate(genome, config.mutation_rate, config.codon_range, rng) > 0 {
+    for (genome, reach) in genomes.iter_mut().zip(reach).take(need) {
+        let region = if reach == 0 { genome.len() } else { reach.min(genome.len()) };
+        if mutate(&mut genome[..region], config.mutation_rate, config.codon_range, rng) > 0 {
             counts.mutations.alter += 1;
         }
         let twin = parents.iter().find(|p| p.genome == *genome);
@@ -63,8 +74,12 @@ mod tests {
         let fitness: Vec<f64> = population.iter().map(|i| i.fitness).collect();
         for selection in [Selection::Tournament(1), Selection::Tournament(3), Selection::Roulette, Selection::Random] {
             let config = GeConfig { crossover_rate: 0.0, mutation_rate: 0.0, selection, ..GeConfig::default() };
-            let ctx =
-                Context { config: &config, population: &population, selector: Selector::new(selection, &fitness) };
+            let ctx = Context {
+                config: &config,
+                population: &population,
+                selector: Selector::new(selection, &fitness),
+                expressed: &[],
+            };
             let mut rng = Rng::from_seed(3);
             for _ in 0..2000 {
                 let out = reproduce_pair(&ctx, 2, &mut rng);
@@ -82,8 +97,12 @@ mod tests {
         let population = vec![individual(1, 1.0), individual(2, 2.0)];
         let fitness = [1.0, 2.0];
         let config = GeConfig { crossover_rate: 0.0, mutation_rate: 1.0, codon_range: 1000, ..GeConfig::default() };
-        let ctx =
-            Context { config: &config, population: &population, selector: Selector::new(config.selection, &fitness) };
+        let ctx = Context {
+            config: &config,
+            population: &population,
+            selector: Selector::new(config.selection, &fitness),
+            expressed: &[],
+        };
         let mut rng = Rng::from_seed(5);
         let out = reproduce_pair(&ctx, 1, &mut rng);
         assert_eq!(out.children.len(), 1);

@@ -1,5 +1,5 @@
 use super::*;
-use crate::fixtures::{HalfInvalidToy, SevensToy, TargetToy};
+use crate::fixtures::{HalfInvalidToy, PrefixToy, SevensToy, TargetToy};
 use crate::objective::FnObjective;
 use crate::run::{Stop, StopReason, run};
 use std::sync::atomic::AtomicBool;
@@ -185,4 +185,89 @@ fn both_codon_algorithms_run_through_the_driver() {
     assert_eq!(CodonAlgorithm::Ge.to_string(), "ge");
     let bad = GeConfig { elitism: 60, ..GeConfig::default() };
     assert!(AnyCodonOptimizer::new(CodonAlgorithm::Ge, &bad, 1).is_err());
+}
+
+#[test]
+fn effective_operators_and_novel_children_repeat_at_one_and_two_threads() {
+    let config = GeConfig { population: 31, elitism: 2, mutation_rate: 0.05, ..GeConfig::default() };
+    let runs: Vec<_> = [1, 2]
+        .map(|threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut ge = Ge::new(config.clone(), 5).unwrap();
+                let stats: Vec<_> = (0..=15).map(|_| without_times(ge.step(&PrefixToy))).collect();
+                (ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>(), stats)
+            })
+        })
+        .into_iter()
+        .collect();
+    assert_eq!(runs[0].0, runs[1].0);
+    assert_eq!(format!("{:?}", runs[0].1), format!("{:?}", runs[1].1));
+    let dup: u64 = runs[0].1.iter().map(|s| s.reproduction.duplicates).sum();
+    let replaced: u64 = runs[0].1.iter().map(|s| s.reproduction.duplicates_replaced).sum();
+    assert!(dup > 0 && replaced > 0, "duplicates {dup}, replaced {replaced}");
+}
+
+#[test]
+fn novel_children_never_evaluate_a_prefix_twice() {
+    // Counting evaluations per expressed prefix: every evaluated child
+    // reads something no earlier evaluation read (within a generation the
+    // same prefix may be drawn twice only after 8 failed tries, which this
+    // toy with 16 codons per prefix never exhausts).
+    struct Counting(std::sync::Mutex<std::collections::HashMap<Vec<u32>, u32>>);
+    impl Objective<Codons> for Counting {
+        type Scratch = ();
+        fn scratch(&self) {}
+        fn evaluate(&self, codons: &Codons, s: &mut ()) -> f64 {
+            let e = PrefixToy.expressed(codons, s).unwrap();
+            *self.0.lock().unwrap().entry(codons[..e].to_vec()).or_default() += 1;
+            PrefixToy.evaluate(codons, s)
+        }
+        fn expressed(&self, codons: &Codons, s: &mut ()) -> Option<usize> {
+            PrefixToy.expressed(codons, s)
+        }
+    }
+    let objective = Counting(Default::default());
+    let config = GeConfig { population: 40, crossover_rate: 0.9, mutation_rate: 0.01, ..GeConfig::default() };
+    let mut ge = Ge::new(config.clone(), 3).unwrap();
+    ge.step(&objective);
+    objective.0.lock().unwrap().clear();
+    for _ in 0..20 {
+        ge.step(&objective);
+    }
+    let counts = objective.0.lock().unwrap();
+    assert!(counts.len() > 300, "{} distinct prefixes", counts.len());
+    assert!(counts.values().all(|&n| n == 1), "{:?}", counts.values().filter(|&&n| n > 1).count());
+    // Without it, low mutation and cuts that copy a parent's prefix make
+    // many repeats.
+    let objective = Counting(Default::default());
+    let mut ge = Ge::new(GeConfig { novel_children: false, ..config }, 3).unwrap();
+    for _ in 0..21 {
+        ge.step(&objective);
+    }
+    assert!(objective.0.lock().unwrap().values().any(|&n| n > 1));
+}
+
+#[test]
+fn distinct_parents_leave_copies_of_one_score_out_of_selection() {
+    // Every genome scores the same: only the first member may be a parent,
+    // so without variation every child is a copy of it.
+    let flat = FnObjective(|_: &Codons| 1.0);
+    let config = GeConfig {
+        population: 12,
+        crossover_rate: 0.0,
+        mutation_rate: 0.0,
+        novel_children: false,
+        distinct_parents: true,
+        ..GeConfig::default()
+    };
+    let mut ge = Ge::new(config.clone(), 4).unwrap();
+    ge.step(&flat);
+    let first = ge.population()[0].genome.clone();
+    ge.step(&flat);
+    assert!(ge.population().iter().all(|i| i.genome == first));
+    let mut ge = Ge::new(GeConfig { distinct_parents: false, ..config }, 4).unwrap();
+    ge.step(&flat);
+    ge.step(&flat);
+    assert!(ge.population().iter().any(|i| i.genome != ge.population()[0].genome));
 }
