@@ -86,7 +86,17 @@ impl Server {
     }
 
     fn get(&self, path: &str) -> Answer {
-        Self::answer(self.agent.get(format!("{}{path}", self.url)).call().unwrap())
+        // A pooled keep-alive connection the server closed just as it is
+        // reused fails at once ("Peer disconnected"); browsers retry such
+        // idempotent requests, and so does this client, on a fresh one.
+        let mut tries = 0;
+        loop {
+            match self.agent.get(format!("{}{path}", self.url)).call() {
+                Ok(r) => return Self::answer(r),
+                Err(e) if tries < 3 && matches!(e, ureq::Error::Io(_)) => tries += 1,
+                Err(e) => panic!("GET {path}: {e}"),
+            }
+        }
     }
 
     fn post(&self, path: &str, body: &Value) -> Answer {
