@@ -157,9 +157,7 @@ impl FitnessConfig {
     /// checking its name.
     pub fn override_form(&mut self, form: Option<&str>) -> Result<()> {
         if let Some(form) = form {
-            if genform_score::Form::from_name(form).is_none() {
-                bail!("form `{form}` is unknown; use one of: {}", form_names());
-            }
+            check_form(form).map_err(anyhow::Error::msg)?;
             self.form = Some(form.to_string());
         }
         Ok(())
@@ -167,18 +165,23 @@ impl FitnessConfig {
 }
 
 /// Reads a `form` value, refusing names that are not a fitness form (the
-/// TOML reader adds the value's position).
+/// TOML reader adds the value's position). Every scene's `[fitness]` is
+/// read through here, so a loaded form is always a known one.
 fn known_form<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Option<String>, D::Error> {
     let name = String::deserialize(d)?;
-    if genform_score::Form::from_name(&name).is_none() {
-        return Err(serde::de::Error::custom(format!("form `{name}` is unknown; use one of: {}", form_names())));
-    }
+    check_form(&name).map_err(serde::de::Error::custom)?;
     Ok(Some(name))
 }
 
-/// The names of every fitness form, comma-separated.
-fn form_names() -> String {
-    genform_score::Form::NAMES.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", ")
+/// Whether `name` is a fitness form; the error lists the forms.
+fn check_form(name: &str) -> std::result::Result<(), String> {
+    match genform_score::Form::from_name(name) {
+        Some(_) => Ok(()),
+        None => {
+            let names: Vec<&str> = genform_score::Form::NAMES.iter().map(|(n, _)| *n).collect();
+            Err(format!("form `{name}` is unknown; use one of: {}", names.join(", ")))
+        }
+    }
 }
 
 impl Default for FitnessConfig {
@@ -323,11 +326,6 @@ impl SceneConfig {
             if genform_score::PngMode::from_name(&img.mode).is_none() {
                 bail!("[[image]] #{}: mode `{}` is unknown; use \"dark\" or \"signed\"", i + 1, img.mode);
             }
-        }
-        if let Some(form) = &self.fitness.form
-            && genform_score::Form::from_name(form).is_none()
-        {
-            bail!("[fitness] form `{form}` is unknown; use one of: {}", form_names());
         }
         for (k, v) in [
             ("good", self.fitness.good),

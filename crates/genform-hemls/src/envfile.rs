@@ -269,10 +269,11 @@ impl Reader {
             match crate::settings::JoinTest::from_name(name) {
                 Some(t) => s.join = t,
                 None => {
-                    self.error(
-                        span_of(v),
-                        format!("`join` must be \"facing\", \"cone\", \"paper\" or \"scalar\", not \"{name}\""),
-                    );
+                    let names: Vec<String> =
+                        crate::settings::JoinTest::ALL.iter().map(|t| format!("\"{}\"", t.name())).collect();
+                    let (last, rest) = names.split_last().expect("four readings");
+                    let names = format!("{} or {last}", rest.join(", "));
+                    self.error(span_of(v), format!("`join` must be {names}, not \"{name}\""));
                 }
             }
         }

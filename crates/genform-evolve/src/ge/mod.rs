@@ -54,7 +54,7 @@ use crate::selection::Selector;
 use crate::stats::GenerationStats;
 use genform_core::Rng;
 use reproduce::{Context, reproduce_pair};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
 /// A codon string: the genome of grammatical evolution. Codons lie in
@@ -71,6 +71,11 @@ pub const GE_NOVEL_STREAM: u64 = 0x4745_4e4f_5645; // "GENOVE"
 /// Point mutations tried on a child before it keeps the fitness its
 /// expressed codons already had.
 const NOVEL_TRIES: usize = 8;
+/// Most codons the memory of evaluated prefixes holds (64 MiB of codons):
+/// every evaluation adds a new prefix, so a long run would otherwise grow
+/// it without bound. When full it starts afresh (at a point that depends
+/// only on the run, so runs stay deterministic).
+const SEEN_CODONS: usize = 1 << 24;
 
 /// The grammatical-evolution EA (Genr8's loop with the recommended GE
 /// operators; see the [module](self) documentation).
@@ -80,15 +85,18 @@ pub struct Ge {
     seed: u64,
     state: Population<Codons>,
     /// Fitness of every expressed codon prefix evaluated so far (with
-    /// `novel_children`; the objective must tell what it reads).
+    /// `novel_children`; the objective must tell what it reads), at most
+    /// [`SEEN_CODONS`] codons of them.
     seen: HashMap<Codons, f64>,
+    /// Codons held by `seen`'s keys.
+    seen_codons: usize,
 }
 
 impl Ge {
     /// A GE run with no population yet (see [`Ge::initialize`]).
     pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(Ge { config, seed, state: Population::default(), seen: HashMap::new() })
+        Ok(Ge { config, seed, state: Population::default(), seen: HashMap::new(), seen_codons: 0 })
     }
 
     /// The configuration.
@@ -121,6 +129,7 @@ impl Ge {
     /// stream `(seed, GE_INIT_STREAM, i)`.
     pub fn initialize<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
         self.seen.clear();
+        self.seen_codons = 0;
         let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
         self.state.initialize(objective, self.config.population, |i| {
             operators::random_codons(length, range, &mut Rng::stream(seed, &[GE_INIT_STREAM, i as u64]))
@@ -137,7 +146,7 @@ impl Ge {
         let mut fitness = self.state.fitness();
         if self.config.distinct_parents {
             // Members are sorted best first, so the first of equal scores is kept.
-            let mut seen = std::collections::HashSet::with_capacity(fitness.len());
+            let mut seen = HashSet::with_capacity(fitness.len());
             for f in &mut fitness {
                 if f.is_finite() && !seen.insert(f.to_bits()) {
                     *f = f64::NAN;
@@ -164,7 +173,15 @@ impl Ge {
         if self.config.novel_children {
             // Every member was evaluated (or reused a fitness that was).
             for (m, &e) in self.state.members().iter().zip(&expressed) {
-                self.seen.entry(m.genome[..e.min(m.genome.len())].to_vec()).or_insert(m.fitness);
+                let prefix = &m.genome[..e.min(m.genome.len())];
+                if !self.seen.contains_key(prefix) {
+                    if self.seen_codons + prefix.len() > SEEN_CODONS {
+                        self.seen.clear();
+                        self.seen_codons = 0;
+                    }
+                    self.seen_codons += prefix.len();
+                    self.seen.insert(prefix.to_vec(), m.fitness);
+                }
             }
         }
         let ctx = Context {
@@ -197,7 +214,7 @@ impl Ge {
         counts: &mut crate::stats::ReproductionCounts,
         generation: usize,
     ) {
-        let mut batch: HashMap<Codons, usize> = HashMap::new();
+        let mut batch: HashSet<Codons> = HashSet::new();
         for (k, child) in children.iter_mut().enumerate() {
             let mut rng = None;
             let mut tries = 0;
@@ -206,11 +223,11 @@ impl Ge {
                 let e = e.min(child.genome.len());
                 let prefix = &child.genome[..e];
                 let known = self.seen.get(prefix).copied();
-                if known.is_none() && !batch.contains_key(prefix) {
+                if known.is_none() && !batch.contains(prefix) {
                     if tries > 0 {
                         counts.duplicates_replaced += 1;
                     }
-                    batch.insert(prefix.to_vec(), k);
+                    batch.insert(prefix.to_vec());
                     break;
                 }
                 if tries == 0 {
