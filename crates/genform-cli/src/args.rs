@@ -3,7 +3,7 @@
 
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
-use genform_cli::formalism::SampleRequest;
+use genform_app::formalism::SampleRequest;
 use std::path::PathBuf;
 
 /// Grammar-based procedural modeling and evolutionary control.
@@ -148,8 +148,8 @@ pub struct LimitArgs {
 
 impl LimitArgs {
     /// The overrides these flags set.
-    pub fn overrides(&self) -> genform_cli::grammar::LimitOverrides {
-        genform_cli::grammar::LimitOverrides {
+    pub fn overrides(&self) -> genform_app::grammar::LimitOverrides {
+        genform_app::grammar::LimitOverrides {
             max_genes: self.max_genes,
             max_depth: self.max_depth,
             max_primitives: self.max_primitives,
@@ -475,7 +475,7 @@ pub struct ScoreArgs {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use genform_cli::formalism::{COMMON_SAMPLE_OPTIONS, FORMALISMS};
+    use genform_app::formalism::{COMMON_SAMPLE_OPTIONS, FORMALISMS};
 
     fn sample_flags() -> Vec<String> {
         let command = Cli::command();

@@ -1,14 +1,14 @@
 //! The verbs: validated settings in, files out. `sample` and `info` reach
-//! every formalism through the table (`genform_cli::formalism`); `derive`
+//! every formalism through the table (`genform_app::formalism`); `derive`
 //! goes through `grammar::load`, which asks the same table for a generator.
 
 use anyhow::{Result, bail};
 use std::path::PathBuf;
 
 use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs};
-use genform_cli::formalism;
-use genform_cli::grammar::{self, express, genome_summary};
-use genform_cli::output::{output_format, write_model};
+use genform_app::formalism;
+use genform_app::grammar::{self, express, genome_summary};
+use genform_app::output::{output_format, write_model};
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<()> {
@@ -27,7 +27,7 @@ pub fn run(cli: Cli) -> Result<()> {
 
 fn sample(a: SampleArgs) -> Result<()> {
     let inputs: Vec<&std::path::Path> = [Some(a.file.as_path()), a.env.as_deref()].into_iter().flatten().collect();
-    genform_cli::output::refuse_overwriting_inputs(
+    genform_app::output::refuse_overwriting_inputs(
         &inputs,
         &[
             ("--out", a.out.as_deref()),
@@ -62,7 +62,7 @@ fn shown(written: &[PathBuf]) -> String {
 }
 
 fn derive(a: DeriveArgs) -> Result<()> {
-    genform_cli::output::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
+    genform_app::output::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
     output_format(&a.out)?;
     let loaded = grammar::load(&a.file)?;
     let limits = a.limits.overrides().apply(loaded.limits);

@@ -8,15 +8,15 @@
 //! generation, pauses the run and steers it ([`steering`]).
 
 use anyhow::{Context, Result, bail};
-use genform_cli::archive::Reports;
-use genform_cli::comparison::{self, Trace, TracePoint};
-use genform_cli::grammar::{self, LimitOverrides};
-use genform_cli::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
-use genform_cli::output::write_atomic;
-use genform_cli::pictures::{self, BestHistory, TargetPicture};
-use genform_cli::report::{self, Row};
-use genform_cli::scene_config::{LoadedScene, RunConfig, SceneConfig, parse_duration};
-use genform_cli::targets;
+use genform_app::archive::Reports;
+use genform_app::comparison::{self, Trace, TracePoint};
+use genform_app::grammar::{self, LimitOverrides};
+use genform_app::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
+use genform_app::output::write_atomic;
+use genform_app::pictures::{self, BestHistory, TargetPicture};
+use genform_app::report::{self, Row};
+use genform_app::scene_config::{LoadedScene, RunConfig, SceneConfig, parse_duration};
+use genform_app::targets;
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::{
     AnyOptimizer, GenerationStats, Genotype, Horizon, Individual, Objective, Optimizer, Rescore, Settings, Stop,
@@ -64,7 +64,7 @@ fn tree_algorithm(alg: Algorithm, scene: &Path) -> Result<genform_evolve::Algori
 
 /// Runs `genform score`: one genome's counts and fitness against a scene.
 pub fn score(a: ScoreArgs) -> Result<()> {
-    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+    if genform_app::codon_scene::is_codon_scene(&a.scene) {
         return codon::score(a);
     }
     let LoadedScene { mut config, .. } = SceneConfig::load(&a.scene)?;
@@ -170,7 +170,7 @@ pub trait Watch {
 
 /// Runs `genform evolve` on `a` under `control`.
 pub fn evolve_with(a: &EvolveArgs, mut control: Control) -> Result<()> {
-    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+    if genform_app::codon_scene::is_codon_scene(&a.scene) {
         return codon::evolve(a, control);
     }
     let LoadedScene { path: scene_path, mut config } = SceneConfig::load(&a.scene)?;
@@ -280,7 +280,7 @@ fn stop_reason_name(reason: StopReason) -> &'static str {
 /// Runs `genform compare`: every algorithm `runs` times with the same
 /// wall-clock budget, one run after another on the same worker pool.
 pub fn compare(a: CompareArgs) -> Result<()> {
-    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+    if genform_app::codon_scene::is_codon_scene(&a.scene) {
         return codon::compare(a);
     }
     let LoadedScene { path: scene_path, mut config } = SceneConfig::load(&a.scene)?;
@@ -812,7 +812,7 @@ impl Session<Genome> for RunContext<'_> {
             let scene = self.express(&best.genome)?;
             write_models(out, &scene)?;
             // best-model.png: the model alone in a fitted 3/4 view;
-            // best.png: with its target behind it (see genform_cli::pictures).
+            // best.png: with its target behind it (see genform_app::pictures).
             write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
             let target = TargetPicture::new(self.config, &self.scorers)?;
             write_atomic(&out.join("best.png"), &target.best_png(&scene))?;

@@ -17,7 +17,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Diagnostics print with their own `Error:` headers; only the summary gets `error:`.
-            eprint!("{}", genform_cli::source_text::report(&e));
+            eprint!("{}", genform_app::source_text::report(&e));
             ExitCode::FAILURE
         }
     }

@@ -6,7 +6,7 @@
 mod common;
 
 use common::{genform, root};
-use genform_cli::formalism::{FORMALISMS, ends_with_any};
+use genform_app::formalism::{FORMALISMS, ends_with_any};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};

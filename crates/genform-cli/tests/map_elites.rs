@@ -3,10 +3,10 @@
 //! setting errors), and the acceptance test of issue #18 on the full
 //! spaceship_volume scene against the GA at equal evaluations.
 
-use genform_cli::archive::Reports;
-use genform_cli::objective::{DescribedObjective, Descriptor, SceneObjective};
-use genform_cli::scene_config::{LoadedScene, SceneConfig};
-use genform_cli::{grammar, targets};
+use genform_app::archive::Reports;
+use genform_app::objective::{DescribedObjective, Descriptor, SceneObjective};
+use genform_app::scene_config::{LoadedScene, SceneConfig};
+use genform_app::{grammar, targets};
 use genform_evolve::{Algorithm, AnyOptimizer, Horizon, Optimizer, Stop, run};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;

@@ -4,9 +4,9 @@
 //! the default GA beats the reference's best (0.408, one run of 130
 //! generations) on the median of five seeds.
 
-use genform_cli::objective::SceneObjective;
-use genform_cli::scene_config::{LoadedScene, SceneConfig};
-use genform_cli::{grammar, targets};
+use genform_app::objective::SceneObjective;
+use genform_app::scene_config::{LoadedScene, SceneConfig};
+use genform_app::{grammar, targets};
 use genform_evolve::{Algorithm, AnyOptimizer, Horizon, Optimizer, Stop, run};
 use std::sync::atomic::AtomicBool;
 

@@ -2,7 +2,7 @@
 //! error chain as its message and, for files that failed to compile, a
 //! `diagnostics` list of [`Diagnostic`]s (file, line, column, hints).
 
-use genform_cli::source_text::SourceErrors;
+use genform_app::source_text::SourceErrors;
 use genform_core::Severity;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;

@@ -8,10 +8,10 @@
 //! flag, so the run stops after the current generation.
 
 use anyhow::{Context, Result};
-use genform_cli::archive::Reports;
-use genform_cli::output::write_atomic;
-use genform_cli::pictures::{self, BestHistory, TargetPicture};
-use genform_cli::report::{self, Row};
+use genform_app::archive::Reports;
+use genform_app::output::write_atomic;
+use genform_app::pictures::{self, BestHistory, TargetPicture};
+use genform_app::report::{self, Row};
 use genform_core::{Genome, Scene};
 use genform_evolve::{AnyOptimizer, GenerationStats, Horizon, Optimizer as _, Stop, StopReason, run};
 use genform_export::{ExportOptions, Format, RenderOptions};
@@ -121,7 +121,7 @@ pub fn evolve(
         Horizon { generations, budget, evaluations }
     } else {
         let r = &core.config.run;
-        let b = r.budget.as_deref().map(genform_cli::scene_config::parse_duration).transpose().or_raise()?;
+        let b = r.budget.as_deref().map(genform_app::scene_config::parse_duration).transpose().or_raise()?;
         Horizon { generations: r.generations, budget: b, evaluations: r.evaluations }
     };
     if horizon.generations.is_none() && horizon.budget.is_none() && horizon.evaluations.is_none() {

@@ -1,10 +1,10 @@
 //! `genform.load`, `Grammar` and `Model`: any formalism of the CLI's table
-//! (`genform_cli::formalism::FORMALISMS`), sampled, derived from genomes,
+//! (`genform_app::formalism::FORMALISMS`), sampled, derived from genomes,
 //! exported, meshed into NumPy arrays.
 
 use anyhow::{Context, Result};
-use genform_cli::formalism::{self, Formalism, LoadedGrammar, Sample, SampleRequest};
-use genform_cli::grammar::{Loaded, express, genome_summary};
+use genform_app::formalism::{self, Formalism, LoadedGrammar, Sample, SampleRequest};
+use genform_app::grammar::{Loaded, express, genome_summary};
 use genform_core::scene::Tessellation;
 use genform_core::{Genome, Limits, Scene};
 use numpy::{PyArray1, PyArrayMethods};
@@ -354,11 +354,11 @@ impl Model {
                 Body::Sample(s) => {
                     let extra = self.grammar.formalism.output_extensions();
                     if !formalism::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
-                        return Err(genform_cli::output::unknown_format(&path, extra));
+                        return Err(genform_app::output::unknown_format(&path, extra));
                     }
                     s.write(&path, &genform_export::ExportOptions::default())
                 }
-                Body::Scene(scene) => genform_cli::output::write_model(scene, &path).map(|()| vec![path.clone()]),
+                Body::Scene(scene) => genform_app::output::write_model(scene, &path).map(|()| vec![path.clone()]),
             })
             .or_raise()?;
         Ok(written.iter().map(|p| p.display().to_string()).collect())

@@ -60,7 +60,7 @@ pub fn budget_arg(budget: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Duration
         return Duration::try_from_secs_f64(secs).map(Some).map_err(|_| error(format!("budget: {secs} seconds")));
     }
     let text: String = b.extract()?;
-    genform_cli::scene_config::parse_duration(&text).map(Some).or_raise()
+    genform_app::scene_config::parse_duration(&text).map(Some).or_raise()
 }
 
 #[pymethods]

@@ -2,9 +2,9 @@
 //! fitness) whose built-in scorers are Python callables.
 
 use anyhow::{Result, bail};
-use genform_cli::grammar::LimitOverrides;
-use genform_cli::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
-use genform_cli::scene_config::{LoadedScene, SceneConfig};
+use genform_app::grammar::LimitOverrides;
+use genform_app::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
+use genform_app::scene_config::{LoadedScene, SceneConfig};
 use genform_core::Limits;
 use genform_evolve::Objective;
 use pyo3::prelude::*;
@@ -33,7 +33,7 @@ pub struct SceneCore {
 impl SceneCore {
     /// Loads the scene at `path` with its grammar and targets.
     pub fn open(path: &Path) -> Result<Self> {
-        if genform_cli::codon_scene::is_codon_scene(path) {
+        if genform_app::codon_scene::is_codon_scene(path) {
             bail!(
                 "{} is a codon scene (grammatical evolution); the Python package evolves tree scenes only so far \
                  (use `genform evolve` for codon scenes)",
@@ -46,7 +46,7 @@ impl SceneCore {
         let l = &config.limits;
         let limits =
             LimitOverrides { max_genes: l.genes, max_depth: l.depth, max_primitives: l.primitives }.apply(base);
-        let scorers = genform_cli::targets::build(&config)?;
+        let scorers = genform_app::targets::build(&config)?;
         Ok(SceneCore { path, config, grammar, scorers, limits })
     }
 

@@ -4,14 +4,14 @@
 //! and atomic writes as tree scenes.
 
 use anyhow::{Result, bail};
-use genform_cli::codon_objective::{
+use genform_app::codon_objective::{
     CodonObjective, EvalSplit, Expressed, InvalidCounts, ScoreDetail, Scoring, read_codons,
 };
-use genform_cli::codon_report::{self, CriteriaRow};
-use genform_cli::codon_scene::{CodonKind, CodonSceneConfig, LoadedCodonScene, Phenotype};
-use genform_cli::grammar::LimitOverrides;
-use genform_cli::output::write_atomic;
-use genform_cli::report::{self, Row};
+use genform_app::codon_report::{self, CriteriaRow};
+use genform_app::codon_scene::{CodonKind, CodonSceneConfig, LoadedCodonScene, Phenotype};
+use genform_app::grammar::LimitOverrides;
+use genform_app::output::write_atomic;
+use genform_app::report::{self, Row};
 use genform_core::Scene;
 use genform_evolve::{AnyCodonOptimizer, CodonAlgorithm, Codons, GenerationStats, Individual, Optimizer};
 use genform_export::RenderOptions;
@@ -267,7 +267,7 @@ impl Session<Codons> for Run<'_> {
             let png = genform_export::render_png(&self.preview(&e.scene), &RenderOptions::default());
             write_atomic(&out.join("best.png"), &png)?;
             if let Scoring::Targets(t) = self.objective.scoring() {
-                genform_cli::pictures::write_silhouettes(out, &t.images, &e.scene)?;
+                genform_app::pictures::write_silhouettes(out, &t.images, &e.scene)?;
             }
         }
         write_atomic(&out.join("gallery.png"), &self.gallery(opt.population()))?;

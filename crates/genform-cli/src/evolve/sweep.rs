@@ -1,8 +1,8 @@
-//! `genform sweep`: the command-line side of [`genform_cli::sweep`]
+//! `genform sweep`: the command-line side of [`genform_app::sweep`]
 //! (arguments, Ctrl-C, progress lines, the summary on stdout).
 
 use anyhow::{Result, bail};
-use genform_cli::sweep::{self, RunDone, SweepRequest};
+use genform_app::sweep::{self, RunDone, SweepRequest};
 use std::sync::atomic::Ordering;
 
 use crate::args::SweepArgs;
@@ -10,7 +10,7 @@ use crate::args::SweepArgs;
 /// Runs `genform sweep`. Ctrl-C stops the runs under way; the finished
 /// ones are written.
 pub fn sweep(a: SweepArgs) -> Result<()> {
-    if genform_cli::codon_scene::is_codon_scene(&a.scene) {
+    if genform_app::codon_scene::is_codon_scene(&a.scene) {
         bail!("{} is a codon scene; genform sweep runs tree scenes (.sg, .ls grammars) for now", a.scene.display());
     }
     let axes = a.set.iter().map(|s| sweep::parse_set(s)).collect::<Result<Vec<_>>>()?;

@@ -12,12 +12,12 @@
 
 use axum::extract::{Path as UrlPath, State};
 use axum::response::{IntoResponse, Response};
-use genform_cli::codon_objective::CodonObjective;
-use genform_cli::codon_scene::CodonSceneConfig;
-use genform_cli::grammar::{self, LimitOverrides};
-use genform_cli::objective::{SceneObjective, Scorers};
-use genform_cli::output::write_atomic;
-use genform_cli::scene_config::SceneConfig;
+use genform_app::codon_objective::CodonObjective;
+use genform_app::codon_scene::CodonSceneConfig;
+use genform_app::grammar::{self, LimitOverrides};
+use genform_app::objective::{SceneObjective, Scorers};
+use genform_app::output::write_atomic;
+use genform_app::scene_config::SceneConfig;
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::ask_tell::{AskTell, Score};
 use genform_evolve::{AnyCodonOptimizer, AnyOptimizer, CodonAlgorithm, Codons, Horizon, Objective, Settings};
@@ -255,8 +255,8 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
 fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
     let shown = |n: &str| app.shown(n);
     let err = |e: anyhow::Error| ApiError::from_anyhow(&e, shown);
-    let is_scene = genform_cli::formalism::ends_with_any(file, &[".toml"]);
-    let pool = if is_scene && genform_cli::codon_scene::is_codon_scene(file) {
+    let is_scene = genform_app::formalism::ends_with_any(file, &[".toml"]);
+    let pool = if is_scene && genform_app::codon_scene::is_codon_scene(file) {
         let scene = CodonSceneConfig::load(file).map_err(err)?;
         let objective = Arc::new(CodonObjective::new(&scene).map_err(err)?);
         let mut ge = scene.config.ge.clone();
@@ -279,7 +279,7 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
                 .apply(loaded.limits);
             // The targets are built (voxelized) only when they are mixed in.
             let scorers =
-                if body.mix > 0.0 { Some(Box::new(genform_cli::targets::build(&config).map_err(err)?)) } else { None };
+                if body.mix > 0.0 { Some(Box::new(genform_app::targets::build(&config).map_err(err)?)) } else { None };
             (loaded, limits, config.settings(), scorers)
         } else {
             if body.mix > 0.0 {
@@ -437,7 +437,7 @@ pub async fn model(
         let built = job.scene();
         if png {
             let scene = match &built {
-                Ok((scene, true)) => genform_cli::codon_report::z_up(scene),
+                Ok((scene, true)) => genform_app::codon_report::z_up(scene),
                 Ok((scene, false)) => scene.clone(),
                 Err(_) => Scene::new(),
             };

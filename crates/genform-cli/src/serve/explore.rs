@@ -5,9 +5,9 @@
 use axum::extract::{Path as UrlPath, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
-use genform_cli::codon_scene::{CodonSceneConfig, is_codon_scene};
-use genform_cli::formalism::{self, Sample, SampleRequest};
-use genform_cli::scene_config::SceneConfig;
+use genform_app::codon_scene::{CodonSceneConfig, is_codon_scene};
+use genform_app::formalism::{self, Sample, SampleRequest};
+use genform_app::scene_config::SceneConfig;
 use genform_core::Scene;
 use genform_export::{ExportOptions, Format, Granularity};
 use serde::Deserialize;
@@ -202,9 +202,9 @@ pub async fn target_glb(State(app): State<Shared>, Query(q): Query<TargetQuery>)
         let tag = scene.tag("target");
         for (i, t) in volume.target.iter().enumerate() {
             let mesh = match (&t.mesh, &t.grammar, &t.genome) {
-                (Some(m), _, _) => genform_cli::targets::read_mesh(m),
+                (Some(m), _, _) => genform_app::targets::read_mesh(m),
                 (None, Some(g), Some(genome)) => {
-                    genform_cli::targets::fixed_genome_scene(g, genome).map(|s| flatten(&s))
+                    genform_app::targets::fixed_genome_scene(g, genome).map(|s| flatten(&s))
                 }
                 _ => continue,
             }

@@ -264,7 +264,7 @@ pub struct StartBody {
 /// `POST /api/runs`: starts a run; 201 with its id.
 pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody>) -> Result<Response, ApiError> {
     let file = app.roots.resolve(&body.scene)?;
-    if !genform_cli::formalism::ends_with_any(&file, &[".toml"]) {
+    if !genform_app::formalism::ends_with_any(&file, &[".toml"]) {
         return Err(ApiError::bad_request(format!("`{}` is not a scene (.toml)", body.scene)));
     }
     let algorithm = match &body.algorithm {
@@ -276,7 +276,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         })?),
     };
     if let Some(b) = &body.budget {
-        genform_cli::scene_config::parse_duration(b).map_err(|e| ApiError::bad_request(format!("budget: {e:#}")))?;
+        genform_app::scene_config::parse_duration(b).map_err(|e| ApiError::bad_request(format!("budget: {e:#}")))?;
     }
     if body.threads.is_some_and(|t| t == 0 || t > 256) {
         return Err(ApiError::bad_request("threads must be 1..=256"));
@@ -289,7 +289,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         Ok((steerable, explore::targets(&probe, &scene)))
     })
     .await?;
-    let codon = genform_cli::codon_scene::is_codon_scene(&file);
+    let codon = genform_app::codon_scene::is_codon_scene(&file);
     let (tx, _) = broadcast::channel(CHANNEL);
     let handle = {
         let mut guard = app.runs.inner.lock().unwrap_or_else(|p| p.into_inner());

@@ -11,9 +11,9 @@
 use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main, measurement::WallTime,
 };
-use genform_cli::objective::{SceneObjective, Scorers};
-use genform_cli::scene_config::SceneConfig;
-use genform_cli::{grammar, targets};
+use genform_app::objective::{SceneObjective, Scorers};
+use genform_app::scene_config::SceneConfig;
+use genform_app::{grammar, targets};
 use genform_core::{Genome, Scene};
 use genform_evolve::{Ga, Objective};
 use rayon::prelude::*;
