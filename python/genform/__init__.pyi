@@ -124,7 +124,7 @@ class RunResult:
 
 def evolve(
     scene: PathLike | Scene,
-    algorithm: str = "ga",
+    algorithm: str | None = None,
     seed: int = 0,
     budget: str | float | None = None,
     generations: int | None = None,
@@ -134,7 +134,11 @@ def evolve(
     progress: Callable[[dict[str, Any]], Any] | None = None,
     **settings: Any,
 ) -> RunResult:
-    """Runs an optimizer on a scene, as `genform evolve` does. Ctrl-C stops
+    """Runs an optimizer on a scene (tree or codon scene) through the same
+    run loop as `genform evolve`, writing the same run folder when `out` is
+    given. `algorithm`: ga for tree scenes, ge for codon scenes by default.
+    `**settings`: scene settings, `population=20` (the algorithm's table) or
+    `ga={...}`, `surface={...}` (any table), applied like `--set`. Ctrl-C stops
     it after the current generation (stopped_by == "interrupted"); an
     exception raised by `progress` stops it and propagates."""
 

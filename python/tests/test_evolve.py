@@ -139,3 +139,59 @@ def test_models_pickle_by_genome():
     assert again.genome == m.genome and again.mesh()[0].tolist() == m.mesh()[0].tolist()
     scene = pickle.loads(pickle.dumps(genform.load_scene(SHIP_SCENE)))
     assert scene.path == genform.load_scene(SHIP_SCENE).path
+
+
+def _timeless(folder):
+    """A run folder's files with the wall-clock fields left out: run.json
+    without its seconds and rates, stats.csv without its time columns,
+    fitness.svg (its x axis is time) by name only."""
+    out = {}
+    for p in sorted(folder.rglob("*")):
+        if not p.is_file():
+            continue
+        name = str(p.relative_to(folder))
+        if name == "run.json":
+            run = json.loads(p.read_text())
+            timed = ("seconds", "per_second", "us_per_eval", "threads")
+            split = run.pop("eval_split", {})
+            run["eval_split"] = {k: v for k, v in split.items() if k == "evaluations"}
+            out[name] = {k: v for k, v in run.items() if not any(t in k for t in timed) and k not in ("scene",)}
+        elif name == "stats.csv":
+            rows = [line.split(",") for line in p.read_text().splitlines()]
+            keep = [i for i, h in enumerate(rows[0]) if "seconds" not in h and "_us" not in h]
+            out[name] = [[r[i] for i in keep] for r in rows]
+        elif name == "fitness.svg":
+            out[name] = "present"
+        else:
+            out[name] = p.read_bytes()
+    return out
+
+
+@pytest.mark.parametrize(
+    "scene, flags, kwargs",
+    [
+        (SHIP_SCENE, ["--generations", "3", "--set", "ga.population=16", "--set", "ga.elitism=4"], dict(generations=3, population=16, elitism=4)),
+        (SHIP_SCENE.parent / "genr8_canopy.toml", ["--evaluations", "600"], dict(evaluations=600)),
+    ],
+    ids=["tree", "codon"],
+)
+def test_the_cli_and_python_write_the_same_run_folder(cli, tmp_path, scene, flags, kwargs):
+    if cli is None:
+        pytest.skip("no genform binary built (cargo build -p genform-cli)")
+    import subprocess
+
+    subprocess.run([cli, "evolve", str(scene), "--seed", "5", "--threads", "2", "--out", str(tmp_path / "cli"), "-q", *flags], check=True)
+    r = genform.evolve(scene, seed=5, threads=2, out=tmp_path / "py", **kwargs)
+    a, b = _timeless(tmp_path / "cli"), _timeless(tmp_path / "py")
+    assert sorted(a) == sorted(b)
+    for name in a:
+        assert a[name] == b[name], name
+    assert r.best is not None and r.best.triangle_count() > 0
+
+
+def test_codon_scenes_evolve_from_python(tmp_path):
+    r = genform.evolve(SHIP_SCENE.parent / "genr8_canopy.toml", seed=1, evaluations=300, out=tmp_path / "run", population=20)
+    assert r.stopped_by == "evaluations" and r.evaluations >= 300
+    run = json.loads((tmp_path / "run" / "run.json").read_text())
+    assert run["kind"] == "ge-gr8" and run["config"]["ge"]["population"] == 20 and run["best_fitness"] == r.best_fitness
+    assert (tmp_path / "run" / "best.gr8").is_file() and r.best.grammar is None and r.best.bounds() is not None

@@ -186,7 +186,26 @@ pub fn box_bounds(c: [i32; 6]) -> (glam::IVec3, glam::IVec3) {
 impl CodonSceneConfig {
     /// Reads, parses and checks the codon scene at `path`.
     pub fn load(path: &Path) -> Result<LoadedCodonScene> {
-        let (mut config, base) = read_scene::<CodonSceneConfig>(path)?;
+        let (config, base) = read_scene::<CodonSceneConfig>(path)?;
+        CodonSceneConfig::checked(path, base, config)
+    }
+
+    /// [`CodonSceneConfig::load`] with a settings patch applied first (the
+    /// scene as written is checked first, so its own mistakes keep their
+    /// positions).
+    pub fn load_patched(path: &Path, patch: &[crate::sweep::set::Axis]) -> Result<LoadedCodonScene> {
+        let loaded = CodonSceneConfig::load(path)?;
+        if patch.is_empty() {
+            return Ok(loaded);
+        }
+        let text = crate::source_text::read_text(path, "scene")?;
+        let text = crate::sweep::set::patched_text::<CodonSceneConfig>(path, &text, patch)?;
+        let config = crate::scene_config::parse_toml(path, &text)?;
+        CodonSceneConfig::checked(path, path.parent().unwrap_or(Path::new(".")), config)
+    }
+
+    /// `config` read from `path` with its paths resolved against `base`, checked.
+    fn checked(path: &Path, base: &Path, mut config: CodonSceneConfig) -> Result<LoadedCodonScene> {
         config.resolve(base);
         let kind = config.check().with_context(|| format!("in scene {}", path.display()))?;
         Ok(LoadedCodonScene { path: path.to_path_buf(), kind, config })

@@ -17,6 +17,7 @@ pub mod objective;
 pub mod output;
 pub mod pictures;
 pub mod report;
+pub mod run;
 pub mod scene_config;
 pub mod source_text;
 pub mod sweep;

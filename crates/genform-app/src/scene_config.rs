@@ -274,6 +274,19 @@ impl SceneConfig {
         Ok(LoadedScene { path: path.to_path_buf(), config })
     }
 
+    /// [`SceneConfig::load`] with a settings patch applied first (the
+    /// scene as written is checked first, so its own mistakes keep their
+    /// positions).
+    pub fn load_patched(path: &Path, patch: &[crate::sweep::set::Axis]) -> Result<LoadedScene> {
+        if patch.is_empty() {
+            return SceneConfig::load(path);
+        }
+        let text = crate::source_text::read_text(path, "scene")?;
+        SceneConfig::load_text(path, &text)?;
+        let text = crate::sweep::set::patched_text::<SceneConfig>(path, &text, patch)?;
+        SceneConfig::load_text(path, &text)
+    }
+
     /// [`SceneConfig::load`] of `text` standing for the file at `path` (its
     /// folder resolves relative paths): `genform sweep` loads edited copies.
     pub fn load_text(path: &Path, text: &str) -> Result<LoadedScene> {

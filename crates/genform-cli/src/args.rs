@@ -4,6 +4,7 @@
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 use genform_app::formalism::SampleRequest;
+use genform_app::run::{AlgorithmChoice, CompareRequest, EvolveRequest, ScoreRequest};
 use std::path::PathBuf;
 
 /// Grammar-based procedural modeling and evolutionary control.
@@ -296,41 +297,17 @@ pub enum Algorithm {
     Ge,
 }
 
-impl Algorithm {
-    /// Lower-case name, as on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Algorithm::Ga => "ga",
-            Algorithm::Mh => "mh",
-            Algorithm::Smc => "smc",
-            Algorithm::Sosmc => "sosmc",
-            Algorithm::Hybrid => "hybrid",
-            Algorithm::MapElites => "map-elites",
-            Algorithm::Random => "random",
-            Algorithm::Ge => "ge",
-        }
-    }
-
-    /// The optimizer over derivation trees, or `None` for `ge`.
-    pub fn tree(self) -> Option<genform_evolve::Algorithm> {
-        Some(match self {
-            Algorithm::Ga => genform_evolve::Algorithm::Ga,
-            Algorithm::Mh => genform_evolve::Algorithm::Mh,
-            Algorithm::Smc => genform_evolve::Algorithm::Smc,
-            Algorithm::Sosmc => genform_evolve::Algorithm::Sosmc,
-            Algorithm::Hybrid => genform_evolve::Algorithm::Hybrid,
-            Algorithm::MapElites => genform_evolve::Algorithm::MapElites,
-            Algorithm::Random => genform_evolve::Algorithm::Random,
-            Algorithm::Ge => return None,
-        })
-    }
-
-    /// The optimizer over codon genomes, or `None` for the tree algorithms.
-    pub fn codon(self) -> Option<genform_evolve::CodonAlgorithm> {
-        match self {
-            Algorithm::Ge => Some(genform_evolve::CodonAlgorithm::Ge),
-            Algorithm::Random => Some(genform_evolve::CodonAlgorithm::Random),
-            _ => None,
+impl From<Algorithm> for AlgorithmChoice {
+    fn from(a: Algorithm) -> AlgorithmChoice {
+        match a {
+            Algorithm::Ga => AlgorithmChoice::Ga,
+            Algorithm::Mh => AlgorithmChoice::Mh,
+            Algorithm::Smc => AlgorithmChoice::Smc,
+            Algorithm::Sosmc => AlgorithmChoice::Sosmc,
+            Algorithm::Hybrid => AlgorithmChoice::Hybrid,
+            Algorithm::MapElites => AlgorithmChoice::MapElites,
+            Algorithm::Random => AlgorithmChoice::Random,
+            Algorithm::Ge => AlgorithmChoice::Ge,
         }
     }
 }
@@ -373,6 +350,11 @@ pub struct EvolveArgs {
     /// each change takes effect at the same generation as before.
     #[arg(long, value_name = "FILE")]
     pub steering: Option<PathBuf>,
+    /// Overrides a scene setting, e.g. `ga.population=20` or
+    /// `surface.weights.symmetry=2` (a TOML value; a bare word is a
+    /// string); repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     #[command(flatten)]
     pub limits: LimitArgs,
 }
@@ -408,6 +390,11 @@ pub struct CompareArgs {
     /// No progress output.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Overrides a scene setting, e.g. `ga.population=20` or
+    /// `surface.weights.symmetry=2` (a TOML value; a bare word is a
+    /// string); repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     #[command(flatten)]
     pub limits: LimitArgs,
 }
@@ -468,8 +455,63 @@ pub struct ScoreArgs {
     /// `reference-cpu` (the reference implementation's CPU counting).
     #[arg(long, value_name = "NAME")]
     pub form: Option<String>,
+    /// Overrides a scene setting, e.g. `ga.population=20` or
+    /// `surface.weights.symmetry=2` (a TOML value; a bare word is a
+    /// string); repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     #[command(flatten)]
     pub limits: LimitArgs,
+}
+
+impl EvolveArgs {
+    /// The run these arguments ask for.
+    pub fn request(&self) -> EvolveRequest {
+        EvolveRequest {
+            scene: self.scene.clone(),
+            seed: self.seed,
+            generations: self.generations,
+            budget: self.budget.clone(),
+            evaluations: self.evaluations,
+            threads: self.threads,
+            out: Some(self.out.clone()),
+            algorithm: self.algorithm.map(AlgorithmChoice::from),
+            preset: self.preset.clone(),
+            limits: self.limits.overrides(),
+            set: self.set.clone(),
+        }
+    }
+}
+
+impl CompareArgs {
+    /// The comparison these arguments ask for.
+    pub fn request(&self) -> CompareRequest {
+        CompareRequest {
+            scene: self.scene.clone(),
+            budget: self.budget.clone(),
+            runs: self.runs,
+            algorithms: self.algorithms.iter().map(|a| AlgorithmChoice::from(*a)).collect(),
+            seed: self.seed,
+            threads: self.threads,
+            out: self.out.clone(),
+            preset: self.preset.clone(),
+            limits: self.limits.overrides(),
+            set: self.set.clone(),
+        }
+    }
+}
+
+impl ScoreArgs {
+    /// The score these arguments ask for.
+    pub fn request(&self) -> ScoreRequest {
+        ScoreRequest {
+            scene: self.scene.clone(),
+            genome: self.genome.clone(),
+            form: self.form.clone(),
+            limits: self.limits.overrides(),
+            set: self.set.clone(),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ mod args;
 mod commands;
 mod evolve;
 mod serve;
+mod sweep;
 
 use std::process::ExitCode;
 

@@ -60,7 +60,7 @@ impl GrammarCore {
         let g = self.generator()?;
         let scene = express(g.generator.as_ref(), &genome, &limits)?;
         let summary = format!("{}: {}", g.name, genome_summary(&scene, &genome));
-        Ok(Model { body: Body::Scene(scene), genome: Some(genome), grammar: self.clone(), limits, summary })
+        Ok(Model { body: Body::Scene(scene), genome: Some(genome), grammar: Some(self.clone()), limits, summary })
     }
 }
 
@@ -231,7 +231,7 @@ fn sample(core: &Arc<GrammarCore>, req: &mut SampleRequest) -> Result<Model> {
     }
     let limits = core.generator.as_ref().map_or(Limits::default(), |g| req.limits.apply(g.limits));
     let summary = s.summary();
-    Ok(Model { body: Body::Sample(s), genome, grammar: core.clone(), limits, summary })
+    Ok(Model { body: Body::Sample(s), genome, grammar: Some(core.clone()), limits, summary })
 }
 
 /// A fresh private folder under the system's temporary folder, when `want`.
@@ -265,8 +265,9 @@ pub struct Model {
     pub body: Body,
     /// Its genome, for grammars with a generator graph.
     pub genome: Option<Genome>,
-    /// The grammar it came from.
-    pub grammar: Arc<GrammarCore>,
+    /// The grammar it came from (none for a codon scene's phenotype, whose
+    /// grammar was mapped from codons).
+    pub grammar: Option<Arc<GrammarCore>>,
     /// The limits it was derived under.
     pub limits: Limits,
     /// One line about it.
@@ -282,9 +283,14 @@ impl Model {
         }
     }
 
+    /// A model that is only its scene (a codon scene's best phenotype).
+    pub fn of_scene(scene: Scene, summary: String) -> Model {
+        Model { body: Body::Scene(scene), genome: None, grammar: None, limits: Limits::default(), summary }
+    }
+
     /// The genome's JSON text.
     pub fn genome_json(&self) -> Option<String> {
-        let g = self.grammar.generator.as_ref()?;
+        let g = self.grammar.as_ref()?.generator.as_ref()?;
         Some(self.genome.as_ref()?.to_json(g.generator.graph()))
     }
 }
@@ -312,10 +318,10 @@ impl Model {
         self.summary.clone()
     }
 
-    /// The grammar the model came from.
+    /// The grammar the model came from (None for a codon scene's phenotype).
     #[getter]
-    fn grammar(&self) -> Grammar {
-        Grammar { core: self.grammar.clone() }
+    fn grammar(&self) -> Option<Grammar> {
+        self.grammar.clone().map(|core| Grammar { core })
     }
 
     /// (vertices (N, 3) float32, faces (M, 3) uint32), in the OBJ file's order.
@@ -352,7 +358,7 @@ impl Model {
         let written = py
             .detach(|| match &self.body {
                 Body::Sample(s) => {
-                    let extra = self.grammar.formalism.output_extensions();
+                    let extra = self.grammar.as_ref().map_or(&[][..], |g| g.formalism.output_extensions());
                     if !formalism::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
                         return Err(genform_app::output::unknown_format(&path, extra));
                     }
@@ -391,11 +397,11 @@ impl Model {
 
     /// Models with a genome pickle as (grammar path, genome, limits), for Ray.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-        let Some(text) = self.genome_json() else {
+        let (Some(text), Some(grammar)) = (self.genome_json(), &self.grammar) else {
             return Err(error("only models with a genome can be pickled (this formalism has none)"));
         };
         let l = self.limits;
-        let args = (self.grammar.path.display().to_string(), text, (l.max_genes, l.max_depth, l.max_primitives));
+        let args = (grammar.path.display().to_string(), text, (l.max_genes, l.max_depth, l.max_primitives));
         Ok((py.import("genform")?.getattr("_model_from_genome")?, args.into_pyobject(py)?.into_any()))
     }
 }

@@ -4,6 +4,7 @@
 //! the TOML accepts is accepted here with the same checks.
 
 use anyhow::{Context, Result, bail};
+use genform_app::run::AlgorithmChoice;
 use genform_evolve::{Algorithm, Settings};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -11,27 +12,15 @@ use serde::Serialize;
 use serde::de::DeserializeOwned;
 use serde_json::{Map, Value};
 
-/// The algorithm named `name` (`map_elites` and `map-elites` both work).
+/// The tree algorithm named `name` (`map_elites` and `map-elites` both work).
 pub fn algorithm(name: &str) -> Result<Algorithm> {
-    let wanted = name.replace('_', "-").to_ascii_lowercase();
-    match Algorithm::ALL.iter().find(|a| a.name() == wanted) {
-        Some(a) => Ok(*a),
-        None => {
-            let names: Vec<&str> = Algorithm::ALL.iter().map(|a| a.name()).collect();
-            bail!("unknown algorithm `{name}`; use one of {}", names.join(", "))
-        }
-    }
+    let choice = AlgorithmChoice::from_name(name)?;
+    choice.tree().ok_or_else(|| anyhow::anyhow!("ask/tell runs tree algorithms; `{name}` evolves codon genomes"))
 }
 
 /// The scene-config section holding `algorithm`'s settings.
 fn section_of(algorithm: Algorithm) -> &'static str {
-    match algorithm {
-        Algorithm::Ga | Algorithm::Random => "ga",
-        Algorithm::Mh => "mh",
-        Algorithm::Smc | Algorithm::Sosmc => "smc",
-        Algorithm::Hybrid => "hybrid",
-        Algorithm::MapElites => "map_elites",
-    }
+    AlgorithmChoice::ALL.into_iter().find(|c| c.tree() == Some(algorithm)).map_or("ga", |c| c.section(false))
 }
 
 const SECTIONS: [&str; 5] = ["ga", "mh", "smc", "hybrid", "map_elites"];

@@ -191,18 +191,91 @@ pub fn variants(path: &Path, text: &str, axes: &[Axis]) -> Result<Vec<(Combinati
 
 /// The scene with `settings` applied, loaded and checked.
 fn apply(path: &Path, doc: &DocumentMut, settings: &[(&Axis, &Value)]) -> Result<LoadedScene> {
+    let text = edited::<SceneConfig>(doc, settings)?;
+    SceneConfig::load_text(path, &text)
+}
+
+/// The text of `doc` with `settings` applied, parsed once as `T` for a
+/// message about the setting (unknown keys with a suggestion, wrong types)
+/// rather than a position in the edited text.
+fn edited<T: serde::de::DeserializeOwned>(doc: &DocumentMut, settings: &[(&Axis, &Value)]) -> Result<String> {
     let mut doc = doc.clone();
     for (axis, value) in settings {
         edit(&mut doc, &axis.path(), value).map_err(|e| anyhow!("{e}"))?;
     }
     let text = doc.to_string();
-    // Parse once here for a message about the setting (unknown keys with a
-    // suggestion, wrong types) rather than a position in the edited text.
-    if let Err(e) = toml::from_str::<SceneConfig>(&text) {
+    if let Err(e) = toml::from_str::<T>(&text) {
         let paths: Vec<Vec<&str>> = settings.iter().map(|(a, _)| a.path()).collect();
         bail!("{}", explain(e.message(), &paths));
     }
-    SceneConfig::load_text(path, &text)
+    Ok(text)
+}
+
+/// A settings patch: `KEY=VALUE` arguments (`--set` of evolve, score and
+/// compare; Python keyword arguments; one value each), parsed as sweep
+/// axes are.
+pub fn parse_patch(args: &[String]) -> Result<Vec<Axis>> {
+    args.iter()
+        .map(|arg| {
+            let axis = parse_set(arg)?;
+            if axis.values.len() != 1 {
+                bail!("--set {arg}: give one value here (several values are for `genform sweep`)");
+            }
+            Ok(axis)
+        })
+        .collect()
+}
+
+/// The tables of a scene file (tree or codon) that keyword settings may
+/// name with a dict of their keys.
+pub const SECTIONS: [&str; 13] = [
+    "ga",
+    "mh",
+    "smc",
+    "hybrid",
+    "map_elites",
+    "ge",
+    "mapper",
+    "fitness",
+    "surface",
+    "run",
+    "limits",
+    "volume",
+    "image",
+];
+
+/// Keyword settings (Python's `population=20`, `ga={...}`) as a settings
+/// patch: a key naming one of [`SECTIONS`] takes an object of that table's
+/// keys; any other key belongs to `own` (the algorithm's table).
+pub fn patch_from_json(own: &str, updates: &serde_json::Map<String, serde_json::Value>) -> Result<Vec<String>> {
+    let mut patch = Vec::new();
+    for (key, value) in updates {
+        match (SECTIONS.contains(&key.as_str()), value) {
+            (true, serde_json::Value::Object(keys)) => {
+                for (k, v) in keys {
+                    patch.push(format!("{key}.{k}={}", toml_literal(v)?));
+                }
+            }
+            (true, _) => bail!("settings: `{key}` takes a dict of the scene's [{key}] keys"),
+            (false, v) => patch.push(format!("{own}.{key}={}", toml_literal(v)?)),
+        }
+    }
+    Ok(patch)
+}
+
+/// `value` written as a TOML value (inline tables for objects).
+fn toml_literal(value: &serde_json::Value) -> Result<String> {
+    let v = toml::Value::try_from(value).map_err(|e| anyhow!("settings: {value} is not a TOML value ({e})"))?;
+    Ok(v.to_string())
+}
+
+/// The scene text at `path` with `patch` applied, checked as a `T` (a tree
+/// or codon scene config); errors name the `--set` that caused them.
+pub fn patched_text<T: serde::de::DeserializeOwned>(path: &Path, text: &str, patch: &[Axis]) -> Result<String> {
+    let doc: DocumentMut = text.parse().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let chosen: Vec<(&Axis, &Value)> = patch.iter().map(|a| (a, &a.parsed[0])).collect();
+    let shown: Vec<String> = patch.iter().map(|a| format!("{}={}", a.key, a.values[0])).collect();
+    edited::<T>(&doc, &chosen).map_err(|e| anyhow!("--set {}: {e:#}", shown.join(" --set ")))
 }
 
 /// A deserialization message in terms of the keys set: unknown keys and
@@ -269,6 +342,24 @@ mod tests {
         assert!(doc.to_string().contains("# keep"), "the rest of the file is kept");
         assert!(edit(&mut doc, &["a", "b"], &v("1")).unwrap_err().contains("is a value"));
         assert!(edit(&mut doc, &["t", "5", "fill"], &v("1")).unwrap_err().contains("no table number 5"));
+    }
+
+    #[test]
+    fn keyword_settings_become_a_patch() {
+        let updates: serde_json::Map<String, serde_json::Value> = serde_json::from_str(
+            r#"{"population": 20, "selection": {"first": {"tournament": 3}}, "mh": {"chains": 4}, "name": "x"}"#,
+        )
+        .unwrap();
+        let patch = patch_from_json("ga", &updates).unwrap();
+        assert_eq!(
+            patch,
+            ["mh.chains=4", "ga.name=\"x\"", "ga.population=20", "ga.selection={ first = { tournament = 3 } }",]
+        );
+        for p in &patch {
+            assert_eq!(parse_set(p).unwrap().values.len(), 1, "{p}");
+        }
+        let bad: serde_json::Map<String, serde_json::Value> = serde_json::from_str(r#"{"ga": 3}"#).unwrap();
+        assert!(patch_from_json("ga", &bad).unwrap_err().to_string().contains("takes a dict"));
     }
 
     #[test]

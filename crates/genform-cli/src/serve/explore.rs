@@ -19,7 +19,7 @@ use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
 use super::assets::content_type;
 use super::files::walk;
 use super::{App, Shared};
-use crate::evolve::Steerable;
+use genform_app::run::Steerable;
 
 /// The `sample` options the studio passes on (the others name side files).
 pub const STUDIO_OPTIONS: &[&str] = &[

@@ -27,8 +27,9 @@ use super::api::{ApiError, JsonBody, Table, blocking, bytes_response, claim_id};
 use super::assets::content_type;
 use super::files::resolve_in;
 use super::{Shared, explore};
-use crate::args::{Algorithm, EvolveArgs, LimitArgs};
-use crate::evolve::{self, Control, SteerEntry, SteerSet, Steerable, Tick, Watch};
+use genform_app::run::{
+    self, AlgorithmChoice, Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch,
+};
 
 /// A gallery picture is made every this many generations (and at the end,
 /// as the run folder's `gallery.png`).
@@ -174,10 +175,10 @@ impl RunHandle {
 struct Watcher(Arc<RunHandle>);
 
 impl Watch for Watcher {
-    fn started(&mut self, max_reachable: f64, steerable: &Steerable) {
+    fn started(&mut self, start: &Start) {
         let mut s = self.0.lock();
-        s.max_reachable = Some(max_reachable);
-        s.steerable = steerable.clone();
+        s.max_reachable = Some(start.max_reachable);
+        s.steerable = start.steerable.clone();
     }
 
     fn generation(&mut self, tick: &Tick) -> Option<SteerSet> {
@@ -269,11 +270,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     }
     let algorithm = match &body.algorithm {
         None => None,
-        Some(name) => Some(<Algorithm as clap::ValueEnum>::from_str(name, true).map_err(|_| {
-            ApiError::bad_request(format!(
-                "unknown algorithm `{name}`; use ga, mh, smc, sosmc, hybrid, map-elites, random or ge"
-            ))
-        })?),
+        Some(name) => Some(AlgorithmChoice::from_name(name).map_err(|e| ApiError::bad_request(format!("{e}")))?),
     };
     if let Some(b) = &body.budget {
         genform_app::scene_config::parse_duration(b).map_err(|e| ApiError::bad_request(format!("budget: {e:#}")))?;
@@ -332,19 +329,16 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         guard.1.insert(n, handle.clone());
         handle
     };
-    let args = EvolveArgs {
+    let args = EvolveRequest {
         scene: file,
         seed: body.seed,
         generations: body.generations,
         budget: body.budget,
         evaluations: body.evaluations,
         threads: body.threads,
-        out: handle.folder.clone(),
+        out: Some(handle.folder.clone()),
         algorithm,
-        preset: None,
-        quiet: true,
-        steering: None,
-        limits: LimitArgs::default(),
+        ..EvolveRequest::default()
     };
     let h = handle.clone();
     std::thread::Builder::new()
@@ -356,13 +350,13 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
 }
 
 /// The run's thread: the CLI's run loop, then the final status.
-fn run_thread(h: Arc<RunHandle>, args: EvolveArgs) {
+fn run_thread(h: Arc<RunHandle>, args: EvolveRequest) {
     let mut watcher = Watcher(h.clone());
     let control = Control { cancel: h.cancel.clone(), schedule: Vec::new(), watch: Some(&mut watcher) };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| evolve::evolve_with(&args, control)));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run::evolve(&args, control)));
     let (status, error) = match result {
-        Ok(Ok(())) if h.cancel.load(Ordering::SeqCst) => (Status::Stopped, None),
-        Ok(Ok(())) => (Status::Finished, None),
+        Ok(Ok(_)) if h.cancel.load(Ordering::SeqCst) => (Status::Stopped, None),
+        Ok(Ok(_)) => (Status::Finished, None),
         Ok(Err(e)) => (Status::Failed, Some(format!("{e:#}"))),
         Err(_) => (Status::Failed, Some("internal error: the run panicked".to_string())),
     };

@@ -22,11 +22,11 @@ pub fn sweep(a: SweepArgs) -> Result<()> {
         generations: a.generations,
         budget: a.budget.clone(),
         evaluations: a.evaluations,
-        algorithm: super::tree_algorithm(a.algorithm, &a.scene)?,
+        algorithm: genform_app::run::tree::tree_algorithm(a.algorithm.into(), &a.scene)?,
         threads: a.threads,
         out: a.out.clone(),
     };
-    let cancel = super::cancel_on_ctrl_c();
+    let cancel = crate::evolve::cancel_on_ctrl_c();
     let quiet = a.quiet;
     let progress = move |d: RunDone| {
         if !quiet {

@@ -22,9 +22,9 @@
 //! new ones. Re-scoring is deterministic at any thread count, so a replay is
 //! identical. See ARCHITECTURE.md ("genform serve").
 
+use crate::codon_scene::CodonSceneConfig;
+use crate::scene_config::FitnessConfig;
 use anyhow::{Context, Result, bail};
-use genform_app::codon_scene::CodonSceneConfig;
-use genform_app::scene_config::FitnessConfig;
 use genform_score::{SurfaceCriterion, SurfaceObjective, SurfaceScorer};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -184,7 +184,7 @@ fn unknown(name: &str, kind: &str, names: &[&str]) -> String {
 /// of `{"generation": N, "set": {...}}` entries, sorted by generation
 /// (entries of one generation keep their order).
 pub fn read_log(path: &Path) -> Result<Vec<SteerEntry>> {
-    let text = genform_app::source_text::read_text(path, "steering log")?;
+    let text = crate::source_text::read_text(path, "steering log")?;
     let value: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     let list = match value {

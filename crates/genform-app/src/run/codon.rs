@@ -3,31 +3,30 @@
 //! random search, with the same stop rules, checkpoints, Ctrl-C handling
 //! and atomic writes as tree scenes.
 
+use crate::codon_objective::{CodonObjective, EvalSplit, Expressed, InvalidCounts, ScoreDetail, Scoring, read_codons};
+use crate::codon_report::{self, CriteriaRow};
+use crate::codon_scene::{CodonKind, CodonSceneConfig, LoadedCodonScene, Phenotype};
+use crate::grammar::LimitOverrides;
+use crate::output::write_atomic;
+use crate::report::{self, Row};
+use crate::sweep::set::parse_patch;
 use anyhow::{Result, bail};
-use genform_app::codon_objective::{
-    CodonObjective, EvalSplit, Expressed, InvalidCounts, ScoreDetail, Scoring, read_codons,
-};
-use genform_app::codon_report::{self, CriteriaRow};
-use genform_app::codon_scene::{CodonKind, CodonSceneConfig, LoadedCodonScene, Phenotype};
-use genform_app::grammar::LimitOverrides;
-use genform_app::output::write_atomic;
-use genform_app::report::{self, Row};
 use genform_core::Scene;
 use genform_evolve::{AnyCodonOptimizer, CodonAlgorithm, Codons, GenerationStats, Individual, Optimizer};
 use genform_export::RenderOptions;
 use std::path::Path;
 
+use super::compare::{CompareOutcome, CompareRequest, Contest, distinct, race, race_budget};
 use super::{
-    ByRef, Common, Contest, Control, Ended, Session, SteerSet, Steerable, distinct, drive, race, race_budget, stop_at,
-    stop_rules, title, worker_pool, write_models,
+    AlgorithmChoice, ByRef, Common, Control, Ended, EvolveRequest, RunOutcome, ScoreRequest, Session, SteerSet,
+    Steerable, drive, stop_at, stop_rules, title, worker_pool, write_models,
 };
-use crate::args::{Algorithm, CompareArgs, EvolveArgs, LimitArgs, ScoreArgs};
 
 /// Individuals shown in `gallery.png`.
 const GALLERY: usize = 16;
 
 /// The codon optimizer `alg` names; tree algorithms are refused with the reason.
-fn codon_algorithm(alg: Algorithm, scene: &Path) -> Result<CodonAlgorithm> {
+fn codon_algorithm(alg: AlgorithmChoice, scene: &Path) -> Result<CodonAlgorithm> {
     alg.codon().ok_or_else(|| {
         anyhow::anyhow!(
             "--algorithm {} searches derivation trees, but {} is a codon scene (its genomes are codon lists); \
@@ -39,8 +38,8 @@ fn codon_algorithm(alg: Algorithm, scene: &Path) -> Result<CodonAlgorithm> {
 }
 
 /// Refuses the tree scenes' derivation-limit flags.
-fn refuse_tree_limits(limits: &LimitArgs) -> Result<()> {
-    if limits.overrides() != LimitOverrides::default() {
+fn refuse_tree_limits(limits: &LimitOverrides) -> Result<()> {
+    if *limits != LimitOverrides::default() {
         bail!(
             "--max-genes, --max-depth and --max-primitives limit derivation trees; a codon scene sets its limits in \
              its [limits] table (vertices, edges, faces, modules, primitives, elements)"
@@ -59,11 +58,11 @@ fn kind_name(kind: CodonKind) -> &'static str {
     }
 }
 
-/// Runs `genform score` on a codon scene: the genome's fitness and every
-/// part of it.
-pub fn score(a: ScoreArgs) -> Result<()> {
+/// The score of a genome against a codon scene: the fitness and every
+/// part of it, one line each.
+pub(super) fn score(a: &ScoreRequest) -> Result<Vec<String>> {
     refuse_tree_limits(&a.limits)?;
-    let mut scene = CodonSceneConfig::load(&a.scene)?;
+    let mut scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
     if a.form.is_some() && scene.config.surface.is_some() {
         bail!("--form chooses how volume and image targets count; {} scores a surface", a.scene.display());
     }
@@ -78,17 +77,17 @@ pub fn score(a: ScoreArgs) -> Result<()> {
         Scoring::Surface(s) => format!("{} form, ", s.objective().form.name()),
         Scoring::Targets(_) => String::new(),
     };
-    println!(
+    let mut lines = vec![format!(
         "fitness {} ({form}max reachable {best}); {} codons, {} read, {} wraps",
         e.fitness,
         codons.len(),
         e.codons_read,
         e.wraps
-    );
+    )];
     match &e.detail {
         ScoreDetail::Surface(s) => {
             for c in s.components() {
-                println!(
+                lines.push(format!(
                     "  {:<13} measure {} target {} weight {} error {} contribution {}",
                     c.name(),
                     c.measure,
@@ -96,21 +95,22 @@ pub fn score(a: ScoreArgs) -> Result<()> {
                     c.weight,
                     c.error,
                     c.contribution
-                );
+                ));
             }
         }
-        ScoreDetail::Counts(c) => {
-            println!("  good {} bad {} overlap {} outside {} target {}", c.good, c.bad, c.overlap, c.outside, c.target)
-        }
+        ScoreDetail::Counts(c) => lines.push(format!(
+            "  good {} bad {} overlap {} outside {} target {}",
+            c.good, c.bad, c.overlap, c.outside, c.target
+        )),
     }
-    Ok(())
+    Ok(lines)
 }
 
-/// Runs `genform evolve` on a codon scene under `control`.
-pub fn evolve(a: &EvolveArgs, mut control: Control) -> Result<()> {
+/// Runs a codon scene under `control`.
+pub(super) fn evolve(a: &EvolveRequest, mut control: Control) -> Result<RunOutcome> {
     refuse_tree_limits(&a.limits)?;
-    let scene = CodonSceneConfig::load(&a.scene)?;
-    let algorithm = codon_algorithm(a.algorithm.unwrap_or(Algorithm::Ge), &scene.path)?;
+    let scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
+    let algorithm = codon_algorithm(a.algorithm.unwrap_or(AlgorithmChoice::Ge), &scene.path)?;
     let config = &scene.config;
     let horizon = stop_rules(a, &config.run)?;
     let objective = CodonObjective::new(&scene)?;
@@ -119,7 +119,7 @@ pub fn evolve(a: &EvolveArgs, mut control: Control) -> Result<()> {
     let cancel = control.cancel.clone();
     let mut ctx = Run {
         common: Common {
-            args: a,
+            request: a,
             algorithm: algorithm.name(),
             scene_path: &scene.path,
             threads: pool.current_num_threads(),
@@ -217,19 +217,22 @@ impl Session<Codons> for Run<'_> {
         self.objective.max_reachable(self.scene.config.ge.initial_length[0])
     }
 
-    fn record(&self, rec: &mut Record, stats: &GenerationStats, opt: &dyn Optimizer<Codons>, log: bool) -> String {
+    fn record(
+        &self,
+        rec: &mut Record,
+        stats: &GenerationStats,
+        opt: &dyn Optimizer<Codons>,
+    ) -> (String, Option<String>) {
         let invalid = self.objective.take_invalid();
         rec.invalid.push(invalid);
         self.record_criteria(rec, stats.generation, opt.best());
-        if log && invalid.total() > 0 {
-            eprintln!("generation {}: invalid evaluations: {invalid}", stats.generation);
-        }
+        let log =
+            (invalid.total() > 0).then(|| format!("generation {}: invalid evaluations: {invalid}", stats.generation));
         let why = if invalid.total() > 0 { format!(" ({invalid})") } else { String::new() };
-        format!(" · invalid {}{why}", stats.invalid)
+        (format!(" · invalid {}{why}", stats.invalid), log)
     }
 
-    fn write_progress(&self, opt: &dyn Optimizer<Codons>, rows: &[Row], rec: &Record) -> Result<()> {
-        let out = &self.common.args.out;
+    fn write_progress(&self, out: &Path, opt: &dyn Optimizer<Codons>, rows: &[Row], rec: &Record) -> Result<()> {
         write_atomic(&out.join("stats.csv"), codon_report::stats_csv(rows, &rec.invalid).as_bytes())?;
         if let Some(best) = opt.best() {
             write_atomic(&out.join("best-codons.json"), self.codons_json(best).as_bytes())?;
@@ -237,9 +240,16 @@ impl Session<Codons> for Run<'_> {
         Ok(())
     }
 
-    fn write_all(&self, opt: &dyn Optimizer<Codons>, rows: &[Row], rec: &Record, ended: Ended) -> Result<()> {
-        let out = &self.common.args.out;
-        self.write_progress(opt, rows, rec)?;
+    fn write_all(
+        &self,
+        out: &Path,
+        opt: &dyn Optimizer<Codons>,
+        rows: &[Row],
+        rec: &Record,
+        ended: Ended,
+        note: &mut dyn FnMut(&str),
+    ) -> Result<()> {
+        self.write_progress(out, opt, rows, rec)?;
         let formula = match self.objective.scoring() {
             Scoring::Surface(s) => s.objective().form.contribution_formula(),
             Scoring::Targets(_) => "",
@@ -257,7 +267,7 @@ impl Session<Codons> for Run<'_> {
         if let (Some(e), Some(b)) = (&expressed, best)
             && e.fitness.to_bits() != b.fitness.to_bits()
         {
-            eprintln!("warning: the best individual re-scores {} instead of {}", e.fitness, b.fitness);
+            note(&format!("warning: the best individual re-scores {} instead of {}", e.fitness, b.fitness));
         }
         if let Some(e) = &expressed {
             if let Some((ext, text)) = &e.grammar_file {
@@ -267,7 +277,7 @@ impl Session<Codons> for Run<'_> {
             let png = genform_export::render_png(&self.preview(&e.scene), &RenderOptions::default());
             write_atomic(&out.join("best.png"), &png)?;
             if let Scoring::Targets(t) = self.objective.scoring() {
-                genform_app::pictures::write_silhouettes(out, &t.images, &e.scene)?;
+                crate::pictures::write_silhouettes(out, &t.images, &e.scene)?;
             }
         }
         write_atomic(&out.join("gallery.png"), &self.gallery(opt.population()))?;
@@ -307,7 +317,7 @@ impl Session<Codons> for Run<'_> {
             "invalid_by_generation": rec.invalid.iter().map(by_reason).collect::<Vec<_>>(),
             "config": self.scene.config,
         });
-        self.common.write_run_json(opt, rows, ended, self.max_reachable(), own)
+        self.common.write_run_json(out, opt, rows, ended, self.max_reachable(), own)
     }
 
     fn summary_tail(&self, rec: &Record) -> String {
@@ -347,7 +357,7 @@ impl Run<'_> {
 
     fn codons_json(&self, best: &Individual<Codons>) -> String {
         let scene = self.scene.path.display().to_string();
-        codon_report::codons_json(&best.genome, best.fitness, self.common.algorithm, self.common.args.seed, &scene)
+        codon_report::codons_json(&best.genome, best.fitness, self.common.algorithm, self.common.request.seed, &scene)
     }
 
     /// The scene as previews show it: surfaces with +z up.
@@ -372,19 +382,19 @@ impl Run<'_> {
     }
 }
 
-/// Runs `genform compare` on a codon scene: every codon algorithm `runs`
-/// times with the same wall-clock budget.
-pub fn compare(a: CompareArgs) -> Result<()> {
+/// Runs `compare` on a codon scene: every codon algorithm `runs` times
+/// with the same wall-clock budget.
+pub(super) fn compare(a: &CompareRequest, control: Control) -> Result<CompareOutcome> {
     refuse_tree_limits(&a.limits)?;
-    let scene = CodonSceneConfig::load(&a.scene)?;
-    let budget = race_budget(&a)?;
-    let default = [Algorithm::Ge, Algorithm::Random];
+    let scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
+    let budget = race_budget(a)?;
+    let default = [AlgorithmChoice::Ge, AlgorithmChoice::Random];
     let algorithms = distinct(&a.algorithms, &default, |alg| codon_algorithm(alg, &scene.path))?;
     let config = &scene.config;
     AnyCodonOptimizer::new(CodonAlgorithm::Ge, &config.ge, a.seed).map_err(|e| anyhow::anyhow!("[ge]: {e}"))?;
     let objective = CodonObjective::new(&scene)?;
     let contest = CodonContest { scene: &scene, objective: &objective, seed: a.seed };
-    race(&a, &scene.path, budget, &algorithms, &objective, &contest)
+    race(a, &scene.path, budget, &algorithms, &objective, &contest, control)
 }
 
 /// Codon scenes in `compare`.
