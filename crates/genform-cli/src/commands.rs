@@ -5,7 +5,7 @@
 use anyhow::{Result, bail};
 use std::path::PathBuf;
 
-use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs};
+use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs, ServeArgs};
 use genform_app::formalism;
 use genform_app::grammar::{self, express, genome_summary};
 use genform_app::output::{output_format, write_model};
@@ -21,7 +21,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(a) => crate::evolve::compare(a),
         Command::Sweep(a) => crate::evolve::sweep(a),
         Command::Map(a) => map(a),
-        Command::Serve(a) => crate::serve::serve(a),
+        Command::Serve(a) => serve(a),
     }
 }
 
@@ -78,6 +78,22 @@ fn derive(a: DeriveArgs) -> Result<()> {
     write_model(&scene, &a.out)?;
     eprintln!("{}: {} → {}", loaded.name, genome_summary(&scene, &genome), a.out.display());
     Ok(())
+}
+
+fn serve(a: ServeArgs) -> Result<()> {
+    if let Some(host) = &a.host {
+        eprintln!(
+            "warning: listening on {host}: anyone who can reach this address can read the examples and run \
+             folders and start runs on this machine"
+        );
+    }
+    let options =
+        genform_studio::ServeOptions { file: a.file, port: a.port, host: a.host, out: a.out, examples: a.examples };
+    genform_studio::serve(options, |url| {
+        use std::io::Write as _;
+        println!("genform studio: {url}");
+        let _ = std::io::stdout().flush();
+    })
 }
 
 fn info(a: InfoArgs) -> Result<()> {

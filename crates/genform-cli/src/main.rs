@@ -4,7 +4,6 @@
 mod args;
 mod commands;
 mod evolve;
-mod serve;
 mod sweep;
 
 use std::process::ExitCode;

@@ -1,6 +1,6 @@
-//! Evolution runs: each on a thread of its own through the CLI's run loop
-//! (`evolve::evolve_with`, the same `drive` and sessions as `genform
-//! evolve`, writing the same run folder under `--out/<id>/`), watched by a
+//! Evolution runs: each on a thread of its own through the shared run loop
+//! (`genform_app::run::evolve`, as `genform evolve` runs, writing the same
+//! run folder under `--out/<id>/`), watched by a
 //! [`Watcher`] that records every generation, publishes it on a broadcast
 //! channel (Server-Sent Events), holds the run while it is paused and
 //! hands over queued steering between generations.
@@ -349,7 +349,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     Ok((StatusCode::CREATED, axum::Json(answer)).into_response())
 }
 
-/// The run's thread: the CLI's run loop, then the final status.
+/// The run's thread: the shared run loop, then the final status.
 fn run_thread(h: Arc<RunHandle>, args: EvolveRequest) {
     let mut watcher = Watcher(h.clone());
     let control = Control { cancel: h.cancel.clone(), schedule: Vec::new(), watch: Some(&mut watcher) };

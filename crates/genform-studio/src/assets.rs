@@ -10,7 +10,7 @@ pub fn get(path: &str) -> Option<&'static [u8]> {
 
 /// What `/` shows when the page was not built in: where it should be.
 pub const PLACEHOLDER: &str = "<!doctype html><meta charset=utf-8><title>genform studio</title>\
-<p>The studio page is not in this build (crates/genform-cli/studio/index.html). The API is at <code>/api/</code>.";
+<p>The studio page is not in this build (crates/genform-studio/studio/index.html). The API is at <code>/api/</code>.";
 
 /// The content type of a file, by its name's ending.
 pub fn content_type(name: &str) -> &'static str {

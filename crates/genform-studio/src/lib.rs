@@ -1,15 +1,16 @@
-//! `genform serve`: the studio, a local web server for one page (embedded,
-//! [`assets`]) and a JSON API over the same code the verbs use.
+//! The studio behind `genform serve`: a local web server for one page
+//! (embedded, [`assets`]) and a JSON API over the application library
+//! (`genform-app`), the same code the command line's verbs use.
 //!
 //! - [`explore`]: the grammar list and sampling (the formalism table).
-//! - [`runs`]: `evolve` runs on their own threads through the CLI's run
-//!   loop (`evolve::evolve_with`), watched over Server-Sent Events, paused,
-//!   stopped and steered.
+//! - [`runs`]: `evolve` runs on their own threads through the shared run
+//!   loop (`genform_app::run::evolve`), watched over Server-Sent Events,
+//!   paused, stopped and steered.
 //! - [`breed`]: interactive evolution, the GA driven by ask/tell with the
 //!   user's favourites as the fitness.
 //! - [`files`]: the roots the server may touch and the path checks.
 //!
-//! Threads: a tokio runtime serves HTTP; CLI work (compiling, sampling,
+//! Threads: a tokio runtime serves HTTP; library work (compiling, sampling,
 //! rendering) runs on its blocking pool; each run has a thread of its own
 //! with its own rayon pool. See ARCHITECTURE.md ("genform serve").
 
@@ -27,11 +28,9 @@ use axum::extract::{DefaultBodyLimit, Path as UrlPath};
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use crate::args::ServeArgs;
 use api::{ApiError, bytes_response};
 use files::Roots;
 
@@ -70,8 +69,25 @@ impl App {
 /// The state handlers get.
 pub type Shared = Arc<App>;
 
-/// Runs `genform serve` until the process is stopped.
-pub fn serve(a: ServeArgs) -> Result<()> {
+/// What the studio serves and where.
+#[derive(Clone, Debug, Default)]
+pub struct ServeOptions {
+    /// A scene config (.toml) or grammar to open first; its folder is
+    /// served too (as `scene/…`).
+    pub file: Option<PathBuf>,
+    /// Port to listen on; 0 picks a free one.
+    pub port: u16,
+    /// Address to listen on (`None`: 127.0.0.1, this machine only).
+    pub host: Option<String>,
+    /// Folder for run folders, breeding saves and sampled models.
+    pub out: PathBuf,
+    /// Folder of example grammars and scenes (`None`: ./examples if it exists).
+    pub examples: Option<PathBuf>,
+}
+
+/// Serves the studio until the process is stopped; `listening` gets the
+/// page's address once the port is bound.
+pub fn serve(a: ServeOptions, listening: impl FnOnce(&str) + Send) -> Result<()> {
     let app = Arc::new(app(&a)?);
     let host = a.host.clone().unwrap_or_else(|| "127.0.0.1".to_string());
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -85,20 +101,13 @@ pub fn serve(a: ServeArgs) -> Result<()> {
             .with_context(|| format!("cannot listen on {host}:{}", a.port))?;
         let addr = listener.local_addr()?;
         let shown = if addr.is_ipv6() { format!("[{}]", addr.ip()) } else { addr.ip().to_string() };
-        println!("genform studio: http://{shown}:{}/", addr.port());
-        let _ = std::io::stdout().flush();
-        if a.host.is_some() {
-            eprintln!(
-                "warning: listening on {host}: anyone who can reach this address can read the examples and run \
-                 folders and start runs on this machine"
-            );
-        }
+        listening(&format!("http://{shown}:{}/", addr.port()));
         axum::serve(listener, router(app)).await.context("the server stopped")
     })
 }
 
 /// The shared state of `a`: the roots, created `--out`, the given file.
-fn app(a: &ServeArgs) -> Result<App> {
+fn app(a: &ServeOptions) -> Result<App> {
     let mut roots = Roots::default();
     let default = match &a.file {
         Some(f) => {

@@ -1,0 +1,74 @@
+//! The house rules of ARCHITECTURE.md that the dependency graph shows: the
+//! application library and the Python binding link no argument parser,
+//! web server, async runtime or terminal widget (those belong to the CLI
+//! and studio doors), and no library crate depends on a door.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Every package of the workspace's dependency graph with the names of
+/// what it links (normal and build dependencies; dev-dependencies, which
+/// only tests and benches link, left out), from `cargo metadata`.
+fn graph() -> BTreeMap<String, Vec<String>> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let out = std::process::Command::new(cargo)
+        .args(["metadata", "--format-version", "1", "--offline", "--manifest-path"])
+        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/../../Cargo.toml"))
+        .output()
+        .expect("cargo metadata runs");
+    assert!(out.status.success(), "cargo metadata: {}", String::from_utf8_lossy(&out.stderr));
+    let meta: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let name_of: BTreeMap<&str, &str> = meta["packages"]
+        .as_array()
+        .expect("packages")
+        .iter()
+        .map(|p| (p["id"].as_str().expect("id"), p["name"].as_str().expect("name")))
+        .collect();
+    let mut graph = BTreeMap::new();
+    for node in meta["resolve"]["nodes"].as_array().expect("resolve.nodes") {
+        let deps =
+            node["deps"].as_array().expect("deps").iter().filter(|d| {
+                d["dep_kinds"].as_array().is_some_and(|k| k.iter().any(|k| k["kind"].as_str() != Some("dev")))
+            });
+        let names = deps.map(|d| name_of[d["pkg"].as_str().expect("pkg")].to_string()).collect();
+        graph.insert(name_of[node["id"].as_str().expect("id")].to_string(), names);
+    }
+    graph
+}
+
+/// Everything `root` links, itself included.
+fn closure(graph: &BTreeMap<String, Vec<String>>, root: &str) -> BTreeSet<String> {
+    let mut seen = BTreeSet::new();
+    let mut todo = vec![root.to_string()];
+    while let Some(p) = todo.pop() {
+        if seen.insert(p.clone()) {
+            todo.extend(graph.get(&p).into_iter().flatten().cloned());
+        }
+    }
+    seen
+}
+
+#[test]
+fn the_application_library_and_python_link_no_door_machinery() {
+    let graph = graph();
+    for root in ["genform-app", "genform-py"] {
+        let all = closure(&graph, root);
+        assert!(all.len() > 20, "{root} is in the lock file with its dependencies");
+        for door in ["clap", "axum", "tokio", "indicatif", "ctrlc", "genform-cli", "genform-studio"] {
+            assert!(!all.contains(door), "{root} links {door}");
+        }
+    }
+}
+
+#[test]
+fn libraries_depend_on_no_door() {
+    let graph = graph();
+    let doors = ["genform-cli", "genform-studio", "genform-py"];
+    for lib in graph.keys().filter(|n| n.starts_with("genform-") && !doors.contains(&n.as_str())) {
+        let all = closure(&graph, lib);
+        for door in doors {
+            assert!(!all.contains(door), "{lib} depends on the door {door}");
+        }
+    }
+    assert!(closure(&graph, "genform-studio").contains("genform-app"), "the studio runs on the application library");
+    assert!(closure(&graph, "genform-cli").contains("clap"), "the graph sees the doors' own dependencies");
+}
