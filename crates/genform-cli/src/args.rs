@@ -257,14 +257,21 @@ impl SampleArgs {
 /// Arguments of `genform derive`.
 #[derive(Debug, Args)]
 pub struct DeriveArgs {
-    /// Grammar file (.sg, or a context-free .ls).
+    /// Grammar file with derivation-tree genomes (.sg, a context-free .ls),
+    /// or the scene (.toml) a genome was evolved in: tree scenes derive
+    /// under their limits, codon scenes (.bnf, .bsg, .gg.yaml grammars)
+    /// decode codons with their [mapper] settings.
     pub file: PathBuf,
-    /// Genome JSON written by `sample --genome-out` or an optimizer.
+    /// Genome JSON written by `sample --genome-out` or an optimizer
+    /// (`best-genome.json`), or codons (`best-codons.json`).
     #[arg(long, value_name = "G.json")]
     pub genome: PathBuf,
     /// Output file; the format follows the extension (.glb .obj .ply .stl .png).
     #[arg(long, short)]
     pub out: PathBuf,
+    /// Overrides a scene setting (with a scene file), as for `evolve`.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
     #[command(flatten)]
     pub limits: LimitArgs,
 }

@@ -2,12 +2,11 @@
 //! every formalism through the table (`genform_app::formalism`); `derive`
 //! goes through `grammar::load`, which asks the same table for a generator.
 
-use anyhow::{Result, bail};
+use anyhow::Result;
 use std::path::PathBuf;
 
 use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs, ServeArgs};
 use genform_app::formalism;
-use genform_app::grammar::{self, express, genome_summary};
 use genform_app::output::{output_format, write_model};
 
 /// Runs one command.
@@ -64,19 +63,15 @@ fn shown(written: &[PathBuf]) -> String {
 fn derive(a: DeriveArgs) -> Result<()> {
     genform_app::output::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
     output_format(&a.out)?;
-    let loaded = grammar::load(&a.file)?;
-    let limits = a.limits.overrides().apply(loaded.limits);
-    let genome = loaded.read_genome(&a.genome)?;
-    if genome.len() > limits.max_genes {
-        bail!(
-            "the genome has {} genes, more than the gene limit ({}); raise it with --max-genes",
-            genome.len(),
-            limits.max_genes
-        );
-    }
-    let scene = express(loaded.generator.as_ref(), &genome, &limits)?;
-    write_model(&scene, &a.out)?;
-    eprintln!("{}: {} → {}", loaded.name, genome_summary(&scene, &genome), a.out.display());
+    let request = genform_app::run::DeriveRequest {
+        file: a.file.clone(),
+        genome: a.genome.clone(),
+        limits: a.limits.overrides(),
+        set: a.set.clone(),
+    };
+    let derived = genform_app::run::derive(&request)?;
+    write_model(&derived.scene, &a.out)?;
+    eprintln!("{} → {}", derived.summary, a.out.display());
     Ok(())
 }
 
@@ -97,7 +92,7 @@ fn serve(a: ServeArgs) -> Result<()> {
 }
 
 fn info(a: InfoArgs) -> Result<()> {
-    print!("{}", formalism::open(&a.file)?.describe());
+    print!("{}", formalism::info(&a.file)?);
     Ok(())
 }
 

@@ -159,7 +159,12 @@ fn grammars_without_a_generator_say_why_in_every_generator_verb() {
     let tmp = tempfile::tempdir().unwrap();
     let castle = root().join("examples/boxsplit/castle.bsg");
     let err = genform(tmp.path(), &["derive", s(&castle), "--genome", "g.json", "--out", "x.obj"]).fails().stderr();
-    assert!(err.contains("cannot be used as a generator: box-split grammars have no generator graph"), "{err}");
+    assert!(
+        err.contains("is evolved with codons") && err.contains("genform derive SCENE.toml --genome g.json"),
+        "{err}"
+    );
+    let info = genform(tmp.path(), &["info", s(&castle)]).ok().stdout();
+    assert!(info.contains("genomes: codon lists (codon scenes"), "{info}");
     // (Graph and box-split grammars in scenes are codon scenes, see tests/ge.rs.)
     let koch = root().join("examples/hemls/koch.gr8");
     let scene = format!(
@@ -169,6 +174,26 @@ fn grammars_without_a_generator_say_why_in_every_generator_verb() {
     std::fs::write(tmp.path().join("scene.toml"), scene).unwrap();
     let err = genform(tmp.path(), &["score", "scene.toml", "--genome", "g.json"]).fails().stderr();
     assert!(err.contains("cannot be used as a generator: HEMLS grammars"), "{err}");
+}
+
+#[test]
+fn derive_rebuilds_an_evolved_best_from_its_scene_tree_or_codon() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenes = root().join("examples/scenes");
+    for (scene, flags, genome) in [
+        ("spaceship_volume.toml", ["--generations", "2"], "best-genome.json"),
+        ("ge_castle_volume.toml", ["--evaluations", "200"], "best-codons.json"),
+    ] {
+        let scene = scenes.join(scene);
+        let mut args = vec!["evolve", s(&scene), "--seed", "1", "--out", "run", "-q"];
+        args.extend(flags);
+        genform(tmp.path(), &args).ok();
+        let genome = format!("run/{genome}");
+        let err = genform(tmp.path(), &["derive", s(&scene), "--genome", &genome, "--out", "again.obj"]).ok().stderr();
+        assert!(err.contains("→ again.obj"), "{err}");
+        let (again, best) = (tmp.path().join("again.obj"), tmp.path().join("run/best.obj"));
+        assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&best).unwrap(), "{}", scene.display());
+    }
 }
 
 #[test]

@@ -36,6 +36,10 @@ impl Formalism for BoxSplitGrammars {
         REGION
     }
 
+    fn genomes(&self) -> super::Genomes {
+        super::Genomes::Codons
+    }
+
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, genform_boxsplit::compile)?;
         Ok(Box::new(BoxFile { path: path.to_path_buf(), grammar }))
@@ -168,8 +172,10 @@ impl LoadedGrammar for BoxFile {
     fn into_generator(self: Box<Self>) -> Result<Loaded> {
         Err(no_generator(
             &self.path,
-            "box-split grammars have no generator graph: they derive in a box, choosing rules against the \
-             world and backtracking as they go, so there is no genome to replay or evolve",
+            "box-split grammars have no derivation-tree genome: they derive in a box, choosing rules against \
+             the world and backtracking as they go. They are evolved with codons that make those choices: write \
+             a codon scene (see examples/scenes/ge_castle_volume.toml) for `genform evolve`, and rebuild a result \
+             with `genform derive SCENE.toml --genome best-codons.json`",
         ))
     }
 }

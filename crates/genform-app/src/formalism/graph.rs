@@ -34,6 +34,10 @@ impl Formalism for GraphGrammars {
         YAML
     }
 
+    fn genomes(&self) -> super::Genomes {
+        super::Genomes::Codons
+    }
+
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, genform_graph::compile)?;
         Ok(Box::new(GraphFile { path: path.to_path_buf(), grammar }))
@@ -80,8 +84,10 @@ impl LoadedGrammar for GraphFile {
     fn into_generator(self: Box<Self>) -> Result<Loaded> {
         Err(no_generator(
             &self.path,
-            "graph grammars have no generator graph: each step rewrites a match found in the host graph as it \
-             grows, so there is no genome to replay or evolve",
+            "graph grammars have no derivation-tree genome: each step rewrites a match found in the host graph \
+             as it grows. They are evolved with codons that choose the matches and options: write a codon scene \
+             (see examples/scenes/ge_graph_tree_sketch.toml) for `genform evolve`, and rebuild a result with \
+             `genform derive SCENE.toml --genome best-codons.json`",
         ))
     }
 }

@@ -37,6 +37,10 @@ impl Formalism for Hemls {
         &["--steps", "--env", "--every-step", "--smooth"]
     }
 
+    fn genomes(&self) -> super::Genomes {
+        super::Genomes::Phenotype
+    }
+
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, genform_hemls::compile)?;
         Ok(Box::new(HemlsFile { path: path.to_path_buf(), grammar }))

@@ -30,6 +30,10 @@ impl Formalism for LSystems {
         &["--steps", "--max-modules", "--string-out", "--genome-out", "--max-genes", "--max-depth", "--max-primitives"]
     }
 
+    fn genomes(&self) -> super::Genomes {
+        super::Genomes::Tree
+    }
+
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let system =
             Arc::new(compile_file(path, |file| genform_lsystem::compile_with_assets(file, &FileAssets::beside(path)))?);

@@ -71,6 +71,48 @@ pub trait Formalism: Sync {
     /// Compiles the grammar at `path`; warnings go to stderr, errors become
     /// the returned error with every diagnostic rendered.
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>>;
+
+    /// The genomes this formalism's grammars are derived from and evolved
+    /// with (`derive`, `evolve`, `score`).
+    fn genomes(&self) -> Genomes;
+}
+
+/// What a formalism's models are evolved as: the one contract `derive`,
+/// `evolve`, `score` and `info` read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Genomes {
+    /// Derivation trees over the grammar's generator graph (tree scenes:
+    /// GA, MH, SMC, SOSMC, MAP-Elites; `derive GRAMMAR GENOME`).
+    Tree,
+    /// Codon lists that make the grammar's choices (codon scenes: GE or
+    /// random search; `derive SCENE CODONS`, since the scene's `[mapper]`
+    /// settings say how codons choose).
+    Codons,
+    /// Rule sets written by a GE grammar (`.bnf`) from codons: the grammar
+    /// file is a phenotype, evolved through a codon scene of that `.bnf`.
+    Phenotype,
+}
+
+impl Genomes {
+    /// A line for `info` and the docs.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Genomes::Tree => "derivation trees (tree scenes: ga, mh, smc, sosmc, hybrid, map-elites, random)",
+            Genomes::Codons => {
+                "codon lists (codon scenes: ge, random; derive with the scene: derive SCENE.toml --genome CODONS.json)"
+            }
+            Genomes::Phenotype => "written by a GE grammar (.bnf) from codons; evolve a codon scene of that .bnf",
+        }
+    }
+
+    /// A short name (`tree`, `codons`, `phenotype`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Genomes::Tree => "tree",
+            Genomes::Codons => "codons",
+            Genomes::Phenotype => "phenotype",
+        }
+    }
 }
 
 /// A compiled grammar of some formalism (`Send + Sync`: the Python
@@ -227,6 +269,13 @@ pub fn for_path(path: &Path) -> Result<&'static dyn Formalism> {
 /// Compiles the grammar at `path` with the formalism its extension names.
 pub fn open(path: &Path) -> Result<Box<dyn LoadedGrammar>> {
     for_path(path)?.load(path)
+}
+
+/// What `genform info` prints for the grammar at `path`: its own
+/// description, then what it is evolved as.
+pub fn info(path: &Path) -> Result<String> {
+    let f = for_path(path)?;
+    Ok(format!("{}genomes: {}\n", f.load(path)?.describe(), f.genomes().describe()))
 }
 
 /// Refuses what `formalism` cannot do for `request`, before anything is

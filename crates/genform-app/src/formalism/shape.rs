@@ -25,6 +25,10 @@ impl Formalism for ShapeGrammars {
         &["--genome-out", "--max-genes", "--max-depth", "--max-primitives"]
     }
 
+    fn genomes(&self) -> super::Genomes {
+        super::Genomes::Tree
+    }
+
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, |file| genform_shape::compile(file, &FileAssets::beside(path)))?;
         Ok(Box::new(grammar))

@@ -30,10 +30,12 @@ use crate::scene_config::{RunConfig, SceneConfig, parse_duration};
 
 pub mod codon;
 pub mod compare;
+pub mod derive;
 pub mod steering;
 pub mod tree;
 
 pub use compare::{CompareOutcome, CompareRequest, compare};
+pub use derive::{DeriveRequest, Derived, derive};
 pub use steering::{SteerEntry, SteerSet, Steerable};
 
 /// How often results are written during a run, so a crash loses little.
