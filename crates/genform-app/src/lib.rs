@@ -19,6 +19,7 @@ pub mod pictures;
 pub mod report;
 pub mod run;
 pub mod scene_config;
+pub mod scene_file;
 pub mod source_text;
 pub mod sweep;
 pub mod targets;

@@ -230,6 +230,13 @@ pub struct LimitsConfig {
     pub primitives: Option<usize>,
 }
 
+impl LimitsConfig {
+    /// The `[limits]` as overrides of a grammar's limits.
+    pub fn overrides(&self) -> crate::grammar::LimitOverrides {
+        crate::grammar::LimitOverrides { max_genes: self.genes, max_depth: self.depth, max_primitives: self.primitives }
+    }
+}
+
 fn one() -> f64 {
     1.0
 }

@@ -23,7 +23,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
-use crate::grammar::{self, LimitOverrides};
+use crate::grammar;
 use crate::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
 use crate::output::write_atomic;
 use crate::scene_config::{SceneConfig, parse_duration};
@@ -164,12 +164,7 @@ fn load(req: &SweepRequest) -> Result<(Vec<Vec<String>>, Vec<Variant>)> {
                 s
             }
         };
-        let scene = LimitOverrides {
-            max_genes: config.limits.genes,
-            max_depth: config.limits.depth,
-            max_primitives: config.limits.primitives,
-        };
-        let limits = scene.apply(generator.limits);
+        let limits = config.limits.overrides().apply(generator.limits);
         let horizon = horizon(req, &config).with_context(at)?;
         let settings = config.settings();
         // Fail now, not in the middle of the runs.

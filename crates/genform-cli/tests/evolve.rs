@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 mod common;
-use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, scored, small_scene, small_ship};
+use common::{fails, fitness_columns, interrupt_evolve, json, ok, root, s, scored, small_scene, small_ship};
 
 /// The small spaceship of the end-to-end tests, in `dir`.
 fn ship(dir: &Path) -> PathBuf {
@@ -99,6 +99,25 @@ fn config_mistakes_name_the_file_and_the_key() {
     let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("targets/spaceship_target.obj", "targets/nope.obj")]);
     let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
     assert!(err.contains("nope.obj"), "{err}");
+}
+
+#[test]
+fn set_patches_the_scene_for_one_run_with_the_files_checks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = ship(tmp.path());
+    let args = ["evolve", s(&ship), "--generations", "1", "-q", "--out", "run", "--set", "ga.population=12"];
+    ok(tmp.path(), &[&args[..], &["--set", "ga.elitism=2"]].concat());
+    let run = json(&tmp.path().join("run/run.json"));
+    assert_eq!(
+        (run["config"]["ga"]["population"].as_u64(), run["config"]["ga"]["elitism"].as_u64()),
+        (Some(12), Some(2))
+    );
+    let stats = std::fs::read_to_string(tmp.path().join("run/stats.csv")).unwrap();
+    assert!(stats.lines().nth(1).unwrap().starts_with("0,12,"), "generation 0 evaluates the 12 set: {stats}");
+    let err = fails(tmp.path(), &["evolve", s(&ship), "--generations", "1", "--set", "ga.populaton=12"]);
+    assert!(err.contains("--set ga.populaton=12") && err.contains("did you mean `population`"), "{err}");
+    let err = fails(tmp.path(), &["score", s(&ship), "--genome", "run/best-genome.json", "--set", "ga.population=1,2"]);
+    assert!(err.contains("give one value here"), "{err}");
 }
 
 /// Two Ctrl-Cs 5 ms apart (a key pressed twice): the results are written

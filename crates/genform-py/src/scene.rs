@@ -2,9 +2,9 @@
 //! fitness) whose built-in scorers are Python callables.
 
 use anyhow::{Result, bail};
-use genform_app::grammar::LimitOverrides;
 use genform_app::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
 use genform_app::scene_config::{LoadedScene, SceneConfig};
+use genform_app::scene_file::SceneFile;
 use genform_core::Limits;
 use genform_evolve::Objective;
 use pyo3::prelude::*;
@@ -33,19 +33,16 @@ pub struct SceneCore {
 impl SceneCore {
     /// Loads the scene at `path` with its grammar and targets.
     pub fn open(path: &Path) -> Result<Self> {
-        if genform_app::codon_scene::is_codon_scene(path) {
-            bail!(
-                "{} is a codon scene (grammatical evolution); the Python package evolves tree scenes only so far \
-                 (use `genform evolve` for codon scenes)",
+        let LoadedScene { path, config } = match SceneFile::load(path, &[])? {
+            SceneFile::Tree(scene) => scene,
+            SceneFile::Codon(_) => bail!(
+                "{} is a codon scene (grammatical evolution): run it with genform.evolve(path); load_scene's \
+                 scorers as callables and ask/tell work on tree scenes",
                 path.display()
-            );
-        }
-        let LoadedScene { path, config } = SceneConfig::load(path)?;
+            ),
+        };
         let grammar = Arc::new(GrammarCore::open(&config.grammar)?);
-        let base = grammar.generator()?.limits;
-        let l = &config.limits;
-        let limits =
-            LimitOverrides { max_genes: l.genes, max_depth: l.depth, max_primitives: l.primitives }.apply(base);
+        let limits = config.limits.overrides().apply(grammar.generator()?.limits);
         let scorers = genform_app::targets::build(&config)?;
         Ok(SceneCore { path, config, grammar, scorers, limits })
     }

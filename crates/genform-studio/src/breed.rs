@@ -13,11 +13,10 @@
 use axum::extract::{Path as UrlPath, State};
 use axum::response::{IntoResponse, Response};
 use genform_app::codon_objective::CodonObjective;
-use genform_app::codon_scene::CodonSceneConfig;
-use genform_app::grammar::{self, LimitOverrides};
+use genform_app::grammar;
 use genform_app::objective::{SceneObjective, Scorers};
 use genform_app::output::write_atomic;
-use genform_app::scene_config::SceneConfig;
+use genform_app::scene_file::SceneFile;
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::ask_tell::{AskTell, Score};
 use genform_evolve::{AnyCodonOptimizer, AnyOptimizer, CodonAlgorithm, Codons, Horizon, Objective, Settings};
@@ -256,8 +255,8 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
     let shown = |n: &str| app.shown(n);
     let err = |e: anyhow::Error| ApiError::from_anyhow(&e, shown);
     let is_scene = genform_app::formalism::ends_with_any(file, &[".toml"]);
-    let pool = if is_scene && genform_app::codon_scene::is_codon_scene(file) {
-        let scene = CodonSceneConfig::load(file).map_err(err)?;
+    let scene = if is_scene { Some(SceneFile::load(file, &[]).map_err(err)?) } else { None };
+    let pool = if let Some(SceneFile::Codon(scene)) = scene {
         let objective = Arc::new(CodonObjective::new(&scene).map_err(err)?);
         let mut ge = scene.config.ge.clone();
         ge.population = body.size;
@@ -271,12 +270,10 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
         });
         Pool::Codon { objective, ask: Box::new(ask), batch: Vec::new() }
     } else {
-        let (loaded, limits, mut settings, scorers) = if is_scene {
-            let config = SceneConfig::load(file).map_err(err)?.config;
+        let (loaded, limits, mut settings, scorers) = if let Some(SceneFile::Tree(scene)) = scene {
+            let config = scene.config;
             let loaded = grammar::load(&config.grammar).map_err(err)?;
-            let l = &config.limits;
-            let limits = LimitOverrides { max_genes: l.genes, max_depth: l.depth, max_primitives: l.primitives }
-                .apply(loaded.limits);
+            let limits = config.limits.overrides().apply(loaded.limits);
             // The targets are built (voxelized) only when they are mixed in.
             let scorers =
                 if body.mix > 0.0 { Some(Box::new(genform_app::targets::build(&config).map_err(err)?)) } else { None };

@@ -5,9 +5,10 @@
 use axum::extract::{Path as UrlPath, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
-use genform_app::codon_scene::{CodonSceneConfig, is_codon_scene};
+use genform_app::codon_scene::is_codon_scene;
 use genform_app::formalism::{self, Sample, SampleRequest};
 use genform_app::scene_config::SceneConfig;
+use genform_app::scene_file::SceneFile;
 use genform_core::Scene;
 use genform_export::{ExportOptions, Format, Granularity};
 use serde::Deserialize;
@@ -113,19 +114,23 @@ fn describe(file: &Path, shown: &str) -> Option<Value> {
         let table = text.parse::<toml::Table>().ok()?;
         table.get("grammar")?.as_str()?;
         let title = table.get("description").and_then(|d| d.as_str()).map_or(stem, str::to_string);
-        let codon = is_codon_scene(file);
-        let mut item = json!({
-            "path": shown, "kind": "scene", "formalism": if codon { "codon scene" } else { "scene" }, "title": title,
-            "algorithms": if codon { json!(["ge", "random"]) } else {
-                json!(["ga", "mh", "smc", "sosmc", "hybrid", "map-elites", "random"])
-            },
-        });
-        match steerable(file) {
-            Ok(s) => item["criteria"] = json!(s.values()),
-            Err(e) => item["error"] = json!(format!("{e:#}")),
-        }
-        if let Some(targets) = targets(file, shown) {
-            item["targets"] = targets;
+        let mut item = json!({ "path": shown, "kind": "scene", "title": title });
+        match SceneFile::load(file, &[]) {
+            Ok(scene) => {
+                let codon = matches!(scene, SceneFile::Codon(_));
+                item["formalism"] = json!(if codon { "codon scene" } else { "scene" });
+                item["algorithms"] = json!(scene.algorithms());
+                item["criteria"] = json!(scene.steerable().values());
+                if let Some(targets) = targets_of(&scene, shown) {
+                    item["targets"] = targets;
+                }
+            }
+            Err(e) => {
+                let codon = is_codon_scene(file);
+                item["formalism"] = json!(if codon { "codon scene" } else { "scene" });
+                item["algorithms"] = json!(if codon { &["ge", "random"][..] } else { &["ga"][..] });
+                item["error"] = json!(format!("{e:#}"));
+            }
         }
         return Some(item);
     }
@@ -142,17 +147,18 @@ fn describe(file: &Path, shown: &str) -> Option<Value> {
 
 /// What steering can change in the scene at `file`.
 pub fn steerable(file: &Path) -> anyhow::Result<Steerable> {
-    Ok(if is_codon_scene(file) {
-        Steerable::of_codon_scene(&CodonSceneConfig::load(file)?.config)
-    } else {
-        Steerable::Fitness(SceneConfig::load(file)?.config.fitness)
-    })
+    Ok(SceneFile::load(file, &[])?.steerable())
 }
 
 /// `{"glb": url | null, "images": [url]}`: where the scene's targets can be
 /// fetched (`shown` is its root path); `None` for scenes without targets.
 pub fn targets(file: &Path, shown: &str) -> Option<Value> {
-    let config = target_config(file).ok()?;
+    targets_of(&SceneFile::load(file, &[]).ok()?, shown)
+}
+
+/// [`targets`] of a loaded scene.
+fn targets_of(scene: &SceneFile, shown: &str) -> Option<Value> {
+    let config = scene.targets()?;
     let q = query_path(shown);
     let volume = config.volume.is_some().then(|| format!("/api/target.glb?path={q}"));
     let images: Vec<String> = (0..config.image.len())
@@ -165,15 +171,7 @@ pub fn targets(file: &Path, shown: &str) -> Option<Value> {
 /// The targets part of a scene: a tree scene's config, or a codon scene's
 /// targets seen as one (surface scenes have none).
 fn target_config(file: &Path) -> anyhow::Result<SceneConfig> {
-    Ok(if is_codon_scene(file) {
-        let scene = CodonSceneConfig::load(file)?;
-        if scene.config.surface.is_some() {
-            anyhow::bail!("a surface scene has no target model");
-        }
-        scene.config.targets_view()
-    } else {
-        SceneConfig::load(file)?.config
-    })
+    SceneFile::load(file, &[])?.targets().ok_or_else(|| anyhow::anyhow!("a surface scene has no target model"))
 }
 
 /// A root path as a query value (`/` kept; the few characters that would

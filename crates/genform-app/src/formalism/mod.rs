@@ -275,7 +275,7 @@ pub fn open(path: &Path) -> Result<Box<dyn LoadedGrammar>> {
 /// description, then what it is evolved as.
 pub fn info(path: &Path) -> Result<String> {
     let f = for_path(path)?;
-    Ok(format!("{}genomes: {}\n", f.load(path)?.describe(), f.genomes().describe()))
+    Ok(format!("{}\ngenomes: {}\n", f.load(path)?.describe(), f.genomes().describe()))
 }
 
 /// Refuses what `formalism` cannot do for `request`, before anything is

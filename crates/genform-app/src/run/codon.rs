@@ -5,11 +5,10 @@
 
 use crate::codon_objective::{CodonObjective, EvalSplit, Expressed, InvalidCounts, ScoreDetail, Scoring, read_codons};
 use crate::codon_report::{self, CriteriaRow};
-use crate::codon_scene::{CodonKind, CodonSceneConfig, LoadedCodonScene, Phenotype};
+use crate::codon_scene::{CodonKind, LoadedCodonScene, Phenotype};
 use crate::grammar::LimitOverrides;
 use crate::output::write_atomic;
 use crate::report::{self, Row};
-use crate::sweep::set::parse_patch;
 use anyhow::{Result, bail};
 use genform_core::Scene;
 use genform_evolve::{AnyCodonOptimizer, CodonAlgorithm, Codons, GenerationStats, Individual, Optimizer};
@@ -60,9 +59,8 @@ fn kind_name(kind: CodonKind) -> &'static str {
 
 /// The score of a genome against a codon scene: the fitness and every
 /// part of it, one line each.
-pub(super) fn score(a: &ScoreRequest) -> Result<Vec<String>> {
+pub(super) fn score(a: &ScoreRequest, mut scene: LoadedCodonScene) -> Result<Vec<String>> {
     refuse_tree_limits(&a.limits)?;
-    let mut scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
     if a.form.is_some() && scene.config.surface.is_some() {
         bail!("--form chooses how volume and image targets count; {} scores a surface", a.scene.display());
     }
@@ -107,9 +105,8 @@ pub(super) fn score(a: &ScoreRequest) -> Result<Vec<String>> {
 }
 
 /// Runs a codon scene under `control`.
-pub(super) fn evolve(a: &EvolveRequest, mut control: Control) -> Result<RunOutcome> {
+pub(super) fn evolve(a: &EvolveRequest, scene: LoadedCodonScene, mut control: Control) -> Result<RunOutcome> {
     refuse_tree_limits(&a.limits)?;
-    let scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
     let algorithm = codon_algorithm(a.algorithm.unwrap_or(AlgorithmChoice::Ge), &scene.path)?;
     let config = &scene.config;
     let horizon = stop_rules(a, &config.run)?;
@@ -384,9 +381,8 @@ impl Run<'_> {
 
 /// Runs `compare` on a codon scene: every codon algorithm `runs` times
 /// with the same wall-clock budget.
-pub(super) fn compare(a: &CompareRequest, control: Control) -> Result<CompareOutcome> {
+pub(super) fn compare(a: &CompareRequest, scene: LoadedCodonScene, control: Control) -> Result<CompareOutcome> {
     refuse_tree_limits(&a.limits)?;
-    let scene = CodonSceneConfig::load_patched(&a.scene, &parse_patch(&a.set)?)?;
     let budget = race_budget(a)?;
     let default = [AlgorithmChoice::Ge, AlgorithmChoice::Random];
     let algorithms = distinct(&a.algorithms, &default, |alg| codon_algorithm(alg, &scene.path))?;

@@ -52,10 +52,10 @@ pub struct CompareOutcome {
 /// Runs `request` on a tree or codon scene; each finished run's line and
 /// any interruption reach `control`'s watcher as notes.
 pub fn compare(request: &CompareRequest, control: Control) -> Result<CompareOutcome> {
-    if crate::codon_scene::is_codon_scene(&request.scene) {
-        super::codon::compare(request, control)
-    } else {
-        super::tree::compare(request, control)
+    let patch = crate::sweep::set::parse_patch(&request.set)?;
+    match crate::scene_file::SceneFile::load(&request.scene, &patch)? {
+        crate::scene_file::SceneFile::Tree(scene) => super::tree::compare(request, scene, control),
+        crate::scene_file::SceneFile::Codon(scene) => super::codon::compare(request, scene, control),
     }
 }
 

@@ -8,10 +8,11 @@ use std::path::{Path, PathBuf};
 
 use super::scene_limits;
 use crate::codon_objective::{CodonObjective, read_codons};
-use crate::codon_scene::{CodonSceneConfig, is_codon_scene};
+use crate::codon_scene::LoadedCodonScene;
 use crate::formalism::{self, Genomes};
 use crate::grammar::{self, LimitOverrides, express, genome_summary};
 use crate::scene_config::SceneConfig;
+use crate::scene_file::SceneFile;
 use crate::sweep::set::parse_patch;
 
 /// One `derive`, as a door asks for it.
@@ -38,7 +39,10 @@ pub struct Derived {
 /// Rebuilds the model `request` names.
 pub fn derive(r: &DeriveRequest) -> Result<Derived> {
     if r.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
-        return if is_codon_scene(&r.file) { codon(r) } else { tree_scene(r) };
+        return match SceneFile::load(&r.file, &parse_patch(&r.set)?)? {
+            SceneFile::Tree(scene) => tree_scene(r, scene.config),
+            SceneFile::Codon(scene) => codon(r, &scene),
+        };
     }
     if let Ok(f) = formalism::for_path(&r.file)
         && f.genomes() == Genomes::Codons
@@ -70,22 +74,20 @@ fn tree(loaded: &grammar::Loaded, limits: genform_core::Limits, genome: &Path) -
 }
 
 /// A tree genome with its scene's grammar and limits.
-fn tree_scene(r: &DeriveRequest) -> Result<Derived> {
-    let config = SceneConfig::load_patched(&r.file, &parse_patch(&r.set)?)?.config;
+fn tree_scene(r: &DeriveRequest, config: SceneConfig) -> Result<Derived> {
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, r.limits);
     tree(&loaded, limits, &r.genome)
 }
 
 /// Codons with their codon scene's decoder.
-fn codon(r: &DeriveRequest) -> Result<Derived> {
+fn codon(r: &DeriveRequest, scene: &LoadedCodonScene) -> Result<Derived> {
     if r.limits != LimitOverrides::default() {
         bail!(
             "--max-genes, --max-depth and --max-primitives limit derivation trees; a codon scene sets its limits in its [limits] table"
         );
     }
-    let scene = CodonSceneConfig::load_patched(&r.file, &parse_patch(&r.set)?)?;
-    let objective = CodonObjective::new(&scene)?;
+    let objective = CodonObjective::new(scene)?;
     let codons = read_codons(&r.genome)?;
     let e = objective.express(&codons).map_err(|why| {
         anyhow::anyhow!("{} is an invalid individual of {}: {why}", r.genome.display(), r.file.display())

@@ -27,6 +27,8 @@ use crate::grammar::LimitOverrides;
 use crate::output::write_atomic;
 use crate::report::Row;
 use crate::scene_config::{RunConfig, SceneConfig, parse_duration};
+use crate::scene_file::SceneFile;
+use crate::sweep::set::parse_patch;
 
 pub mod codon;
 pub mod compare;
@@ -296,10 +298,9 @@ impl RunOutcome {
 /// Runs `request` under `control`: a tree or codon scene, whichever the
 /// scene file is.
 pub fn evolve(request: &EvolveRequest, control: Control) -> Result<RunOutcome> {
-    if crate::codon_scene::is_codon_scene(&request.scene) {
-        codon::evolve(request, control)
-    } else {
-        tree::evolve(request, control)
+    match SceneFile::load(&request.scene, &parse_patch(&request.set)?)? {
+        SceneFile::Tree(scene) => tree::evolve(request, scene, control),
+        SceneFile::Codon(scene) => codon::evolve(request, scene, control),
     }
 }
 
@@ -320,17 +321,15 @@ pub struct ScoreRequest {
 
 /// The score of one genome, as lines of text (the first the total).
 pub fn score(request: &ScoreRequest) -> Result<Vec<String>> {
-    if crate::codon_scene::is_codon_scene(&request.scene) { codon::score(request) } else { tree::score(request) }
+    match SceneFile::load(&request.scene, &parse_patch(&request.set)?)? {
+        SceneFile::Tree(scene) => tree::score(request, scene),
+        SceneFile::Codon(scene) => codon::score(request, scene),
+    }
 }
 
 /// The grammar's limits overridden by the scene's `[limits]`, then by flags.
 fn scene_limits(config: &SceneConfig, grammar: Limits, flags: LimitOverrides) -> Limits {
-    let scene = LimitOverrides {
-        max_genes: config.limits.genes,
-        max_depth: config.limits.depth,
-        max_primitives: config.limits.primitives,
-    };
-    flags.or(scene).apply(grammar)
+    flags.or(config.limits.overrides()).apply(grammar)
 }
 
 /// The stop rules of a run: the request's replace the scene's `[run]` as a

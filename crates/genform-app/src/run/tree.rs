@@ -19,7 +19,6 @@ use crate::output::write_atomic;
 use crate::pictures::{self, BestHistory, TargetPicture};
 use crate::report::{self, Row};
 use crate::scene_config::{LoadedScene, SceneConfig};
-use crate::sweep::set::parse_patch;
 use crate::targets;
 
 /// The tree optimizer `alg` names; `ge` is refused with the reason.
@@ -34,8 +33,8 @@ pub fn tree_algorithm(alg: AlgorithmChoice, scene: &Path) -> Result<genform_evol
 }
 
 /// One genome's counts and fitness against a tree scene.
-pub(super) fn score(r: &ScoreRequest) -> Result<Vec<String>> {
-    let LoadedScene { mut config, .. } = SceneConfig::load_patched(&r.scene, &parse_patch(&r.set)?)?;
+pub(super) fn score(r: &ScoreRequest, scene: LoadedScene) -> Result<Vec<String>> {
+    let LoadedScene { mut config, .. } = scene;
     config.fitness.override_form(r.form.as_deref())?;
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, r.limits);
@@ -58,8 +57,8 @@ pub(super) fn score(r: &ScoreRequest) -> Result<Vec<String>> {
 }
 
 /// Runs a tree scene under `control`.
-pub(super) fn evolve(r: &EvolveRequest, mut control: Control) -> Result<RunOutcome> {
-    let LoadedScene { path: scene_path, mut config } = SceneConfig::load_patched(&r.scene, &parse_patch(&r.set)?)?;
+pub(super) fn evolve(r: &EvolveRequest, scene: LoadedScene, mut control: Control) -> Result<RunOutcome> {
+    let LoadedScene { path: scene_path, mut config } = scene;
     apply_preset(&mut config, r.preset.as_deref());
     let algorithm = tree_algorithm(r.algorithm.unwrap_or(AlgorithmChoice::Ga), &scene_path)?;
     let loaded = grammar::load(&config.grammar)?;
@@ -116,8 +115,8 @@ fn section(a: genform_evolve::Algorithm) -> &'static str {
 
 /// Runs `compare` on a tree scene: every algorithm `runs` times with the
 /// same wall-clock budget, one run after another on the same worker pool.
-pub(super) fn compare(r: &CompareRequest, control: Control) -> Result<CompareOutcome> {
-    let LoadedScene { path: scene_path, mut config } = SceneConfig::load_patched(&r.scene, &parse_patch(&r.set)?)?;
+pub(super) fn compare(r: &CompareRequest, scene: LoadedScene, control: Control) -> Result<CompareOutcome> {
+    let LoadedScene { path: scene_path, mut config } = scene;
     apply_preset(&mut config, r.preset.as_deref());
     let loaded = grammar::load(&config.grammar)?;
     let limits = scene_limits(&config, loaded.limits, r.limits);
