@@ -381,6 +381,23 @@ fn a_run_is_watched_paused_steered_stopped_and_replayed() {
 /// past its budget still goes on after resuming, and its folder reports
 /// the running time only.
 #[test]
+fn a_run_takes_a_settings_patch_as_the_cli_does() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let body =
+        json!({"scene": "scene/spaceship_volume.toml", "generations": 1, "set": ["ga.population=10", "ga.elitism=1"]});
+    let id = server.post("/api/runs", &body).ok().json()["id"].as_str().unwrap().to_string();
+    server.wait_run(&id, "finished", |s| s["status"] == "finished");
+    let run = server.get(&format!("/api/runs/{id}/files/run.json")).ok().json();
+    assert_eq!(run["config"]["ga"]["population"], 10, "{run}");
+    let bad = json!({"scene": "scene/spaceship_volume.toml", "generations": 1, "set": ["ga.populaton=10"]});
+    let e = server.post("/api/runs", &bad);
+    assert_eq!(e.status, 400);
+    assert!(e.json()["error"].as_str().unwrap().contains("did you mean `population`"), "{}", e.json());
+}
+
+#[test]
 fn a_paused_run_keeps_its_budget() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = ship(tmp.path());

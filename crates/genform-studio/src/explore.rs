@@ -20,7 +20,6 @@ use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
 use super::assets::content_type;
 use super::files::walk;
 use super::{App, Shared};
-use genform_app::run::Steerable;
 
 /// The `sample` options the studio passes on (the others name side files).
 pub const STUDIO_OPTIONS: &[&str] = &[
@@ -143,11 +142,6 @@ fn describe(file: &Path, shown: &str) -> Option<Value> {
         .filter(|o| STUDIO_OPTIONS.contains(o))
         .collect();
     Some(json!({ "path": shown, "kind": "grammar", "formalism": f.name(), "title": stem, "options": options }))
-}
-
-/// What steering can change in the scene at `file`.
-pub fn steerable(file: &Path) -> anyhow::Result<Steerable> {
-    Ok(SceneFile::load(file, &[])?.steerable())
 }
 
 /// `{"glb": url | null, "images": [url]}`: where the scene's targets can be

@@ -260,6 +260,9 @@ pub struct StartBody {
     evaluations: Option<u64>,
     #[serde(default)]
     threads: Option<usize>,
+    /// A settings patch, `KEY=VALUE` each, as `genform evolve --set`.
+    #[serde(default)]
+    set: Vec<String>,
 }
 
 /// `POST /api/runs`: starts a run; 201 with its id.
@@ -281,9 +284,13 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     let probe = file.clone();
     let shown_app = app.clone();
     let scene = body.scene.clone();
+    let set = body.set.clone();
     let (steerable, targets) = blocking(move || {
-        let steerable = explore::steerable(&probe).map_err(|e| ApiError::from_anyhow(&e, |n| shown_app.shown(n)))?;
-        Ok((steerable, explore::targets(&probe, &scene)))
+        // The scene as the run will load it: a bad patch is refused here, with the scene's own mistakes.
+        let loaded = genform_app::sweep::set::parse_patch(&set)
+            .and_then(|patch| genform_app::scene_file::SceneFile::load(&probe, &patch))
+            .map_err(|e| ApiError::from_anyhow(&e, |n| shown_app.shown(n)))?;
+        Ok((loaded.steerable(), explore::targets(&probe, &scene)))
     })
     .await?;
     let codon = genform_app::codon_scene::is_codon_scene(&file);
@@ -338,6 +345,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         threads: body.threads,
         out: Some(handle.folder.clone()),
         algorithm,
+        set: body.set,
         ..EvolveRequest::default()
     };
     let h = handle.clone();
