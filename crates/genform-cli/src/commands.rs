@@ -18,7 +18,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Evolve(a) => crate::evolve::evolve(a),
         Command::Score(a) => crate::evolve::score(a),
         Command::Compare(a) => crate::evolve::compare(a),
-        Command::Sweep(a) => crate::evolve::sweep(a),
+        Command::Sweep(a) => crate::sweep::sweep(a),
         Command::Map(a) => map(a),
         Command::Serve(a) => serve(a),
     }

@@ -10,8 +10,6 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use crate::args::{CompareArgs, EvolveArgs, ScoreArgs};
 
-pub use crate::sweep::sweep;
-
 /// Runs `genform evolve`: Ctrl-C stops the run (its results are written),
 /// `--steering` replays an earlier run's steering.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
