@@ -264,18 +264,35 @@ impl Session<Genome> for RunContext<'_> {
         self.write_progress(out, opt, rows, rec)?;
         let title = title(self.common.scene_path);
         write_atomic(&out.join("fitness.svg"), report::fitness_svg(&title, rows).as_bytes())?;
-        if let Some(best) = opt.best() {
-            let scene = self.express(&best.genome)?;
-            write_models(out, &scene)?;
-            // best-model.png: the model alone in a fitted 3/4 view;
-            // best.png: with its target behind it (see genform_app::pictures).
-            write_atomic(&out.join("best-model.png"), &genform_export::render_png(&scene, &RenderOptions::default()))?;
-            let target = TargetPicture::new(self.config, &self.scorers)?;
-            write_atomic(&out.join("best.png"), &target.best_png(&scene))?;
-            pictures::write_silhouettes(out, &self.scorers.images, &scene)?;
-            self.write_evolution(out, &target, rec)?;
-        }
-        self.write_diversity(out, opt.population())?;
+        // The pictures are independent files: made side by side on the run's
+        // pool, each written whole, so the folder is the same at any thread count.
+        let best = opt.best().map(|b| self.express(&b.genome)).transpose()?;
+        let target = match &best {
+            Some(_) => Some(TargetPicture::new(self.config, &self.scorers)?),
+            None => None,
+        };
+        let population = opt.population();
+        let (pictures, gallery) = rayon::join(
+            || -> Result<()> {
+                let (Some(scene), Some(target)) = (&best, &target) else { return Ok(()) };
+                let (models, evolution) = rayon::join(
+                    || -> Result<()> {
+                        write_models(out, scene)?;
+                        // best-model.png: the model alone in a fitted 3/4 view;
+                        // best.png: with its target behind it (see genform_app::pictures).
+                        let png = genform_export::render_png(scene, &RenderOptions::default());
+                        write_atomic(&out.join("best-model.png"), &png)?;
+                        write_atomic(&out.join("best.png"), &target.best_png(scene))?;
+                        pictures::write_silhouettes(out, &self.scorers.images, scene)
+                    },
+                    || self.write_evolution(out, target, rec),
+                );
+                models.and(evolution)
+            },
+            || self.write_diversity(out, population),
+        );
+        pictures?;
+        gallery?;
         let l = &self.limits;
         let own = serde_json::json!({
             "limits": { "genes": l.max_genes, "depth": l.max_depth, "primitives": l.max_primitives },
