@@ -29,10 +29,26 @@ fn koch_svg_png_and_string_are_deterministic() {
     assert_eq!(&read(&tmp, "a.png")[1..4], b"PNG");
     // --steps overrides the file's derivation length.
     let run = genform(tmp.path(), &["sample", s(&koch), "--steps", "2", "--string-out", "k.txt"]).ok();
-    assert!(run.stdout().contains("2 steps: 112 modules, 48 segments"), "{}", run.stdout());
+    assert!(run.stdout().contains("2 steps: 112 modules (not drawn"), "{}", run.stdout());
+    let run =
+        genform(tmp.path(), &["sample", s(&koch), "--steps", "2", "--string-out", "k2.txt", "--out", "k2.svg"]).ok();
+    assert!(run.stderr().contains("2 steps: 112 modules, 48 segments"), "{}", run.show());
+    assert_eq!(read(&tmp, "k.txt"), read(&tmp, "k2.txt"), "the string does not depend on drawing");
     let string = String::from_utf8(read(&tmp, "k.txt")).unwrap();
     assert_eq!(string.trim_end().len(), 112);
     assert!(string.starts_with("F-F++F-F-F-F++F-F++F-F++F-F"), "{string}");
+}
+
+#[test]
+fn a_string_alone_is_not_drawn_nor_held_to_the_primitive_limit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plant = ls("abop_1_24e");
+    // 3.18 M modules, 1.05 M segments: past the 200,000-primitive limit when drawn.
+    let drawn = genform(tmp.path(), &["sample", s(&plant), "--steps", "12", "--out", "p.svg"]).fails();
+    assert!(drawn.stderr().contains("primitive"), "{}", drawn.show());
+    let run = genform(tmp.path(), &["sample", s(&plant), "--steps", "12", "--string-out", "p.txt"]).ok();
+    assert!(run.stdout().contains("12 steps: 3180451 modules (not drawn"), "{}", run.show());
+    assert_eq!(std::fs::metadata(tmp.path().join("p.txt")).unwrap().len(), 3180451 + 1);
 }
 
 #[test]

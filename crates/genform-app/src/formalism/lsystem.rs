@@ -41,6 +41,11 @@ impl Formalism for LSystems {
     }
 }
 
+/// Whether `request` asks for the derived string and no model.
+fn string_only(request: &SampleRequest) -> bool {
+    request.string_out.is_some() && request.out.is_none()
+}
+
 /// A compiled L-system and the file it came from.
 struct LsFile {
     path: PathBuf,
@@ -76,7 +81,11 @@ impl LoadedGrammar for LsFile {
         } else {
             let mut rng = request.rng();
             let s = system.derive_limited(steps, &mut rng, max_modules, |_, _| {}).context("cannot derive")?;
-            system.interpret(&s, &mut rng, max_primitives, &mut scene).context("cannot draw the model")?;
+            // Only the string was asked for: no turtle, and no primitive
+            // limit for geometry nobody will see.
+            if !string_only(request) {
+                system.interpret(&s, &mut rng, max_primitives, &mut scene).context("cannot draw the model")?;
+            }
             s
         };
         if let Some(path) = &request.string_out {
@@ -84,14 +93,16 @@ impl LoadedGrammar for LsFile {
             text.push('\n');
             write_atomic(path, text.as_bytes())?;
         }
-        let summary = format!(
-            "{} seed {}, {steps} steps: {} modules, {} segments, {} polygons",
-            st.name,
-            request.seed,
-            string.len(),
-            scene.polylines.iter().map(|l| l.points.len() - 1).sum::<usize>() + scene.instances.len(),
-            scene.polygons.len()
-        );
+        let drawn = if string_only(request) && request.genome_out.is_none() {
+            " (not drawn: only --string-out was asked for)".to_string()
+        } else {
+            format!(
+                ", {} segments, {} polygons",
+                scene.polylines.iter().map(|l| l.points.len() - 1).sum::<usize>() + scene.instances.len(),
+                scene.polygons.len()
+            )
+        };
+        let summary = format!("{} seed {}, {steps} steps: {} modules{drawn}", st.name, request.seed, string.len());
         Ok(Box::new(SceneSample { scene, summary }))
     }
 
