@@ -283,39 +283,37 @@ pub struct InfoArgs {
     pub file: PathBuf,
 }
 
-/// A search algorithm.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Algorithm {
-    /// The ShapeGenetics genetic algorithm.
-    Ga,
-    /// RJMCMC with parallel tempering, delayed rejection and annealing.
-    Mh,
-    /// Sequential Monte Carlo, fixed (depth-first) growth order.
-    Smc,
-    /// Stochastically-ordered SMC.
-    Sosmc,
-    /// SOSMC seeds a GA, MH polishes its best.
-    Hybrid,
-    /// MAP-Elites: the best individual per cell of a grid over two descriptors (quality-diversity).
-    MapElites,
-    /// Random search: fresh random individuals, keep the best (a baseline).
-    Random,
-    /// Grammatical evolution over codon genomes (codon scenes: .bnf, .bsg, .gg.yaml grammars).
-    Ge,
+/// A search algorithm on the command line: the app's [`AlgorithmChoice`],
+/// with its names and help texts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Algorithm(pub AlgorithmChoice);
+
+impl clap::ValueEnum for Algorithm {
+    fn value_variants<'a>() -> &'a [Self] {
+        const ALL: [Algorithm; 8] = {
+            let all = AlgorithmChoice::ALL;
+            [
+                Algorithm(all[0]),
+                Algorithm(all[1]),
+                Algorithm(all[2]),
+                Algorithm(all[3]),
+                Algorithm(all[4]),
+                Algorithm(all[5]),
+                Algorithm(all[6]),
+                Algorithm(all[7]),
+            ]
+        };
+        &ALL
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        Some(clap::builder::PossibleValue::new(self.0.name()).help(self.0.about()))
+    }
 }
 
 impl From<Algorithm> for AlgorithmChoice {
     fn from(a: Algorithm) -> AlgorithmChoice {
-        match a {
-            Algorithm::Ga => AlgorithmChoice::Ga,
-            Algorithm::Mh => AlgorithmChoice::Mh,
-            Algorithm::Smc => AlgorithmChoice::Smc,
-            Algorithm::Sosmc => AlgorithmChoice::Sosmc,
-            Algorithm::Hybrid => AlgorithmChoice::Hybrid,
-            Algorithm::MapElites => AlgorithmChoice::MapElites,
-            Algorithm::Random => AlgorithmChoice::Random,
-            Algorithm::Ge => AlgorithmChoice::Ge,
-        }
+        a.0
     }
 }
 

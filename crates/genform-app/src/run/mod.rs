@@ -92,6 +92,24 @@ impl AlgorithmChoice {
         }
     }
 
+    /// One line on what the algorithm is (help texts, the studio).
+    pub fn about(self) -> &'static str {
+        match self {
+            AlgorithmChoice::Ga => "The ShapeGenetics genetic algorithm",
+            AlgorithmChoice::Mh => "RJMCMC with parallel tempering, delayed rejection and annealing",
+            AlgorithmChoice::Smc => "Sequential Monte Carlo, fixed (depth-first) growth order",
+            AlgorithmChoice::Sosmc => "Stochastically-ordered SMC",
+            AlgorithmChoice::Hybrid => "SOSMC seeds a GA, MH polishes its best",
+            AlgorithmChoice::MapElites => {
+                "MAP-Elites: the best individual per cell of a grid over two descriptors (quality-diversity)"
+            }
+            AlgorithmChoice::Random => "Random search: fresh random individuals, keep the best (a baseline)",
+            AlgorithmChoice::Ge => {
+                "Grammatical evolution over codon genomes (codon scenes: .bnf, .bsg, .gg.yaml grammars)"
+            }
+        }
+    }
+
     /// The algorithm named `name` (`map_elites` and `map-elites` both work).
     pub fn from_name(name: &str) -> Result<AlgorithmChoice> {
         let wanted = name.replace('_', "-").to_ascii_lowercase();
