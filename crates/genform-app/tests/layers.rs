@@ -72,3 +72,36 @@ fn libraries_depend_on_no_door() {
     assert!(closure(&graph, "genform-studio").contains("genform-app"), "the studio runs on the application library");
     assert!(closure(&graph, "genform-cli").contains("clap"), "the graph sees the doors' own dependencies");
 }
+
+/// The application library prints nothing: notes go to the door's sink or
+/// the run's watcher (comments and test modules aside).
+#[test]
+fn the_application_library_does_not_print() {
+    fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(dir).expect("a source folder").flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                rust_files(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    let mut files = Vec::new();
+    rust_files(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    assert!(files.len() > 20, "the app's sources are found");
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        // Test modules come last in a file.
+        let code = text.split("#[cfg(test)]").next().unwrap_or_default();
+        for (n, line) in code.lines().enumerate() {
+            let line = line.trim_start();
+            if line.starts_with("//") {
+                continue;
+            }
+            for mac in ["println!(", "eprintln!(", "print!(", "eprint!(", "std::io::stdout()", "std::io::stderr()."] {
+                assert!(!line.contains(mac), "{}:{}: {line}", file.display(), n + 1);
+            }
+        }
+    }
+}

@@ -9,6 +9,8 @@ mod sweep;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    use std::io::IsTerminal as _;
+    genform_app::notes::set_sink(Box::new(|text| eprintln!("{text}")), std::io::stderr().is_terminal());
     let cli = args::parse();
     match commands::run(cli) {
         // Interrupted twice: the results were saved all the same, and the

@@ -103,10 +103,10 @@ impl LoadedGrammar for BoxFile {
                 let needed = regions_for_box(min, max);
                 missing.retain(|r| needed.contains(r));
                 if !missing.is_empty() {
-                    eprintln!(
+                    crate::notes::warn(&format!(
                         "warning: {} not found; the box's cells there observe as air",
                         missing.iter().map(|&(x, z)| region_file_name(x, z)).collect::<Vec<_>>().join(", ")
-                    );
+                    ));
                 }
                 let terrain = read_terrain(&regions, read_min, read_max).context("cannot read the terrain")?;
                 (regions, Some(terrain))

@@ -15,7 +15,6 @@ mod shape;
 
 use anyhow::{Context, Result, bail};
 use genform_core::{Diagnostics, Generator, Genome, Limits, Rng, Scene, SourceFile};
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use crate::grammar::{LimitOverrides, Loaded};
@@ -369,19 +368,20 @@ impl genform_lsystem::SurfaceAssets for FileAssets {
     }
 }
 
-/// Reads and compiles a grammar file with `compile`: warnings go to stderr,
-/// errors become one error with every diagnostic rendered.
+/// Reads and compiles a grammar file with `compile`: warnings go to the
+/// door's [`crate::notes`] sink, errors become one error with every
+/// diagnostic rendered.
 pub fn compile_file<T>(
     path: &Path,
     compile: impl FnOnce(&SourceFile) -> Result<(T, Diagnostics), Diagnostics>,
 ) -> Result<T> {
     let text = read_text(path, "grammar")?;
     let file = SourceFile::new(path.display().to_string(), text);
-    let color = std::io::stderr().is_terminal();
+    let color = crate::notes::colour();
     match compile(&file) {
         Ok((value, warnings)) => {
             if !warnings.items.is_empty() {
-                eprint!("{}", warnings.render(color));
+                crate::notes::warn(&warnings.render(color));
             }
             Ok(value)
         }
@@ -394,11 +394,11 @@ pub fn compile_file<T>(
 pub fn sample_genome(generator: &dyn Generator, request: &SampleRequest, limits: &Limits) -> Result<Genome> {
     let sampled = generator.sample(&mut request.rng(), limits).context("cannot sample")?;
     if let Some(kind) = sampled.truncated {
-        eprintln!(
+        crate::notes::warn(&format!(
             "warning: growth stopped at the {kind} limit ({}); the model is truncated (raise it with {})",
             kind.value(limits),
             kind.flag()
-        );
+        ));
     }
     if let Some(path) = &request.genome_out {
         write_atomic(path, sampled.genome.to_json(generator.graph()).as_bytes())?;
