@@ -381,6 +381,38 @@ fn a_run_is_watched_paused_steered_stopped_and_replayed() {
 /// past its budget still goes on after resuming, and its folder reports
 /// the running time only.
 #[test]
+fn grammars_written_in_the_page_are_checked_sampled_and_saved_in_the_studio_folder_only() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = ship(tmp.path());
+    let server = Server::start(tmp.path(), &[s(&scene)]);
+    let broken = "grammar \"cube\";\naxiom A;\nA { boxx; }\n";
+    let draft =
+        server.post("/api/grammars/save", &json!({"name": "cube.sg", "text": broken, "draft": true})).ok().json();
+    assert_eq!(draft["path"], "runs/drafts/cube.sg");
+    let e = server.post("/api/sample", &json!({"path": "runs/drafts/cube.sg"}));
+    assert_eq!(e.status, 400);
+    let d = &e.json()["diagnostics"][0];
+    assert_eq!(
+        (d["file"].as_str(), d["line"].as_u64(), d["col"].as_u64()),
+        (Some("runs/drafts/cube.sg"), Some(3), Some(5)),
+        "{d}"
+    );
+    let fixed = broken.replace("boxx", "box");
+    let saved = server.post("/api/grammars/save", &json!({"name": "cube.sg", "text": fixed})).ok().json();
+    assert_eq!(saved["path"], "runs/grammars/cube.sg");
+    assert_eq!(std::fs::read_to_string(tmp.path().join("out/grammars/cube.sg")).unwrap(), fixed);
+    let sample = server.post("/api/sample", &json!({"path": "runs/grammars/cube.sg"})).ok().json();
+    assert!(sample["summary"].as_str().unwrap().contains("12 triangles"), "{sample}");
+    let list = server.get("/api/grammars").ok().json();
+    assert!(list.as_array().unwrap().iter().any(|e| e["path"] == "runs/grammars/cube.sg"), "{list}");
+    for name in ["../cube.sg", "a/b.sg", ".hidden.sg", "notes.txt", ""] {
+        let r = server.post("/api/grammars/save", &json!({"name": name, "text": fixed}));
+        assert_eq!(r.status, 400, "{name}");
+    }
+    assert!(!tmp.path().join("cube.sg").exists() && !tmp.path().join("out/a").exists());
+}
+
+#[test]
 fn a_run_takes_a_settings_patch_as_the_cli_does() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = ship(tmp.path());

@@ -83,14 +83,20 @@ pub async fn grammars(State(app): State<Shared>) -> Result<Response, ApiError> {
     Ok(axum::Json(list).into_response())
 }
 
-/// Every grammar and scene under the roots `examples` and `scene`.
+/// Every grammar and scene under the roots `examples` and `scene`, and
+/// the grammars saved from the editor (`runs/grammars/`).
 fn list(app: &App) -> Vec<Value> {
     let mut seen: Vec<PathBuf> = Vec::new();
     let mut out = Vec::new();
+    let saved = app.out.join(SAVED);
     // The given file's own folder first, so its files carry `scene/` paths.
-    for name in ["scene", "examples"] {
+    for name in ["scene", "examples", "runs"] {
         let Some(root) = app.roots.get(name) else { continue };
-        for file in walk(&root.dir, 6, 5000) {
+        let dir = if name == "runs" { saved.canonicalize().unwrap_or(saved.clone()) } else { root.dir.clone() };
+        if !dir.is_dir() {
+            continue;
+        }
+        for file in walk(&dir, 6, 5000) {
             if seen.contains(&file) {
                 continue;
             }
@@ -241,6 +247,58 @@ fn flatten(scene: &Scene) -> genform_core::Mesh {
         m.triangles.push([i, i + 1, i + 2]);
     });
     m
+}
+
+/// The folder (under `--out`) of grammars saved from the editor.
+const SAVED: &str = "grammars";
+/// The folder (under `--out`) of the editor's drafts, sampled as the user types.
+const DRAFTS: &str = "drafts";
+
+/// Body of `POST /api/grammars/save`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SaveBody {
+    /// A file name with a grammar extension, e.g. `my_tower.sg`.
+    name: String,
+    /// The grammar text.
+    text: String,
+    /// A draft (the editor's live copy) rather than a saved grammar.
+    #[serde(default)]
+    draft: bool,
+}
+
+/// `POST /api/grammars/save {name, text, draft?}`: writes the text to
+/// `--out/grammars/NAME` (or `--out/drafts/NAME`), the studio's own folder
+/// and nowhere else, and answers its root path for `/api/sample`.
+pub async fn save(State(app): State<Shared>, JsonBody(body): JsonBody<SaveBody>) -> Result<Response, ApiError> {
+    let name = checked_name(&body.name)?;
+    let answer = blocking(move || {
+        let dir = app.out.join(if body.draft { DRAFTS } else { SAVED });
+        std::fs::create_dir_all(&dir).map_err(|e| ApiError::internal(format!("cannot create the folder: {e}")))?;
+        let file = dir.join(&name);
+        genform_app::output::write_atomic(&file, body.text.as_bytes())
+            .map_err(|e| ApiError::internal(format!("cannot save {name}: {e:#}")))?;
+        let shown = app.roots.display(&file.canonicalize().unwrap_or(file)).unwrap_or_default();
+        Ok(json!({ "path": shown }))
+    })
+    .await?;
+    Ok(axum::Json(answer).into_response())
+}
+
+/// `name` if it is a plain file name (letters, digits, `_`, `-`, `.`; no
+/// folder, not hidden) with the extension of a grammar formalism.
+fn checked_name(name: &str) -> Result<String, ApiError> {
+    let plain = !name.is_empty()
+        && name.len() <= 100
+        && !name.starts_with('.')
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || "_-.".contains(c));
+    if !plain {
+        return Err(ApiError::bad_request(format!(
+            "`{name}`: a grammar's name is a plain file name (letters, digits, _ - .; at most 100 characters)"
+        )));
+    }
+    formalism::for_path(Path::new(name)).map_err(|e| ApiError::bad_request(e.to_string()))?;
+    Ok(name.to_string())
 }
 
 /// Query of `GET /api/grammars/source`.

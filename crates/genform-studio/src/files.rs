@@ -61,13 +61,14 @@ impl Roots {
         &self.roots
     }
 
-    /// `file` (canonical) as a root path (`examples/…`), if it lies in a root.
+    /// `file` (canonical) as a root path (`examples/…`), if it lies in a
+    /// root; in the innermost one when roots nest (`--out` inside the
+    /// scene's folder).
     pub fn display(&self, file: &Path) -> Option<String> {
-        self.roots.iter().find_map(|r| {
-            let rel = file.strip_prefix(&r.dir).ok()?;
-            let parts: Vec<String> = rel.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect();
-            Some(if parts.is_empty() { r.name.to_string() } else { format!("{}/{}", r.name, parts.join("/")) })
-        })
+        let r = self.roots.iter().filter(|r| file.starts_with(&r.dir)).max_by_key(|r| r.dir.components().count())?;
+        let rel = file.strip_prefix(&r.dir).ok()?;
+        let parts: Vec<String> = rel.components().map(|c| c.as_os_str().to_string_lossy().into_owned()).collect();
+        Some(if parts.is_empty() { r.name.to_string() } else { format!("{}/{}", r.name, parts.join("/")) })
     }
 }
 

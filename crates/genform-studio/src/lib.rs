@@ -152,6 +152,7 @@ pub fn router(app: Shared) -> Router {
         .route("/studio/{*path}", get(asset))
         .route("/api/grammars", get(explore::grammars))
         .route("/api/grammars/source", get(explore::source))
+        .route("/api/grammars/save", post(explore::save))
         .route("/api/sample", post(explore::sample))
         .route("/api/models/{file}", get(explore::model))
         .route("/api/target.glb", get(explore::target_glb))

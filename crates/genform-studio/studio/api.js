@@ -48,6 +48,8 @@ const enc = encodeURIComponent;
 export const grammars = () => request('GET', '/api/grammars');
 /** A grammar's or scene's text. */
 export const source = (path) => request('GET', `/api/grammars/source?path=${enc(path)}`);
+/** Saves `{name, text, draft?}` in the studio's own folder; answers `{path}` (a root path to sample). */
+export const saveGrammar = (body) => request('POST', '/api/grammars/save', body);
 /** Samples `{path, seed, options}`; answers `{id, summary, formats, preview, model}`. */
 export const sample = (body) => request('POST', '/api/sample', body);
 /** The URL of a sampled model in format `ext`; `download` asks for an attachment. */

@@ -1,9 +1,10 @@
 // Explore: pick a grammar, change the seed and the formalism's options, sample, look at the
-// model (3D, or the SVG drawing for 2D formalisms) and download it in any format.
+// model (3D, or the SVG drawing for 2D formalisms) and download it in any format; or edit the
+// grammar's text and see its diagnostics (line:col) and the re-sampled model as you type.
 
 import * as api from './api.js';
 import { h, field, fmt } from './dom.js';
-import { grammarEntries, on, store } from './store.js';
+import { emit, grammarEntries, on, store, toast } from './store.js';
 import { Viewer } from './viewer.js';
 
 // How each sample option is edited; options not named here get a text field.
@@ -28,6 +29,7 @@ let viewer;
 let current = null; // the entry being sampled
 let lastSample = null;
 let sampling = 0;
+let editing = null; // {name, timer} while the editor is open
 
 const optionName = (name) => name.replaceAll('_', '-');
 
@@ -55,8 +57,17 @@ export function mount(section) {
   const downloads = h('div', { class: 'downloads', testid: 'explore-downloads' });
   const formalism = h('span', { class: 'badge', testid: 'explore-formalism' });
   const sourceText = h('pre', { class: 'source', testid: 'explore-source' });
+  const editor = h('textarea', { class: 'source editor', spellcheck: 'false', testid: 'editor-text', rows: 18,
+    oninput: () => editSoon() });
+  const diagnostics = h('ul', { class: 'diagnostics', testid: 'editor-diagnostics' });
+  const editName = h('input', { type: 'text', testid: 'editor-name', placeholder: 'name.sg', oninput: () => editSoon() });
+  const editBar = h('div', { class: 'row editor-bar' },
+    h('button', { class: 'ghost', testid: 'editor-open', text: 'Edit', onclick: () => openEditor() }),
+    editName,
+    h('button', { class: 'ghost', testid: 'editor-save', text: 'Save', onclick: () => saveEdited() }),
+    h('button', { class: 'ghost', testid: 'editor-close', text: 'Close editor', onclick: () => closeEditor() }));
   const source = h('details', { class: 'source-panel', ontoggle: () => source.open && loadSource() },
-    h('summary', { text: 'Grammar source' }), sourceText);
+    h('summary', { text: 'Grammar source' }), editBar, sourceText, editor, diagnostics);
   const envList = h('datalist', { id: 'env-files' });
 
   const side = h('aside', { class: 'side' },
@@ -74,7 +85,9 @@ export function mount(section) {
   section.append(h('div', { class: 'layout' }, side, mainArea));
   viewer = new Viewer(mainArea, { testid: 'explore-viewer' });
   mainArea.append(source);
-  els = { grammarSelect, seed, options, more, summary, downloads, formalism, sourceText, source, envList, sampleButton };
+  els = { grammarSelect, seed, options, more, summary, downloads, formalism, sourceText, source, envList, sampleButton,
+    editor, diagnostics, editName, editBar };
+  showEditor(false);
 
   on('entries', fill);
   if (store.entries.length) fill();
@@ -98,6 +111,11 @@ function fill() {
     els.grammarSelect.append(group);
   }
   els.envList.replaceChildren(...store.entries.filter((e) => e.kind === 'environment').map((e) => h('option', { value: e.path })));
+  // A refreshed list (a grammar saved from the editor) keeps the grammar being looked at.
+  if (current && grammarEntries().some((e) => e.path === current.path)) {
+    els.grammarSelect.value = current.path;
+    return;
+  }
   const preferred = grammarEntries().find((e) => e.default) || grammarEntries()[0];
   if (preferred) {
     els.grammarSelect.value = preferred.path;
@@ -133,8 +151,101 @@ function selectGrammar(path) {
   }
   els.more.hidden = moreCount === 0;
   els.sourceText.textContent = '';
+  closeEditor();
   if (els.source.open) loadSource();
   sampleNow();
+}
+
+// The editor: the grammar's text in a text area; each pause in typing saves a draft in the
+// studio's folder (runs/drafts/) and samples it with the seed and options of the side panel.
+
+function showEditor(open) {
+  els.editor.hidden = !open;
+  els.diagnostics.hidden = !open;
+  els.editName.hidden = !open;
+  els.editBar.querySelector('[data-testid="editor-save"]').hidden = !open;
+  els.editBar.querySelector('[data-testid="editor-close"]').hidden = !open;
+  els.editBar.querySelector('[data-testid="editor-open"]').hidden = open;
+  els.sourceText.hidden = open;
+}
+
+async function openEditor() {
+  if (!current) return;
+  await loadSource();
+  const file = current.path.split('/').pop();
+  const dot = file.indexOf('.');
+  els.editName.value = `${file.slice(0, dot)}-edit${file.slice(dot)}`;
+  els.editor.value = els.sourceText.textContent;
+  editing = { timer: null };
+  showEditor(true);
+  els.editor.focus();
+}
+
+function closeEditor() {
+  if (editing?.timer) clearTimeout(editing.timer);
+  editing = null;
+  if (els) showEditor(false);
+}
+
+function editSoon() {
+  if (!editing) return;
+  clearTimeout(editing.timer);
+  editing.timer = setTimeout(() => sampleEdited(), 400);
+}
+
+/** Saves the editor's text as a draft and samples it; diagnostics are listed at their line:col. */
+async function sampleEdited() {
+  if (!editing) return;
+  const token = ++sampling;
+  els.summary.classList.remove('error');
+  els.summary.textContent = 'Checking…';
+  try {
+    const { path } = await api.saveGrammar({ name: els.editName.value.trim(), text: els.editor.value, draft: true });
+    const seed = Math.max(0, Math.floor(Number(els.seed.value) || 0));
+    const result = await api.sample({ path, seed, options: collectOptions() });
+    if (token !== sampling) return;
+    lastSample = result;
+    showDiagnostics([]);
+    els.summary.textContent = result.summary || '';
+    els.summary.dataset.sampleId = result.id;
+    showDownloads(result);
+    if (result.preview === 'glb') await viewer.showGlb(result.model);
+    else await viewer.showPicture(result.model, '2D drawing');
+  } catch (err) {
+    if (token !== sampling) return;
+    showDiagnostics(err.diagnostics || [], err.message);
+    els.summary.textContent = err.message;
+    els.summary.classList.add('error');
+  }
+}
+
+function showDiagnostics(list, message) {
+  els.editor.classList.toggle('has-errors', list.length > 0 || Boolean(message));
+  const items = list.map((d) => h('li', { class: 'diagnostic', dataset: { line: d.line, col: d.col },
+    text: `line ${d.line}:${d.col}: ${d.message}${d.hint ? ` (${d.hint})` : ''}`,
+    onclick: () => selectLine(d.line) }));
+  if (!list.length && message) items.push(h('li', { class: 'diagnostic', text: message.split('\n')[0] }));
+  els.diagnostics.replaceChildren(...items);
+}
+
+/** Puts the editor's caret at the start of line `line` (1-based). */
+function selectLine(line) {
+  const lines = els.editor.value.split('\n');
+  const at = lines.slice(0, line - 1).reduce((n, l) => n + l.length + 1, 0);
+  els.editor.focus();
+  els.editor.setSelectionRange(at, at + (lines[line - 1] || '').length);
+}
+
+/** Saves the editor's text in runs/grammars/ and lists it among the grammars. */
+async function saveEdited() {
+  try {
+    const { path } = await api.saveGrammar({ name: els.editName.value.trim(), text: els.editor.value });
+    store.entries = await api.grammars();
+    emit('entries', store.entries);
+    toast(`saved as ${path}`);
+  } catch (err) {
+    toast(err.message, { error: true });
+  }
 }
 
 async function loadSource() {
