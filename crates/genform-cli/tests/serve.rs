@@ -322,6 +322,7 @@ fn a_run_is_watched_paused_steered_stopped_and_replayed() {
     let snap = server.wait_run(&id, "applied the steering", |s| s["generation"].as_u64() >= Some(at + 2));
     assert_eq!(snap["steering"], json!([{"generation": at, "set": {"weights": {"good": 3.5}}}]));
     assert_eq!(snap["criteria"]["weights"]["good"], 3.5);
+    assert_eq!(snap["max_reachable"], 3.5, "what is reachable follows the weights");
     let target = server.get(snap["targets"]["glb"].as_str().expect("the scene's target")).ok();
     assert_eq!(&target.body[..4], b"glTF");
     // While the run goes, its best so far is offered as a model.

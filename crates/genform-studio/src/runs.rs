@@ -230,14 +230,18 @@ impl Watch for Watcher {
         self.0.lock().best_model = Some((generation, Arc::new(glb)));
     }
 
-    fn steered(&mut self, entry: &SteerEntry, now: &Steerable) {
+    fn steered(&mut self, entry: &SteerEntry, now: &Steerable, max_reachable: f64) {
         let h = &self.0;
         let mut s = h.lock();
         s.steering.push(entry.clone());
         s.steerable = now.clone();
+        s.max_reachable = Some(max_reachable);
         h.send(
             "steering",
-            json!({ "generation": entry.generation, "set": entry.set, "criteria": now.values() }),
+            json!({
+                "generation": entry.generation, "set": entry.set, "criteria": now.values(),
+                "max_reachable": max_reachable,
+            }),
             false,
         );
     }

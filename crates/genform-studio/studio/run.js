@@ -193,6 +193,7 @@ function subscribe(id) {
       const run = store.run;
       run.steering = run.steering || [];
       if (!run.steering.some((x) => x.generation === s.generation && JSON.stringify(x.set) === JSON.stringify(s.set))) run.steering.push(s);
+      if (s.max_reachable !== undefined) run.max_reachable = s.max_reachable; // the weights changed what is reachable
       markSteering(s);
       emit('steering', s);
     },

@@ -254,8 +254,9 @@ pub trait Watch {
     /// The best model so far as GLB after `generation` (offered with the
     /// gallery when the best changed).
     fn best_model(&mut self, _generation: usize, _glb: Vec<u8>) {}
-    /// A change took effect; `now` is what steering can change after it.
-    fn steered(&mut self, _entry: &SteerEntry, _now: &Steerable) {}
+    /// A change took effect; `now` is what steering can change after it,
+    /// `max_reachable` the fitness the best model can reach under it.
+    fn steered(&mut self, _entry: &SteerEntry, _now: &Steerable, _max_reachable: f64) {}
     /// A progress line (a finished run of `compare`), which a quiet door
     /// leaves out.
     fn line(&mut self, _text: &str) {}
@@ -591,7 +592,7 @@ fn drive<G, S: Session<G>, P: Rescore<G>>(
         for entry in changes {
             session.steer(&entry.set).with_context(|| format!("steering of generation {}", entry.generation))?;
             if let Some(w) = control.watch.as_deref_mut() {
-                w.steered(&entry, session.steerable());
+                w.steered(&entry, session.steerable(), session.max_reachable());
             }
             log.push(entry);
         }
