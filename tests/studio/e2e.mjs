@@ -403,6 +403,8 @@ async function main() {
     await page.click(byId('run-stop'));
     await waitFor('the run to stop', () => document.querySelector('[data-testid="run-status"]').dataset.status === 'stopped', null, 120_000);
     await waitFor('best.glb in the run folder list', () => !!document.querySelector('[data-testid="run-file-best.glb"]'), null, 60_000);
+    await waitFor('the runs list to say stopped', (id) => [...document.querySelectorAll('[data-testid="run-previous"] option')]
+      .some((o) => o.value === id && o.textContent.includes(' · stopped · ')), runId, 30_000);
     const runJson = await getJson(`api/runs/${runId}/files/run.json`);
     STEERED.forEach((change, i) => {
       const logged = (runJson.steering || []).find((s) => s.generation === effective[i]);

@@ -186,6 +186,7 @@ function subscribe(id) {
       if (watching !== id) return;
       gallery.show(g);
       refreshSnapshot();
+      refreshRunList(); // and its generation, every gallery picture or so
       emit('gallery', g);
     },
     steering: (s) => {
@@ -200,6 +201,7 @@ function subscribe(id) {
     status: (s) => {
       if (watching !== id) return;
       setStatus(s.status, s.error);
+      refreshRunList(); // the list shows each run's status
       if (!ACTIVE.has(s.status)) {
         events?.close();
         events = null;
