@@ -58,13 +58,10 @@ fn volume_target(t: &VolumeTargetConfig, grid: &Grid) -> Result<VolumeTarget> {
     Ok(VolumeTarget { voxels, fill: t.fill, avoid: t.avoid })
 }
 
-/// Reads a mesh file, its format from the extension.
+/// Reads a target mesh file, its format from the extension
+/// ([`genform_export::read_mesh_file`], the one mesh-file reader).
 pub fn read_mesh(path: &Path) -> Result<genform_core::Mesh> {
-    let format = genform_export::import::MeshFormat::from_path(path)
-        .with_context(|| format!("cannot tell the mesh format of {}; use .obj, .stl or .glb", path.display()))?;
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read target mesh {}", path.display()))?;
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    genform_export::import::read_mesh(&name, &bytes, format).with_context(|| format!("cannot read {}", path.display()))
+    Ok(genform_export::read_mesh_file(path)?)
 }
 
 /// The Scene a grammar makes from a fixed genome file.

@@ -1,7 +1,7 @@
 //! Polygon surfaces with typed edges (what HEMLS growth produces), and the
 //! faint context geometry (guides) previews draw around a model.
 
-use crate::scene::{Mesh, TagId};
+use crate::scene::mesh::{Mesh, TagId};
 use glam::Vec3;
 use std::sync::Arc;
 

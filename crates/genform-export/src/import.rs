@@ -2,7 +2,10 @@
 //!
 //! [`read_mesh`] turns the bytes of one file into a [`Mesh`] in the file's
 //! world space. It reads geometry only (no materials, normals or textures)
-//! and does no file I/O: the caller reads the bytes.
+//! and does no file I/O: the caller reads the bytes. [`read_mesh_file`] is
+//! the one reader of mesh files every user goes through (scene targets,
+//! growth-environment boundaries, grammar assets): the format from the
+//! extension, the name from the file stem.
 //!
 //! - OBJ: `v` and `f` statements ([`Mesh::from_obj`]).
 //! - STL: binary (recognised by its size matching its triangle count) or
@@ -23,7 +26,7 @@ use glam::{DMat4, DQuat, DVec3, Vec3};
 use serde_json::Value;
 use std::collections::HashMap;
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The most triangles an imported mesh may have (after glTF instancing).
 pub const MAX_IMPORT_TRIANGLES: usize = 1 << 26;
@@ -131,6 +134,44 @@ pub fn read_mesh(name: &str, bytes: &[u8], format: MeshFormat) -> Result<Mesh, I
         return Err(ImportError::Empty { format, name: name.into() });
     }
     Ok(mesh)
+}
+
+/// Why a mesh file could not be read ([`read_mesh_file`]).
+#[derive(thiserror::Error, Debug)]
+pub enum MeshFileError {
+    /// The extension is none of [`MeshFormat::ALL`]'s: rename the file or
+    /// convert it to OBJ, STL or GLB.
+    #[error("cannot tell the mesh format of {}; use .obj, .stl or .glb", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file cannot be read (missing, a folder, no permission).
+    #[error("cannot read {}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// The file was read but holds no mesh genform can use.
+    #[error("cannot read {}: {error}", path.display())]
+    Import {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with its contents.
+        error: ImportError,
+    },
+}
+
+/// Reads the mesh file at `path`: its format from the extension
+/// ([`MeshFormat::from_path`]), its name from the file stem, its contents
+/// by [`read_mesh`].
+pub fn read_mesh_file(path: &Path) -> Result<Mesh, MeshFileError> {
+    let format = MeshFormat::from_path(path).ok_or_else(|| MeshFileError::UnknownFormat { path: path.into() })?;
+    let bytes = std::fs::read(path).map_err(|error| MeshFileError::Io { path: path.into(), error })?;
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    read_mesh(&name, &bytes, format).map_err(|error| MeshFileError::Import { path: path.into(), error })
 }
 
 /// Builds a mesh from loose triangles, welding bit-equal corners.
@@ -607,6 +648,19 @@ mod tests {
         let obj = write_obj(&test_scenes::boxes(2), TESS);
         assert_eq!(read_mesh("b", obj.as_bytes(), MeshFormat::Obj).unwrap().triangles.len(), 24);
         assert!(matches!(read_mesh("b", b"v 0 0\n", MeshFormat::Obj), Err(ImportError::Malformed { .. })));
+    }
+
+    #[test]
+    fn mesh_files_are_read_by_extension_and_named_by_stem() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/shape/assets");
+        let path = dir.join("trunk.obj");
+        let m = read_mesh_file(&path).unwrap();
+        assert_eq!(m, Mesh::from_obj("trunk", &std::fs::read_to_string(&path).unwrap()).unwrap());
+        let missing = read_mesh_file(&dir.join("gone.stl")).unwrap_err();
+        assert!(matches!(missing, MeshFileError::Io { .. }) && missing.to_string().contains("gone.stl"), "{missing}");
+        let unknown = read_mesh_file(&dir.join("trunk.ply")).unwrap_err();
+        assert!(matches!(unknown, MeshFileError::UnknownFormat { .. }), "{unknown}");
+        assert!(unknown.to_string().contains("use .obj, .stl or .glb"), "{unknown}");
     }
 
     #[test]

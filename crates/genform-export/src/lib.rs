@@ -64,7 +64,7 @@ use std::str::FromStr;
 
 pub use glb::{write_glb, write_glb_with};
 pub use granularity::{AUTO_MERGE_ABOVE, Granularity};
-pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFormat, read_mesh};
+pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFileError, MeshFormat, read_mesh, read_mesh_file};
 pub use obj::{write_obj, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;

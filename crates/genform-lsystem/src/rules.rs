@@ -29,24 +29,9 @@ impl Arg {
 
     #[inline(always)]
     pub(crate) fn eval(&self, env: &[f64], draws: &mut impl Draws) -> f64 {
-        #[inline(always)]
-        fn get(o: Operand, env: &[f64]) -> f64 {
-            match o {
-                Operand::Const(v) => v,
-                Operand::Load(i) => env.get(i as usize).copied().unwrap_or(f64::NAN),
-            }
-        }
         match self {
-            Arg::Value(a) => get(*a, env),
-            Arg::Bin(op, a, b) => {
-                let (x, y) = (get(*a, env), get(*b, env));
-                match op {
-                    Arith::Add => x + y,
-                    Arith::Sub => x - y,
-                    Arith::Mul => x * y,
-                    Arith::Div => x / y,
-                }
-            }
+            Arg::Value(a) => a.value(env),
+            Arg::Bin(op, a, b) => op.apply(a.value(env), b.value(env)),
             Arg::Run(p) => p.eval_draws(env, draws),
         }
     }

@@ -88,15 +88,7 @@ impl Fast {
     pub fn eval(&self, size: &DVec3, env: &[f64], base: usize) -> f64 {
         match *self {
             Fast::Value(a) => a.get(size, env, base),
-            Fast::Bin(op, a, b) => {
-                let (a, b) = (a.get(size, env, base), b.get(size, env, base));
-                match op {
-                    Arith::Add => a + b,
-                    Arith::Sub => a - b,
-                    Arith::Mul => a * b,
-                    Arith::Div => a / b,
-                }
-            }
+            Fast::Bin(op, a, b) => op.apply(a.get(size, env, base), b.get(size, env, base)),
             Fast::Run => f64::NAN,
         }
     }

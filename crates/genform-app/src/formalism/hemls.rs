@@ -55,12 +55,7 @@ pub fn load_environment(path: &Path) -> Result<(Settings, Environment)> {
     let spec = genform_hemls::parse_env(&file).map_err(|d| crate::source_text::SourceErrors::new(&d, false))?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut load_mesh = |rel: &str| -> Result<genform_core::Mesh, String> {
-        let full = base.join(rel);
-        let format = genform_export::MeshFormat::from_path(&full)
-            .ok_or_else(|| format!("{}: a boundary mesh must be .obj, .stl or .glb", full.display()))?;
-        let bytes = std::fs::read(&full).map_err(|e| format!("cannot read boundary mesh {}: {e}", full.display()))?;
-        let name = Path::new(rel).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        genform_export::read_mesh(&name, &bytes, format).map_err(|e| e.to_string())
+        genform_export::read_mesh_file(&base.join(rel)).map_err(|e| e.to_string())
     };
     spec.resolve(&mut load_mesh).map_err(|e| anyhow!("{}: {e}", path.display()))
 }

@@ -337,7 +337,8 @@ fn and_list(items: &[String]) -> String {
 }
 
 /// Reads mesh assets (shape-grammar `asset`s, L-system `surface`s)
-/// relative to the grammar file.
+/// relative to the grammar file, through the one mesh-file reader
+/// ([`genform_export::read_mesh_file`]: OBJ, STL or GLB by extension).
 pub(crate) struct FileAssets {
     base: PathBuf,
 }
@@ -349,10 +350,7 @@ impl FileAssets {
     }
 
     fn load(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
-        let full = self.base.join(path);
-        let text = read_text(&full, "mesh").map_err(|e| format!("{e:#}"))?;
-        let name = Path::new(path).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-        genform_core::scene::Mesh::from_obj(&name, &text).map_err(|e| format!("{}: {e}", full.display()))
+        genform_export::read_mesh_file(&self.base.join(path)).map_err(|e| e.to_string())
     }
 }
 

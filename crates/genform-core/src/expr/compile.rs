@@ -182,6 +182,32 @@ pub enum Arith {
     Div,
 }
 
+impl Arith {
+    /// `a op b`: the one IEEE operation [`Program::eval`] performs for this
+    /// operator, so fast paths that call it give bit-identical results.
+    #[inline(always)]
+    pub fn apply(self, a: f64, b: f64) -> f64 {
+        match self {
+            Arith::Add => a + b,
+            Arith::Sub => a - b,
+            Arith::Mul => a * b,
+            Arith::Div => a / b,
+        }
+    }
+}
+
+impl Operand {
+    /// The operand's value against `env`: the constant, or env slot `i`
+    /// (NaN when the env is shorter, as in [`Program::eval`]).
+    #[inline(always)]
+    pub fn value(self, env: &[f64]) -> f64 {
+        match self {
+            Operand::Const(v) => v,
+            Operand::Load(i) => env.get(i as usize).copied().unwrap_or(f64::NAN),
+        }
+    }
+}
+
 /// What a program computes when it is one value or one arithmetic
 /// operation on two values (`2.5`, `size.x`, `sz / 2`, `sz * move`): most
 /// operands of a grammar. Hot paths compute these directly, with the same

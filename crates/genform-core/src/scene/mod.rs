@@ -1,0 +1,217 @@
+//! The Scene: resolved output with no grammar concepts left.
+//!
+//! Generators write a [`Scene`]; exporters and scorers read only a Scene.
+//! Geometry is `f32` (what GPUs, glTF and voxelizers use); generators do
+//! their own scope arithmetic in `f64` and convert when they emit.
+//!
+//! Today a Scene holds instanced primitives and meshes (shape grammars),
+//! polylines and polygons (turtles). Later formalisms add their own kinds
+//! (half-edge surfaces, block sets, 2D graphs) as new fields here.
+//!
+//! The parts live in submodules, all re-exported here:
+//! - `mesh`: [`Mesh`] and the [`TagId`]/[`MeshId`] ids;
+//! - `obj`: [`Mesh::from_obj`], reading Wavefront OBJ text;
+//! - `triangulate`: [`triangulate_polygon`], ear clipping of planar polygons;
+//! - `tessellate`: [`Tessellation`], [`unit_mesh`] and
+//!   [`Scene::for_each_triangle`].
+
+pub(crate) mod mesh;
+mod obj;
+mod tessellate;
+#[cfg(test)]
+mod tests;
+mod triangulate;
+
+pub use mesh::{Mesh, MeshId, TagId};
+pub use tessellate::{Tessellation, unit_mesh};
+pub use triangulate::triangulate_polygon;
+
+use glam::Affine3A;
+use glam::Vec3;
+use std::sync::Arc;
+
+/// A unit-sized shape, placed by an instance transform.
+///
+/// Every built-in primitive fits the cube `[-0.5, 0.5]³`; axial ones run
+/// along local +y, with the base at y = −0.5.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Primitive {
+    /// The cube `[-0.5, 0.5]³`.
+    Box,
+    /// A frustum along y: bottom radius 0.5, top radius `0.5 * top`.
+    /// `top = 1` is a cylinder, `top = 0` a cone.
+    Frustum {
+        /// Top radius relative to the bottom radius.
+        top: f32,
+    },
+    /// The sphere of radius 0.5.
+    Sphere,
+    /// A box whose top face (y = +0.5) is scaled by `top` in x and z
+    /// (a square frustum; `top = 0` is a pyramid).
+    TaperedBox {
+        /// Top face size relative to the bottom face.
+        top: f32,
+    },
+    /// A mesh asset from [`Scene::meshes`], used as is (not normalized).
+    Mesh(MeshId),
+}
+
+/// One placed primitive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Unit primitive → world. May include a reflection (negative determinant).
+    pub transform: Affine3A,
+    /// What is placed.
+    pub primitive: Primitive,
+    /// Semantic tag (by default the symbol that emitted it).
+    pub tag: TagId,
+}
+
+/// An open or closed line through points (turtle strokes).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Polyline {
+    /// The points, in order.
+    pub points: Vec<Vec3>,
+    /// Stroke width in scene units.
+    pub width: f32,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// A planar polygon (turtle `{ … }` regions).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Polygon {
+    /// Boundary points, in order.
+    pub points: Vec<Vec3>,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// A 2D vector-drawing element on the xy plane (y up), in scene units: what
+/// a graph grammar's `svg_*` attributes describe.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape2d {
+    /// The geometry.
+    pub kind: Shape2dKind,
+    /// Extra SVG presentation attributes (`stroke`, `fill`,
+    /// `stroke-width`, …), written as given, in order.
+    pub attributes: Vec<(String, String)>,
+    /// Semantic tag.
+    pub tag: TagId,
+}
+
+/// The geometry of a [`Shape2d`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape2dKind {
+    /// A straight line.
+    Line {
+        /// Start point.
+        from: glam::Vec2,
+        /// End point.
+        to: glam::Vec2,
+    },
+    /// A circle.
+    Circle {
+        /// Centre.
+        center: glam::Vec2,
+        /// Radius.
+        radius: f32,
+    },
+    /// An axis-aligned rectangle.
+    Rect {
+        /// Lower-left corner (y up).
+        min: glam::Vec2,
+        /// Width and height.
+        size: glam::Vec2,
+    },
+    /// SVG path data in scene coordinates (y up).
+    Path {
+        /// The `d` attribute.
+        d: String,
+    },
+    /// An external image.
+    Image {
+        /// The `href`.
+        href: String,
+        /// Lower-left corner (y up).
+        min: glam::Vec2,
+        /// Width and height.
+        size: glam::Vec2,
+    },
+}
+
+/// Resolved geometry.
+#[derive(Clone, Debug, Default)]
+pub struct Scene {
+    /// Instanced primitives, in emission order.
+    pub instances: Vec<Instance>,
+    /// Mesh assets referenced by [`Primitive::Mesh`].
+    pub meshes: Vec<Arc<Mesh>>,
+    /// Interned tag names.
+    pub tags: Vec<String>,
+    /// Turtle strokes.
+    pub polylines: Vec<Polyline>,
+    /// Turtle polygons.
+    pub polygons: Vec<Polygon>,
+    /// Block structures (box-split grammars): unit cubes on the integer
+    /// grid, cell (x, y, z) covering [x, x+1]×[y, y+1]×[z, z+1]. Exporters
+    /// mesh them themselves; [`Scene::for_each_triangle`] leaves them out.
+    pub blocks: Vec<crate::blocks::BlockGrid>,
+    /// 2D vector-drawing elements (graph grammars), drawn by the SVG and
+    /// PNG exporters in order.
+    pub shapes2d: Vec<Shape2d>,
+    /// Polygon surfaces with typed edges (HEMLS growth). Their faces are
+    /// part of [`Scene::for_each_triangle`].
+    pub surfaces: Vec<crate::surface::Surface>,
+    /// Context geometry previews draw faintly; not part of the model (no
+    /// exporter writes it into a model file, no scorer sees it).
+    pub guides: Vec<crate::surface::Guide>,
+}
+
+impl Scene {
+    /// An empty scene.
+    pub fn new() -> Self {
+        Scene::default()
+    }
+
+    /// Empties the scene, keeping allocations for reuse.
+    pub fn clear(&mut self) {
+        self.instances.clear();
+        self.meshes.clear();
+        self.tags.clear();
+        self.polylines.clear();
+        self.polygons.clear();
+        self.blocks.clear();
+        self.shapes2d.clear();
+        self.surfaces.clear();
+        self.guides.clear();
+    }
+
+    /// The id of tag `name`, interning it on first use.
+    pub fn tag(&mut self, name: &str) -> TagId {
+        if let Some(i) = self.tags.iter().position(|t| t == name) {
+            return i as TagId;
+        }
+        self.tags.push(name.to_string());
+        (self.tags.len() - 1) as TagId
+    }
+
+    /// The id of a mesh asset, adding it on first use (by pointer identity).
+    pub fn mesh(&mut self, mesh: &Arc<Mesh>) -> MeshId {
+        if let Some(i) = self.meshes.iter().position(|m| Arc::ptr_eq(m, mesh)) {
+            return i as MeshId;
+        }
+        self.meshes.push(mesh.clone());
+        (self.meshes.len() - 1) as MeshId
+    }
+
+    /// Whether nothing was emitted.
+    pub fn is_empty(&self) -> bool {
+        self.instances.is_empty()
+            && self.polylines.is_empty()
+            && self.polygons.is_empty()
+            && self.blocks.iter().all(|g| g.set_count() == 0)
+            && self.shapes2d.is_empty()
+            && self.surfaces.iter().all(|s| s.positions.is_empty())
+    }
+}
