@@ -98,3 +98,59 @@ fn max_memory_sets_the_budget() {
     let err = fails(dir, &["evolve", s(&scene), "--max-memory", "lots"]);
     assert!(err.contains("`lots` is not a size such as 512M, 3G or 1.5GB"), "{err}");
 }
+
+/// A star that grows one random spoke a step while a hexagon pattern,
+/// which never matches a tree, is searched first at every step: the
+/// searches grow with the graph until the derivation's time guard ends it.
+const NEVER_MATCHING_HEXAGON: &str = r#"name: hexsearch
+steps: 3000
+time_limit: 0.5
+host:
+  vertices:
+    c: {x: 0, y: 0}
+    d: {x: 1, y: 0}
+  edges:
+    - {from: c, to: d}
+productions:
+  - name: hexagon
+    mother:
+      vertices: {A: {}, B: {}, C: {}, D: {}, E: {}, F: {}}
+      edges: [{from: A, to: B}, {from: B, to: C}, {from: C, to: D}, {from: D, to: E}, {from: E, to: F}, {from: F, to: A}]
+    daughter:
+      vertices: {A: {}, B: {}, C: {}, D: {}, E: {}, F: {}}
+  - name: grow
+    priority: 1
+    mother:
+      vertices: {A: {}}
+    daughter:
+      vertices:
+        A: {}
+        N: {x: "A.x + uniform(-5, 5)", y: "A.y + uniform(-5, 5)"}
+      edges: [{from: A, to: N}]
+"#;
+
+#[test]
+fn graph_derivations_stop_at_their_time_limit() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let g = dir.join("hex.gg.yaml");
+    std::fs::write(&g, NEVER_MATCHING_HEXAGON).unwrap();
+    let info = ok(dir, &["info", s(&g)]).stdout();
+    assert!(info.contains("time limit: 0.5 s per derivation"), "{info}");
+    let started = Instant::now();
+    let err = fails(dir, &["sample", s(&g), "--out", "h.svg"]);
+    let took = started.elapsed();
+    assert!(err.contains("its time limit of 0.5 s passed at step "), "{err}");
+    assert!(err.contains("while matching production `hexagon`; raise `time_limit:`"), "{err}");
+    assert!(took < Duration::from_secs(5), "took {took:?}");
+    assert!(!dir.join("h.svg").exists());
+    // Within its limit the same grammar derives (50 steps take milliseconds).
+    ok(dir, &["sample", s(&g), "--steps", "50", "--out", "h.svg"]);
+    // The limit is checked like every other key.
+    std::fs::write(&g, NEVER_MATCHING_HEXAGON.replace("time_limit: 0.5", "time_limit: -2")).unwrap();
+    let err = fails(dir, &["sample", s(&g)]);
+    assert!(
+        err.contains("hex.gg.yaml:3:13") && err.contains("`time_limit` must be a number of seconds above 0"),
+        "{err}"
+    );
+}
