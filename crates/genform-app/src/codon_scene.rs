@@ -208,6 +208,7 @@ impl CodonSceneConfig {
     fn checked(path: &Path, base: &Path, mut config: CodonSceneConfig) -> Result<LoadedCodonScene> {
         config.resolve(base);
         let kind = config.check().with_context(|| format!("in scene {}", path.display()))?;
+        crate::memory::check_sizes(path, None, &config.memory_sizes())?;
         Ok(LoadedCodonScene { path: path.to_path_buf(), kind, config })
     }
 
@@ -245,6 +246,35 @@ impl CodonSceneConfig {
             run: self.run.clone(),
             limits: Default::default(),
         }
+    }
+
+    /// The sizes this scene asks for, checked against the memory budget
+    /// (see [`crate::memory`]): the GE population (parents and children,
+    /// each up to `initial_length`'s upper end of 4-byte codons; random
+    /// search draws as many) and the targets.
+    pub fn memory_sizes(&self) -> Vec<crate::memory::Size<'static>> {
+        use crate::memory::{INDIVIDUAL_BYTES, Size, estimate, human};
+        let ge = &self.ge;
+        let each = INDIVIDUAL_BYTES.saturating_add((ge.initial_length[1] as u64).saturating_mul(4));
+        let mut sizes = vec![Size {
+            section: "ge",
+            key: "population",
+            value: ge.population as u128,
+            bytes: estimate(ge.population as u64, each).saturating_mul(2),
+            what: format!("2 × {} codon genomes of about {} each", ge.population, human(each as f64)),
+        }];
+        sizes.extend(crate::scene_config::target_sizes(self.volume.as_ref(), &self.image));
+        let l = &self.limits;
+        let primitive = crate::scene_config::PRIMITIVE_BYTES;
+        sizes.extend(crate::memory::limit_sizes(&[
+            ("vertices", l.vertices, 64, "surface vertices"),
+            ("edges", l.edges, 64, "surface half-edge pairs"),
+            ("faces", l.faces, 32, "surface faces"),
+            ("modules", l.modules, 32, "L-system modules"),
+            ("primitives", l.primitives, primitive, "primitives"),
+            ("elements", l.elements, 64, "graph vertices and edges"),
+        ]));
+        sizes
     }
 
     /// Whether the scene scores by volume or image targets (not `[surface]`).

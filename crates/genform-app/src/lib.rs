@@ -13,6 +13,7 @@ pub mod codon_scene;
 pub mod comparison;
 pub mod formalism;
 pub mod grammar;
+pub mod memory;
 pub mod notes;
 pub mod objective;
 pub mod output;

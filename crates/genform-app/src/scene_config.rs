@@ -278,6 +278,7 @@ impl SceneConfig {
         crate::objective::check_descriptor_names(path, None, &config.map_elites)?;
         config.resolve(base);
         config.check().with_context(|| format!("in scene {}", path.display()))?;
+        crate::memory::check_sizes(path, None, &config.memory_sizes())?;
         Ok(LoadedScene { path: path.to_path_buf(), config })
     }
 
@@ -301,7 +302,54 @@ impl SceneConfig {
         crate::objective::check_descriptor_names(path, Some(text), &config.map_elites)?;
         config.resolve(path.parent().unwrap_or(Path::new(".")));
         config.check().with_context(|| format!("in scene {}", path.display()))?;
+        crate::memory::check_sizes(path, Some(text), &config.memory_sizes())?;
         Ok(LoadedScene { path: path.to_path_buf(), config })
+    }
+
+    /// The sizes this scene asks for, checked against the memory budget
+    /// (see [`crate::memory`]): the GA's population, the MCMC chains, the
+    /// SMC particles, the MAP-Elites archive and batches, and the targets.
+    /// Each optimizer holds about two genomes per member (parents and
+    /// children, current and proposal, particles and their resampling).
+    pub fn memory_sizes(&self) -> Vec<crate::memory::Size<'static>> {
+        use crate::memory::{GENE_BYTES, INDIVIDUAL_BYTES, Size, estimate, human};
+        let genome = |genes: usize| INDIVIDUAL_BYTES.saturating_add((genes as u64).saturating_mul(GENE_BYTES));
+        let members = |section: &'static str, key: &'static str, n: usize, genes: usize| {
+            let each = genome(genes);
+            Size {
+                section,
+                key,
+                value: n as u128,
+                bytes: estimate(n as u64, each).saturating_mul(2),
+                what: format!("2 × {n} genomes of up to {genes} genes, about {} each", human(each as f64)),
+            }
+        };
+        let mut sizes = vec![members("ga", "population", self.ga.population, self.ga.initial_length[1])];
+        if let Some(mh) = &self.mh {
+            sizes.push(members("mh", "chains", mh.chains, mh.initial_length[1]));
+        }
+        if let Some(smc) = &self.smc {
+            sizes.push(members("smc", "particles", smc.particles, smc.max_length));
+        }
+        let me = &self.map_elites;
+        let cells = me.descriptors.iter().fold(1u128, |n, d| n.saturating_mul(d.bins as u128));
+        let cell_bytes = u128::from(genome(self.ga.max_length));
+        sizes.push(Size {
+            section: "map_elites",
+            key: "descriptors",
+            value: cells,
+            bytes: cells.saturating_mul(cell_bytes),
+            what: format!("an archive of {cells} cells, each up to a genome of {}", human(cell_bytes as f64)),
+        });
+        sizes.push(members("map_elites", "initial", me.initial, self.ga.initial_length[1]));
+        sizes.push(members("map_elites", "batch", me.batch, self.ga.max_length));
+        sizes.extend(target_sizes(self.volume.as_ref(), &self.image));
+        let l = &self.limits;
+        sizes.extend(crate::memory::limit_sizes(&[
+            ("genes", l.genes, GENE_BYTES, "genes"),
+            ("primitives", l.primitives, PRIMITIVE_BYTES, "primitives"),
+        ]));
+        sizes
     }
 
     /// Makes every path absolute against `base` (the scene's folder).
@@ -419,6 +467,43 @@ impl SceneConfig {
             length_to: to,
         }
     }
+}
+
+/// Bytes per voxel of a volume target: its weight, the model's occupancy
+/// and the scorer's per-thread counts.
+const VOXEL_BYTES: u128 = 16;
+/// Bytes per drawn primitive of a scene (an affine transform, a primitive
+/// id and a tag), with the voxelizer's share.
+pub(crate) const PRIMITIVE_BYTES: u64 = 96;
+/// Bytes per pixel of an image target: its weight and the rendering.
+const PIXEL_BYTES: u128 = 16;
+
+/// The sizes of the target grids (`[volume] voxels`, `[[image]]`
+/// `width` × `height`), checked against the memory budget.
+pub(crate) fn target_sizes(volume: Option<&VolumeConfig>, image: &[ImageConfig]) -> Vec<crate::memory::Size<'static>> {
+    use crate::memory::{Size, human};
+    let mut sizes = Vec::new();
+    if let Some(v) = volume {
+        let n = v.voxels.iter().fold(1u128, |n, &k| n.saturating_mul(u128::from(k)));
+        sizes.push(Size {
+            section: "volume",
+            key: "voxels",
+            value: n,
+            bytes: n.saturating_mul(VOXEL_BYTES),
+            what: format!("a grid of {n} voxels, {} each", human(VOXEL_BYTES as f64)),
+        });
+    }
+    for img in image {
+        let n = u128::from(img.width) * u128::from(img.height);
+        sizes.push(Size {
+            section: "image",
+            key: "width",
+            value: n,
+            bytes: n.saturating_mul(PIXEL_BYTES),
+            what: format!("a {} × {} picture, {} a pixel", img.width, img.height, human(PIXEL_BYTES as f64)),
+        });
+    }
+    sizes
 }
 
 /// Reads and parses the scene file at `path`; returns it with the folder

@@ -11,6 +11,9 @@ use genform_app::output::{output_format, write_model};
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<()> {
+    if let Some(bytes) = cli.max_memory {
+        genform_app::memory::set_budget(bytes);
+    }
     match cli.command {
         Command::Sample(a) => sample(a),
         Command::Derive(a) => derive(a),

@@ -18,6 +18,15 @@ pub const UNLIMITED_STEPS: usize = 10_000_000;
 /// pattern that is very expensive to match in this host).
 pub const SEARCH_LIMIT: u64 = 50_000_000;
 
+/// Wall-clock time one derivation may take unless the grammar sets
+/// `time_limit:`: ten seconds, far above what a grammar that terminates
+/// needs, short enough that a pattern which never matches cannot stall a
+/// command or an evolution step for long.
+pub const DEFAULT_TIME_LIMIT: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// The largest `time_limit:` a grammar may set, in seconds (a day).
+pub const MAX_TIME_LIMIT_SECS: f64 = 86_400.0;
+
 /// Why a derivation stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stop {
@@ -74,6 +83,21 @@ pub enum DeriveError {
         limit: u64,
         /// The step.
         step: usize,
+    },
+    /// The derivation ran past the grammar's time limit (wall clock): its
+    /// searches were too slow for its step limit.
+    #[error(
+        "its time limit of {seconds} s passed at step {step}{while_matching}; \
+         raise `time_limit:` (seconds) in the grammar, lower the step limit, or give mother graphs \
+         labels or conditions that narrow the search"
+    )]
+    TimeLimit {
+        /// The limit, in seconds, as text.
+        seconds: String,
+        /// The step (0-based).
+        step: usize,
+        /// " while matching production `name`", or empty between searches.
+        while_matching: String,
     },
     /// A daughter vertex position evaluated to NaN or an infinity.
     #[error(
@@ -171,6 +195,7 @@ fn find(
     me: &mut [u32],
     pick: &mut impl Pick,
     work: &mut u64,
+    deadline: Option<std::time::Instant>,
     visit: &mut dyn FnMut(&[u32], &[u32]) -> bool,
 ) -> Result<bool, Exhausted> {
     if !p.pre_checks.iter().all(|c| truthy(c.eval(env))) {
@@ -178,7 +203,7 @@ fn find(
     }
     let Some(a) = anchor(g, p) else { return Ok(false) };
     let plan = &p.plans[a];
-    let mut s = Search { g, p, env, mv, me, max_gen: None, work: 0, limit: SEARCH_LIMIT };
+    let mut s = Search { g, p, env, mv, me, max_gen: None, work: 0, limit: SEARCH_LIMIT, deadline };
     // An empty pattern has one match, whatever the generations.
     let found = if p.oldest && !(p.mv.is_empty() && p.me.is_empty()) {
         // The oldest match: the lowest generation level at which one
@@ -231,7 +256,9 @@ impl GraphGrammar {
     /// # Errors
     ///
     /// When the graph would pass `max_elements`, a search runs past
-    /// [`SEARCH_LIMIT`], or no step limit is set and the derivation passes
+    /// [`SEARCH_LIMIT`], the derivation runs past the grammar's
+    /// [`time_limit`](GraphGrammar::time_limit) (wall clock: a derivation
+    /// stopped by it is the one result that may differ between machines), or no step limit is set and the derivation passes
     /// [`UNLIMITED_STEPS`].
     pub fn derive(
         &self,
@@ -251,7 +278,17 @@ impl GraphGrammar {
         let mut work = 0u64;
         let limit = max_steps.or(self.steps);
         let mut steps = 0usize;
+        let started = std::time::Instant::now();
+        let deadline = started.checked_add(self.time_limit);
+        let out_of_time = |step: usize, production: Option<&str>| DeriveError::TimeLimit {
+            seconds: format!("{}", self.time_limit.as_secs_f64()),
+            step,
+            while_matching: production.map(|p| format!(" while matching production `{p}`")).unwrap_or_default(),
+        };
         let stop = loop {
+            if deadline.is_some_and(|d| std::time::Instant::now() >= d) {
+                return Err(out_of_time(steps, None));
+            }
             match limit {
                 Some(l) if steps >= l => break Stop::StepLimit,
                 None if steps >= UNLIMITED_STEPS => return Err(DeriveError::NoTermination { steps }),
@@ -269,14 +306,16 @@ impl GraphGrammar {
                     let pi = order.swap_remove(k);
                     let p = &self.productions[pi];
                     let (pv, pe) = (&mut mv[..p.mv.len()], &mut me[..p.me.len()]);
-                    let found = find(&g, p, &mut envs[pi], pv, pe, &mut Random(choices), &mut work, &mut |_, _| true);
+                    let found =
+                        find(&g, p, &mut envs[pi], pv, pe, &mut Random(choices), &mut work, deadline, &mut |_, _| true);
                     match found {
                         Ok(true) => {
                             applied = Some((gi, pi));
                             break 'groups;
                         }
                         Ok(false) => {}
-                        Err(Exhausted) => {
+                        Err(Exhausted::Time) => return Err(out_of_time(steps, Some(&p.name))),
+                        Err(Exhausted::Work) => {
                             return Err(DeriveError::SearchLimit {
                                 production: p.name.clone(),
                                 limit: SEARCH_LIMIT,
@@ -330,12 +369,10 @@ impl GraphGrammar {
         // Enumeration ignores "oldest": it lists every match.
         let mut all = p.clone();
         all.oldest = false;
-        let r = find(graph, &all, &mut envs[pi], &mut mv, &mut me, &mut InOrder, &mut work, &mut visit);
+        let r = find(graph, &all, &mut envs[pi], &mut mv, &mut me, &mut InOrder, &mut work, None, &mut visit);
         match r {
             Ok(_) => Ok(Some(out)),
-            Err(Exhausted) => {
-                Err(DeriveError::SearchLimit { production: p.name.clone(), limit: SEARCH_LIMIT, step: 0 })
-            }
+            Err(_) => Err(DeriveError::SearchLimit { production: p.name.clone(), limit: SEARCH_LIMIT, step: 0 }),
         }
     }
 }

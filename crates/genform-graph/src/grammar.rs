@@ -12,6 +12,9 @@ pub struct GraphGrammar {
     pub(crate) name: String,
     pub(crate) host: Graph,
     pub(crate) steps: Option<usize>,
+    /// Wall-clock time one derivation may take (`time_limit:`, else
+    /// [`DEFAULT_TIME_LIMIT`](crate::derive::DEFAULT_TIME_LIMIT)).
+    pub(crate) time_limit: std::time::Duration,
     /// Priority groups, lowest priority value first.
     pub(crate) groups: Vec<Group>,
     pub(crate) productions: Vec<Production>,
@@ -35,6 +38,17 @@ impl GraphGrammar {
     /// The global step limit (`steps:`).
     pub fn step_limit(&self) -> Option<usize> {
         self.steps
+    }
+
+    /// The wall-clock time one derivation may take (`time_limit:` in
+    /// seconds, else [`DEFAULT_TIME_LIMIT`](crate::derive::DEFAULT_TIME_LIMIT)).
+    pub fn time_limit(&self) -> std::time::Duration {
+        self.time_limit
+    }
+
+    /// Replaces the time limit of each derivation (e.g. a caller's own guard).
+    pub fn set_time_limit(&mut self, limit: std::time::Duration) {
+        self.time_limit = limit;
     }
 
     /// The productions' names, in file order.

@@ -19,9 +19,17 @@ use crate::plan::{Op, Plan, Step};
 /// Marker of an unbound mother element.
 pub(crate) const UNBOUND: u32 = u32::MAX;
 
-/// The search ran past its work limit.
+/// The search ran past its work limit or its derivation's deadline.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Exhausted;
+pub(crate) enum Exhausted {
+    /// More candidate tests than the search may make.
+    Work,
+    /// The derivation's time limit passed.
+    Time,
+}
+
+/// Candidate tests between two looks at the clock.
+const CLOCK_EVERY: u64 = 1 << 12;
 
 /// Candidates of one scan: a slice, or generation buckets.
 enum Cands<'g> {
@@ -65,6 +73,8 @@ pub(crate) struct Search<'a> {
     /// Candidate tests so far, and the most allowed.
     pub(crate) work: u64,
     pub(crate) limit: u64,
+    /// When the derivation must have ended (its time limit), if any.
+    pub(crate) deadline: Option<std::time::Instant>,
 }
 
 fn truthy(v: f64) -> bool {
@@ -87,7 +97,13 @@ impl<'a> Search<'a> {
 
     fn tick(&mut self) -> Result<(), Exhausted> {
         self.work += 1;
-        if self.work > self.limit { Err(Exhausted) } else { Ok(()) }
+        if self.work > self.limit {
+            return Err(Exhausted::Work);
+        }
+        if self.work.is_multiple_of(CLOCK_EVERY) && self.deadline.is_some_and(|d| std::time::Instant::now() >= d) {
+            return Err(Exhausted::Time);
+        }
+        Ok(())
     }
 
     fn candidates(&self, label: Option<u32>, vertices: bool) -> Cands<'a> {

@@ -77,6 +77,7 @@ impl LoadedGrammar for GraphFile {
             Some(n) => out.push_str(&format!("step limit: {n}\n")),
             None => out.push_str("step limit: none (runs until nothing matches)\n"),
         }
+        out.push_str(&format!("time limit: {} s per derivation (`time_limit:`)\n", g.time_limit().as_secs_f64()));
         out.push_str(&format!("productions: {}\n", g.production_names().collect::<Vec<_>>().join(", ")));
         out
     }

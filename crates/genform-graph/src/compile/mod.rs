@@ -75,6 +75,7 @@ pub fn compile(file: &SourceFile) -> Result<(GraphGrammar, Diagnostics), Diagnos
         name,
         host,
         steps: syn.steps.map(|(n, _)| n),
+        time_limit: syn.time_limit.map_or(crate::derive::DEFAULT_TIME_LIMIT, std::time::Duration::from_secs_f64),
         groups,
         productions: productions.into_iter().map(|(_, p)| p).collect(),
         globals: globals.1,

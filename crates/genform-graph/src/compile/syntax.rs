@@ -125,6 +125,8 @@ pub(crate) struct ProductionSyn {
 pub(crate) struct FileSyn {
     pub(crate) name: Option<Text>,
     pub(crate) steps: Option<(usize, Span)>,
+    /// `time_limit:` in seconds.
+    pub(crate) time_limit: Option<f64>,
     pub(crate) limits: Vec<(i64, Span, usize)>,
     pub(crate) globals: Vec<(Text, Written)>,
     pub(crate) host: GraphSyn,
@@ -137,7 +139,7 @@ pub(crate) struct Reader<'t> {
     pub(crate) errors: Vec<Diagnostic>,
 }
 
-const TOP_KEYS: &[&str] = &["name", "steps", "priority_limits", "globals", "host", "productions"];
+const TOP_KEYS: &[&str] = &["name", "steps", "time_limit", "priority_limits", "globals", "host", "productions"];
 const PRODUCTION_KEYS: &[&str] =
     &["name", "priority", "match", "spatial", "mother", "vectors", "variables", "when", "daughters", "daughter"];
 const OPTION_KEYS: &[&str] = &["weight", "variables", "vertices", "edges"];
@@ -281,6 +283,22 @@ impl<'t> Reader<'t> {
             match k.name.as_str() {
                 "name" => f.name = self.text(v, "`name`"),
                 "steps" => f.steps = self.count(v, "`steps`").map(|n| (n, v.span)),
+                "time_limit" => {
+                    f.time_limit = self.number(v, "`time_limit`").and_then(|t| {
+                        if t > 0.0 && t <= crate::derive::MAX_TIME_LIMIT_SECS {
+                            Some(t)
+                        } else {
+                            self.error(
+                                v.span,
+                                format!(
+                                    "`time_limit` must be a number of seconds above 0 and at most {}",
+                                    crate::derive::MAX_TIME_LIMIT_SECS
+                                ),
+                            );
+                            None
+                        }
+                    })
+                }
                 "priority_limits" => {
                     for (pk, pv) in self.map(v, "`priority_limits`") {
                         let p = pk.name.trim().parse::<i64>();

@@ -1,0 +1,302 @@
+//! The memory budget: one number of bytes that every size a user sets
+//! (optimizer populations, chains, particles, archives, voxel grids,
+//! target pictures) is checked against *before* anything is allocated, so
+//! a scene asking for more than the machine has stops with a message
+//! naming the setting, its `line:col` and how to raise the budget, instead
+//! of an allocation failure or the machine swapping.
+//!
+//! The budget defaults to half of the smallest of: the machine's memory
+//! (`MemTotal` in `/proc/meminfo`), the cgroup's memory limit
+//! (`/sys/fs/cgroup/memory.max`) and the process's address-space limit
+//! (`ulimit -v`). Doors change it with [`set_budget`] (the CLI's
+//! `--max-memory`). The sizes checked are estimates of what an optimizer
+//! holds at its start (see [`estimate`]); they are deliberately on the
+//! generous side of the real footprint only by constant factors, so a
+//! setting refused here would not have fitted anyway.
+
+use anyhow::{Result, bail};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The budget set by a door (0: not set, use [`machine_default`]).
+static BUDGET: AtomicU64 = AtomicU64::new(0);
+
+/// Used when the machine's memory cannot be read (not Linux): 4 GiB.
+const FALLBACK_BYTES: u64 = 4 << 30;
+
+/// A memory budget and where it came from (shown in refusals).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Budget {
+    /// Bytes that the sizes of one command may take together.
+    pub bytes: u64,
+    /// How it was chosen, e.g. "--max-memory 2G" or "half of this machine's 23.4 GB".
+    pub origin: String,
+}
+
+/// Sets the budget of this process (the CLI's `--max-memory SIZE`);
+/// refusals then name `--max-memory` as its origin.
+pub fn set_budget(bytes: u64) {
+    BUDGET.store(bytes.max(1), Ordering::Relaxed);
+}
+
+/// The budget in force: the one set with [`set_budget`], or
+/// [`machine_default`].
+pub fn budget() -> Budget {
+    match BUDGET.load(Ordering::Relaxed) {
+        0 => machine_default(),
+        bytes => Budget { bytes, origin: format!("--max-memory {}", human(bytes as f64)) },
+    }
+}
+
+/// Half of the smallest of the machine's memory, the cgroup limit and the
+/// address-space limit (4 GiB if none can be read).
+pub fn machine_default() -> Budget {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let mut limits: Vec<(u64, &str)> = Vec::new();
+    if let Some(b) = read("/proc/meminfo").as_deref().and_then(meminfo_total) {
+        limits.push((b, "this machine's memory"));
+    }
+    if let Some(b) = read("/sys/fs/cgroup/memory.max").and_then(|t| t.trim().parse::<u64>().ok()) {
+        limits.push((b, "the cgroup's memory limit"));
+    }
+    if let Some(b) = read("/proc/self/limits").as_deref().and_then(address_space_limit) {
+        limits.push((b, "the address-space limit (ulimit -v)"));
+    }
+    match limits.into_iter().min_by_key(|&(b, _)| b) {
+        Some((b, what)) => Budget { bytes: b / 2, origin: format!("half of {what}, {}", human(b as f64)) },
+        None => Budget {
+            bytes: FALLBACK_BYTES,
+            origin: format!("{} (the machine's memory is unknown)", human(FALLBACK_BYTES as f64)),
+        },
+    }
+}
+
+/// `MemTotal` of `/proc/meminfo`, in bytes.
+fn meminfo_total(text: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
+}
+
+/// The soft "Max address space" of `/proc/self/limits`, in bytes (`None`
+/// when unlimited).
+fn address_space_limit(text: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with("Max address space"))?;
+    line["Max address space".len()..].split_whitespace().next()?.parse().ok()
+}
+
+/// Parses a size such as `512M`, `3G`, `1.5GB`, `2GiB`, `800k` or a bare
+/// number of bytes (K, M, G, T are powers of 1024).
+pub fn parse_size(text: &str) -> std::result::Result<u64, String> {
+    let t = text.trim();
+    let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let value: f64 = num.trim().parse().map_err(|_| format!("`{text}` is not a size such as 512M, 3G or 1.5GB"))?;
+    let scale: f64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1.0,
+        "k" | "kb" | "kib" => 1024.0,
+        "m" | "mb" | "mib" => 1024.0 * 1024.0,
+        "g" | "gb" | "gib" => 1024.0 * 1024.0 * 1024.0,
+        "t" | "tb" | "tib" => 1024.0 * 1024.0 * 1024.0 * 1024.0,
+        u => return Err(format!("unknown size unit `{u}` in `{text}`; use K, M, G or T")),
+    };
+    let bytes = value * scale;
+    if !(bytes.is_finite() && bytes >= 1.0) {
+        return Err(format!("size `{text}` must be at least one byte"));
+    }
+    if bytes >= u64::MAX as f64 {
+        return Err(format!("size `{text}` is too large"));
+    }
+    Ok(bytes as u64)
+}
+
+/// `bytes` as people read it, in powers of 1024 like [`parse_size`]:
+/// "512 B", "3.2 KiB", "1.5 GiB", "4.8e20 B".
+pub fn human(bytes: f64) -> String {
+    const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut v = bytes;
+    for u in UNITS {
+        if v < 1024.0 {
+            return if u == "B" { format!("{v:.0} {u}") } else { format!("{v:.1} {u}") };
+        }
+        v /= 1024.0;
+    }
+    format!("{bytes:.1e} B")
+}
+
+/// Rough bytes of one gene of a derivation-tree genome (2 header words,
+/// a few parameters and links, 8 bytes each).
+pub const GENE_BYTES: u64 = 64;
+/// Rough bytes an optimizer keeps per individual besides its genes
+/// (the genome's header, its fitness, selection and statistics entries).
+pub const INDIVIDUAL_BYTES: u64 = 128;
+
+/// `count` items of `each` bytes, saturating.
+pub fn estimate(count: u64, each: u64) -> u128 {
+    u128::from(count) * u128::from(each)
+}
+
+/// One size setting to check.
+#[derive(Clone, Debug)]
+pub struct Size<'a> {
+    /// The TOML section, e.g. "ga" (empty for a top-level key).
+    pub section: &'a str,
+    /// The key, e.g. "population".
+    pub key: &'a str,
+    /// The value as written.
+    pub value: u128,
+    /// Bytes it needs (an estimate).
+    pub bytes: u128,
+    /// What the bytes are, e.g. "2 × 100000000 genomes of about 3.3 kB".
+    pub what: String,
+}
+
+/// Refuses the first of `sizes` (settings of the scene `path` whose text
+/// is `text`) that needs more than the [`budget`], and any whose total
+/// does: the error names the file, the setting's `line:col`, the bytes it
+/// needs and how to raise the budget.
+pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()> {
+    let budget = budget();
+    let limit = u128::from(budget.bytes);
+    let owned;
+    let text = match text {
+        Some(t) => Some(t),
+        None => {
+            owned = std::fs::read_to_string(path).ok();
+            owned.as_deref()
+        }
+    };
+    let over = sizes.iter().find(|s| s.bytes > limit).or_else(|| {
+        // Each fits alone; the largest is named when together they do not.
+        let total: u128 = sizes.iter().map(|s| s.bytes).sum();
+        (total > limit).then(|| sizes.iter().max_by_key(|s| s.bytes)).flatten()
+    });
+    let Some(s) = over else { return Ok(()) };
+    let at =
+        text.and_then(|t| value_position(t, s.section, s.key)).map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default();
+    let name = if s.section.is_empty() { s.key.to_string() } else { format!("[{}] {}", s.section, s.key) };
+    let total: u128 = sizes.iter().map(|s| s.bytes).sum();
+    let alone = if s.bytes > limit {
+        String::new()
+    } else {
+        format!(" (with the scene's other sizes, {})", human(total as f64))
+    };
+    // Past 1 PiB no machine has the memory: only lowering the setting helps.
+    let raise = match total.max(s.bytes).div_ceil(1 << 30) {
+        gib if gib > 1 << 20 => " (no machine has that much memory)".to_string(),
+        gib => format!(", or raise the budget with --max-memory {}G if the machine has the memory", gib.max(1)),
+    };
+    bail!(
+        "{}{at}: {name} = {} needs about {}{alone} ({}), more than the memory budget of {} ({}); lower `{}`{raise}",
+        path.display(),
+        s.value,
+        human(s.bytes as f64),
+        s.what,
+        human(budget.bytes as f64),
+        budget.origin,
+        s.key,
+    )
+}
+
+/// The sizes of a `[limits]` section: each limit bounds what one
+/// derivation may grow to, per worker thread, so a limit whose items
+/// alone exceed the budget is refused (`item_bytes` per item).
+pub fn limit_sizes(limits: &[(&'static str, Option<usize>, u64, &'static str)]) -> Vec<Size<'static>> {
+    limits
+        .iter()
+        .filter_map(|&(key, value, each, what)| {
+            let n = value? as u64;
+            Some(Size {
+                section: "limits",
+                key,
+                value: u128::from(n),
+                bytes: estimate(n, each),
+                what: format!("{n} {what} of about {} each in one derivation", human(each as f64)),
+            })
+        })
+        .collect()
+}
+
+/// `(line, column)` of the value of `key` in `[section]` of the TOML
+/// `text` (a second, lenient read that keeps spans).
+pub fn value_position(text: &str, section: &str, key: &str) -> Option<(usize, usize)> {
+    let doc = toml_edit::Document::parse(text).ok()?;
+    let table = doc.as_table();
+    let item = if section.is_empty() { table.get(key)? } else { table.get(section)?.as_table_like()?.get(key)? };
+    let start = item.span()?.start;
+    let before = &text[..start.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before[before.rfind('\n').map_or(0, |i| i + 1)..].chars().count() + 1;
+    Some((line, col))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_with_units() {
+        assert_eq!(parse_size("512"), Ok(512));
+        assert_eq!(parse_size("2k"), Ok(2048));
+        assert_eq!(parse_size("3G"), Ok(3 << 30));
+        assert_eq!(parse_size("1.5GB"), Ok(3 << 29));
+        assert_eq!(parse_size(" 2 GiB "), Ok(2 << 30));
+        assert!(parse_size("lots").unwrap_err().contains("not a size"));
+        assert!(parse_size("3Q").unwrap_err().contains("unknown size unit"));
+        assert!(parse_size("0").unwrap_err().contains("at least one byte"));
+        assert!(parse_size("1e30T").unwrap_err().contains("too large"));
+    }
+
+    #[test]
+    fn proc_files_are_read() {
+        assert_eq!(meminfo_total("MemTotal:       24500000 kB\nMemFree: 1 kB\n"), Some(24_500_000 * 1024));
+        let limits = "Limit                     Soft Limit           Hard Limit           Units\n\
+                      Max address space         3072000000           unlimited            bytes\n";
+        assert_eq!(address_space_limit(limits), Some(3_072_000_000));
+        assert_eq!(address_space_limit(&limits.replace("3072000000", "unlimited")), None);
+    }
+
+    #[test]
+    fn positions_of_values() {
+        let text = "grammar = \"g.sg\"\n[ga]\nelitism = 3\npopulation   = 99\n[mh]\nchains = 7\n";
+        assert_eq!(value_position(text, "ga", "population"), Some((4, 16)));
+        assert_eq!(value_position(text, "mh", "chains"), Some((6, 10)));
+        assert_eq!(value_position(text, "", "grammar"), Some((1, 11)));
+        assert_eq!(value_position(text, "smc", "particles"), None);
+    }
+
+    #[test]
+    fn refusals_name_setting_position_and_flag() {
+        let text = "[ga]\npopulation = 99999999999999999\n";
+        let huge = Size {
+            section: "ga",
+            key: "population",
+            value: 99999999999999999,
+            bytes: estimate(99999999999999999, 1000),
+            what: "genomes".into(),
+        };
+        let msg = check_sizes(Path::new("s.toml"), Some(text), &[huge]).unwrap_err().to_string();
+        assert!(msg.starts_with("s.toml:2:14: [ga] population = 99999999999999999 needs about"), "{msg}");
+        assert!(
+            msg.contains("more than the memory budget") && msg.ends_with("no machine has that much memory)"),
+            "{msg}"
+        );
+        let big = Size { bytes: 5 << 30, value: 5, ..huge_like() };
+        let msg = check_sizes(Path::new("s.toml"), Some(text), &[big]).unwrap_err().to_string();
+        assert!(msg.contains(", or raise the budget with --max-memory") || budget().bytes >= 5 << 30, "{msg}");
+        let small = Size { bytes: 10_000, ..huge_like() };
+        check_sizes(Path::new("s.toml"), Some(text), &[small]).unwrap();
+    }
+
+    fn huge_like() -> Size<'static> {
+        Size { section: "ga", key: "population", value: 10, bytes: 0, what: "genomes".into() }
+    }
+
+    #[test]
+    fn human_sizes() {
+        assert_eq!(human(512.0), "512 B");
+        assert_eq!(human(3379.0), "3.3 KiB");
+        assert_eq!(human(1.5 * 1024.0 * 1024.0 * 1024.0), "1.5 GiB");
+        assert_eq!(human(4.8e20), "4.8e20 B");
+    }
+}
