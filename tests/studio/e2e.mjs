@@ -260,6 +260,8 @@ async function main() {
     await page.fill(byId('editor-text'), 'grammar "cube";\naxiom A;\nA { boxx; }\n');
     await waitFor('the error at line 3', () => [...document.querySelectorAll('[data-testid="editor-diagnostics"] li')]
       .some((li) => li.dataset.line === '3' && li.textContent.includes('boxx')), null, 30_000);
+    await page.locator(byId('editor-diagnostics')).scrollIntoViewIfNeeded();
+    await screenshot('editor');
     editingDrafts = false;
     const previousId = await page.getAttribute(byId('explore-summary'), 'data-sample-id');
     await page.fill(byId('editor-text'), 'grammar "cube";\naxiom A;\nA { box; }\n');
