@@ -2,7 +2,7 @@
 //! Ray workers), over [`genform_evolve::ask_tell::AskTell`].
 
 use genform_core::Limits;
-use genform_evolve::{AnyOptimizer, Horizon, Optimizer as _, Settings};
+use genform_evolve::{AnyOptimizer, Horizon, Optimizer as _};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use rayon::prelude::*;
@@ -80,11 +80,11 @@ impl Optimizer {
     ) -> PyResult<Self> {
         let alg = settings::algorithm(algorithm).or_raise()?;
         let target = Target::from_py(target)?;
-        let (grammar, limits, base) = match &target {
-            Target::Grammar(g) => (g.clone(), g.generator().or_raise()?.limits, Settings::default()),
-            Target::Scene(s) => (s.grammar.clone(), s.limits, s.config.settings()),
+        let (grammar, limits, scene) = match &target {
+            Target::Grammar(g) => (g.clone(), g.generator().or_raise()?.limits, None),
+            Target::Scene(s) => (s.grammar.clone(), s.limits, Some(s.path.as_path())),
         };
-        let settings = settings::apply(base, alg, settings)?;
+        let settings = settings::apply(scene, alg, settings)?;
         let horizon = Horizon { generations, budget: budget_arg(budget)?, evaluations };
         let graph = grammar.generator().or_raise()?.generator.graph();
         let opt = AnyOptimizer::new(alg, graph, &limits, &settings, seed, horizon)

@@ -269,6 +269,19 @@ fn toml_literal(value: &serde_json::Value) -> Result<String> {
     Ok(v.to_string())
 }
 
+/// The optimizer settings of `scene` (a scene file; `None`: the defaults,
+/// for a bare grammar) with `patch` applied, checked as a scene file's are
+/// (ask/tell optimizers take their settings this way).
+pub fn patched_settings(scene: Option<&Path>, patch: &[Axis]) -> Result<genform_evolve::Settings> {
+    let (path, text) = match scene {
+        Some(p) => (p.to_path_buf(), crate::source_text::read_text(p, "scene")?),
+        None => (Path::new("(defaults)").to_path_buf(), "grammar = \"-\"\n".to_string()),
+    };
+    let text = if patch.is_empty() { text } else { patched_text::<SceneConfig>(&path, &text, patch)? };
+    let config: SceneConfig = crate::scene_config::parse_toml(&path, &text)?;
+    Ok(config.settings())
+}
+
 /// The scene text at `path` with `patch` applied, checked as a `T` (a tree
 /// or codon scene config); errors name the `--set` that caused them.
 pub fn patched_text<T: serde::de::DeserializeOwned>(path: &Path, text: &str, patch: &[Axis]) -> Result<String> {
