@@ -165,3 +165,12 @@ def test_face_tags_name_the_tag_of_every_face():
     btags, bnames = blocks.face_tags()
     assert len(btags) == len(blocks.mesh()[1])
     assert any(":" in bnames[t] for t in btags), bnames
+
+
+def test_block_models_count_their_triangles_and_have_bounds():
+    blocks = genform.load(SAMPLES[".bsg"]).sample(seed=1)
+    v, f = blocks.mesh()
+    assert len(f) > 0 and blocks.triangle_count() == len(f)
+    lo, hi = blocks.bounds()
+    assert np.allclose(lo, v.min(axis=0)) and np.allclose(hi, v.max(axis=0))
+    assert all(h > l for l, h in zip(lo, hi))

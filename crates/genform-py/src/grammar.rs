@@ -341,14 +341,28 @@ impl Model {
         Ok((PyArray1::from_vec(py, a.tags).into_any(), a.tag_names))
     }
 
-    /// Triangles of instances, polygons and surfaces.
-    fn triangle_count(&self) -> usize {
-        self.scene().triangle_count(Tessellation::default())
+    /// Triangles of instances, polygons, surfaces and block meshes (the
+    /// faces of `mesh()`).
+    fn triangle_count(&self, py: Python<'_>) -> usize {
+        let scene = self.scene();
+        if scene.blocks.is_empty() {
+            return scene.triangle_count(Tessellation::default());
+        }
+        py.detach(|| mesh::arrays(scene, Tessellation::default()).faces.len() / 3)
     }
 
-    /// ((min x, y, z), (max x, y, z)) of all geometry; None when empty.
-    fn bounds(&self) -> Option<(Point, Point)> {
-        let (lo, hi) = self.scene().bounds(Tessellation::default())?;
+    /// ((min x, y, z), (max x, y, z)) of all geometry, blocks included;
+    /// None when empty.
+    fn bounds(&self, py: Python<'_>) -> Option<(Point, Point)> {
+        let scene = self.scene();
+        let (lo, hi) = if scene.blocks.is_empty() {
+            scene.bounds(Tessellation::default())?
+        } else {
+            let a = py.detach(|| mesh::arrays(scene, Tessellation::default()));
+            let mut points = a.vertices.chunks_exact(3).map(|c| glam::Vec3::new(c[0], c[1], c[2]));
+            let first = points.next()?;
+            points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
+        };
         Some((lo.into(), hi.into()))
     }
 
