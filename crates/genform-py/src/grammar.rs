@@ -354,7 +354,7 @@ impl Model {
     /// ((min x, y, z), (max x, y, z)) of all geometry, blocks included;
     /// None when empty.
     fn bounds(&self, py: Python<'_>) -> Option<(Point, Point)> {
-        let scene = self.scene();
+        let scene = &*genform_export::surfaces_y_up(self.scene());
         let (lo, hi) = if scene.blocks.is_empty() {
             scene.bounds(Tessellation::default())?
         } else {
