@@ -166,3 +166,18 @@ def test_a_run_on_a_thread_reports_progress_and_stops_on_request(empty):
     stopped.cancel = True
     stopped.run()
     assert isinstance(stopped.error, ops.Cancelled) and stopped.generation == 0
+
+
+def test_tiles4_imports_lying_flat_in_mesh_and_gltf_mode(empty):
+    """HEMLS surfaces are +y up like every model, so Blender gets them flat."""
+    tiles = EXAMPLES / "hemls" / "tiles4.gr8"
+    for mode in ["MESH", "GLTF"]:
+        for o in list(bpy.data.objects):
+            bpy.data.objects.remove(o)
+        bpy.context.scene.genform.import_mode = mode
+        assert bpy.ops.genform.sample(grammar=str(tiles), seed=0) == {"FINISHED"}
+        points = np.array(
+            [o.matrix_world @ v.co for o in bpy.data.objects if o.type == "MESH" for v in o.data.vertices]
+        )
+        size = points.max(axis=0) - points.min(axis=0)
+        assert size[0] > 1 and size[1] > 1 and size[2] < 1e-3, (mode, size)

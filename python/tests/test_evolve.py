@@ -102,6 +102,35 @@ def test_ask_is_stable_until_tell_and_tell_checks_the_count():
     assert stats["generation"] == 0 and stats["max"] == 15.0 and opt.best_fitness == 15.0
 
 
+def test_small_populations_keep_a_fifth_as_elites_and_breed_the_rest():
+    grammar = genform.load(SHIP_SCENE.parent / "../shape/spaceship.sg")
+    for population, children in [(20, 16), (40, 32), (10, 8)]:
+        opt = genform.Optimizer(grammar, "ga", seed=1, population=population, initial_length=[10, 20])
+        opt.tell([python_fitness(m) for m in opt.ask()])
+        assert len(opt.ask()) == children, population
+    with pytest.raises(genform.GenformError, match=r"elitism \(30\) must be smaller than the population \(20\)"):
+        genform.Optimizer(grammar, "ga", population=20, elitism=30)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda g: g.sample(seed=1, steps=-1),
+        lambda g: g.sample(seed=-1),
+        lambda g: g.sample(seed=1, max_genes=2**70),
+        lambda g: g.sample(seed=1, every_step="yes"),
+        lambda g: g.sample(seed=1).png(width=-5),
+        lambda g: genform.Optimizer(g, "ga", seed=-3),
+        lambda g: genform.Optimizer(g, "ga", generations=-1),
+        lambda g: genform.evolve(SHIP_SCENE, generations=-1),
+    ],
+)
+def test_bad_numbers_raise_genform_errors(call):
+    grammar = genform.load(SHIP_SCENE.parent / "../shape/spaceship.sg")
+    with pytest.raises(genform.GenformError, match="expected|`every_step`"):
+        call(grammar)
+
+
 @pytest.mark.parametrize("algorithm", ["ga", "mh"])
 def test_ask_tell_with_the_scene_scorer_equals_evolve(algorithm):
     settings = SMALL if algorithm == "ga" else dict(chains=3, initial_length=[10, 20])

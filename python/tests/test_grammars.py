@@ -165,3 +165,23 @@ def test_face_tags_name_the_tag_of_every_face():
     btags, bnames = blocks.face_tags()
     assert len(btags) == len(blocks.mesh()[1])
     assert any(":" in bnames[t] for t in btags), bnames
+
+
+def test_block_models_count_their_triangles_and_have_bounds():
+    blocks = genform.load(SAMPLES[".bsg"]).sample(seed=1)
+    v, f = blocks.mesh()
+    assert len(f) > 0 and blocks.triangle_count() == len(f)
+    lo, hi = blocks.bounds()
+    assert np.allclose(lo, v.min(axis=0)) and np.allclose(hi, v.max(axis=0))
+    assert all(h > l for l, h in zip(lo, hi))
+
+
+def test_surfaces_are_y_up_in_mesh_bounds_and_every_file(tmp_path):
+    tiles = genform.load(SAMPLES[".gr8"]).sample()
+    v, _ = tiles.mesh()
+    size = v.max(axis=0) - v.min(axis=0)
+    assert size[0] > 1 and size[2] > 1 and size[1] < 1e-4, size
+    lo, hi = tiles.bounds()
+    assert np.allclose(lo, v.min(axis=0)) and np.allclose(hi, v.max(axis=0))
+    ov, _ = read_obj(tiles.save(tmp_path / "t.obj")[0])
+    assert np.allclose(ov.min(axis=0), v.min(axis=0), atol=1e-5) and np.allclose(ov.max(axis=0), v.max(axis=0), atol=1e-5)

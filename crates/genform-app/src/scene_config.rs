@@ -415,6 +415,15 @@ impl SceneConfig {
         Ok(())
     }
 
+    /// This config as a run ran it, for `run.json`: defaults that depend on
+    /// other keys written out (`[ga] elitism`, a fifth of the population
+    /// when left out).
+    pub fn as_run(&self) -> SceneConfig {
+        let mut c = self.clone();
+        c.ga.elitism = Some(c.ga.elites());
+        c
+    }
+
     /// The settings of every algorithm; absent `[mh]` and `[smc]` sections
     /// take their defaults with the genome lengths of `[ga]`, unset
     /// `[map_elites]` ranges their descriptor's default.

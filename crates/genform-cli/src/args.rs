@@ -77,6 +77,22 @@ pub enum Command {
     /// Start the studio: a local web page to explore grammars, watch and
     /// steer runs, and breed models by eye.
     Serve(ServeArgs),
+    /// Print a shell completion script, e.g. `genform completions bash >
+    /// ~/.local/share/bash-completion/completions/genform`.
+    Completions(CompletionsArgs),
+}
+
+/// Arguments of `genform completions`.
+#[derive(Debug, Args)]
+pub struct CompletionsArgs {
+    /// The shell to complete in.
+    #[arg(value_enum)]
+    pub shell: clap_complete::Shell,
+}
+
+/// The command line's definition, for completion scripts.
+pub fn command() -> clap::Command {
+    Cli::command()
 }
 
 /// Most worker threads a run may ask for: each has its own stack and
@@ -174,7 +190,8 @@ pub struct SampleArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// Output file; the format follows the extension (.glb .obj .ply .stl .png .svg;
-    /// block grammars also .schem .litematic .vox .mca; graph grammars .yaml).
+    /// block grammars also .schem .litematic .vox .mca; graph grammars .yaml). Without it
+    /// nothing is written: the model's summary goes to stdout.
     #[arg(long, short)]
     pub out: Option<PathBuf>,
     /// L-systems, graph grammars and HEMLS: derivation steps (default: the
@@ -285,7 +302,8 @@ pub struct DeriveArgs {
 /// Arguments of `genform info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar).
+    /// Grammar file (.sg shape grammar, .ls L-system, .bsg box-split grammar, .gg.yaml graph grammar,
+    /// .gr8 HEMLS surface grammar).
     pub file: PathBuf,
 }
 

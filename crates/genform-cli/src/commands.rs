@@ -24,6 +24,12 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => crate::sweep::sweep(a),
         Command::Map(a) => map(a),
         Command::Serve(a) => serve(a),
+        Command::Completions(a) => {
+            let mut command = crate::args::command();
+            let mut script = Vec::new();
+            clap_complete::generate(a.shell, &mut command, "genform", &mut script);
+            print_all(&String::from_utf8_lossy(&script))
+        }
     }
 }
 
@@ -48,7 +54,13 @@ fn sample(a: SampleArgs) -> Result<()> {
             let written = sample.write(out, &export)?;
             eprintln!("{} → {}", sample.summary(), shown(&written));
         }
-        None => println!("{}", sample.summary()),
+        None => {
+            println!("{}", sample.summary());
+            eprintln!(
+                "no model file written: add --out FILE to save it (e.g. --out {}.glb; .obj .ply .stl .png .svg too)",
+                a.file.file_stem().map_or("model".into(), |s| s.to_string_lossy().replace(".gg", ""))
+            );
+        }
     }
     Ok(())
 }

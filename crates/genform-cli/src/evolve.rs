@@ -5,8 +5,10 @@
 use anyhow::Result;
 use genform_app::run::{self, Control, Start, Tick, Watch};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 use crate::args::{CompareArgs, EvolveArgs, ScoreArgs};
 
@@ -52,24 +54,66 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     Ok(())
 }
 
-/// The command line's watcher: a progress bar on a terminal, per-generation
-/// log lines when no bar shows, notes on stderr.
+/// Seconds between progress lines when stderr is no terminal (a pipe, a
+/// log file), unless `GENFORM_PROGRESS_EVERY` gives others (0: every
+/// generation).
+pub const PROGRESS_EVERY: Duration = Duration::from_secs(5);
+
+/// The interval of progress lines: [`PROGRESS_EVERY`] or the seconds in
+/// `GENFORM_PROGRESS_EVERY`.
+fn progress_every() -> Duration {
+    std::env::var("GENFORM_PROGRESS_EVERY")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s >= 0.0 && *s < 1e9)
+        .map_or(PROGRESS_EVERY, Duration::from_secs_f64)
+}
+
+/// The command line's watcher: a progress bar on a terminal (one line,
+/// cut to the terminal's width); without one, a progress line every
+/// [`PROGRESS_EVERY`] and the runs' log lines; notes on stderr.
 struct Progress {
     bar: ProgressBar,
     quiet: bool,
     /// Whether generations bound the run (the bar counts them, else
     /// milliseconds of the budget).
     by_generation: bool,
+    /// The generation limit, for progress lines.
+    generations: Option<usize>,
+    /// When the last progress line was printed (no bar), or the run started.
+    last_line: Instant,
+    every: Duration,
+    /// Whether stderr is no terminal (progress lines instead of a bar).
+    piped: bool,
+    /// The terminal's width when the run started (the bar's line is cut to
+    /// one column less, so it never wraps and is not padded).
+    width: usize,
 }
 
 impl Progress {
     fn new(quiet: bool) -> Progress {
         let bar = ProgressBar::new(0);
-        if quiet {
-            bar.set_draw_target(ProgressDrawTarget::hidden());
+        let target = if quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() };
+        let width = console::Term::stderr().size_checked().map_or(80, |(_, w)| usize::from(w));
+        bar.set_draw_target(target);
+        bar.set_style(style("{elapsed_precise} {msg}"));
+        let piped = !std::io::stderr().is_terminal();
+        Progress {
+            bar,
+            quiet,
+            by_generation: false,
+            generations: None,
+            last_line: Instant::now(),
+            every: progress_every(),
+            piped,
+            width,
         }
-        Progress { bar, quiet, by_generation: false }
     }
+}
+
+/// A bar style of `template`.
+fn style(template: &str) -> ProgressStyle {
+    ProgressStyle::with_template(template).expect("valid template").progress_chars("=> ")
 }
 
 impl Watch for Progress {
@@ -80,12 +124,14 @@ impl Watch for Progress {
             Some(g) => g as u64,
             None => h.budget.map_or(0, |b| b.as_millis() as u64),
         });
+        self.generations = h.generations;
+        self.last_line = Instant::now();
         let template = if self.by_generation {
-            "{elapsed_precise} [{bar:30}] gen {pos}/{len} · {msg}"
+            "{elapsed_precise} [{bar:20}] gen {pos}/{len} {msg}"
         } else {
-            "{elapsed_precise} [{bar:30}] {msg}"
+            "{elapsed_precise} [{bar:20}] {msg}"
         };
-        self.bar.set_style(ProgressStyle::with_template(template).expect("valid template").progress_chars("=> "));
+        self.bar.set_style(style(template));
     }
 
     fn generation(&mut self, tick: &Tick) -> Option<run::SteerSet> {
@@ -93,16 +139,30 @@ impl Watch for Progress {
         let msg = format!("best {:.4} · {rate:.0} evals/s{}", tick.best.unwrap_or(f64::NAN), tick.tail);
         if self.by_generation {
             self.bar.set_position(tick.stats.generation as u64);
-            self.bar.set_message(msg);
+            // `00:00:00 [bar] gen 12/130 `: 32 columns, `gen /` and a space, the numbers.
+            let prefix = 32 + 6 + digits(tick.stats.generation) + digits(self.generations.unwrap_or(0));
+            self.bar.set_message(cut(&format!("· {msg}"), self.width.saturating_sub(prefix + 1)));
         } else {
             self.bar.set_position((tick.seconds * 1000.0) as u64);
-            self.bar.set_message(format!("gen {} · {msg}", tick.stats.generation));
+            let msg = format!("gen {} · {msg}", tick.stats.generation);
+            self.bar.set_message(cut(&msg, self.width.saturating_sub(32 + 1)));
         }
-        if let Some(line) = &tick.log
-            && !self.quiet
-            && self.bar.is_hidden()
-        {
-            eprintln!("{line}");
+        if !self.quiet && self.bar.is_hidden() {
+            if let Some(line) = &tick.log {
+                eprintln!("{line}");
+            }
+            if self.piped && self.last_line.elapsed() >= self.every {
+                self.last_line = Instant::now();
+                let of = self.generations.map_or(String::new(), |g| format!("/{g}"));
+                eprintln!(
+                    "{:.1} s · gen {}{of} · {} evaluations · best {:.4} · {rate:.0} evals/s{}",
+                    tick.seconds,
+                    tick.stats.generation,
+                    tick.stats.total_evaluations,
+                    tick.best.unwrap_or(f64::NAN),
+                    tick.tail
+                );
+            }
         }
         None
     }
@@ -122,6 +182,23 @@ impl Drop for Progress {
     fn drop(&mut self) {
         self.bar.finish_and_clear();
     }
+}
+
+/// Decimal digits of `n`.
+fn digits(n: usize) -> usize {
+    n.to_string().len()
+}
+
+/// `text` cut to `columns` characters (the last one `…` when cut).
+fn cut(text: &str, columns: usize) -> String {
+    if text.chars().count() <= columns {
+        return text.to_string();
+    }
+    let mut out: String = text.chars().take(columns.saturating_sub(1)).collect();
+    if columns > 0 {
+        out.push('…');
+    }
+    out
 }
 
 /// Ctrl-Cs received so far.
@@ -148,4 +225,17 @@ pub(crate) fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
 /// Whether Ctrl-C came at least twice (the command then exits with 130).
 pub(crate) fn interrupted_twice() -> bool {
     INTERRUPTS.load(Ordering::SeqCst) >= 2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_messages_are_cut_to_the_columns_left() {
+        assert_eq!(cut("best 1.2 · 900 evals/s", 40), "best 1.2 · 900 evals/s");
+        assert_eq!(cut("best 1.2 · 900 evals/s", 8), "best 1.…");
+        assert_eq!(cut("abc", 0), "");
+        assert_eq!((digits(0), digits(9), digits(130)), (1, 1, 3));
+    }
 }

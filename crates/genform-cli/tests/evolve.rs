@@ -92,7 +92,8 @@ fn config_mistakes_name_the_file_and_the_key() {
     let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
     assert!(err.contains("spaceship_volume.toml:") && err.contains("populaton"), "{err}");
 
-    let bad = small_scene(tmp.path(), "spaceship_volume.toml", &[("elitism = 30", "elitism = 150")]);
+    let bad =
+        small_scene(tmp.path(), "spaceship_volume.toml", &[("population = 150", "population = 150\nelitism = 150")]);
     let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
     assert!(err.contains("elitism"), "{err}");
 

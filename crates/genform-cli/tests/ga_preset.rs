@@ -12,8 +12,7 @@ use common::{fails, ok, small_scene};
 fn ship(dir: &Path, extra: &[(&str, &str)]) -> PathBuf {
     let mut edits = vec![
         ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-        ("population = 150", "population = 24"),
-        ("elitism = 30", "elitism = 4"),
+        ("population = 150", "population = 24\nelitism = 4"),
         ("initial_length = [50, 50]", "initial_length = [10, 30]"),
         ("generations = 130", "generations = 12"),
     ];

@@ -440,10 +440,11 @@ fn mesh_boundaries_are_read_relative_to_the_environment_file() {
         Err(tobj::LoadError::OpenFileFailed)
     })
     .unwrap();
-    let p = &models[0].mesh.positions;
-    let inside = p.chunks(3).filter(|v| v[0].abs() < 0.999 && v[1].abs() < 0.999 && v[2] > -2.999 && v[2] < -1.001);
+    // The OBJ is +y up; the environment (and the cube) are in the growth frame, +z up.
+    let p: Vec<[f32; 3]> = models[0].mesh.positions.chunks(3).map(|v| [v[0], -v[2], v[1]]).collect();
+    let inside = p.iter().filter(|v| v[0].abs() < 0.999 && v[1].abs() < 0.999 && v[2] > -2.999 && v[2] < -1.001);
     assert_eq!(inside.count(), 0, "no vertex inside the cube");
-    let resting = p.chunks(3).filter(|v| v[0].abs() < 0.9 && v[1].abs() < 0.9 && (v[2] + 1.0).abs() < 1e-3).count();
+    let resting = p.iter().filter(|v| v[0].abs() < 0.9 && v[1].abs() < 0.9 && (v[2] + 1.0).abs() < 1e-3).count();
     assert!(resting >= 9, "the sheet lies on the cube's top: {resting} vertices");
     // A mesh that is not there is named with the path it was looked for at.
     std::fs::write(dir.join("scene/env.toml"), env.replace("cube.obj", "gone.obj")).unwrap();
@@ -543,4 +544,68 @@ fn out_of_range_and_foreign_options_are_refused() {
     assert!(!dir.join("x.obj").exists());
     // --smooth 6 is the most there is, and works.
     genform(dir, &["sample", s(&gr8("koch")), "--steps", "1", "--smooth", "6", "--out", "k.stl"]).ok();
+}
+
+/// (min, max) of `points`.
+fn extent(points: impl IntoIterator<Item = [f32; 3]>) -> ([f32; 3], [f32; 3]) {
+    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+    for p in points {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p[i]);
+            hi[i] = hi[i].max(p[i]);
+        }
+    }
+    (lo, hi)
+}
+
+#[test]
+fn every_3d_format_has_the_surface_lying_flat_with_y_up() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    for ext in ["obj", "ply", "stl", "glb"] {
+        genform(dir, &["sample", s(&gr8("tiles4")), "--out", &format!("t.{ext}")]).ok();
+    }
+    let obj = {
+        let load = tobj::LoadOptions { ignore_lines: true, ignore_points: true, ..Default::default() };
+        let (models, _) = tobj::load_obj_buf(&mut std::io::Cursor::new(read(dir, "t.obj")), &load, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .unwrap();
+        extent(models.iter().flat_map(|m| m.mesh.positions.chunks(3).map(|c| [c[0], c[1], c[2]])))
+    };
+    let ply = {
+        use ply_rs_bw::ply::{DefaultElement, Property};
+        let parser = ply_rs_bw::parser::Parser::<DefaultElement>::new();
+        let ply = parser.read_ply(&mut std::io::Cursor::new(read(dir, "t.ply"))).unwrap();
+        let f = |e: &DefaultElement, k: &str| match e[k] {
+            Property::Float(v) => v,
+            _ => panic!("float coordinates"),
+        };
+        extent(ply.payload["vertex"].iter().map(|e| [f(e, "x"), f(e, "y"), f(e, "z")]))
+    };
+    let stl = {
+        let mesh = stl_io::read_stl(&mut std::io::Cursor::new(read(dir, "t.stl"))).unwrap();
+        extent(mesh.vertices.iter().map(|v| [v[0], v[1], v[2]]))
+    };
+    let glb = {
+        let (doc, buffers, _) = gltf::import_slice(read(dir, "t.glb")).unwrap();
+        let mut points = Vec::new();
+        for node in doc.nodes() {
+            let Some(mesh) = node.mesh() else { continue };
+            let m = glam::Mat4::from_cols_array_2d(&node.transform().matrix());
+            for prim in mesh.primitives() {
+                let r = prim.reader(|b| Some(&buffers[b.index()]));
+                points.extend(r.read_positions().unwrap().map(|p| m.transform_point3(glam::Vec3::from(p)).to_array()));
+            }
+        }
+        extent(points)
+    };
+    // tiles4 grows a flat sheet: as wide as deep, no height, the same in every format.
+    for (name, (lo, hi)) in [("obj", obj), ("ply", ply), ("stl", stl), ("glb", glb)] {
+        let size = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
+        assert!(size[0] > 1.0 && size[2] > 1.0 && size[1] < 1e-3, "{name}: size {size:?} is not flat with y up");
+        for i in 0..3 {
+            assert!((lo[i] - obj.0[i]).abs() < 1e-4 && (hi[i] - obj.1[i]).abs() < 1e-4, "{name} differs from obj");
+        }
+    }
 }

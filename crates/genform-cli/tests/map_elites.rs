@@ -20,8 +20,7 @@ fn ship(dir: &Path, extra: &str) -> PathBuf {
         "spaceship_volume.toml",
         &[
             ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-            ("population = 150", "population = 24"),
-            ("elitism = 30", "elitism = 4"),
+            ("population = 150", "population = 24\nelitism = 4"),
             ("initial_length = [50, 50]", "initial_length = [10, 30]"),
         ],
     );

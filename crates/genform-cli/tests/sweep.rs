@@ -13,8 +13,7 @@ fn ship(dir: &Path) -> PathBuf {
         "spaceship_volume.toml",
         &[
             ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-            ("population = 150", "population = 16"),
-            ("elitism = 30", "elitism = 2"),
+            ("population = 150", "population = 16\nelitism = 2"),
             ("initial_length = [50, 50]", "initial_length = [10, 20]"),
             ("generations = 130", "generations = 3"),
         ],
@@ -111,6 +110,28 @@ fn sweep_settings_are_checked_like_the_scene() {
             "-q",
         ],
     );
+}
+
+#[test]
+fn the_readmes_population_sweep_runs_on_the_shipped_scene_with_elites_a_fifth_of_each_population() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::root().join("examples/scenes/spaceship_volume.toml");
+    let s = scene.to_str().unwrap();
+    let args = ["sweep", s, "--set", "ga.population=10,50", "--runs", "1", "--generations", "5", "-q"];
+    ok(tmp.path(), &args);
+    let csv = read(&tmp.path().join("sweep-out"), "sweep.csv");
+    assert_eq!(csv.lines().count(), 1 + 2 * 6, "header + 2 values × generations 0..=5:\n{csv}");
+    // Generation 1 evaluates population − elites children: 10 − 2 and 50 − 10.
+    let evaluations = |v: &str, g: &str| {
+        let row = csv.lines().find(|l| l.starts_with(&format!("{v},")) && l.split(',').nth(4) == Some(g)).unwrap();
+        row.split(',').nth(5).unwrap().parse::<u64>().unwrap()
+    };
+    assert_eq!(evaluations("0", "1") - evaluations("0", "0"), 8, "{csv}");
+    assert_eq!(evaluations("1", "1") - evaluations("1", "0"), 40, "{csv}");
+    // An elitism the user gives stays strict, and the message says how to get the default.
+    let err = fails(tmp.path(), &["sweep", s, "--set", "ga.population=10", "--set", "ga.elitism=30", "--runs", "1"]);
+    assert!(err.contains("elitism (30) must be smaller than the population (10)"), "{err}");
+    assert!(err.contains("leave `elitism` out"), "{err}");
 }
 
 /// The frames of an animated PNG.

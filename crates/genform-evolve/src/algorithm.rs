@@ -208,7 +208,13 @@ mod tests {
     #[test]
     fn every_algorithm_runs_through_the_driver() {
         let settings = Settings {
-            ga: GaConfig { population: 20, elitism: 4, initial_length: [5, 15], max_length: 40, ..GaConfig::default() },
+            ga: GaConfig {
+                population: 20,
+                elitism: Some(4),
+                initial_length: [5, 15],
+                max_length: 40,
+                ..GaConfig::default()
+            },
             mh: MhConfig { chains: 8, initial_length: [5, 15], max_length: 40, ..MhConfig::default() },
             smc: SmcConfig { particles: 30, max_length: 40, ..SmcConfig::default() },
             hybrid: HybridConfig::default(),
@@ -241,7 +247,7 @@ mod tests {
         let settings = Settings {
             ga: GaConfig {
                 population: 12,
-                elitism: 2,
+                elitism: Some(2),
                 initial_length: [5, 15],
                 max_length: 40,
                 restart_after: 2,

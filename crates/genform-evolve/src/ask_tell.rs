@@ -162,7 +162,7 @@ mod tests {
     use genform_core::Limits;
 
     fn ga() -> AnyOptimizer {
-        let ga = GaConfig { population: 12, elitism: 2, initial_length: [4, 10], ..GaConfig::default() };
+        let ga = GaConfig { population: 12, elitism: Some(2), initial_length: [4, 10], ..GaConfig::default() };
         let settings = Settings { ga, ..Settings::default() };
         AnyOptimizer::new(crate::Algorithm::Ga, &ship(), &Limits::default(), &settings, 7, Horizon::default()).unwrap()
     }

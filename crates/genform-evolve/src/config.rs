@@ -12,7 +12,10 @@ pub enum ConfigError {
     #[error("population must be at least 2, got {0}")]
     Population(usize),
     /// Elitism fills the whole population, so nothing would ever change.
-    #[error("elitism ({elitism}) must be smaller than the population ({population}) to leave room for children")]
+    #[error(
+        "elitism ({elitism}) must be smaller than the population ({population}) to leave room for children \
+         (leave `elitism` out for its default)"
+    )]
     Elitism {
         /// The elitism.
         elitism: usize,
@@ -173,8 +176,12 @@ pub struct GaConfig {
     /// Individuals per generation.
     pub population: usize,
     /// Best individuals copied unchanged (with their cached fitness) into
-    /// the next generation.
-    pub elitism: usize,
+    /// the next generation. `None` (the default, a key left out of
+    /// `[ga]`): a fifth of the population, rounded down (the thesis' 30 of
+    /// 150), so a smaller population still breeds; see [`GaConfig::elites`].
+    /// A number given is taken as it is and must be smaller than the
+    /// population.
+    pub elitism: Option<usize>,
     /// Initial genome length, drawn uniformly from `[a, b]`.
     pub initial_length: [usize; 2],
     /// Children shorter than this are dropped.
@@ -237,7 +244,7 @@ impl Default for GaConfig {
     fn default() -> Self {
         GaConfig {
             population: 150,
-            elitism: 30,
+            elitism: None,
             initial_length: [50, 50],
             min_length: 4,
             max_length: 100,
@@ -257,7 +264,17 @@ impl Default for GaConfig {
     }
 }
 
+/// Share of the population kept as elites when [`GaConfig::elitism`] is
+/// not given: one in this many (the thesis' 30 of 150).
+pub const DEFAULT_ELITISM_DIVISOR: usize = 5;
+
 impl GaConfig {
+    /// Individuals copied unchanged into the next generation: the given
+    /// [`GaConfig::elitism`], else a fifth of the population (rounded down).
+    pub fn elites(&self) -> usize {
+        self.elitism.unwrap_or(self.population / DEFAULT_ELITISM_DIVISOR)
+    }
+
     /// The length bounds children must satisfy.
     pub fn length_bounds(&self) -> LengthBounds {
         LengthBounds { min: self.min_length, max: self.max_length }
@@ -288,7 +305,7 @@ impl GaConfig {
 
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_elitism(self.population, self.elitism)?;
+        check_elitism(self.population, self.elites())?;
         check_lengths(self.min_length, self.max_length, self.initial_length)?;
         if !(0.0..=1.0).contains(&self.mutation_rate) {
             return Err(ConfigError::MutationRate(self.mutation_rate));
@@ -557,7 +574,7 @@ mod tests {
     fn defaults_are_the_papers_spaceship_settings() {
         let c = parse("").unwrap();
         assert_eq!(c, GaConfig::default());
-        assert_eq!((c.population, c.elitism, c.initial_length, c.crossover_retries), (150, 30, [50, 50], 3));
+        assert_eq!((c.population, c.elites(), c.initial_length, c.crossover_retries), (150, 30, [50, 50], 3));
         assert_eq!(c.length_bounds(), LengthBounds { min: 4, max: 100 });
         assert_eq!(
             c.mutation.weights(),
@@ -579,7 +596,7 @@ mod tests {
              selection = { first = \"roulette\", second = { tournament = 4 } }",
         )
         .unwrap();
-        assert_eq!((c.population, c.elitism, c.restart_after, c.restart_keep), (40, 5, 7, 2));
+        assert_eq!((c.population, c.elites(), c.restart_after, c.restart_keep), (40, 5, 7, 2));
         assert_eq!(c.mutation, MutationMix { grow: 0.0, ..MutationMix::default() });
         assert_eq!(c.selection, SelectionPair { first: Selection::Roulette, second: Selection::Tournament(4) });
     }
@@ -607,6 +624,21 @@ mod tests {
     }
 
     #[test]
+    fn elitism_left_out_is_a_fifth_of_the_population_and_a_given_one_stays_strict() {
+        for (population, elites) in [(2, 0), (10, 2), (20, 4), (40, 8), (50, 10), (150, 30), (151, 30)] {
+            let c = parse(&format!("population = {population}")).unwrap();
+            assert_eq!((c.elitism, c.elites()), (None, elites), "population {population}");
+            c.validate().unwrap();
+        }
+        let c = parse("population = 10\nelitism = 30").unwrap();
+        assert_eq!(c.elites(), 30);
+        let e = c.validate().unwrap_err().to_string();
+        assert!(e.contains("elitism (30) must be smaller than the population (10)"), "{e}");
+        assert!(e.contains("leave `elitism` out"), "{e}");
+        assert_eq!(parse("population = 10\nelitism = 0").unwrap().elites(), 0);
+    }
+
+    #[test]
     fn unknown_fields_are_errors() {
         assert!(parse("populaton = 3").unwrap_err().contains("populaton"));
         assert!(parse("mutation = { shrink = 3 }").unwrap_err().contains("shrink"));
@@ -616,8 +648,8 @@ mod tests {
     fn validation_names_the_problem() {
         let base = GaConfig::default();
         let cases: Vec<(GaConfig, &str)> = vec![
-            (GaConfig { population: 1, elitism: 0, ..base.clone() }, "population must be at least 2"),
-            (GaConfig { elitism: 150, ..base.clone() }, "elitism (150) must be smaller"),
+            (GaConfig { population: 1, elitism: Some(0), ..base.clone() }, "population must be at least 2"),
+            (GaConfig { elitism: Some(150), ..base.clone() }, "elitism (150) must be smaller"),
             (GaConfig { min_length: 100, ..base.clone() }, "min_length 100, max_length 100"),
             (GaConfig { min_length: 0, ..base.clone() }, "1 ≤ min_length"),
             (GaConfig { initial_length: [60, 50], ..base.clone() }, "initial_length [60, 50]"),

@@ -268,8 +268,13 @@ mod tests {
 
     fn hybrid(horizon: Horizon) -> Hybrid {
         let smc = SmcConfig { particles: 60, max_length: 40, ..SmcConfig::default() };
-        let ga =
-            GaConfig { population: 30, elitism: 6, initial_length: [10, 20], max_length: 40, ..GaConfig::default() };
+        let ga = GaConfig {
+            population: 30,
+            elitism: Some(6),
+            initial_length: [10, 20],
+            max_length: 40,
+            ..GaConfig::default()
+        };
         let mh = MhConfig { chains: 6, initial_length: [10, 20], max_length: 40, ..MhConfig::default() };
         let config = HybridConfig { stagnation: 15, polish_after: 0.7 };
         Hybrid::new(&ship(), &Limits::default(), smc, ga, mh, config, 3, horizon).unwrap()

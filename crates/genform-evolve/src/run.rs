@@ -120,7 +120,7 @@ mod tests {
     use genform_core::Limits;
 
     fn ga() -> Ga {
-        let config = GaConfig { population: 20, elitism: 4, initial_length: [5, 15], ..GaConfig::default() };
+        let config = GaConfig { population: 20, elitism: Some(4), initial_length: [5, 15], ..GaConfig::default() };
         Ga::new(&ship(), &Limits::default(), config, 1).unwrap()
     }
 

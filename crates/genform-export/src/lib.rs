@@ -70,6 +70,7 @@ pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
 pub use render::{Backdrop, Camera, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over};
 pub use stl::write_stl;
+pub use surfaces::{grown_to_y_up, surfaces_y_up};
 pub use svg::{SvgOptions, write_svg};
 
 /// The largest image side [`export`] accepts for [`Format::Png`].
@@ -279,10 +280,12 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
         check_geometry(scene, format, tess)?;
     }
     Ok(match format {
-        Format::Obj => write_obj_with(scene, tess, opts.granularity).into_bytes(),
+        // One up axis, +y: surfaces grow with +z up and are turned here; the
+        // GLB turns their nodes instead (its vertices stay as grown).
+        Format::Obj => write_obj_with(&surfaces_y_up(scene), tess, opts.granularity).into_bytes(),
         Format::Glb => write_glb_with(scene, tess, opts.granularity),
-        Format::Ply => write_ply(scene, tess),
-        Format::Stl => write_stl(scene, tess),
+        Format::Ply => write_ply(&surfaces_y_up(scene), tess),
+        Format::Stl => write_stl(&surfaces_y_up(scene), tess),
         Format::Svg => svg::Drawing::new(scene, tess).write(scene, &opts.svg).into_bytes(),
         Format::Png => {
             let (w, h) = (opts.render.width, opts.render.height);

@@ -10,6 +10,28 @@ use glam::{DVec3, Vec3};
 use std::borrow::Cow;
 use std::collections::BTreeMap;
 
+/// A surface's point as grown (+z up, the seed's normal) in genform's
+/// up-axis convention, +y up: (x, y, z) → (x, z, −y), the turn the GLB
+/// writer gives a surface's node (`Z_UP_TO_Y_UP`).
+pub fn grown_to_y_up(p: Vec3) -> Vec3 {
+    Vec3::new(p.x, p.z, -p.y)
+}
+
+/// `scene` with its surfaces turned from their grown +z up to genform's +y
+/// up ([`grown_to_y_up`]), as OBJ, PLY, STL and `Model.mesh()` give them
+/// (the GLB turns the surface's node instead); the scene itself when it
+/// has no surfaces.
+pub fn surfaces_y_up(scene: &Scene) -> Cow<'_, Scene> {
+    if scene.surfaces.is_empty() {
+        return Cow::Borrowed(scene);
+    }
+    let mut turned = scene.clone();
+    for s in &mut turned.surfaces {
+        s.positions.iter_mut().for_each(|p| *p = grown_to_y_up(*p));
+    }
+    Cow::Owned(turned)
+}
+
 /// Whether every face corner and edge end of `s` names one of its vertices
 /// (what the previews check before drawing a surface, so a malformed one is
 /// left out instead of panicking).

@@ -4,7 +4,7 @@
 
 use genform_core::scene::{Instance, Mesh, Primitive, Scene};
 use genform_core::surface::{Guide, GuideKind, Surface, SurfaceEdge};
-use genform_export::{ExportError, ExportOptions, Format, edge_color, export};
+use genform_export::{ExportError, ExportOptions, Format, edge_color, export, grown_to_y_up};
 use glam::{Affine3A, Vec3};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -173,9 +173,10 @@ fn obj_reads_back_with_tobj_as_polygons_and_line_groups() {
                 let i = lines.indices[i as usize] as usize;
                 Vec3::new(lines.positions[3 * i], lines.positions[3 * i + 1], lines.positions[3 * i + 2])
             };
+            // Surfaces are written +y up: a grown (x, y, z) is (x, z, −y).
             let [a, b] = pairs[0];
-            assert!((p(0) - surface.positions[a as usize]).length() < 1e-5);
-            assert!((p(1) - surface.positions[b as usize]).length() < 1e-5);
+            assert!((p(0) - grown_to_y_up(surface.positions[a as usize])).length() < 1e-5);
+            assert!((p(1) - grown_to_y_up(surface.positions[b as usize])).length() < 1e-5);
         }
     }
 }
@@ -237,8 +238,8 @@ fn stl_reads_back_with_stl_io_as_triangles() {
     let mesh = stl_io::read_stl(&mut std::io::Cursor::new(&bytes)).expect("stl_io reads the STL");
     let surface_tris: usize = s.surfaces.iter().flat_map(|x| x.faces()).map(|f| f.len() - 2).sum();
     assert_eq!(mesh.faces.len(), 12 + surface_tris);
-    // The grid's faces are up (+z) wherever they are not tilted by the bump.
-    assert!(mesh.faces.iter().filter(|f| f.normal[2] > 0.5).count() >= surface_tris);
+    // The grid's faces are up (grown +z, written as +y) wherever they are not tilted by the bump.
+    assert!(mesh.faces.iter().filter(|f| f.normal[1] > 0.5).count() >= surface_tris);
 }
 
 #[test]

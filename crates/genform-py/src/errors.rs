@@ -115,3 +115,41 @@ impl<T> OrRaise<T> for anyhow::Result<T> {
 pub fn error(message: impl Into<String>) -> PyErr {
     to_py(anyhow::anyhow!(message.into()))
 }
+
+/// A whole-number argument (`seed`, `generations`, `width`, …): a value
+/// that is no int, is negative or is too large raises [`GenformError`]
+/// naming the range, not Python's `OverflowError` or `TypeError`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Whole<T>(pub T);
+
+/// `obj`'s `repr`, for messages.
+fn shown(obj: &Bound<'_, PyAny>) -> String {
+    obj.repr().map(|r| r.to_string()).unwrap_or_else(|_| "that value".to_string())
+}
+
+macro_rules! whole {
+    ($($t:ty),*) => {$(
+        impl<'a, 'py> FromPyObject<'a, 'py> for Whole<$t> {
+            type Error = PyErr;
+
+            fn extract(obj: pyo3::Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+                obj.extract::<$t>().map(Whole).map_err(|_| {
+                    error(format!("expected a whole number from 0 to {}, got {}", <$t>::MAX, shown(&obj)))
+                })
+            }
+        }
+    )*};
+}
+whole!(u8, u32, u64, usize);
+
+/// Keyword option `name` as a `T`; a value of the wrong kind raises
+/// [`GenformError`] naming the option.
+pub fn option<'py, T>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<T>
+where
+    T: for<'a> FromPyObject<'a, 'py>,
+{
+    value.extract::<T>().map_err(|e| {
+        let e: PyErr = e.into();
+        error(format!("`{name}`: {}", e.value(value.py())))
+    })
+}

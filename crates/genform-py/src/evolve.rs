@@ -18,7 +18,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use crate::errors::{OrRaise, error};
+use crate::errors::{OrRaise, Whole, error};
 use crate::grammar::{Model, path_arg};
 use crate::optimizer::budget_arg;
 use crate::scene::Scene;
@@ -91,7 +91,7 @@ impl Watch for Relay {
 }
 
 #[pyfunction]
-#[pyo3(signature = (scene, algorithm = None, seed = 0, budget = None, generations = None, evaluations = None,
+#[pyo3(signature = (scene, algorithm = None, seed = Whole(0), budget = None, generations = None, evaluations = None,
                     threads = None, out = None, progress = None, **settings))]
 #[allow(clippy::too_many_arguments)]
 /// Runs an optimizer on a scene, as `genform evolve` does.
@@ -99,11 +99,11 @@ pub fn evolve(
     py: Python<'_>,
     scene: &Bound<'_, PyAny>,
     algorithm: Option<&str>,
-    seed: u64,
+    seed: Whole<u64>,
     budget: Option<&Bound<'_, PyAny>>,
-    generations: Option<usize>,
-    evaluations: Option<u64>,
-    threads: Option<usize>,
+    generations: Option<Whole<usize>>,
+    evaluations: Option<Whole<u64>>,
+    threads: Option<Whole<usize>>,
     out: Option<&Bound<'_, PyAny>>,
     progress: Option<Bound<'_, PyAny>>,
     settings: Option<&Bound<'_, PyDict>>,
@@ -129,11 +129,11 @@ pub fn evolve(
     };
     let request = EvolveRequest {
         scene: path,
-        seed,
-        generations,
+        seed: seed.0,
+        generations: generations.map(|g| g.0),
         budget: budget_arg(budget)?.map(|d| format!("{}", d.as_secs_f64())),
-        evaluations,
-        threads,
+        evaluations: evaluations.map(|e| e.0),
+        threads: threads.map(|t| t.0),
         out: out.filter(|o| !o.is_none()).map(path_arg).transpose()?,
         algorithm,
         set,

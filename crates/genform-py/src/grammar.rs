@@ -13,7 +13,7 @@ use pyo3::types::{PyBytes, PyDict};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::errors::{OrRaise, error};
+use crate::errors::{OrRaise, Whole, error, option};
 use crate::mesh;
 
 /// A compiled grammar, shared by the models drawn from it.
@@ -108,25 +108,25 @@ fn request(seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<SampleReq
             continue;
         }
         match key.as_str() {
-            "steps" => r.steps = Some(value.extract()?),
-            "max_modules" => r.max_modules = Some(value.extract()?),
-            "max_genes" => r.limits.max_genes = Some(value.extract()?),
-            "max_depth" => r.limits.max_depth = Some(value.extract()?),
-            "max_primitives" => r.limits.max_primitives = Some(value.extract()?),
+            "steps" => r.steps = Some(option::<Whole<u32>>("steps", &value)?.0),
+            "max_modules" => r.max_modules = Some(option::<Whole<usize>>("max_modules", &value)?.0),
+            "max_genes" => r.limits.max_genes = Some(option::<Whole<usize>>("max_genes", &value)?.0),
+            "max_depth" => r.limits.max_depth = Some(option::<Whole<usize>>("max_depth", &value)?.0),
+            "max_primitives" => r.limits.max_primitives = Some(option::<Whole<usize>>("max_primitives", &value)?.0),
             "string_out" => r.string_out = Some(path_arg(&value)?),
             "genome_out" => r.genome_out = Some(path_arg(&value)?),
             "world" => r.world = Some(path_arg(&value)?),
             "trace" => r.trace = Some(path_arg(&value)?),
             "env" => r.env = Some(path_arg(&value)?),
-            "schem_version" => r.schem_version = value.extract()?,
-            "data_version" => r.data_version = value.extract()?,
-            "every_step" => r.every_step = value.extract()?,
-            "smooth" => r.smooth = Some(value.extract()?),
+            "schem_version" => r.schem_version = option::<Whole<u8>>("schem_version", &value)?.0,
+            "data_version" => r.data_version = option("data_version", &value)?,
+            "every_step" => r.every_step = option("every_step", &value)?,
+            "smooth" => r.smooth = Some(option::<Whole<u32>>("smooth", &value)?.0),
             "box" => {
                 r.box_corners = Some(match value.extract::<String>() {
                     Ok(s) => s,
                     Err(_) => {
-                        let corners: Vec<i64> = value.extract()?;
+                        let corners: Vec<i64> = option("box", &value)?;
                         corners.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(",")
                     }
                 })
@@ -179,9 +179,9 @@ impl Grammar {
     }
 
     /// Draws one model, as `genform sample --seed SEED` does.
-    #[pyo3(signature = (seed = 0, **options))]
-    fn sample(&self, py: Python<'_>, seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<Model> {
-        let mut req = request(seed, options)?;
+    #[pyo3(signature = (seed = Whole(0), **options))]
+    fn sample(&self, py: Python<'_>, seed: Whole<u64>, options: Option<&Bound<'_, PyDict>>) -> PyResult<Model> {
+        let mut req = request(seed.0, options)?;
         formalism::check_request(self.core.formalism, &req).or_raise()?;
         let core = self.core.clone();
         py.detach(move || sample(&core, &mut req)).or_raise()
@@ -341,14 +341,28 @@ impl Model {
         Ok((PyArray1::from_vec(py, a.tags).into_any(), a.tag_names))
     }
 
-    /// Triangles of instances, polygons and surfaces.
-    fn triangle_count(&self) -> usize {
-        self.scene().triangle_count(Tessellation::default())
+    /// Triangles of instances, polygons, surfaces and block meshes (the
+    /// faces of `mesh()`).
+    fn triangle_count(&self, py: Python<'_>) -> usize {
+        let scene = self.scene();
+        if scene.blocks.is_empty() {
+            return scene.triangle_count(Tessellation::default());
+        }
+        py.detach(|| mesh::arrays(scene, Tessellation::default()).faces.len() / 3)
     }
 
-    /// ((min x, y, z), (max x, y, z)) of all geometry; None when empty.
-    fn bounds(&self) -> Option<(Point, Point)> {
-        let (lo, hi) = self.scene().bounds(Tessellation::default())?;
+    /// ((min x, y, z), (max x, y, z)) of all geometry, blocks included;
+    /// None when empty.
+    fn bounds(&self, py: Python<'_>) -> Option<(Point, Point)> {
+        let scene = &*genform_export::surfaces_y_up(self.scene());
+        let (lo, hi) = if scene.blocks.is_empty() {
+            scene.bounds(Tessellation::default())?
+        } else {
+            let a = py.detach(|| mesh::arrays(scene, Tessellation::default()));
+            let mut points = a.vertices.chunks_exact(3).map(|c| glam::Vec3::new(c[0], c[1], c[2]));
+            let first = points.next()?;
+            points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)))
+        };
         Some((lo.into(), hi.into()))
     }
 
@@ -371,8 +385,9 @@ impl Model {
     }
 
     /// A shaded preview as PNG bytes.
-    #[pyo3(signature = (width = 512, height = 512))]
-    fn png<'py>(&self, py: Python<'py>, width: u32, height: u32) -> PyResult<Bound<'py, PyBytes>> {
+    #[pyo3(signature = (width = Whole(512), height = Whole(512)))]
+    fn png<'py>(&self, py: Python<'py>, width: Whole<u32>, height: Whole<u32>) -> PyResult<Bound<'py, PyBytes>> {
+        let (width, height) = (width.0, height.0);
         if width == 0 || height == 0 || width > 8192 || height > 8192 {
             return Err(error(format!("png(): width and height must be 1 to 8192, not {width}×{height}")));
         }
@@ -388,7 +403,7 @@ impl Model {
 
     /// Jupyter's inline picture.
     fn _repr_png_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        self.png(py, 400, 300)
+        self.png(py, Whole(400), Whole(300))
     }
 
     fn __repr__(&self) -> String {

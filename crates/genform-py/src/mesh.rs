@@ -49,6 +49,8 @@ impl Arrays {
 /// `scene` as arrays: instances, polygons, polylines (vertices only),
 /// block meshes (merged per block state), surfaces.
 pub fn arrays(scene: &Scene, tess: Tessellation) -> Arrays {
+    // Surfaces turned to +y up, as the OBJ, PLY and STL writers give them.
+    let scene = &*genform_export::surfaces_y_up(scene);
     let mut out = Arrays { tag_names: scene.tags.clone(), ..Arrays::default() };
     let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
     for inst in &scene.instances {

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use std::sync::Arc;
 use std::time::Duration;
 
-use crate::errors::{OrRaise, error};
+use crate::errors::{OrRaise, Whole, error};
 use crate::grammar::{Grammar, GrammarCore, Model, path_arg};
 use crate::scene::{Scene, SceneCore};
 use crate::settings;
@@ -66,15 +66,15 @@ pub fn budget_arg(budget: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Duration
 #[pymethods]
 impl Optimizer {
     #[new]
-    #[pyo3(signature = (target, algorithm = "ga", seed = 0, generations = None, evaluations = None, budget = None, **settings))]
+    #[pyo3(signature = (target, algorithm = "ga", seed = Whole(0), generations = None, evaluations = None, budget = None, **settings))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         target: &Bound<'_, PyAny>,
         algorithm: &str,
-        seed: u64,
-        generations: Option<usize>,
-        evaluations: Option<u64>,
+        seed: Whole<u64>,
+        generations: Option<Whole<usize>>,
+        evaluations: Option<Whole<u64>>,
         budget: Option<&Bound<'_, PyAny>>,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
@@ -85,6 +85,7 @@ impl Optimizer {
             Target::Scene(s) => (s.grammar.clone(), s.limits, Some(s.path.as_path())),
         };
         let settings = settings::apply(scene, alg, settings)?;
+        let (seed, generations, evaluations) = (seed.0, generations.map(|g| g.0), evaluations.map(|e| e.0));
         let horizon = Horizon { generations, budget: budget_arg(budget)?, evaluations };
         let graph = grammar.generator().or_raise()?.generator.graph();
         let opt = AnyOptimizer::new(alg, graph, &limits, &settings, seed, horizon)

@@ -287,7 +287,7 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
             (loaded, limits, Settings::default(), None)
         };
         settings.ga.population = body.size;
-        settings.ga.elitism = 0;
+        settings.ga.elitism = Some(0);
         settings.ga.restart_after = 0;
         let generator: Arc<dyn Generator> = Arc::from(loaded.generator);
         let opt = AnyOptimizer::new(

@@ -296,7 +296,7 @@ impl Session<Genome> for RunContext<'_> {
         let l = &self.limits;
         let own = serde_json::json!({
             "limits": { "genes": l.max_genes, "depth": l.max_depth, "primitives": l.max_primitives },
-            "config": self.config,
+            "config": self.config.as_run(),
         });
         self.common.write_run_json(out, opt, rows, ended, self.max_reachable(), own)
     }

@@ -90,8 +90,7 @@ pub fn small_scene(dir: &Path, name: &str, edits: &[(&str, &str)]) -> PathBuf {
 pub fn small_ship(dir: &Path, more: &[(&str, &str)]) -> PathBuf {
     let mut edits = vec![
         ("voxels = [100, 200, 100]", "voxels = [25, 25, 50]"),
-        ("population = 150", "population = 24"),
-        ("elitism = 30", "elitism = 4"),
+        ("population = 150", "population = 24\nelitism = 4"),
         ("initial_length = [50, 50]", "initial_length = [10, 30]"),
         ("generations = 130", "generations = 6"),
         ("chains = 70", "chains = 8"),

@@ -243,7 +243,7 @@ impl Ga {
             ],
         };
         let seed = self.seed;
-        let (tagged, mut counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+        let (tagged, mut counts) = breed(self.config.population - self.config.elites(), |pair, need| {
             reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[PAIR_STREAM, generation as u64, pair as u64]))
         });
         let (mut children, mut origins): (Vec<Child>, Vec<_>) =
@@ -256,7 +256,7 @@ impl Ga {
         tally(&children, &origins, &fresh, &mut counts.operators);
         self.state.count_evaluations(evaluations);
         self.rates.update(&counts.operators);
-        let stats = self.state.advance(objective, self.config.elitism, children, counts, started);
+        let stats = self.state.advance(objective, self.config.elites(), children, counts, started);
         let top = self.epoch_top();
         self.epoch.observe(&self.config, top);
         GenerationStats {

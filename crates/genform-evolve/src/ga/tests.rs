@@ -13,7 +13,7 @@ const LIMITS: Limits = Limits { max_genes: 10_000, max_depth: 50, max_primitives
 fn small() -> GaConfig {
     GaConfig {
         population: 30,
-        elitism: 6,
+        elitism: Some(6),
         initial_length: [10, 30],
         min_length: 4,
         max_length: 60,
@@ -37,7 +37,7 @@ fn fitness_columns(s: &GenerationStats) -> [u64; 6] {
 #[test]
 fn best_fitness_never_drops_with_elitism() {
     let objective = ShipToy { target: 17 };
-    let mut ga = ga(GaConfig { elitism: 1, ..small() }, 3);
+    let mut ga = ga(GaConfig { elitism: Some(1), ..small() }, 3);
     let mut last = f64::NEG_INFINITY;
     for g in 0..25 {
         let stats = ga.step(&objective);
@@ -134,7 +134,7 @@ fn invalid_individuals_sort_last_and_stay_out_of_statistics() {
 #[test]
 fn ga_beats_random_search_at_equal_evaluations() {
     let objective = ShipToy { target: 25 };
-    let config = GaConfig { population: 40, elitism: 8, initial_length: [15, 35], ..GaConfig::default() };
+    let config = GaConfig { population: 40, elitism: Some(8), initial_length: [15, 35], ..GaConfig::default() };
     let (mut ga_wins, runs) = (0, 4);
     for seed in 0..runs {
         let mut ga = Ga::new(&ship(), &LIMITS, config.clone(), seed).unwrap();

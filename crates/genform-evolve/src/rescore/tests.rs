@@ -47,7 +47,13 @@ impl Objective for Steered {
 
 fn settings() -> Settings {
     Settings {
-        ga: GaConfig { population: 20, elitism: 4, initial_length: [5, 15], max_length: 40, ..GaConfig::default() },
+        ga: GaConfig {
+            population: 20,
+            elitism: Some(4),
+            initial_length: [5, 15],
+            max_length: 40,
+            ..GaConfig::default()
+        },
         mh: MhConfig { chains: 8, initial_length: [5, 15], max_length: 40, ..MhConfig::default() },
         smc: SmcConfig { particles: 30, max_length: 40, ..SmcConfig::default() },
         hybrid: HybridConfig { stagnation: 5, polish_after: 0.5 },
