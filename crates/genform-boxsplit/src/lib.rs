@@ -30,8 +30,6 @@
 //! assert_eq!(d.stats.filled, 48);
 //! ```
 
-#![warn(missing_docs)]
-
 mod compile;
 mod derive;
 mod formula;

@@ -15,12 +15,15 @@
 //!   evolution).
 //! - [`diag`]: the one diagnostics type, with file:line:col rendering.
 //! - [`expr`]: the one compiler for user formulas, to an f64 bytecode.
+//! - `fixtures` (tests only, feature `test-support`): the checker of
+//!   grammar files annotated with their expected diagnostics.
 
 pub mod blocks;
 pub mod camera;
 pub mod codons;
 pub mod diag;
 pub mod expr;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixtures;
 pub mod generator;
 pub mod genome;

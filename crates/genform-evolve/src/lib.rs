@@ -29,7 +29,6 @@
 //! - [`config`], [`stats`], [`optimizer`]: settings, per-generation
 //!   statistics, the shared [`Optimizer`] trait.
 //! - [`fixtures`]: toy graphs and objectives for tests and benchmarks.
-#![warn(missing_docs)]
 
 pub mod algorithm;
 pub mod ask_tell;

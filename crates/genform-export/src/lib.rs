@@ -40,8 +40,6 @@
 //! coordinates, nothing to write) and reports an [`ExportError`]; the
 //! `write_*` functions trust their input.
 
-#![warn(missing_docs)]
-
 mod flat;
 mod glb;
 mod granularity;

@@ -38,8 +38,6 @@
 //! assert_eq!(trace.choices, vec![0, 1, 1, 1]);
 //! ```
 
-#![warn(missing_docs)]
-
 mod bnf;
 mod check;
 mod mapper;

@@ -33,8 +33,6 @@
 //! assert_eq!((d.graph.vertex_count(), d.graph.edge_count()), (5, 4));
 //! ```
 
-#![warn(missing_docs)]
-
 mod choices;
 mod compile;
 mod derive;

@@ -29,8 +29,6 @@
 //! assert_eq!(s.len(), 112);
 //! ```
 
-#![warn(missing_docs)]
-
 mod alphabet;
 mod body;
 mod compile;

@@ -2,8 +2,6 @@
 //! targets. Scorers read only a [`genform_core::Scene`]; they reduce it to
 //! [`Counts`], which a [`Fitness`] turns into the number optimizers maximize.
 
-#![warn(missing_docs)]
-
 pub mod fitness;
 pub mod image;
 

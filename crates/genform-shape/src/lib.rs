@@ -19,8 +19,6 @@
 //! assert_eq!(scene.instances.len(), 1);
 //! ```
 
-#![warn(missing_docs)]
-
 mod ast;
 mod codegen;
 mod compile;

@@ -5,7 +5,7 @@ use super::Cx;
 use super::Place;
 use super::production::constant_program;
 use super::scope::ProdScope;
-use super::syntax::{Element, Formula, OptionSyn, Written};
+use super::syntax::{Element, Formula, OptionSyn, Text, Written};
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, MEdge, MVertex};
 use crate::graph::Value;
 use crate::template::Template;
@@ -114,6 +114,11 @@ impl Cx {
         }
     }
 
+    /// Compiles one daughter option of production `pname` over the mother
+    /// vertices `mv` and edges `me`, in two passes: the daughter's vertices
+    /// ([`Cx::daughter_vertices`]: kept, moved or new, with their
+    /// positions), then its edges ([`Cx::daughter_edges`]), which join the
+    /// ends the first pass named. `None` when it reported an error.
     pub(super) fn daughter(
         &mut self,
         o: &OptionSyn,
@@ -124,14 +129,7 @@ impl Cx {
         pname: &str,
     ) -> Option<Daughter> {
         let errors_before = self.errors.len();
-        let new_names: Vec<String> = o
-            .graph
-            .vertices
-            .iter()
-            .chain(&o.graph.edges)
-            .map(Element::name)
-            .filter(|n| !mv.iter().any(|m| m.name == *n) && !me.iter().any(|m| m.name == *n))
-            .collect();
+        let m = Mother { vertices: mv, edges: me, scope, production: pname, new_names: new_names(o, mv, me) };
         let mut d = Daughter {
             vars,
             delete_vertices: Vec::new(),
@@ -142,8 +140,18 @@ impl Cx {
             new_edges: Vec::new(),
             placement: false,
         };
-        // Daughter vertex name → edge end; wildcards are ends without
-        // being listed.
+        let ends = self.daughter_vertices(o, &m, &mut d);
+        self.daughter_edges(o, &m, &ends, &mut d);
+        if self.errors.len() > errors_before { None } else { Some(d) }
+    }
+
+    /// The vertex pass: each daughter vertex kept (`keep:` or its mother's
+    /// name) or new, with its position, label and attributes; then which
+    /// mother vertices are deleted and whether automatic placement runs.
+    /// Returns every daughter vertex name's edge end; wildcards are ends
+    /// without being listed.
+    fn daughter_vertices(&mut self, o: &OptionSyn, m: &Mother, d: &mut Daughter) -> Vec<(String, End)> {
+        let mv = m.vertices;
         let mut ends: Vec<(String, End)> =
             mv.iter().enumerate().filter(|(_, v)| v.wildcard).map(|(i, v)| (v.name.clone(), End::Mother(i))).collect();
         let mut kept_v: Vec<Option<Span>> = vec![None; mv.len()];
@@ -163,36 +171,7 @@ impl Cx {
                     .push("a wildcard is kept unchanged; daughter edges may still connect to it".into());
                 continue;
             }
-            let target = match &v.keep {
-                Some(k) => match mv.iter().position(|m| m.name == k.s) {
-                    Some(i) => Some(i),
-                    None => {
-                        if me.iter().any(|m| m.name == k.s) {
-                            self.error(
-                                k.span,
-                                format!("`keep: {}` names a mother edge; a vertex can keep only a vertex", k.s),
-                            );
-                        } else {
-                            let d = self
-                                .error(k.span, format!("`keep: {}` names no vertex of the mother of `{pname}`", k.s));
-                            if let Some(s) = did_you_mean(&k.s, mv.iter().map(|m| m.name.as_str())) {
-                                d.hints.push(format!("did you mean `{s}`?"));
-                            }
-                        }
-                        continue;
-                    }
-                },
-                None => {
-                    if me.iter().any(|m| m.name == name) {
-                        self.error(
-                            span,
-                            format!("`{name}` names a mother edge; a daughter vertex cannot keep an edge"),
-                        );
-                        continue;
-                    }
-                    mv.iter().position(|m| m.name == name)
-                }
-            };
+            let Some(target) = self.vertex_target(v, &name, m) else { continue };
             if let Some(i) = target {
                 if mv[i].wildcard {
                     self.error(span, format!("wildcard `{}` cannot appear in a daughter", mv[i].name))
@@ -209,51 +188,13 @@ impl Cx {
                 }
                 kept_v[i] = Some(span);
             }
-            // Position.
-            let mut pos = [Coord::Keep, Coord::Keep];
-            let mut pos_spans = [None; 2];
-            let mut given = [false; 2];
-            if let Some(f) = &v.pos {
-                pos_spans = [Some(f.content_span()); 2];
-                if v.x.is_some() || v.y.is_some() {
-                    self.error(f.content_span(), "give either `pos` or `x`/`y`, not both");
-                }
-                if let Some(Compiled::Vector([x, y])) = self.daughter_formula(f, scope, &new_names, true) {
-                    pos = [Coord::Formula(x), Coord::Formula(y)];
-                }
-                given = [true; 2];
-            }
-            for (k, w) in [&v.x, &v.y].into_iter().enumerate() {
-                if let Some(w) = w {
-                    given[k] = true;
-                    pos_spans[k] = Some(w.span());
-                    if let Some(c) = self.coord(w, scope, &new_names) {
-                        pos[k] = c;
-                    }
-                }
+            let (pos, pos_spans, auto) = self.vertex_position(v, &name, target, m);
+            if auto {
+                first_auto.get_or_insert(span);
             }
             let at = v.at.map(|a| a.0);
-            let moved = match (target, at) {
-                (None, Some(_)) => true,
-                (Some(i), Some(a)) => mv[i].at != Some(a),
-                (_, None) => false,
-            };
-            if !(given[0] && given[1]) {
-                if moved {
-                    for k in 0..2 {
-                        if !given[k] {
-                            pos[k] = Coord::Auto;
-                        }
-                    }
-                    first_auto.get_or_insert(span);
-                } else if target.is_none() {
-                    self.error(span, format!("new vertex `{name}` needs a position"))
-                        .hints
-                        .push("give `pos`, or `x` and `y`, or `at: [x, y]` to place it automatically".into());
-                }
-            }
-            let label = v.label.as_ref().and_then(|l| self.label_spec(l, scope, &new_names));
-            let attrs = self.attr_specs(v, scope, &new_names);
+            let label = v.label.as_ref().and_then(|l| self.label_spec(l, m.scope, &m.new_names));
+            let attrs = self.attr_specs(v, m.scope, &m.new_names);
             let dv = DVertex { mother: target, label, pos, pos_spans, at, attrs };
             match target {
                 Some(i) => {
@@ -278,7 +219,109 @@ impl Cx {
             }
         }
         d.delete_vertices = (0..mv.len()).filter(|&i| kept_v[i].is_none() && !mv[i].wildcard).collect();
+        ends
+    }
 
+    /// The mother vertex daughter vertex `v` (named `name`) keeps:
+    /// `Some(None)` for a new vertex, `None` after reporting a `keep:` or
+    /// name that is no mother vertex.
+    fn vertex_target(&mut self, v: &Element, name: &str, m: &Mother) -> Option<Option<usize>> {
+        let (mv, me) = (m.vertices, m.edges);
+        match &v.keep {
+            Some(k) => match mv.iter().position(|m| m.name == k.s) {
+                Some(i) => Some(Some(i)),
+                None => {
+                    if me.iter().any(|m| m.name == k.s) {
+                        self.error(
+                            k.span,
+                            format!("`keep: {}` names a mother edge; a vertex can keep only a vertex", k.s),
+                        );
+                    } else {
+                        let d = self.error(
+                            k.span,
+                            format!("`keep: {}` names no vertex of the mother of `{}`", k.s, m.production),
+                        );
+                        if let Some(s) = did_you_mean(&k.s, mv.iter().map(|m| m.name.as_str())) {
+                            d.hints.push(format!("did you mean `{s}`?"));
+                        }
+                    }
+                    None
+                }
+            },
+            None => {
+                if me.iter().any(|m| m.name == name) {
+                    self.error(
+                        v.name_span(),
+                        format!("`{name}` names a mother edge; a daughter vertex cannot keep an edge"),
+                    );
+                    return None;
+                }
+                Some(mv.iter().position(|m| m.name == name))
+            }
+        }
+    }
+
+    /// The position of daughter vertex `v`: `pos`, or `x` and `y`, each
+    /// coordinate not given kept, or placed automatically when the vertex
+    /// moves (`at:` differs from its mother's). Returns the coordinates,
+    /// their spans and whether automatic placement is asked for.
+    fn vertex_position(
+        &mut self,
+        v: &Element,
+        name: &str,
+        target: Option<usize>,
+        m: &Mother,
+    ) -> ([Coord; 2], [Option<Span>; 2], bool) {
+        let mut pos = [Coord::Keep, Coord::Keep];
+        let mut pos_spans = [None; 2];
+        let mut given = [false; 2];
+        if let Some(f) = &v.pos {
+            pos_spans = [Some(f.content_span()); 2];
+            if v.x.is_some() || v.y.is_some() {
+                self.error(f.content_span(), "give either `pos` or `x`/`y`, not both");
+            }
+            if let Some(Compiled::Vector([x, y])) = self.daughter_formula(f, m.scope, &m.new_names, true) {
+                pos = [Coord::Formula(x), Coord::Formula(y)];
+            }
+            given = [true; 2];
+        }
+        for (k, w) in [&v.x, &v.y].into_iter().enumerate() {
+            if let Some(w) = w {
+                given[k] = true;
+                pos_spans[k] = Some(w.span());
+                if let Some(c) = self.coord(w, m.scope, &m.new_names) {
+                    pos[k] = c;
+                }
+            }
+        }
+        let moved = match (target, v.at.map(|a| a.0)) {
+            (None, Some(_)) => true,
+            (Some(i), Some(a)) => m.vertices[i].at != Some(a),
+            (_, None) => false,
+        };
+        let mut auto = false;
+        if !(given[0] && given[1]) {
+            if moved {
+                for k in 0..2 {
+                    if !given[k] {
+                        pos[k] = Coord::Auto;
+                    }
+                }
+                auto = true;
+            } else if target.is_none() {
+                self.error(v.name_span(), format!("new vertex `{name}` needs a position"))
+                    .hints
+                    .push("give `pos`, or `x` and `y`, or `at: [x, y]` to place it automatically".into());
+            }
+        }
+        (pos, pos_spans, auto)
+    }
+
+    /// The edge pass: each daughter edge kept (`keep:` or its mother's
+    /// name, joining the same vertices) or new, between the `ends` the
+    /// vertex pass named; then which mother edges are deleted.
+    fn daughter_edges(&mut self, o: &OptionSyn, m: &Mother, ends: &[(String, End)], d: &mut Daughter) {
+        let me = m.edges;
         let mut kept_e: Vec<Option<Span>> = vec![None; me.len()];
         let mut edge_names: Vec<String> = Vec::new();
         for e in &o.graph.edges {
@@ -295,72 +338,16 @@ impl Cx {
                 continue;
             }
             edge_names.push(name.clone());
-            let resolve = |cx: &mut Cx, t: &super::syntax::Text| -> Option<End> {
-                if let Some((_, end)) = ends.iter().find(|(n, _)| *n == t.s) {
-                    return Some(*end);
-                }
-                if mv.iter().any(|m| m.name == t.s) {
-                    cx.error(t.span, format!("`{}` is deleted by this daughter, so no edge can reach it", t.s))
-                        .hints
-                        .push(format!("list `{}: {{}}` under the daughter's vertices to keep it", t.s));
-                } else {
-                    let d = cx.error(t.span, format!("unknown vertex `{}` in a daughter of `{pname}`", t.s));
-                    if let Some(s) = did_you_mean(&t.s, ends.iter().map(|(n, _)| n.as_str())) {
-                        d.hints.push(format!("did you mean `{s}`?"));
-                    }
-                }
-                None
-            };
-            let (a, b) = (resolve(self, from), resolve(self, to));
-            let target = match &e.keep {
-                Some(k) => match me.iter().position(|m| m.name == k.s) {
-                    Some(i) => Some(i),
-                    None => {
-                        if mv.iter().any(|m| m.name == k.s) {
-                            self.error(
-                                k.span,
-                                format!("`keep: {}` names a mother vertex; an edge can keep only an edge", k.s),
-                            );
-                        } else {
-                            let d =
-                                self.error(k.span, format!("`keep: {}` names no edge of the mother of `{pname}`", k.s));
-                            if let Some(s) = did_you_mean(&k.s, me.iter().map(|m| m.name.as_str())) {
-                                d.hints.push(format!("did you mean `{s}`?"));
-                            }
-                        }
-                        continue;
-                    }
-                },
-                None => me.iter().position(|m| m.name == name),
-            };
+            let (a, b) = (self.edge_end(from, ends, m), self.edge_end(to, ends, m));
+            let Some(target) = self.edge_target(e, &name, m) else { continue };
             let (Some(a), Some(b)) = (a, b) else { continue };
-            if let Some(i) = target {
-                let m = &me[i];
-                let same = matches!((a, b), (End::Mother(x), End::Mother(y))
-                    if (x, y) == (m.from, m.to) || (x, y) == (m.to, m.from));
-                if !same {
-                    self.error(
-                        e.name_span(),
-                        format!(
-                            "kept edge `{}` must join the vertices its mother edge joins (`{}` and `{}`)",
-                            m.name, mv[m.from].name, mv[m.to].name
-                        ),
-                    )
-                    .hints
-                    .push("give the daughter edge another name to delete the old edge and add a new one".into());
-                    continue;
-                }
-                if let Some(first) = kept_e[i] {
-                    self.errors.push(
-                        Diagnostic::error(e.name_span(), format!("mother edge `{}` is kept twice", m.name))
-                            .with_label(first, "first kept here"),
-                    );
-                    continue;
-                }
-                kept_e[i] = Some(e.name_span());
+            if let Some(i) = target
+                && !self.keeps_edge(e, i, (a, b), &mut kept_e, m)
+            {
+                continue;
             }
-            let label = e.label.as_ref().and_then(|l| self.label_spec(l, scope, &new_names));
-            let attrs = self.attr_specs(e, scope, &new_names);
+            let label = e.label.as_ref().and_then(|l| self.label_spec(l, m.scope, &m.new_names));
+            let attrs = self.attr_specs(e, m.scope, &m.new_names);
             let directed = e.directed.map(|d| d.0);
             let de = DEdge {
                 mother: target,
@@ -377,6 +364,108 @@ impl Cx {
             }
         }
         d.delete_edges = (0..me.len()).filter(|&i| kept_e[i].is_none()).collect();
-        if self.errors.len() > errors_before { None } else { Some(d) }
     }
+
+    /// The end an edge's `from`/`to` names among the daughter's `ends`, or
+    /// `None` after reporting a deleted or unknown vertex.
+    fn edge_end(&mut self, t: &Text, ends: &[(String, End)], m: &Mother) -> Option<End> {
+        if let Some((_, end)) = ends.iter().find(|(n, _)| *n == t.s) {
+            return Some(*end);
+        }
+        if m.vertices.iter().any(|v| v.name == t.s) {
+            self.error(t.span, format!("`{}` is deleted by this daughter, so no edge can reach it", t.s))
+                .hints
+                .push(format!("list `{}: {{}}` under the daughter's vertices to keep it", t.s));
+        } else {
+            let d = self.error(t.span, format!("unknown vertex `{}` in a daughter of `{}`", t.s, m.production));
+            if let Some(s) = did_you_mean(&t.s, ends.iter().map(|(n, _)| n.as_str())) {
+                d.hints.push(format!("did you mean `{s}`?"));
+            }
+        }
+        None
+    }
+
+    /// The mother edge daughter edge `e` (named `name`) keeps: `Some(None)`
+    /// for a new edge, `None` after reporting a `keep:` that names no mother
+    /// edge.
+    fn edge_target(&mut self, e: &Element, name: &str, m: &Mother) -> Option<Option<usize>> {
+        let (mv, me) = (m.vertices, m.edges);
+        match &e.keep {
+            Some(k) => match me.iter().position(|m| m.name == k.s) {
+                Some(i) => Some(Some(i)),
+                None => {
+                    if mv.iter().any(|m| m.name == k.s) {
+                        self.error(
+                            k.span,
+                            format!("`keep: {}` names a mother vertex; an edge can keep only an edge", k.s),
+                        );
+                    } else {
+                        let d = self.error(
+                            k.span,
+                            format!("`keep: {}` names no edge of the mother of `{}`", k.s, m.production),
+                        );
+                        if let Some(s) = did_you_mean(&k.s, me.iter().map(|m| m.name.as_str())) {
+                            d.hints.push(format!("did you mean `{s}`?"));
+                        }
+                    }
+                    None
+                }
+            },
+            None => Some(me.iter().position(|m| m.name == name)),
+        }
+    }
+
+    /// Whether daughter edge `e`, joining `ends`, may keep mother edge `i`:
+    /// it must join the same vertices and keep it only once (`kept` records
+    /// where each mother edge was first kept). Reports why not.
+    fn keeps_edge(&mut self, e: &Element, i: usize, ends: (End, End), kept: &mut [Option<Span>], m: &Mother) -> bool {
+        let me = &m.edges[i];
+        let same = matches!(ends, (End::Mother(x), End::Mother(y))
+            if (x, y) == (me.from, me.to) || (x, y) == (me.to, me.from));
+        if !same {
+            self.error(
+                e.name_span(),
+                format!(
+                    "kept edge `{}` must join the vertices its mother edge joins (`{}` and `{}`)",
+                    me.name, m.vertices[me.from].name, m.vertices[me.to].name
+                ),
+            )
+            .hints
+            .push("give the daughter edge another name to delete the old edge and add a new one".into());
+            return false;
+        }
+        if let Some(first) = kept[i] {
+            self.errors.push(
+                Diagnostic::error(e.name_span(), format!("mother edge `{}` is kept twice", me.name))
+                    .with_label(first, "first kept here"),
+            );
+            return false;
+        }
+        kept[i] = Some(e.name_span());
+        true
+    }
+}
+
+/// The mother a daughter rewrites, and what its passes share.
+struct Mother<'a> {
+    vertices: &'a [MVertex],
+    edges: &'a [MEdge],
+    /// The names daughter formulas read.
+    scope: &'a ProdScope<'a>,
+    /// The production's name, for messages.
+    production: &'a str,
+    /// Names of the elements the daughter adds (formulas cannot read them).
+    new_names: Vec<String>,
+}
+
+/// The names of the vertices and edges daughter `o` adds: those that are
+/// no mother element's.
+fn new_names(o: &OptionSyn, mv: &[MVertex], me: &[MEdge]) -> Vec<String> {
+    o.graph
+        .vertices
+        .iter()
+        .chain(&o.graph.edges)
+        .map(Element::name)
+        .filter(|n| !mv.iter().any(|m| m.name == *n) && !me.iter().any(|m| m.name == *n))
+        .collect()
 }
