@@ -630,6 +630,29 @@ impl Objective<Codons> for CodonObjective {
         let out = mapper.map(codons);
         Some(if out.wraps > 0 { codons.len() } else { out.used_codons.min(codons.len()) })
     }
+
+    /// GE scenes: a hash of the phenotype text (mapping only), which with
+    /// the scene's fixed environment, steps and limits decides the model;
+    /// `None` when mapping fails or for the other decoders.
+    fn phenotype_key(&self, codons: &Codons, s: &mut CodonScratch) -> Option<u64> {
+        use std::hash::{Hash, Hasher};
+        let mapper = s.mapper.as_mut()?;
+        mapper.map(codons).fail.is_none().then_some(())?;
+        // SipHash with fixed keys: the same hash in every run and thread.
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        mapper.phenotype()?.hash(&mut h);
+        Some(h.finish())
+    }
+
+    /// GE scenes: the subtrees of the mapping's trace
+    /// ([`genform_ge::Mapping::subtrees`]).
+    fn subtrees(&self, codons: &Codons, s: &mut CodonScratch, out: &mut Vec<genform_evolve::CodonSpan>) {
+        out.clear();
+        if let Some(mapper) = s.mapper.as_mut() {
+            let trace = mapper.trace(codons);
+            out.extend(trace.subtrees().iter().map(|t| genform_evolve::CodonSpan { start: t.start, end: t.end }));
+        }
+    }
 }
 
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a
