@@ -243,4 +243,51 @@ mod tests {
             assert_eq!(key(driven.optimizer().population()), key(direct.population()));
         }
     }
+
+    #[test]
+    fn ge_with_novel_children_by_phenotype_replays_like_a_direct_run() {
+        use crate::fixtures::PrefixToy;
+        use crate::ge::{Codons, Ge, GeConfig, NovelKey};
+        // The phenotype: the read codons mod 3 (many codon strings share one).
+        fn key(c: &Codons) -> Option<u64> {
+            let e = PrefixToy.expressed(c, &mut ())?;
+            Some(c[..e].iter().fold(7u64, |h, x| h.wrapping_mul(31).wrapping_add(u64::from(x % 3))))
+        }
+        struct Keyed;
+        impl Objective<Codons> for Keyed {
+            type Scratch = ();
+            fn scratch(&self) {}
+            fn evaluate(&self, c: &Codons, s: &mut ()) -> f64 {
+                PrefixToy.evaluate(c, s)
+            }
+            fn expressed(&self, c: &Codons, s: &mut ()) -> Option<usize> {
+                PrefixToy.expressed(c, s)
+            }
+            fn phenotype_key(&self, c: &Codons, _: &mut ()) -> Option<u64> {
+                key(c)
+            }
+        }
+        let config =
+            GeConfig { population: 16, mutation_rate: 0.05, novel_key: NovelKey::Phenotype, ..GeConfig::default() };
+        let mut direct = Ge::new(config.clone(), 11).unwrap();
+        let mut driven = AskTell::new(Ge::new(config, 11).unwrap())
+            .unwrap()
+            .with_expressed(|c: &Codons| PrefixToy.expressed(c, &mut ()))
+            .with_phenotype_key(key);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        for _ in 0..6 {
+            pool.install(|| direct.step(&Keyed));
+            loop {
+                let (batch, _) = driven.ask().unwrap();
+                let scores: Vec<Score> = batch.iter().map(|g| (Keyed.evaluate(g, &mut ()), [f64::NAN; 2])).collect();
+                if driven.tell(&scores).unwrap().is_some() {
+                    break;
+                }
+            }
+            let key = |p: &[crate::Individual<Codons>]| {
+                p.iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>()
+            };
+            assert_eq!(key(driven.optimizer().population()), key(direct.population()));
+        }
+    }
 }

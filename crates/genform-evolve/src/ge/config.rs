@@ -76,7 +76,8 @@ pub struct GeConfig {
     /// is regrown from fresh random codons, and what the mapping reads
     /// after it stays aligned, so the rest of the phenotype is kept
     /// (PonyGE2's subtree mutation, on codons). 0 turns it off; it needs
-    /// an objective that tells the subtrees.
+    /// an objective that tells the subtrees (ask/tell replays, as in the
+    /// studio's breeding, do not, so there it changes nothing).
     pub subtree_mutation: f64,
 }
 
