@@ -630,6 +630,29 @@ impl Objective<Codons> for CodonObjective {
         let out = mapper.map(codons);
         Some(if out.wraps > 0 { codons.len() } else { out.used_codons.min(codons.len()) })
     }
+
+    /// GE scenes: a hash of the phenotype text (mapping only), which with
+    /// the scene's fixed environment, steps and limits decides the model;
+    /// `None` when mapping fails or for the other decoders.
+    fn phenotype_key(&self, codons: &Codons, s: &mut CodonScratch) -> Option<u64> {
+        use std::hash::{Hash, Hasher};
+        let mapper = s.mapper.as_mut()?;
+        mapper.map(codons).fail.is_none().then_some(())?;
+        // SipHash with fixed keys: the same hash in every run and thread.
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        mapper.phenotype()?.hash(&mut h);
+        Some(h.finish())
+    }
+
+    /// GE scenes: the subtrees of the mapping's trace
+    /// ([`genform_ge::Mapping::subtrees`]).
+    fn subtrees(&self, codons: &Codons, s: &mut CodonScratch, out: &mut Vec<genform_evolve::CodonSpan>) {
+        out.clear();
+        if let Some(mapper) = s.mapper.as_mut() {
+            let trace = mapper.trace(codons);
+            out.extend(trace.subtrees().iter().map(|t| genform_evolve::CodonSpan { start: t.start, end: t.end }));
+        }
+    }
 }
 
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a
@@ -697,6 +720,49 @@ mod tests {
         assert_eq!(r.reason, Invalid::Parse);
         assert!(r.to_string().starts_with("parse: the phenotype does not parse"), "{r}");
         assert_eq!(objective.eval_split().evaluations, 3, "express is no evaluation");
+    }
+
+    #[test]
+    fn phenotype_keys_follow_the_rule_set_and_subtrees_nest_inside_the_read_codons() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/genr8_canopy.toml");
+        let loaded = crate::codon_scene::CodonSceneConfig::load(&path).unwrap();
+        let objective = CodonObjective::new(&loaded).unwrap();
+        let mut s = objective.scratch();
+        let mut rng = Rng::from_seed(5);
+        let mut by_key: std::collections::HashMap<u64, String> = std::collections::HashMap::new();
+        let (mut spans, mut with_spans, mut twins) = (Vec::new(), 0, 0);
+        for _ in 0..200 {
+            let mut codons: Codons = (0..rng.int_inclusive(50, 200)).map(|_| rng.below(1000) as u32).collect();
+            let mut first = None;
+            for twin in 0..2 {
+                if twin == 1 {
+                    // The same choices from other codons: every read codon
+                    // moved by a multiple of every choice count (≤ 10).
+                    let read = objective.expressed(&codons, &mut s).unwrap();
+                    codons[..read].iter_mut().for_each(|c| *c = (*c + 2520) % 5040);
+                }
+                let Some(key) = objective.phenotype_key(&codons, &mut s) else { continue };
+                twins += usize::from(twin == 1 && first == Some(key));
+                first = Some(key);
+                let text = objective.express(&codons).map(|e| e.phenotype.unwrap()).unwrap_or_default();
+                let known = by_key.entry(key).or_insert_with(|| text.clone());
+                assert_eq!(*known, text, "one key, two rule sets");
+            }
+            objective.subtrees(&codons, &mut s, &mut spans);
+            let read = objective.expressed(&codons, &mut s).unwrap();
+            with_spans += usize::from(!spans.is_empty());
+            for (i, a) in spans.iter().enumerate() {
+                assert!(a.start < a.end && a.end <= read, "{a:?} outside the {read} read codons");
+                for b in &spans[i + 1..] {
+                    assert!(b.start > a.start && (b.end <= a.end || b.start >= a.end), "{a:?} {b:?} overlap");
+                }
+            }
+        }
+        // Codons shifted by 2520 keep every choice up to 10 alternatives
+        // (most of them), so most twins share their original's key.
+        assert!(twins > 100 && by_key.len() > 100, "{twins} twins, {} keys", by_key.len());
+        // Measured 145: the rest wrapped (positions repeat, no subtrees).
+        assert!(with_spans > 100, "{with_spans} of 200 genomes with subtrees");
     }
 
     #[test]

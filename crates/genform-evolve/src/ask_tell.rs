@@ -36,10 +36,14 @@ pub struct AskTell<G = Genome, P = AnyOptimizer> {
     pool: rayon::ThreadPool,
     rounds: usize,
     expressed: Option<Box<ExpressedFn<G>>>,
+    phenotype_key: Option<Box<PhenotypeKeyFn<G>>>,
 }
 
 /// What a genome's decoding reads ([`Objective::expressed`]), for replays.
 type ExpressedFn<G> = dyn Fn(&G) -> Option<usize> + Send + Sync;
+
+/// What decides a genome's model ([`Objective::phenotype_key`]), for replays.
+type PhenotypeKeyFn<G> = dyn Fn(&G) -> Option<u64> + Send + Sync;
 
 /// The objective of a replayed generation: scores told so far; unknown
 /// genomes are recorded.
@@ -47,6 +51,7 @@ struct Replay<'a, G> {
     known: &'a HashMap<G, Score>,
     missing: Mutex<Vec<G>>,
     expressed: Option<&'a ExpressedFn<G>>,
+    phenotype_key: Option<&'a PhenotypeKeyFn<G>>,
 }
 
 impl<G: Clone + Eq + Hash> Replay<'_, G> {
@@ -79,13 +84,25 @@ impl<G: Clone + Eq + Hash + Send + Sync> Objective<G> for Replay<'_, G> {
     fn expressed(&self, genome: &G, _: &mut ()) -> Option<usize> {
         self.expressed.and_then(|f| f(genome))
     }
+
+    fn phenotype_key(&self, genome: &G, _: &mut ()) -> Option<u64> {
+        self.phenotype_key.and_then(|f| f(genome))
+    }
 }
 
 impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell<G, P> {
     /// Drives `opt` by ask/tell.
     pub fn new(opt: P) -> Result<Self, String> {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().map_err(|e| e.to_string())?;
-        Ok(AskTell { opt, known: HashMap::new(), pending: Vec::new(), pool, rounds: 0, expressed: None })
+        Ok(AskTell {
+            opt,
+            known: HashMap::new(),
+            pending: Vec::new(),
+            pool,
+            rounds: 0,
+            expressed: None,
+            phenotype_key: None,
+        })
     }
 
     /// Tells replays what each genome's decoding reads (the objective's
@@ -93,6 +110,14 @@ impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell
     /// novel children act as in a direct run.
     pub fn with_expressed(mut self, f: impl Fn(&G) -> Option<usize> + Send + Sync + 'static) -> Self {
         self.expressed = Some(Box::new(f));
+        self
+    }
+
+    /// Tells replays what decides each genome's model (the objective's
+    /// [`Objective::phenotype_key`]), so that GE's novel children by
+    /// phenotype act as in a direct run.
+    pub fn with_phenotype_key(mut self, f: impl Fn(&G) -> Option<u64> + Send + Sync + 'static) -> Self {
+        self.phenotype_key = Some(Box::new(f));
         self
     }
 
@@ -138,8 +163,12 @@ impl<G: Clone + Eq + Hash + Send + Sync, P: Optimizer<G> + Clone + Send> AskTell
             return Err(format!("the optimizer asked for new genomes {MAX_ROUNDS} times in one generation"));
         }
         let mut trial = self.opt.clone();
-        let replay =
-            Replay { known: &self.known, missing: Mutex::new(Vec::new()), expressed: self.expressed.as_deref() };
+        let replay = Replay {
+            known: &self.known,
+            missing: Mutex::new(Vec::new()),
+            expressed: self.expressed.as_deref(),
+            phenotype_key: self.phenotype_key.as_deref(),
+        };
         let stats = self.pool.install(|| trial.step(&replay));
         let missing = replay.missing.into_inner().expect("not poisoned");
         if missing.is_empty() {
@@ -204,6 +233,53 @@ mod tests {
                 let (batch, _) = driven.ask().unwrap();
                 let scores: Vec<Score> =
                     batch.iter().map(|g| (PrefixToy.evaluate(g, &mut ()), [f64::NAN; 2])).collect();
+                if driven.tell(&scores).unwrap().is_some() {
+                    break;
+                }
+            }
+            let key = |p: &[crate::Individual<Codons>]| {
+                p.iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>()
+            };
+            assert_eq!(key(driven.optimizer().population()), key(direct.population()));
+        }
+    }
+
+    #[test]
+    fn ge_with_novel_children_by_phenotype_replays_like_a_direct_run() {
+        use crate::fixtures::PrefixToy;
+        use crate::ge::{Codons, Ge, GeConfig, NovelKey};
+        // The phenotype: the read codons mod 3 (many codon strings share one).
+        fn key(c: &Codons) -> Option<u64> {
+            let e = PrefixToy.expressed(c, &mut ())?;
+            Some(c[..e].iter().fold(7u64, |h, x| h.wrapping_mul(31).wrapping_add(u64::from(x % 3))))
+        }
+        struct Keyed;
+        impl Objective<Codons> for Keyed {
+            type Scratch = ();
+            fn scratch(&self) {}
+            fn evaluate(&self, c: &Codons, s: &mut ()) -> f64 {
+                PrefixToy.evaluate(c, s)
+            }
+            fn expressed(&self, c: &Codons, s: &mut ()) -> Option<usize> {
+                PrefixToy.expressed(c, s)
+            }
+            fn phenotype_key(&self, c: &Codons, _: &mut ()) -> Option<u64> {
+                key(c)
+            }
+        }
+        let config =
+            GeConfig { population: 16, mutation_rate: 0.05, novel_key: NovelKey::Phenotype, ..GeConfig::default() };
+        let mut direct = Ge::new(config.clone(), 11).unwrap();
+        let mut driven = AskTell::new(Ge::new(config, 11).unwrap())
+            .unwrap()
+            .with_expressed(|c: &Codons| PrefixToy.expressed(c, &mut ()))
+            .with_phenotype_key(key);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        for _ in 0..6 {
+            pool.install(|| direct.step(&Keyed));
+            loop {
+                let (batch, _) = driven.ask().unwrap();
+                let scores: Vec<Score> = batch.iter().map(|g| (Keyed.evaluate(g, &mut ()), [f64::NAN; 2])).collect();
                 if driven.tell(&scores).unwrap().is_some() {
                     break;
                 }

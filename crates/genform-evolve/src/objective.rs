@@ -56,6 +56,40 @@ pub trait Objective<G = Genome>: Sync {
         let _ = (genome, scratch);
         None
     }
+
+    /// A hash of what decides `genome`'s model (a GE mapper's phenotype
+    /// text), or `None` when the objective cannot tell. Genomes with equal
+    /// keys must get the same fitness: grammatical evolution's
+    /// `novel_children` with `novel_key = "phenotype"` never evaluates a
+    /// key twice, and reuses the fitness it knows for it. Different codons
+    /// often write the same phenotype (a codon is read modulo a small
+    /// choice count), so this catches duplicates the read codons miss. It
+    /// must be cheap (mapping, no growth or scoring) and deterministic.
+    fn phenotype_key(&self, genome: &G, scratch: &mut Self::Scratch) -> Option<u64> {
+        let _ = (genome, scratch);
+        None
+    }
+
+    /// The derivation subtrees of `genome` (a GE mapping's non-terminal
+    /// expansions, each with the contiguous codons it reads), written into
+    /// `out` in reading order; none when the objective cannot tell (the
+    /// default) or the mapping wrapped or failed. Grammatical evolution's
+    /// subtree mutation (`subtree_mutation`) replaces one subtree's codons
+    /// by fresh ones and keeps what the mapping reads after it aligned. It
+    /// must be cheap (mapping only) and deterministic.
+    fn subtrees(&self, genome: &G, scratch: &mut Self::Scratch, out: &mut Vec<CodonSpan>) {
+        let _ = (genome, scratch);
+        out.clear();
+    }
+}
+
+/// The codons one derivation subtree reads ([`Objective::subtrees`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CodonSpan {
+    /// Genome index of the subtree's first codon (its own expansion).
+    pub start: usize,
+    /// One past its last codon.
+    pub end: usize,
 }
 
 /// An [`Objective`] from a plain function (no scratch), for tests and small

@@ -49,7 +49,7 @@ mod program;
 pub use bnf::{Alternative, Bnf, Item, Rule, RuleId, TerminalId};
 pub use mapper::Mapper;
 pub use options::{Genr8Options, MapError, MapOptions, RepairOptions};
-pub use outcome::{Failure, Mapping, Outcome, Step, StepKind};
+pub use outcome::{Failure, Mapping, Outcome, Step, StepKind, Subtree};
 
 use genform_core::{Diagnostics, SourceFile};
 

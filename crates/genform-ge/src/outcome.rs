@@ -126,3 +126,41 @@ pub struct Mapping {
     /// Every codon read in order.
     pub steps: Vec<Step>,
 }
+
+/// The codons one non-terminal expansion reads: its own choice and every
+/// codon read below it in the derivation tree, `start..end` of the genome.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Subtree<'a> {
+    /// The non-terminal expanded, e.g. `<Modifier>`.
+    pub nt: &'a str,
+    /// Genome index of the expansion's own codon.
+    pub start: usize,
+    /// One past the last codon of the subtree.
+    pub end: usize,
+}
+
+impl Mapping {
+    /// Every non-terminal expansion but the root's, in reading order, with
+    /// the contiguous codons its subtree reads (the mapping reads depth
+    /// first, so a subtree's codons are the steps from its expansion to the
+    /// next step at its depth or above). Replacing those codons by the
+    /// codons of another expansion of the same non-terminal changes that
+    /// subtree and leaves the reading of what follows aligned: grammatical
+    /// evolution's subtree operators. Empty when reading wrapped (positions
+    /// then repeat) or the mapping failed.
+    pub fn subtrees(&self) -> Vec<Subtree<'_>> {
+        if !self.valid || self.wraps > 0 {
+            return Vec::new();
+        }
+        let steps = &self.steps;
+        let mut out = Vec::new();
+        for (i, s) in steps.iter().enumerate() {
+            if !matches!(s.kind, StepKind::Expand | StepKind::Limited) || s.depth <= 1 {
+                continue;
+            }
+            let end = steps[i + 1..].iter().find(|t| t.depth <= s.depth).map_or(self.used_codons, |t| t.pos);
+            out.push(Subtree { nt: &s.nt, start: s.pos, end });
+        }
+        out
+    }
+}

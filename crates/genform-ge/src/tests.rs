@@ -211,3 +211,22 @@ fn trace_json_uses_the_golden_field_names() {
     let back: Mapping = serde_json::from_str(&json).unwrap();
     assert_eq!(back, t);
 }
+
+#[test]
+fn subtrees_cover_each_expansion_and_swapping_one_keeps_the_rest_aligned() {
+    // <e> ::= "(" <e> <e> ")" | "x" | "y": genome 0 0 1 2 2 reads
+    // e0 → ( e1 e4 ), e1 → ( e2 e3 ), e2 = x, e3 = y, e4 = y.
+    let b = bnf("<s> ::= <e>\n<e> ::= \"(\" <e> <e> \")\" | \"x\" | \"y\"");
+    let options = MapOptions::standard(0, None);
+    let m = map(&b, &[0, 0, 0, 1, 2, 2], &options).unwrap();
+    assert_eq!(m.phenotype.as_deref(), Some("((xy)y)"));
+    let spans: Vec<(&str, usize, usize)> = m.subtrees().iter().map(|t| (t.nt, t.start, t.end)).collect();
+    assert_eq!(spans, [("<e>", 1, 6), ("<e>", 2, 5), ("<e>", 3, 4), ("<e>", 4, 5), ("<e>", 5, 6)]);
+    // Replace the subtree (xy) at 2..5 by the single codon of `x`: the last
+    // `y` is still read as the outer pair's second child.
+    let m2 = map(&b, &[0, 0, 1, 2], &options).unwrap();
+    assert_eq!(m2.phenotype.as_deref(), Some("(xy)"));
+    // Wrapped or failed mappings give none.
+    let wrapped = map(&b, &[0, 0, 1], &MapOptions::standard(3, None)).unwrap();
+    assert!(wrapped.wraps > 0 && wrapped.subtrees().is_empty());
+}

@@ -268,6 +268,11 @@ fn open(app: &App, file: &Path, body: StartBody) -> Result<Breed, ApiError> {
             use genform_evolve::Objective;
             reads.expressed(c, &mut reads.scratch())
         });
+        let keys = Arc::clone(&objective);
+        let ask = ask.with_phenotype_key(move |c: &Codons| {
+            use genform_evolve::Objective;
+            keys.phenotype_key(c, &mut keys.scratch())
+        });
         Pool::Codon { objective, ask: Box::new(ask), batch: Vec::new() }
     } else {
         let (loaded, limits, mut settings, scorers) = if let Some(SceneFile::Tree(scene)) = scene {

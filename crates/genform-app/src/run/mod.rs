@@ -539,6 +539,14 @@ impl<G, O: Objective<G>> Objective<G> for ByRef<'_, O> {
     fn expressed(&self, genome: &G, scratch: &mut O::Scratch) -> Option<usize> {
         self.0.expressed(genome, scratch)
     }
+
+    fn phenotype_key(&self, genome: &G, scratch: &mut O::Scratch) -> Option<u64> {
+        self.0.phenotype_key(genome, scratch)
+    }
+
+    fn subtrees(&self, genome: &G, scratch: &mut O::Scratch, out: &mut Vec<genform_evolve::CodonSpan>) {
+        self.0.subtrees(genome, scratch, out)
+    }
 }
 
 /// The run loop: checkpoints, cancellation, steering changes before the

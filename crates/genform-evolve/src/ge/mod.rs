@@ -28,6 +28,13 @@
 //! of members with bit-identical fitness can be selected. The Genr8 scenes
 //! stalled without them: most children re-read a parent's codons, and the
 //! population filled with copies of one surface (docs/evolve.md).
+//! Two more switches are off by default: `novel_key = "phenotype"` makes
+//! novel children compare the objective's phenotype key
+//! ([`Objective::phenotype_key`]) instead of the read codons, and
+//! `subtree_mutation` regrows one derivation subtree of a child
+//! ([`Objective::subtrees`]) from its own stream `(seed,
+//! GE_SUBTREE_STREAM, generation, child)`, after point mutation and before
+//! the novelty pass.
 //!
 //! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
 //! - [`operators`]: random genomes, crossover, mutation.
@@ -43,7 +50,7 @@ mod reproduce;
 mod tests;
 
 pub use algorithm::{AnyCodonOptimizer, CodonAlgorithm};
-pub use config::{CodonRandomConfig, GeConfig};
+pub use config::{CodonRandomConfig, GeConfig, NovelKey};
 pub use random::CodonRandom;
 
 use crate::config::ConfigError;
@@ -68,6 +75,8 @@ pub const GE_PAIR_STREAM: u64 = 0x4745_5041_4952; // "GEPAIR"
 /// Stream id of re-mutating a child whose expressed codons were already
 /// evaluated: `(seed, GE_NOVEL_STREAM, generation, child)`.
 pub const GE_NOVEL_STREAM: u64 = 0x4745_4e4f_5645; // "GENOVE"
+/// Stream id of subtree mutation: `(seed, GE_SUBTREE_STREAM, generation, child)`.
+pub const GE_SUBTREE_STREAM: u64 = 0x4745_5355_4254; // "GESUBT"
 /// Point mutations tried on a child before it keeps the fitness its
 /// expressed codons already had.
 const NOVEL_TRIES: usize = 8;
@@ -77,6 +86,25 @@ const NOVEL_TRIES: usize = 8;
 /// only on the run, so runs stay deterministic).
 const SEEN_CODONS: usize = 1 << 24;
 
+/// What identifies an evaluated individual for `novel_children`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum SeenKey {
+    /// The objective's [`Objective::phenotype_key`].
+    Phenotype(u64),
+    /// The codons the mapping read.
+    Codons(Codons),
+}
+
+impl SeenKey {
+    /// What the key costs against [`SEEN_CODONS`].
+    fn size(&self) -> usize {
+        match self {
+            SeenKey::Phenotype(_) => 1,
+            SeenKey::Codons(c) => c.len(),
+        }
+    }
+}
+
 /// The grammatical-evolution EA (Genr8's loop with the recommended GE
 /// operators; see the [module](self) documentation).
 #[derive(Clone, Debug)]
@@ -84,10 +112,11 @@ pub struct Ge {
     config: GeConfig,
     seed: u64,
     state: Population<Codons>,
-    /// Fitness of every expressed codon prefix evaluated so far (with
-    /// `novel_children`; the objective must tell what it reads), at most
-    /// [`SEEN_CODONS`] codons of them.
-    seen: HashMap<Codons, f64>,
+    /// Fitness of every phenotype key or expressed codon prefix evaluated
+    /// so far (with `novel_children`; the objective must tell what it
+    /// reads), at most [`SEEN_CODONS`] codons of them (a phenotype key
+    /// counts as one).
+    seen: HashMap<SeenKey, f64>,
     /// Codons held by `seen`'s keys.
     seen_codons: usize,
 }
@@ -172,15 +201,17 @@ impl Ge {
         };
         if self.config.novel_children {
             // Every member was evaluated (or reused a fitness that was).
-            for (m, &e) in self.state.members().iter().zip(&expressed) {
-                let prefix = &m.genome[..e.min(m.genome.len())];
-                if !self.seen.contains_key(prefix) {
-                    if self.seen_codons + prefix.len() > SEEN_CODONS {
-                        self.seen.clear();
-                        self.seen_codons = 0;
+            if let Some(scratch) = scratch.as_mut() {
+                for (m, &e) in self.state.members().iter().zip(&expressed) {
+                    let key = self.key(objective, &m.genome, e, scratch);
+                    if !self.seen.contains_key(&key) {
+                        if self.seen_codons + key.size() > SEEN_CODONS {
+                            self.seen.clear();
+                            self.seen_codons = 0;
+                        }
+                        self.seen_codons += key.size();
+                        self.seen.insert(key, m.fitness);
                     }
-                    self.seen_codons += prefix.len();
-                    self.seen.insert(prefix.to_vec(), m.fitness);
                 }
             }
         }
@@ -194,6 +225,10 @@ impl Ge {
         let (mut children, mut counts) = breed(self.config.population - self.config.elitism, |pair, need| {
             reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]))
         });
+        if self.config.subtree_mutation > 0.0 {
+            let scratch = scratch.get_or_insert_with(|| objective.scratch());
+            self.subtree_mutate(objective, scratch, &mut children, &mut counts, generation);
+        }
         if let (Some(scratch), false) = (scratch.as_mut(), expressed.is_empty() || !self.config.novel_children) {
             self.make_novel(objective, scratch, &mut children, &mut counts, generation);
         }
@@ -214,20 +249,20 @@ impl Ge {
         counts: &mut crate::stats::ReproductionCounts,
         generation: usize,
     ) {
-        let mut batch: HashSet<Codons> = HashSet::new();
+        let mut batch: HashSet<SeenKey> = HashSet::new();
         for (k, child) in children.iter_mut().enumerate() {
             let mut rng = None;
             let mut tries = 0;
             loop {
                 let Some(e) = objective.expressed(&child.genome, scratch) else { return };
                 let e = e.min(child.genome.len());
-                let prefix = &child.genome[..e];
-                let known = self.seen.get(prefix).copied();
-                if known.is_none() && !batch.contains(prefix) {
+                let key = self.key(objective, &child.genome, e, scratch);
+                let known = self.seen.get(&key).copied();
+                if known.is_none() && !batch.contains(&key) {
                     if tries > 0 {
                         counts.duplicates_replaced += 1;
                     }
-                    batch.insert(prefix.to_vec());
+                    batch.insert(key);
                     break;
                 }
                 if tries == 0 {
@@ -247,6 +282,77 @@ impl Ge {
                 child.fitness = None;
                 tries += 1;
             }
+        }
+    }
+}
+
+impl Ge {
+    /// Subtree mutation: each child, with probability `subtree_mutation`,
+    /// has one derivation subtree (uniform over
+    /// [`Objective::subtrees`]) regrown. Fresh codons (twice the subtree's
+    /// plus 32) replace the subtree's; the child is mapped with them, and
+    /// only the fresh codons the regrown subtree read are kept, so the
+    /// codons after it are read where they were. Sequential, from
+    /// per-child streams: the same at any thread count.
+    fn subtree_mutate<O: Objective<Codons>>(
+        &self,
+        objective: &O,
+        scratch: &mut O::Scratch,
+        children: &mut [crate::evaluate::Child<Codons>],
+        counts: &mut crate::stats::ReproductionCounts,
+        generation: usize,
+    ) {
+        let (mut spans, mut after) = (Vec::new(), Vec::new());
+        for (k, child) in children.iter_mut().enumerate() {
+            let mut rng = Rng::stream(self.seed, &[GE_SUBTREE_STREAM, generation as u64, k as u64]);
+            if !rng.bernoulli(self.config.subtree_mutation) {
+                continue;
+            }
+            objective.subtrees(&child.genome, scratch, &mut spans);
+            if spans.is_empty() {
+                continue;
+            }
+            let span = spans[rng.index(spans.len())];
+            let (genome, range) = (&child.genome, self.config.codon_range as u64);
+            let fresh: Codons = (0..2 * (span.end - span.start) + 32).map(|_| rng.below(range) as u32).collect();
+            let mut candidate = Vec::with_capacity(genome.len() + fresh.len());
+            candidate.extend_from_slice(&genome[..span.start]);
+            candidate.extend_from_slice(&fresh);
+            candidate.extend_from_slice(&genome[span.end..]);
+            objective.subtrees(&candidate, scratch, &mut after);
+            // The codons before the subtree are unchanged, so its expansion
+            // is the one that starts where it did.
+            if let Some(regrown) = after.iter().find(|t| t.start == span.start) {
+                let read = regrown.end - span.start;
+                if read <= fresh.len() {
+                    candidate.drain(span.start + read..span.start + fresh.len());
+                }
+            }
+            candidate.truncate(self.config.max_length);
+            if candidate != child.genome {
+                child.genome = candidate;
+                child.fitness = None;
+                counts.mutations.regrow += 1;
+            }
+        }
+    }
+
+    /// The `novel_children` identity of `genome`, whose mapping reads its
+    /// first `expressed` codons.
+    fn key<O: Objective<Codons>>(
+        &self,
+        objective: &O,
+        genome: &Codons,
+        expressed: usize,
+        scratch: &mut O::Scratch,
+    ) -> SeenKey {
+        let phenotype = match self.config.novel_key {
+            NovelKey::Phenotype => objective.phenotype_key(genome, scratch),
+            NovelKey::Codons => None,
+        };
+        match phenotype {
+            Some(h) => SeenKey::Phenotype(h),
+            None => SeenKey::Codons(genome[..expressed.min(genome.len())].to_vec()),
         }
     }
 }

@@ -271,3 +271,129 @@ fn distinct_parents_leave_copies_of_one_score_out_of_selection() {
     ge.step(&flat);
     assert!(ge.population().iter().any(|i| i.genome != ge.population()[0].genome));
 }
+
+/// A toy with phenotypes and subtrees: the genome is read as 4 blocks,
+/// each a head codon `h` and the `h mod 3` codons after it (a "subtree");
+/// the phenotype is every read codon mod 5, and the fitness how many read
+/// codons are 0 mod 5. Counts evaluations per phenotype.
+struct Blocks(std::sync::Mutex<std::collections::HashMap<Vec<u32>, u32>>);
+
+impl Blocks {
+    /// The blocks' spans, or `None` when the genome is too short.
+    fn spans(codons: &Codons) -> Option<Vec<crate::CodonSpan>> {
+        let mut spans = Vec::new();
+        let mut at = 0;
+        for _ in 0..4 {
+            let end = at + 1 + (*codons.get(at)? % 3) as usize;
+            if end > codons.len() {
+                return None;
+            }
+            spans.push(crate::CodonSpan { start: at, end });
+            at = end;
+        }
+        Some(spans)
+    }
+
+    fn phenotype(codons: &Codons) -> Option<Vec<u32>> {
+        let end = Self::spans(codons)?.last()?.end;
+        Some(codons[..end].iter().map(|c| c % 5).collect())
+    }
+}
+
+impl Objective<Codons> for Blocks {
+    type Scratch = ();
+    fn scratch(&self) {}
+    fn evaluate(&self, codons: &Codons, _: &mut ()) -> f64 {
+        let Some(p) = Self::phenotype(codons) else { return f64::NAN };
+        *self.0.lock().unwrap().entry(p.clone()).or_default() += 1;
+        p.iter().filter(|&&c| c == 0).count() as f64
+    }
+    fn expressed(&self, codons: &Codons, _: &mut ()) -> Option<usize> {
+        Some(Self::spans(codons).and_then(|s| s.last().map(|s| s.end)).unwrap_or(codons.len()))
+    }
+    fn phenotype_key(&self, codons: &Codons, _: &mut ()) -> Option<u64> {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        Self::phenotype(codons)?.hash(&mut h);
+        Some(h.finish())
+    }
+    fn subtrees(&self, codons: &Codons, _: &mut (), out: &mut Vec<crate::CodonSpan>) {
+        out.clear();
+        out.extend(Self::spans(codons).unwrap_or_default());
+    }
+}
+
+#[test]
+fn novel_children_by_phenotype_never_grow_one_phenotype_twice() {
+    // Codons read mod 5 from 0..1000: point mutations often keep the
+    // phenotype, which the codon key does not notice.
+    let config = GeConfig {
+        population: 30,
+        initial_length: [12, 20],
+        codon_range: 1000,
+        mutation_rate: 0.1,
+        ..GeConfig::default()
+    };
+    let repeats = |novel_key| {
+        let objective = Blocks(Default::default());
+        let mut ge = Ge::new(GeConfig { novel_key, ..config.clone() }, 7).unwrap();
+        ge.step(&objective);
+        objective.0.lock().unwrap().clear();
+        for _ in 0..15 {
+            ge.step(&objective);
+        }
+        let counts = objective.0.lock().unwrap();
+        (counts.len(), counts.values().filter(|&&n| n > 1).count())
+    };
+    let (distinct, repeated) = repeats(NovelKey::Phenotype);
+    assert!(distinct > 200 && repeated == 0, "{distinct} phenotypes, {repeated} grown twice");
+    let (_, repeated) = repeats(NovelKey::Codons);
+    assert!(repeated > 10, "the codon key re-grows phenotypes: {repeated}");
+}
+
+#[test]
+fn subtree_mutation_regrows_one_block_and_keeps_the_others_read_alike() {
+    let config = GeConfig {
+        population: 40,
+        elitism: 0,
+        initial_length: [12, 20],
+        crossover_rate: 0.0,
+        mutation_rate: 0.0,
+        novel_children: false,
+        subtree_mutation: 1.0,
+        ..GeConfig::default()
+    };
+    let objective = Blocks(Default::default());
+    let mut ge = Ge::new(config.clone(), 3).unwrap();
+    ge.step(&objective);
+    let parents: Vec<Codons> = ge.population().iter().map(|i| i.genome.clone()).collect();
+    let stats = ge.step(&objective);
+    assert!(stats.reproduction.mutations.regrow > 20, "{:?}", stats.reproduction.mutations);
+    let read = |g: &Codons| {
+        Blocks::spans(g).map(|s| s.iter().map(|t| g[t.start..t.end].to_vec()).collect::<Vec<_>>()).unwrap_or_default()
+    };
+    let mut one_block = 0;
+    for child in ge.population() {
+        // Some parent's blocks differ from the child's in exactly one place.
+        let c = read(&child.genome);
+        if parents.iter().any(|p| {
+            let p = read(p);
+            p.len() == 4 && c.len() == 4 && p.iter().zip(&c).filter(|(a, b)| a != b).count() == 1
+        }) {
+            one_block += 1;
+        }
+    }
+    assert!(one_block >= 25, "{one_block} of 40 children differ from a parent in one block");
+    // The same run at one and four threads.
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut ge = Ge::new(GeConfig { subtree_mutation: 0.5, mutation_rate: 0.05, ..config.clone() }, 9).unwrap();
+            for _ in 0..8 {
+                ge.step(&objective);
+            }
+            ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>()
+        })
+    };
+    assert_eq!(run(1), run(4));
+}
