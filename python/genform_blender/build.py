@@ -74,10 +74,31 @@ def tag_material(name: str) -> bpy.types.Material:
     mat = bpy.data.materials.new(name)
     r, g, b = tag_color(name)
     # Material.diffuse_color is linear; the viewport shows it converted.
-    mat.diffuse_color = (*(_srgb_to_linear(c) for c in (r, g, b)), 1.0)
+    linear = (*(_srgb_to_linear(c) for c in (r, g, b)), 1.0)
+    mat.diffuse_color = linear
     mat.roughness = 0.8
     mat.metallic = 0.0
+    # Renders (Cycles, EEVEE) read the Principled BSDF, not diffuse_color.
+    bsdf = principled_bsdf(mat)
+    if bsdf is not None:
+        bsdf.inputs["Base Color"].default_value = linear
+        bsdf.inputs["Roughness"].default_value = 0.8
+        bsdf.inputs["Metallic"].default_value = 0.0
     return mat
+
+
+def principled_bsdf(mat: bpy.types.Material):
+    """The material's Principled BSDF node (its node tree made when it has
+    none), or None when Blender gives it no such node."""
+    if mat.node_tree is None:
+        try:
+            mat.use_nodes = True  # deprecated in Blender 5 (node trees always there), needed before
+        except (AttributeError, TypeError):
+            pass
+    tree = mat.node_tree
+    if tree is None:
+        return None
+    return next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
 
 
 def _srgb_to_linear(c: float) -> float:

@@ -181,3 +181,18 @@ def test_tiles4_imports_lying_flat_in_mesh_and_gltf_mode(empty):
         )
         size = points.max(axis=0) - points.min(axis=0)
         assert size[0] > 1 and size[1] > 1 and size[2] < 1e-3, (mode, size)
+
+
+def test_renders_get_the_tag_colours_through_the_principled_bsdf(empty):
+    assert bpy.ops.genform.sample(grammar=str(SHIP), seed=SHIP_SEED) == {"FINISHED"}
+    obj = bpy.context.view_layer.objects.active
+    colours = set()
+    for mat in obj.data.materials:
+        bsdf = empty.build.principled_bsdf(mat)
+        assert bsdf is not None, mat.name
+        base = tuple(bsdf.inputs["Base Color"].default_value)
+        assert base == pytest.approx(tuple(mat.diffuse_color)), mat.name
+        assert bsdf.inputs["Roughness"].default_value == pytest.approx(0.8)
+        colours.add(tuple(round(c, 3) for c in base[:3]))
+    grey = {c for c in colours if max(c) - min(c) < 0.02}
+    assert len(colours - grey) >= 3, colours

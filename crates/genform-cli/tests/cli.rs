@@ -238,3 +238,28 @@ fn thread_counts_are_bounded() {
     }
     assert!(!tmp.path().join("evolve-out").exists());
 }
+
+/// The distinct vertex colours of a PLY file, read with ply-rs.
+fn ply_colours(bytes: &[u8]) -> std::collections::BTreeSet<[u8; 3]> {
+    use ply_rs_bw::ply::{DefaultElement, Property};
+    let parser = ply_rs_bw::parser::Parser::<DefaultElement>::new();
+    let ply = parser.read_ply(&mut std::io::Cursor::new(bytes)).expect("ply-rs reads the PLY");
+    let c = |e: &DefaultElement, k: &str| match e[k] {
+        Property::UChar(v) => v,
+        _ => panic!("uchar colour"),
+    };
+    ply.payload["vertex"].iter().map(|e| [c(e, "red"), c(e, "green"), c(e, "blue")]).collect()
+}
+
+#[test]
+fn ply_files_carry_the_tag_and_block_colours() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ship = example("spaceship.sg");
+    genform(tmp.path(), &["sample", s(&ship), "--seed", "15", "--out", "ship.ply"]).ok();
+    let colours = ply_colours(&std::fs::read(tmp.path().join("ship.ply")).unwrap());
+    assert!(colours.len() >= 3, "a colour per tag: {colours:?}");
+    let castle = root().join("examples/boxsplit/castle.bsg");
+    genform(tmp.path(), &["sample", s(&castle), "--box", "0,0,0,39,19,39", "--out", "castle.ply"]).ok();
+    let colours = ply_colours(&std::fs::read(tmp.path().join("castle.ply")).unwrap());
+    assert!(colours.len() >= 2, "a colour per block: {colours:?}");
+}

@@ -4,11 +4,16 @@ use genform_core::SurfaceEdge;
 use genform_core::scene::{Scene, Tessellation};
 use glam::Vec3;
 
+use crate::minecraft::block_color;
+use crate::palette::tag_color;
+
 /// Writes `scene` as a binary little-endian PLY 1.0 file: every triangle
 /// (instances, polygons and block-grid meshes, in world space), and the
 /// surfaces as polygons with their typed edges.
 ///
 /// The header declares `element vertex N` with `float x y z` and
+/// `uchar red green blue` (the tag's colour, as the GLB's material has it;
+/// a block's colour from the block palette), and
 /// `element face M` with `list uchar int vertex_indices` (`list int int`
 /// when a surface face has more than 255 corners). Triangles come first;
 /// their vertices are not welded: each has its own three. Then each
@@ -25,24 +30,37 @@ use glam::Vec3;
 pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     let mut verts: Vec<u8> = Vec::new();
     let mut triangles = 0usize;
-    let mut add = |t: [Vec3; 3]| {
+    let mut add = |t: [Vec3; 3], rgb: [u8; 3]| {
         for p in t {
             push_point(&mut verts, p);
+            verts.extend_from_slice(&rgb);
         }
         triangles += 1;
     };
-    crate::surfaces::without_surfaces(scene).for_each_triangle(tess, |t, _| add(t));
-    crate::minecraft::for_each_block_triangle(scene, |t, _| add(t));
+    // Vertex colours: a tag's colour as in the GLB's materials, a block's
+    // as in its block palette.
+    let mut by_tag: Vec<Option<[u8; 3]>> = vec![None; scene.tags.len() + 1];
+    let mut color_of = |tag: u32| -> [u8; 3] {
+        let i = (tag as usize).min(scene.tags.len());
+        *by_tag[i].get_or_insert_with(|| tag_color(&name_of(scene, tag)))
+    };
+    crate::surfaces::without_surfaces(scene).for_each_triangle(tess, |t, tag| add(t, color_of(tag)));
+    crate::minecraft::for_each_block_triangle(scene, |t, state| add(t, block_color(state)));
     let mut vertex_count = 3 * triangles;
     for s in &scene.surfaces {
-        s.positions.iter().for_each(|&p| push_point(&mut verts, p));
+        let rgb = color_of(s.tag);
+        s.positions.iter().for_each(|&p| {
+            push_point(&mut verts, p);
+            verts.extend_from_slice(&rgb);
+        });
         vertex_count += s.positions.len();
     }
     let faces = triangles + scene.surfaces.iter().map(|s| s.face_count()).sum::<usize>();
     let wide = scene.surfaces.iter().flat_map(|s| s.faces()).any(|f| f.len() > usize::from(u8::MAX));
     let mut header = format!(
         "ply\nformat binary_little_endian 1.0\ncomment genform\nelement vertex {vertex_count}\n\
-         property float x\nproperty float y\nproperty float z\nelement face {faces}\n\
+         property float x\nproperty float y\nproperty float z\n\
+         property uchar red\nproperty uchar green\nproperty uchar blue\nelement face {faces}\n\
          property list {} int vertex_indices\n",
         if wide { "int" } else { "uchar" }
     );
@@ -92,6 +110,11 @@ pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     out
 }
 
+/// A tag's name as the GLB names its material (`tag{k}` when unnamed).
+fn name_of(scene: &Scene, tag: u32) -> String {
+    scene.tags.get(tag as usize).cloned().unwrap_or_else(|| format!("tag{tag}"))
+}
+
 fn push_point(out: &mut Vec<u8>, p: Vec3) {
     for c in p.to_array() {
         out.extend_from_slice(&c.to_le_bytes());
@@ -113,10 +136,13 @@ mod tests {
         assert!(header.contains("element vertex 72\n"));
         assert!(header.contains("property float x\nproperty float y\nproperty float z\n"));
         assert!(header.contains("element face 24\nproperty list uchar int vertex_indices\n"));
-        assert_eq!(bytes.len() - end, 72 * 12 + 24 * 13);
-        // The first vertex is a corner of the first box.
+        assert!(header.contains("property uchar red\nproperty uchar green\nproperty uchar blue\n"));
+        assert_eq!(bytes.len() - end, 72 * 15 + 24 * 13);
+        // The first vertex is a corner of the first box, in its tag's colour.
         let x = f32::from_le_bytes(bytes[end..end + 4].try_into().unwrap());
         assert_eq!(x.abs(), 0.5);
+        let rgb = &bytes[end + 12..end + 15];
+        assert_eq!(rgb, tag_color(&name_of(&s, s.instances[0].tag)));
         // The last face points at the last three vertices.
         let tail = &bytes[bytes.len() - 13..];
         assert_eq!(tail[0], 3);
