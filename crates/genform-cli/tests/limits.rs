@@ -154,3 +154,53 @@ fn graph_derivations_stop_at_their_time_limit() {
         "{err}"
     );
 }
+
+/// `sample --world W --out R.mca` killed with SIGKILL at a spread of
+/// moments (with jitter, so runs probe different ones) leaves either no
+/// region or the complete one, byte for byte, and no other visible file.
+#[test]
+fn a_region_killed_mid_write_is_absent_or_complete() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let root = common::root();
+    let world = root.join("examples/terrain/prismarine-1.21.1/r.0.0.mca");
+    let bridge = root.join("examples/boxsplit/bridge.bsg");
+    let args = ["sample", s(&bridge), "--world", s(&world), "--box", "6,50,3,62,65,5", "--seed", "2", "--out"];
+    let started = Instant::now();
+    ok(dir, &[&args[..], &["whole.mca"]].concat());
+    let took = started.elapsed();
+    let whole = std::fs::read(dir.join("whole.mca")).unwrap();
+    let jitter = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().subsec_micros() % 5000;
+    let (mut absent, mut complete, mut temporaries) = (0, 0, 0);
+    for k in 0..12u32 {
+        let run = dir.join(format!("k{k}"));
+        std::fs::create_dir(&run).unwrap();
+        // From the start to twice the length of an undisturbed run.
+        let at = took * k / 6 + Duration::from_micros(u64::from(jitter));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_genform"))
+            .current_dir(&run)
+            .args([&args[..], &["R.mca"]].concat())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(at);
+        child.kill().unwrap(); // SIGKILL; an error would mean it had already been reaped
+        child.wait().unwrap();
+        match std::fs::read(run.join("R.mca")) {
+            Ok(bytes) => {
+                assert!(bytes == whole, "killed after {at:?}: a region of {} bytes, not the whole one", bytes.len());
+                complete += 1;
+            }
+            Err(_) => absent += 1,
+        }
+        for entry in std::fs::read_dir(&run).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(name == "R.mca" || (name.starts_with(".R.mca.") && name.ends_with(".tmp")), "left {name}");
+            temporaries += usize::from(name != "R.mca");
+        }
+    }
+    eprintln!(
+        "12 kills over {took:?} (jitter {jitter} µs): {absent} left no region, {complete} the complete one, {temporaries} a hidden temporary file"
+    );
+}
