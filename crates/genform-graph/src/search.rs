@@ -100,7 +100,7 @@ impl<'a> Search<'a> {
         if self.work > self.limit {
             return Err(Exhausted::Work);
         }
-        if self.work % CLOCK_EVERY == 0 && self.deadline.is_some_and(|d| std::time::Instant::now() >= d) {
+        if self.work.is_multiple_of(CLOCK_EVERY) && self.deadline.is_some_and(|d| std::time::Instant::now() >= d) {
             return Err(Exhausted::Time);
         }
         Ok(())
