@@ -198,6 +198,30 @@ pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()
     )
 }
 
+/// Refuses command-line limits (`(flag, value, bytes per item, what)`)
+/// whose items alone would take more than the [`budget`]: a limit is what
+/// a derivation may grow to before it is stopped, so one past the budget
+/// would let it exhaust memory first.
+pub fn check_flags(flags: &[(&str, Option<usize>, u64, &str)]) -> Result<()> {
+    let budget = budget();
+    for &(flag, value, each, what) in flags {
+        let Some(n) = value else { continue };
+        let bytes = estimate(n as u64, each);
+        if bytes > u128::from(budget.bytes) {
+            bail!(
+                "{flag} {n} lets a derivation grow to about {} ({n} {what} of about {} each), more than the memory \
+                 budget of {} ({}); lower {flag}, or raise the budget with --max-memory {}G if the machine has the memory",
+                human(bytes as f64),
+                human(each as f64),
+                human(budget.bytes as f64),
+                budget.origin,
+                bytes.div_ceil(1 << 30).max(1),
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The sizes of a `[limits]` section: each limit bounds what one
 /// derivation may grow to, per worker thread, so a limit whose items
 /// alone exceed the budget is refused (`item_bytes` per item).

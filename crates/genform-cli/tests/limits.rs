@@ -99,6 +99,20 @@ fn max_memory_sets_the_budget() {
     assert!(err.contains("`lots` is not a size such as 512M, 3G or 1.5GB"), "{err}");
 }
 
+#[test]
+fn sample_limits_past_the_budget_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let koch = common::root().join("examples/graph/koch.gg.yaml");
+    let (run, took) = capped(dir, &["sample", s(&koch), "--max-modules", "100000000000", "--out", "k.svg"]);
+    let err = run.stderr();
+    assert_eq!(run.out.status.code(), Some(1), "{}", run.show());
+    assert!(took < Duration::from_secs(20));
+    assert!(err.contains("--max-modules 100000000000 lets a derivation grow to about 5.8 TiB"), "{err}");
+    assert!(err.contains("lower --max-modules, or raise the budget with --max-memory 5961G"), "{err}");
+    ok(dir, &["sample", s(&koch), "--max-modules", "100000000000", "--max-memory", "8T", "--out", "k.svg"]);
+}
+
 /// A star that grows one random spoke a step while a hexagon pattern,
 /// which never matches a tree, is searched first at every step: the
 /// searches grow with the graph until the derivation's time guard ends it.
