@@ -198,6 +198,30 @@ pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()
     )
 }
 
+/// Refuses command-line limits (`(flag, value, bytes per item, what)`)
+/// whose items alone would take more than the [`budget`]: a limit is what
+/// a derivation may grow to before it is stopped, so one past the budget
+/// would let it exhaust memory first.
+pub fn check_flags(flags: &[(&str, Option<usize>, u64, &str)]) -> Result<()> {
+    let budget = budget();
+    for &(flag, value, each, what) in flags {
+        let Some(n) = value else { continue };
+        let bytes = estimate(n as u64, each);
+        if bytes > u128::from(budget.bytes) {
+            bail!(
+                "{flag} {n} lets a derivation grow to about {} ({n} {what} of about {} each), more than the memory \
+                 budget of {} ({}); lower {flag}, or raise the budget with --max-memory {}G if the machine has the memory",
+                human(bytes as f64),
+                human(each as f64),
+                human(budget.bytes as f64),
+                budget.origin,
+                bytes.div_ceil(1 << 30).max(1),
+            );
+        }
+    }
+    Ok(())
+}
+
 /// The sizes of a `[limits]` section: each limit bounds what one
 /// derivation may grow to, per worker thread, so a limit whose items
 /// alone exceed the budget is refused (`item_bytes` per item).
@@ -244,7 +268,7 @@ mod tests {
         assert!(parse_size("lots").unwrap_err().contains("not a size"));
         assert!(parse_size("3Q").unwrap_err().contains("unknown size unit"));
         assert!(parse_size("0").unwrap_err().contains("at least one byte"));
-        assert!(parse_size("1e30T").unwrap_err().contains("too large"));
+        assert!(parse_size("99999999999999999999T").unwrap_err().contains("too large"));
     }
 
     #[test]
@@ -281,9 +305,14 @@ mod tests {
             msg.contains("more than the memory budget") && msg.ends_with("no machine has that much memory)"),
             "{msg}"
         );
-        let big = Size { bytes: 5 << 30, value: 5, ..huge_like() };
+        // Just over the budget: a machine could have that much.
+        let big = Size { bytes: u128::from(budget().bytes) + 1, ..huge_like() };
         let msg = check_sizes(Path::new("s.toml"), Some(text), &[big]).unwrap_err().to_string();
-        assert!(msg.contains(", or raise the budget with --max-memory") || budget().bytes >= 5 << 30, "{msg}");
+        assert!(
+            msg.contains(", or raise the budget with --max-memory ")
+                && msg.ends_with("G if the machine has the memory"),
+            "{msg}"
+        );
         let small = Size { bytes: 10_000, ..huge_like() };
         check_sizes(Path::new("s.toml"), Some(text), &[small]).unwrap();
     }

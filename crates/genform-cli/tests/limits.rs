@@ -99,6 +99,20 @@ fn max_memory_sets_the_budget() {
     assert!(err.contains("`lots` is not a size such as 512M, 3G or 1.5GB"), "{err}");
 }
 
+#[test]
+fn sample_limits_past_the_budget_are_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let koch = common::root().join("examples/graph/koch.gg.yaml");
+    let (run, took) = capped(dir, &["sample", s(&koch), "--max-modules", "100000000000", "--out", "k.svg"]);
+    let err = run.stderr();
+    assert_eq!(run.out.status.code(), Some(1), "{}", run.show());
+    assert!(took < Duration::from_secs(20));
+    assert!(err.contains("--max-modules 100000000000 lets a derivation grow to about 5.8 TiB"), "{err}");
+    assert!(err.contains("lower --max-modules, or raise the budget with --max-memory 5961G"), "{err}");
+    ok(dir, &["sample", s(&koch), "--max-modules", "100000000000", "--max-memory", "8T", "--out", "k.svg"]);
+}
+
 /// A star that grows one random spoke a step while a hexagon pattern,
 /// which never matches a tree, is searched first at every step: the
 /// searches grow with the graph until the derivation's time guard ends it.
@@ -152,5 +166,55 @@ fn graph_derivations_stop_at_their_time_limit() {
     assert!(
         err.contains("hex.gg.yaml:3:13") && err.contains("`time_limit` must be a number of seconds above 0"),
         "{err}"
+    );
+}
+
+/// `sample --world W --out R.mca` killed with SIGKILL at a spread of
+/// moments (with jitter, so runs probe different ones) leaves either no
+/// region or the complete one, byte for byte, and no other visible file.
+#[test]
+fn a_region_killed_mid_write_is_absent_or_complete() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let root = common::root();
+    let world = root.join("examples/terrain/prismarine-1.21.1/r.0.0.mca");
+    let bridge = root.join("examples/boxsplit/bridge.bsg");
+    let args = ["sample", s(&bridge), "--world", s(&world), "--box", "6,50,3,62,65,5", "--seed", "2", "--out"];
+    let started = Instant::now();
+    ok(dir, &[&args[..], &["whole.mca"]].concat());
+    let took = started.elapsed();
+    let whole = std::fs::read(dir.join("whole.mca")).unwrap();
+    let jitter = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().subsec_micros() % 5000;
+    let (mut absent, mut complete, mut temporaries) = (0, 0, 0);
+    for k in 0..12u32 {
+        let run = dir.join(format!("k{k}"));
+        std::fs::create_dir(&run).unwrap();
+        // From the start to twice the length of an undisturbed run.
+        let at = took * k / 6 + Duration::from_micros(u64::from(jitter));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_genform"))
+            .current_dir(&run)
+            .args([&args[..], &["R.mca"]].concat())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(at);
+        child.kill().unwrap(); // SIGKILL; an error would mean it had already been reaped
+        child.wait().unwrap();
+        match std::fs::read(run.join("R.mca")) {
+            Ok(bytes) => {
+                assert!(bytes == whole, "killed after {at:?}: a region of {} bytes, not the whole one", bytes.len());
+                complete += 1;
+            }
+            Err(_) => absent += 1,
+        }
+        for entry in std::fs::read_dir(&run).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(name == "R.mca" || (name.starts_with(".R.mca.") && name.ends_with(".tmp")), "left {name}");
+            temporaries += usize::from(name != "R.mca");
+        }
+    }
+    eprintln!(
+        "12 kills over {took:?} (jitter {jitter} µs): {absent} left no region, {complete} the complete one, {temporaries} a hidden temporary file"
     );
 }

@@ -286,7 +286,13 @@ pub fn check_request(formalism: &dyn Formalism, request: &SampleRequest) -> Resu
     {
         return Err(unknown_format(out, formalism.output_extensions()));
     }
-    check_options(formalism, &request.given)
+    check_options(formalism, &request.given)?;
+    let l = &request.limits;
+    crate::memory::check_flags(&[
+        ("--max-genes", l.max_genes, crate::memory::GENE_BYTES, "genes"),
+        ("--max-primitives", l.max_primitives, crate::scene_config::PRIMITIVE_BYTES, "primitives"),
+        ("--max-modules", request.max_modules, 64, "modules or graph elements"),
+    ])
 }
 
 /// Refuses the flags in `given` that `formalism` does not read, naming the
