@@ -204,13 +204,8 @@ async function sampleEdited() {
     const seed = Math.max(0, Math.floor(Number(els.seed.value) || 0));
     const result = await api.sample({ path, seed, options: collectOptions() });
     if (token !== sampling) return;
-    lastSample = result;
     showDiagnostics([]);
-    els.summary.textContent = result.summary || '';
-    els.summary.dataset.sampleId = result.id;
-    showDownloads(result);
-    if (result.preview === 'glb') await viewer.showGlb(result.model);
-    else await viewer.showPicture(result.model, '2D drawing');
+    await showSample(result, result.summary || '');
   } catch (err) {
     if (token !== sampling) return;
     showDiagnostics(err.diagnostics || [], err.message);
@@ -282,13 +277,8 @@ export async function sampleNow() {
   try {
     const result = await api.sample({ path: current.path, seed, options: collectOptions() });
     if (token !== sampling) return;
-    lastSample = result;
     const ms = performance.now() - started;
-    els.summary.textContent = `${result.summary || ''} (${fmt(ms / 1000, 2)} s)`;
-    els.summary.dataset.sampleId = result.id;
-    showDownloads(result);
-    if (result.preview === 'glb') await viewer.showGlb(result.model);
-    else await viewer.showPicture(result.model, '2D drawing');
+    await showSample(result, `${result.summary || ''} (${fmt(ms / 1000, 2)} s)`);
   } catch (err) {
     if (token !== sampling) return;
     els.summary.textContent = err.message;
@@ -298,6 +288,16 @@ export async function sampleNow() {
   } finally {
     if (token === sampling) els.sampleButton.disabled = false;
   }
+}
+
+/** Shows a sample's answer: its summary line, its downloads and the model (3D, or the 2D drawing). */
+async function showSample(result, summary) {
+  lastSample = result;
+  els.summary.textContent = summary;
+  els.summary.dataset.sampleId = result.id;
+  showDownloads(result);
+  if (result.preview === 'glb') await viewer.showGlb(result.model);
+  else await viewer.showPicture(result.model, '2D drawing');
 }
 
 function showDownloads(result) {
