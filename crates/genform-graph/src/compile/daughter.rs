@@ -228,26 +228,11 @@ impl Cx {
     fn vertex_target(&mut self, v: &Element, name: &str, m: &Mother) -> Option<Option<usize>> {
         let (mv, me) = (m.vertices, m.edges);
         match &v.keep {
-            Some(k) => match mv.iter().position(|m| m.name == k.s) {
-                Some(i) => Some(Some(i)),
-                None => {
-                    if me.iter().any(|m| m.name == k.s) {
-                        self.error(
-                            k.span,
-                            format!("`keep: {}` names a mother edge; a vertex can keep only a vertex", k.s),
-                        );
-                    } else {
-                        let d = self.error(
-                            k.span,
-                            format!("`keep: {}` names no vertex of the mother of `{}`", k.s, m.production),
-                        );
-                        if let Some(s) = did_you_mean(&k.s, mv.iter().map(|m| m.name.as_str())) {
-                            d.hints.push(format!("did you mean `{s}`?"));
-                        }
-                    }
-                    None
-                }
-            },
+            Some(k) => {
+                let vertices: Vec<&str> = mv.iter().map(|x| x.name.as_str()).collect();
+                let edges: Vec<&str> = me.iter().map(|x| x.name.as_str()).collect();
+                self.kept(k, &vertices, &edges, ("vertex", "edge"), m.production).map(Some)
+            }
             None => {
                 if me.iter().any(|m| m.name == name) {
                     self.error(
@@ -391,28 +376,44 @@ impl Cx {
     fn edge_target(&mut self, e: &Element, name: &str, m: &Mother) -> Option<Option<usize>> {
         let (mv, me) = (m.vertices, m.edges);
         match &e.keep {
-            Some(k) => match me.iter().position(|m| m.name == k.s) {
-                Some(i) => Some(Some(i)),
-                None => {
-                    if mv.iter().any(|m| m.name == k.s) {
-                        self.error(
-                            k.span,
-                            format!("`keep: {}` names a mother vertex; an edge can keep only an edge", k.s),
-                        );
-                    } else {
-                        let d = self.error(
-                            k.span,
-                            format!("`keep: {}` names no edge of the mother of `{}`", k.s, m.production),
-                        );
-                        if let Some(s) = did_you_mean(&k.s, me.iter().map(|m| m.name.as_str())) {
-                            d.hints.push(format!("did you mean `{s}`?"));
-                        }
-                    }
-                    None
-                }
-            },
+            Some(k) => {
+                let vertices: Vec<&str> = mv.iter().map(|x| x.name.as_str()).collect();
+                let edges: Vec<&str> = me.iter().map(|x| x.name.as_str()).collect();
+                self.kept(k, &edges, &vertices, ("edge", "vertex"), m.production).map(Some)
+            }
             None => Some(me.iter().position(|m| m.name == name)),
         }
+    }
+
+    /// The mother element `keep: NAME` names among `own` (the names of the
+    /// mother's elements of the daughter element's kind), or `None` after
+    /// reporting that it names one of the `other` kind, or none at all
+    /// (with a did-you-mean). `kinds`: (own, other), e.g. ("vertex", "edge").
+    fn kept(
+        &mut self,
+        keep: &Text,
+        own: &[&str],
+        other: &[&str],
+        kinds: (&str, &str),
+        production: &str,
+    ) -> Option<usize> {
+        if let Some(i) = own.iter().position(|n| *n == keep.s) {
+            return Some(i);
+        }
+        let (kind, other_kind) = kinds;
+        if other.contains(&keep.s.as_str()) {
+            self.error(
+                keep.span,
+                format!("`keep: {}` names a mother {other_kind}; a {kind} can keep only a {kind}", keep.s),
+            );
+        } else {
+            let d =
+                self.error(keep.span, format!("`keep: {}` names no {kind} of the mother of `{production}`", keep.s));
+            if let Some(s) = did_you_mean(&keep.s, own.iter().copied()) {
+                d.hints.push(format!("did you mean `{s}`?"));
+            }
+        }
+        None
     }
 
     /// Whether daughter edge `e`, joining `ends`, may keep mother edge `i`:
