@@ -1,6 +1,6 @@
 //! What every endpoint shares: the JSON error answer ([`ApiError`]), the
-//! size-limited JSON body ([`JsonBody`]), and the grammar list and
-//! sampling endpoints.
+//! size-limited JSON body ([`JsonBody`]), the numbered tables of samples,
+//! runs and sessions, and the byte answers.
 
 use axum::extract::{FromRequest, Request};
 use axum::http::{HeaderValue, StatusCode, header};
@@ -8,6 +8,9 @@ use axum::response::{IntoResponse, Response};
 use genform_app::source_text::SourceErrors;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
+
+/// Largest request body (1 MiB); larger ones get 413.
+pub const BODY_LIMIT: usize = 1 << 20;
 
 /// Objects of one kind (samples, runs, breeding sessions) by number, with
 /// the last number given out.
@@ -128,13 +131,13 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
         let too_large = || {
             ApiError::new(
                 StatusCode::PAYLOAD_TOO_LARGE,
-                format!("the request body is larger than {} bytes", super::BODY_LIMIT),
+                format!("the request body is larger than {} bytes", BODY_LIMIT),
             )
         };
         // A declared length over the limit is refused before anything is read;
         // other bodies are cut at the limit while they are read.
         let declared = req.headers().get(header::CONTENT_LENGTH).and_then(|v| v.to_str().ok()?.parse::<u64>().ok());
-        if declared.is_some_and(|n| n > super::BODY_LIMIT as u64) {
+        if declared.is_some_and(|n| n > BODY_LIMIT as u64) {
             return Err(too_large());
         }
         let bytes = axum::body::Bytes::from_request(req, state).await.map_err(|r| {

@@ -6,7 +6,7 @@ use axum::extract::{Path as UrlPath, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
 use genform_app::codon_scene::is_codon_scene;
-use genform_app::formalism::{self, Sample, SampleRequest};
+use genform_app::formalism::{self, SampleRequest};
 use genform_app::scene_config::SceneConfig;
 use genform_app::scene_file::SceneFile;
 use genform_core::Scene;
@@ -16,10 +16,11 @@ use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
-use super::api::{ApiError, JsonBody, Table, blocking, bytes_response};
+use super::api::{ApiError, JsonBody, blocking, bytes_response};
 use super::assets::content_type;
 use super::files::walk;
-use super::{App, Shared};
+use super::sample_store::{KEEP_SAMPLES, SampleEntry};
+use super::state::{App, Shared};
 
 /// The `sample` options the studio passes on (the others name side files).
 pub const STUDIO_OPTIONS: &[&str] = &[
@@ -35,47 +36,6 @@ pub const STUDIO_OPTIONS: &[&str] = &[
     "schem-version",
     "data-version",
 ];
-
-/// Samples kept for download; older ones are forgotten (their files stay).
-const KEEP_SAMPLES: usize = 64;
-
-/// A sampled model and the formats it can be downloaded in.
-pub struct SampleEntry {
-    sample: Box<dyn Sample>,
-    formats: Vec<String>,
-    export: ExportOptions,
-    /// Its folder under `--out/.samples/`.
-    dir: PathBuf,
-    /// For download names.
-    stem: String,
-    seed: u64,
-    /// One writer at a time.
-    writing: Mutex<()>,
-}
-
-/// The samples of this server, by number.
-#[derive(Default)]
-pub struct Samples {
-    entries: Table<SampleEntry>,
-}
-
-impl Samples {
-    fn insert(&self, make: impl FnOnce(u64) -> SampleEntry) -> (u64, Arc<SampleEntry>) {
-        let mut guard = self.entries.lock().unwrap_or_else(|p| p.into_inner());
-        guard.0 += 1;
-        let id = guard.0;
-        let entry = Arc::new(make(id));
-        guard.1.insert(id, entry.clone());
-        while guard.1.len() > KEEP_SAMPLES {
-            guard.1.pop_first();
-        }
-        (id, entry)
-    }
-
-    fn get(&self, id: u64) -> Option<Arc<SampleEntry>> {
-        self.entries.lock().unwrap_or_else(|p| p.into_inner()).1.get(&id).cloned()
-    }
-}
 
 /// `GET /api/grammars`.
 pub async fn grammars(State(app): State<Shared>) -> Result<Response, ApiError> {
@@ -312,7 +272,7 @@ pub async fn source(State(app): State<Shared>, Query(q): Query<SourceQuery>) -> 
     let file = app.roots.resolve(&q.path)?;
     let text = blocking(move || {
         let meta = std::fs::metadata(&file).map_err(|e| ApiError::not_found(e.to_string()))?;
-        if !meta.is_file() || meta.len() > super::BODY_LIMIT as u64 {
+        if !meta.is_file() || meta.len() > super::api::BODY_LIMIT as u64 {
             return Err(ApiError::bad_request(format!("`{}` is not a text file of at most 1 MiB", q.path)));
         }
         let text = std::fs::read_to_string(&file).map_err(|e| ApiError::bad_request(e.to_string()))?;

@@ -20,8 +20,8 @@
 //! never by the server's absolute paths: [`scrub`] replaces what handlers
 //! let through.
 
-use super::Shared;
 use super::api::ApiError;
+use super::state::{Allowed, App, Shared};
 use axum::body::Body;
 use axum::extract::{Request, State};
 use axum::http::{HeaderMap, Method, StatusCode, header};
@@ -30,14 +30,6 @@ use axum::response::{IntoResponse, Response};
 
 /// Largest error body [`guard`] rewrites (error answers are small JSON).
 const SCRUB_LIMIT: usize = 1 << 20;
-
-/// The `Host` names this server answers to besides IP literals and
-/// `localhost`: the `--host` value, if it is a name.
-#[derive(Clone, Debug, Default)]
-pub struct Allowed {
-    /// `--host`, lower-case, when given.
-    pub host: Option<String>,
-}
 
 /// The middleware: refuses foreign hosts and cross-origin state changes,
 /// and scrubs server paths out of error answers.
@@ -108,7 +100,7 @@ fn host_allowed(allowed: &Allowed, host: &str) -> bool {
 
 /// `message` with every root folder's absolute path replaced by its root
 /// name, and the server's working folder by `.`.
-pub fn scrub(app: &super::App, message: &str) -> String {
+pub fn scrub(app: &App, message: &str) -> String {
     let mut out = message.to_string();
     let mut dirs: Vec<(String, String)> =
         app.roots.list().iter().map(|r| (r.dir.display().to_string(), r.name.to_string())).collect();
@@ -125,7 +117,7 @@ pub fn scrub(app: &super::App, message: &str) -> String {
     out
 }
 
-async fn scrub_response(app: &super::App, response: Response) -> Response {
+async fn scrub_response(app: &App, response: Response) -> Response {
     let (parts, body) = response.into_parts();
     match axum::body::to_bytes(body, SCRUB_LIMIT).await {
         Ok(bytes) => {

@@ -17,10 +17,14 @@
 pub mod api;
 pub mod assets;
 pub mod breed;
+pub mod breed_session;
 pub mod explore;
 pub mod files;
 pub mod guard;
+pub mod run_handle;
 pub mod runs;
+pub mod sample_store;
+pub mod state;
 
 use anyhow::{Context, Result};
 use axum::Router;
@@ -31,43 +35,10 @@ use axum::routing::{get, post};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+pub use api::BODY_LIMIT;
 use api::{ApiError, bytes_response};
 use files::Roots;
-
-/// Largest request body (1 MiB); larger ones get 413.
-pub const BODY_LIMIT: usize = 1 << 20;
-
-/// What every handler shares.
-pub struct App {
-    /// The folders the server may touch.
-    pub roots: Roots,
-    /// `--out`, canonical.
-    pub out: PathBuf,
-    /// The file given on the command line, canonical.
-    pub default: Option<PathBuf>,
-    /// Sampled models.
-    pub samples: explore::Samples,
-    /// Evolution runs.
-    pub runs: runs::Runs,
-    /// Breeding sessions.
-    pub breeds: breed::Breeds,
-    /// The `Host` names requests may carry (see [`guard`]).
-    pub allowed: guard::Allowed,
-}
-
-impl App {
-    /// A file name as a client may see it: its root path, else its name alone.
-    pub fn shown(&self, name: &str) -> String {
-        let path = std::path::Path::new(name);
-        path.canonicalize()
-            .ok()
-            .and_then(|p| self.roots.display(&p))
-            .unwrap_or_else(|| path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned()))
-    }
-}
-
-/// The state handlers get.
-pub type Shared = Arc<App>;
+use state::{App, Shared};
 
 /// What the studio serves and where.
 #[derive(Clone, Debug, Default)]
@@ -138,10 +109,10 @@ fn app(a: &ServeOptions) -> Result<App> {
         roots,
         out,
         default,
-        samples: explore::Samples::default(),
-        runs: runs::Runs::default(),
-        breeds: breed::Breeds::default(),
-        allowed: guard::Allowed { host: a.host.as_ref().map(|h| h.to_ascii_lowercase()) },
+        samples: sample_store::Samples::default(),
+        runs: run_handle::Runs::default(),
+        breeds: breed_session::Breeds::default(),
+        allowed: state::Allowed { host: a.host.as_ref().map(|h| h.to_ascii_lowercase()) },
     })
 }
 

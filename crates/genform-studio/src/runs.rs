@@ -17,16 +17,17 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 use std::collections::VecDeque;
 use std::convert::Infallible;
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
 use tokio::sync::broadcast;
 
-use super::api::{ApiError, JsonBody, Table, blocking, bytes_response, claim_id};
+use super::api::{ApiError, JsonBody, blocking, bytes_response, claim_id};
 use super::assets::content_type;
+use super::explore;
 use super::files::resolve_in;
-use super::{Shared, explore};
+use super::run_handle::{Event, MAX_RUNNING, RunHandle, RunState, Status};
+use super::state::Shared;
 use genform_app::run::{
     self, AlgorithmChoice, Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch,
 };
@@ -38,138 +39,6 @@ pub const GALLERY_EVERY: usize = 5;
 const KEEP_GALLERIES: usize = 6;
 /// Events a slow client may fall behind by before it skips some.
 const CHANNEL: usize = 1024;
-
-/// Every run of this server.
-#[derive(Default)]
-pub struct Runs {
-    inner: Table<RunHandle>,
-}
-
-/// Runs that may go at once: each has its own thread pool, so more would
-/// only share the cores and the memory.
-pub const MAX_RUNNING: usize = 4;
-
-impl Runs {
-    fn get(&self, id: &str) -> Result<Arc<RunHandle>, ApiError> {
-        let n = id.strip_prefix('r').and_then(|n| n.parse::<u64>().ok());
-        let guard = self.inner.lock().unwrap_or_else(|p| p.into_inner());
-        n.and_then(|n| guard.1.get(&n).cloned()).ok_or_else(|| ApiError::not_found(format!("no run `{id}`")))
-    }
-}
-
-/// One event for the event stream.
-#[derive(Clone, Debug)]
-pub struct Event {
-    name: &'static str,
-    data: String,
-    /// The run's last event.
-    last: bool,
-}
-
-/// How far a run is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Status {
-    Running,
-    Stopped,
-    Finished,
-    Failed,
-}
-
-/// A run as the server knows it.
-pub struct RunHandle {
-    id: String,
-    scene: String,
-    algorithm: String,
-    seed: u64,
-    folder: PathBuf,
-    /// Where the scene's targets can be fetched (`explore::targets`).
-    targets: Option<Value>,
-    cancel: Arc<AtomicBool>,
-    state: Mutex<RunState>,
-    wake: Condvar,
-    events: broadcast::Sender<Event>,
-}
-
-/// What changes while a run goes.
-struct RunState {
-    status: Status,
-    paused: bool,
-    error: Option<String>,
-    generation: Option<usize>,
-    evaluations: u64,
-    best: Option<f64>,
-    max_reachable: Option<f64>,
-    stats: Vec<Value>,
-    criteria_names: Vec<&'static str>,
-    steering: Vec<SteerEntry>,
-    steerable: Steerable,
-    pending: Option<SteerSet>,
-    galleries: VecDeque<(usize, Arc<Vec<u8>>)>,
-    /// The best model so far (GLB) and the generation it is from, while
-    /// the run goes.
-    best_model: Option<(usize, Arc<Vec<u8>>)>,
-}
-
-impl RunHandle {
-    fn lock(&self) -> MutexGuard<'_, RunState> {
-        self.state.lock().unwrap_or_else(|p| p.into_inner())
-    }
-
-    /// Whether the run is still going (paused counts).
-    fn is_running(&self) -> bool {
-        matches!(self.lock().status, Status::Running)
-    }
-
-    fn send(&self, name: &'static str, data: Value, last: bool) {
-        // No receiver is no error: nobody is watching.
-        let _ = self.events.send(Event { name, data: data.to_string(), last });
-    }
-
-    fn status_json(&self, s: &RunState) -> Value {
-        let status = match s.status {
-            Status::Running if s.paused => "paused",
-            Status::Running => "running",
-            Status::Stopped => "stopped",
-            Status::Finished => "finished",
-            Status::Failed => "failed",
-        };
-        json!({ "status": status, "error": s.error, "stopping": s.status == Status::Running && self.cancel.load(Ordering::SeqCst) })
-    }
-
-    fn snapshot(&self) -> Value {
-        let s = self.lock();
-        let mut v = json!({
-            "id": self.id, "scene": self.scene, "algorithm": self.algorithm, "seed": self.seed,
-            "folder": format!("runs/{}", self.id), "targets": self.targets,
-            "generation": s.generation, "evaluations": s.evaluations, "best": s.best,
-            "max_reachable": s.max_reachable, "criteria_names": s.criteria_names, "stats": s.stats,
-            "steering": s.steering, "criteria": s.steerable.values(), "pending": s.pending,
-            "criteria_formula": s.steerable.contribution_formula(),
-            "gallery": s.galleries.back().map(|(g, _)| format!("/api/runs/{}/gallery/{g}.png", self.id)),
-            // Only while the run goes: then the folder's best.glb is the answer.
-            "best_model": s.best_model.as_ref().filter(|_| s.status == Status::Running)
-                .map(|(g, _)| format!("/api/runs/{}/best.glb?generation={g}", self.id)),
-            "files": self.files(),
-        });
-        if let (Some(all), Value::Object(status)) = (v.as_object_mut(), self.status_json(&s)) {
-            all.extend(status);
-        }
-        v
-    }
-
-    /// The files in the run folder now (top level, no temporary files).
-    fn files(&self) -> Vec<String> {
-        let Ok(entries) = std::fs::read_dir(&self.folder) else { return Vec::new() };
-        let mut names: Vec<String> = entries
-            .flatten()
-            .filter(|e| e.file_type().is_ok_and(|t| t.is_file()))
-            .map(|e| e.file_name().to_string_lossy().into_owned())
-            .filter(|n| !n.starts_with('.'))
-            .collect();
-        names.sort();
-        names
-    }
-}
 
 /// The run loop's [`Watch`]: records, publishes, pauses, steers.
 struct Watcher(Arc<RunHandle>);
