@@ -25,41 +25,10 @@ use crate::grammar::{BoxGrammar, DeriveLimits, Guard, Op, OpId, Paint, RuleId};
 use crate::observe::World;
 use crate::split::{Piece, Scratch, SplitError, split_with};
 use crate::trace::{Trace, TraceEvent, TraceScope};
-use genform_core::{BlockGrid, CodonSource, Rng};
+use genform_core::BlockGrid;
+use genform_core::rng::Draws;
 use glam::IVec3;
 use serde::{Deserialize, Serialize};
-
-/// The source of every random choice of a derivation: which alternative
-/// of a rule, which block of a material mix. Implemented for
-/// [`Rng`] and for a GE codon genome ([`CodonSource`]).
-pub trait Choices {
-    /// An index into `weights` (at least one is positive, none negative),
-    /// drawn with probability proportional to its weight.
-    fn choose(&mut self, weights: &[f64]) -> usize;
-}
-
-impl Choices for Rng {
-    fn choose(&mut self, weights: &[f64]) -> usize {
-        self.weighted_index(weights).unwrap_or(0)
-    }
-}
-
-/// Grammatical evolution: each choice reads one codon and draws by weight
-/// with it (see [`CodonSource::choose`]); a zero-weight alternative is never
-/// taken. A derivation that exhausts the codons still ends (every later
-/// choice is the first positive weight); check
-/// [`CodonSource::exhausted`] afterwards.
-impl Choices for CodonSource<'_> {
-    fn choose(&mut self, weights: &[f64]) -> usize {
-        CodonSource::choose(self, weights)
-    }
-}
-
-impl<C: Choices + ?Sized> Choices for &mut C {
-    fn choose(&mut self, weights: &[f64]) -> usize {
-        (**self).choose(weights)
-    }
-}
 
 /// How to derive.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -221,7 +190,7 @@ impl Reason {
     }
 }
 
-struct Engine<'g, 'w, 'c, C: Choices + ?Sized> {
+struct Engine<'g, 'w, 'c, C: Draws + ?Sized> {
     g: &'g BoxGrammar,
     world: World<'w>,
     choices: &'c mut C,
@@ -247,7 +216,7 @@ impl BoxGrammar {
     /// (cells it does not cover, or leaves unset, count as air; `None`: all
     /// air). Every random choice comes from `choices`; the same choices give
     /// the same result.
-    pub fn derive<C: Choices + ?Sized>(
+    pub fn derive<C: Draws + ?Sized>(
         &self,
         world: Option<&BlockGrid>,
         min: IVec3,
@@ -307,7 +276,7 @@ impl BoxGrammar {
     }
 }
 
-impl<C: Choices + ?Sized> Engine<'_, '_, '_, C> {
+impl<C: Draws + ?Sized> Engine<'_, '_, '_, C> {
     fn run(&mut self) -> Result<(), DeriveFailure> {
         let mut pending: Option<Task> = None;
         loop {

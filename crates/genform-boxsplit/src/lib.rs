@@ -9,7 +9,8 @@
 //!
 //! - [`compile`] reads a `.bsg` file (every error at once, with positions).
 //! - [`BoxGrammar::derive`] derives it in a box, observing a [`BlockGrid`],
-//!   with every random choice drawn through [`Choices`]; the result is a
+//!   with every random choice drawn through core's
+//!   [`Draws`](genform_core::rng::Draws); the result is a
 //!   grid of the blocks placed, written only after the derivation
 //!   succeeded, with an optional JSON [`Trace`].
 //! - [`split::split_lengths`] is the split arithmetic on its own.
@@ -42,9 +43,7 @@ mod syntax;
 mod trace;
 
 pub use compile::compile;
-pub use derive::{
-    Choices, Derivation, DeriveFailure, DeriveOptions, DeriveStats, FailureKind, FailurePoint, MAX_VOLUME,
-};
+pub use derive::{Derivation, DeriveFailure, DeriveOptions, DeriveStats, FailureKind, FailurePoint, MAX_VOLUME};
 pub use grammar::{BoxGrammar, DeriveLimits};
 pub use split::Round;
 pub use trace::{Trace, TraceEvent, TraceScope};

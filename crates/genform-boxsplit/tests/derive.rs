@@ -3,8 +3,9 @@
 //! traces and determinism.
 
 use genform_boxsplit::{
-    BoxGrammar, Choices, Derivation, DeriveFailure, DeriveLimits, DeriveOptions, FailureKind, TraceEvent, compile,
+    BoxGrammar, Derivation, DeriveFailure, DeriveLimits, DeriveOptions, FailureKind, TraceEvent, compile,
 };
+use genform_core::rng::Draws;
 use genform_core::{BlockGrid, BlockState, Rng, SourceFile};
 use glam::{IVec3, UVec3};
 
@@ -331,14 +332,17 @@ fn same_seed_same_blocks() {
 
 /// Always takes the last candidate.
 struct Last;
-impl Choices for Last {
+impl Draws for Last {
+    fn next_f64(&mut self) -> f64 {
+        unreachable!("box-split draws by weight")
+    }
     fn choose(&mut self, weights: &[f64]) -> usize {
         weights.len() - 1
     }
 }
 
 #[test]
-fn every_choice_goes_through_the_choices_trait() {
+fn every_choice_goes_through_the_draws_trait() {
     let src = "material m = stone, dirt;\nA { weight 5 { fill glass } weight 1 { fill m } }";
     let d = grammar(src).derive(None, IVec3::ZERO, IVec3::new(3, 1, 1), &mut Last, &DeriveOptions::default()).unwrap();
     assert_eq!(row_x(&d, 0, 0), "ddd");

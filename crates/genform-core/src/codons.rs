@@ -197,6 +197,16 @@ impl Draws for CodonSource<'_> {
     fn next_f64(&mut self) -> f64 {
         self.unit()
     }
+
+    /// `codon mod n` ([`CodonSource::below`]).
+    fn below(&mut self, n: usize) -> usize {
+        CodonSource::below(self, n)
+    }
+
+    /// One codon walks the weights ([`CodonSource::choose`]).
+    fn choose(&mut self, weights: &[f64]) -> usize {
+        CodonSource::choose(self, weights)
+    }
 }
 
 #[cfg(test)]

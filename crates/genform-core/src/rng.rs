@@ -38,17 +38,75 @@ pub fn derive_key(seed: u64, ids: &[u64]) -> u64 {
     key
 }
 
-/// A source of uniform draws in `[0, 1)`: an [`Rng`], or stored values a
-/// genome replays (so a formula's random draws can be genes).
+/// The one source of a derivation's random decisions: an [`Rng`], a codon
+/// genome ([`crate::CodonSource`], each decision reads a codon), or stored
+/// values a genome replays (so a formula's random draws can be genes).
+/// Box-split alternatives and materials, graph-grammar orders, matches and
+/// options, and every formula's random draws go through it.
 pub trait Draws {
     /// The next uniform value in `[0, 1)`.
     fn next_f64(&mut self) -> f64;
+
+    /// A uniform integer in `0..n` (`n` ≥ 1). By default from one uniform
+    /// draw; an [`Rng`] draws it unbiased from its integers, a codon
+    /// genome takes `codon mod n`.
+    #[inline]
+    fn below(&mut self, n: usize) -> usize {
+        ((self.next_f64() * n as f64) as usize).min(n.saturating_sub(1))
+    }
+
+    /// An index into `weights`, drawn with probability proportional to its
+    /// weight; weights that are not positive are never drawn, and 0 comes
+    /// back when none is. By default a roulette walk with one uniform draw.
+    fn choose(&mut self, weights: &[f64]) -> usize {
+        let total: f64 = weights.iter().filter(|w| **w > 0.0).sum();
+        if total.is_nan() || total <= 0.0 {
+            return 0;
+        }
+        let mut u = self.next_f64() * total;
+        let mut last = 0;
+        for (i, &w) in weights.iter().enumerate().filter(|(_, w)| **w > 0.0) {
+            if u < w {
+                return i;
+            }
+            u -= w;
+            last = i;
+        }
+        last
+    }
 }
 
 impl Draws for Rng {
     #[inline]
     fn next_f64(&mut self) -> f64 {
         Rng::next_f64(self)
+    }
+
+    #[inline]
+    fn below(&mut self, n: usize) -> usize {
+        self.index(n)
+    }
+
+    fn choose(&mut self, weights: &[f64]) -> usize {
+        self.weighted_index(weights).unwrap_or(0)
+    }
+}
+
+/// A borrowed source draws as its owner does (so `&mut dyn`-free generic
+/// code can pass its source on).
+impl<D: Draws + ?Sized> Draws for &mut D {
+    #[inline]
+    fn next_f64(&mut self) -> f64 {
+        (**self).next_f64()
+    }
+
+    #[inline]
+    fn below(&mut self, n: usize) -> usize {
+        (**self).below(n)
+    }
+
+    fn choose(&mut self, weights: &[f64]) -> usize {
+        (**self).choose(weights)
     }
 }
 

@@ -1,33 +1,8 @@
-//! The source of every random decision of a derivation.
+//! How the matcher visits candidates: in an order drawn from the
+//! derivation's [`Draws`] (core's one source of random decisions) or in
+//! index order.
 
 use genform_core::rng::Draws;
-use genform_core::{CodonSource, Rng};
-
-/// Where a derivation takes its random decisions from: the order in which
-/// productions of one priority are tried, the match, the daughter option
-/// and the formulas' random draws. An [`Rng`] is one; a codon genome
-/// ([`CodonSource`]) another (each call consumes a codon).
-pub trait Choices: Draws {
-    /// A uniform integer in `0..n`; `n` ≥ 1.
-    fn below(&mut self, n: usize) -> usize;
-}
-
-impl Choices for Rng {
-    fn below(&mut self, n: usize) -> usize {
-        self.index(n)
-    }
-}
-
-/// Grammatical evolution: every decision reads one codon — `codon mod n`
-/// for an order or a match, `(codon + 0.5) / range` for a daughter option's
-/// weighted draw and a formula's random draw. A derivation that exhausts
-/// the codons still ends (every later decision reads codon 0); check
-/// [`CodonSource::exhausted`] afterwards.
-impl Choices for CodonSource<'_> {
-    fn below(&mut self, n: usize) -> usize {
-        CodonSource::below(self, n)
-    }
-}
 
 /// How the search visits candidates: randomly (derivations) or in index
 /// order (enumeration).
@@ -40,10 +15,10 @@ pub(crate) trait Pick {
     fn coin(&mut self) -> bool;
 }
 
-/// Random visiting order drawn from a [`Choices`].
-pub(crate) struct Random<'c, C: Choices>(pub(crate) &'c mut C);
+/// Random visiting order drawn from a [`Draws`].
+pub(crate) struct Random<'c, C: Draws>(pub(crate) &'c mut C);
 
-impl<C: Choices> Pick for Random<'_, C> {
+impl<C: Draws> Pick for Random<'_, C> {
     fn first(&mut self, n: usize) -> usize {
         if n <= 1 { 0 } else { self.0.below(n) }
     }
@@ -121,6 +96,7 @@ impl Order {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use genform_core::Rng;
 
     #[test]
     fn orders_visit_everything_once() {

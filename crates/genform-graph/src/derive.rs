@@ -1,11 +1,12 @@
 //! The derivation loop: priority groups, random production order, one
 //! match and one daughter option per step, limits.
 
-use crate::choices::{Choices, InOrder, Pick, Random};
+use crate::choices::{InOrder, Pick, Random};
 use crate::grammar::{GraphGrammar, Production};
 use crate::graph::Graph;
 use crate::rewrite::{Scratch, apply};
 use crate::search::{Exhausted, Search};
+use genform_core::rng::Draws;
 
 /// The default most elements (vertices + edges) a derivation may make.
 pub const DEFAULT_MAX_ELEMENTS: usize = 1_000_000;
@@ -137,7 +138,7 @@ fn truthy(v: f64) -> bool {
 }
 
 /// Per-production envs with the per-run values in place.
-fn run_envs(g: &GraphGrammar, choices: &mut impl Choices) -> Vec<Vec<f64>> {
+fn run_envs(g: &GraphGrammar, choices: &mut impl Draws) -> Vec<Vec<f64>> {
     let mut globals: Vec<f64> = Vec::with_capacity(g.globals.len());
     for prog in &g.globals {
         let v = prog.eval_draws(&globals, choices);
@@ -225,7 +226,7 @@ fn find(
 }
 
 /// A weighted index from one uniform draw.
-fn weighted(choices: &mut impl Choices, weights: &[f64]) -> usize {
+fn weighted(choices: &mut impl Draws, weights: &[f64]) -> usize {
     let total: f64 = weights.iter().sum();
     let mut u = choices.next_f64() * total;
     let mut last = 0;
@@ -262,7 +263,7 @@ impl GraphGrammar {
     /// [`UNLIMITED_STEPS`].
     pub fn derive(
         &self,
-        choices: &mut impl Choices,
+        choices: &mut impl Draws,
         max_steps: Option<usize>,
         max_elements: usize,
     ) -> Result<Derivation, DeriveError> {

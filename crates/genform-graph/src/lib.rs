@@ -7,7 +7,8 @@
 //! - [`GraphGrammar::derive`] rewrites the host graph step by step: priority
 //!   groups, random production order, planned random matching (or the
 //!   oldest match), weighted daughter options, automatic placement of new
-//!   vertices. Every random decision comes from one [`Choices`] source.
+//!   vertices. Every random decision comes from one
+//!   [`genform_core::rng::Draws`] source.
 //! - [`Graph::to_scene`] draws the result ([`genform_core::Scene::shapes2d`])
 //!   and [`Graph::to_yaml`] writes it back in the host format.
 //!
@@ -52,7 +53,6 @@ mod yaml;
 #[cfg(test)]
 mod tests;
 
-pub use choices::Choices;
 pub use compile::compile;
 pub use derive::{DEFAULT_MAX_ELEMENTS, Derivation, DeriveError, Match, SEARCH_LIMIT, Stats, Stop, UNLIMITED_STEPS};
 pub use draw::{DEFAULT_STROKE_WIDTH, DEFAULT_VERTEX_RADIUS};

@@ -6,10 +6,10 @@
 //! elements updated and daughter-only elements added. New elements get the
 //! match's largest generation + 1.
 
-use crate::choices::Choices;
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
 use crate::graph::{Graph, NewCommon, Value};
 use crate::placement::Similarity;
+use genform_core::rng::Draws;
 
 /// Reused buffers of one derivation.
 #[derive(Default)]
@@ -45,7 +45,7 @@ pub(crate) fn apply(
     env: &mut [f64],
     mv: &[u32],
     me: &[u32],
-    choices: &mut impl Choices,
+    choices: &mut impl Draws,
     s: &mut Scratch,
 ) -> Result<(), (f64, Option<genform_core::diag::Span>)> {
     for (slot, prog) in p.app_vars.iter().chain(&opt.vars) {
@@ -173,7 +173,7 @@ fn resize(v: &mut Vec<Pending>, n: usize) {
     }
 }
 
-fn label(g: &mut Graph, spec: Option<&LabelSpec>, env: &[f64], ch: &mut impl Choices, buf: &mut String) -> Option<u32> {
+fn label(g: &mut Graph, spec: Option<&LabelSpec>, env: &[f64], ch: &mut impl Draws, buf: &mut String) -> Option<u32> {
     Some(match spec? {
         LabelSpec::Fixed(l) => *l,
         LabelSpec::Template(t) => {
@@ -183,7 +183,7 @@ fn label(g: &mut Graph, spec: Option<&LabelSpec>, env: &[f64], ch: &mut impl Cho
     })
 }
 
-fn attrs(specs: &[(u32, AttrSpec)], env: &[f64], ch: &mut impl Choices, out: &mut Vec<(u32, Value)>, buf: &mut String) {
+fn attrs(specs: &[(u32, AttrSpec)], env: &[f64], ch: &mut impl Draws, out: &mut Vec<(u32, Value)>, buf: &mut String) {
     out.clear();
     for (a, spec) in specs {
         let v = match spec {
@@ -194,7 +194,7 @@ fn attrs(specs: &[(u32, AttrSpec)], env: &[f64], ch: &mut impl Choices, out: &mu
     }
 }
 
-fn edge_values(g: &mut Graph, d: &DEdge, env: &[f64], ch: &mut impl Choices, out: &mut Pending, buf: &mut String) {
+fn edge_values(g: &mut Graph, d: &DEdge, env: &[f64], ch: &mut impl Draws, out: &mut Pending, buf: &mut String) {
     out.label = label(g, d.label.as_ref(), env, ch, buf);
     attrs(&d.attrs, env, ch, &mut out.attrs, buf);
 }
