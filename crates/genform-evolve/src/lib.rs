@@ -28,7 +28,8 @@
 //!   changes mid-run (steering).
 //! - [`config`], [`stats`], [`optimizer`]: settings, per-generation
 //!   statistics, the shared [`Optimizer`] trait.
-//! - [`fixtures`]: toy graphs and objectives for tests and benchmarks.
+//! - `fixtures` (tests only, feature `test-support`): toy graphs and
+//!   objectives for tests and benchmarks.
 
 pub mod algorithm;
 pub mod ask_tell;
@@ -36,6 +37,7 @@ pub mod ask_tell;
 mod chi2;
 pub mod config;
 mod evaluate;
+#[cfg(any(test, feature = "test-support"))]
 pub mod fixtures;
 pub mod ga;
 pub mod ge;

@@ -16,13 +16,14 @@
 //!
 //! Modules: [`target`] (weights and their loaders), `raster` (the fast
 //! path), `outline` (closed meshes filled from their outline edges),
-//! [`oracle`] (the per-pixel reference), `coverage` (bit masks),
+//! `oracle` (the per-pixel reference; tests and benches only, feature `test-support`), `coverage` (bit masks),
 //! `project` (clipping and snapping shared by both rasterizers), `decode`
 //! (PNG and PFM), `preview` (the overlay picture).
 
 mod coverage;
 mod decode;
 mod error;
+#[cfg(any(test, feature = "test-support"))]
 pub mod oracle;
 mod outline;
 mod preview;

@@ -294,6 +294,7 @@ impl Shapes {
     }
 
     /// The unit mesh of a built-in primitive (empty for [`Primitive::Mesh`]).
+    #[cfg(any(test, feature = "test-support"))]
     pub fn get(&mut self, p: Primitive) -> &Mesh {
         self.get_with_edges(p).0
     }

@@ -105,6 +105,7 @@ pub(super) fn rasterize_blocks(lat: &Lattice, scene: &Scene, s: &mut VolumeScrat
 /// The oracle's version: every solid cell against every lattice centre
 /// near it, with `hold(i, j, k)` called for each held lattice voxel
 /// (lattice order).
+#[cfg(any(test, feature = "test-support"))]
 pub(super) fn oracle_cells(lat: &Lattice, g: &BlockGrid, mut hold: impl FnMut(i64, i64, i64)) {
     let mut open = Vec::new();
     if !solid_cells(g, &mut open) {

@@ -1,7 +1,7 @@
 //! Voxelizing a Scene: which lattice voxel centres each instance holds.
 //!
 //! Semantics (shared by the fast voxelizer here and the per-voxel
-//! [`oracle`], which agree bit for bit):
+//! `oracle` — tests and benches only, feature `test-support` — which agree bit for bit):
 //!
 //! - A solid primitive holds a voxel when the voxel centre, mapped to the
 //!   unit frame by the inverse instance transform, passes the primitive's
@@ -51,6 +51,7 @@
 mod blocks;
 mod crossing;
 mod mesh_rows;
+#[cfg(any(test, feature = "test-support"))]
 pub mod oracle;
 mod prepare;
 mod scratch;

@@ -58,6 +58,7 @@ impl Solid {
         self.unit(p.x, self.row_base(p.y, p.z))
     }
 
+    #[cfg(any(test, feature = "test-support"))]
     #[inline]
     pub fn contains(&self, p: Vec3) -> bool {
         self.shape.contains(self.unit_point(p))
