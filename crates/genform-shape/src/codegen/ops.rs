@@ -144,6 +144,53 @@ impl SymbolCx<'_> {
                 self.emits = true;
                 self.code.push(Op::Emit(if name == "frustum" { Prim::Frustum(e[0]) } else { Prim::Taper(e[0]) }));
             }
+            "lot" => {
+                let n = args.len();
+                if n != 2 && (n < 6 || n % 2 != 0) {
+                    self.arity(name, span, "lot(width, depth)` or `lot(x0, z0, x1, z1, x2, z2, …)", n);
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                let at = self.span_index(span);
+                self.code.push(Op::Lot { args: e[0], n: n as u32, span: at });
+            }
+            "extrude" => {
+                if args.len() != 1 {
+                    self.arity(name, span, "extrude(height)", args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                self.code.push(Op::Extrude(e[0]));
+            }
+            "shape" => {
+                if !args.is_empty() {
+                    self.arity(name, span, "shape;", args.len());
+                    return;
+                }
+                self.emits = true;
+                let at = self.span_index(span);
+                self.code.push(Op::Shape(at));
+            }
+            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" => {
+                if args.is_empty() || args.len() > 2 {
+                    self.arity(name, span, &format!("{name}(angle)` or `{name}(angle, overhang)"), args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                if e.len() == 1 {
+                    let zero = self.g.zero.clone();
+                    self.exprs.push(Expr::new(zero, Vec::new(), span));
+                }
+                self.emits = true;
+                let kind = match name {
+                    "roof_gable" => 0,
+                    "roof_hip" => 1,
+                    "roof_pyramid" => 2,
+                    _ => 3,
+                };
+                let at = self.span_index(span);
+                self.code.push(Op::Roof { kind, args: e[0], span: at });
+            }
             "mesh" => {
                 let Some(m) = Self::bare(args).map(str::to_string) else {
                     self.arity(name, span, "mesh(name)", args.len());
