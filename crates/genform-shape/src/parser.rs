@@ -614,6 +614,31 @@ impl<'a> Parser<'a> {
         self.expect(Tok::RParen, "after `comp(f`")?;
         self.expect(Tok::LBrace, "to start the arms of `comp`")?;
         let mut arms = Vec::new();
+        if self.comp_arms(&mut arms).is_err() {
+            // The error is recorded: skip the rest of the arms, up to and
+            // including the `}` that closes them, and go on after `comp`.
+            let mut depth = 0usize;
+            loop {
+                match self.tok.kind {
+                    Tok::Eof => break,
+                    Tok::LBrace => depth += 1,
+                    Tok::RBrace if depth == 0 => {
+                        self.bump();
+                        break;
+                    }
+                    Tok::RBrace => depth -= 1,
+                    _ => {}
+                }
+                self.bump();
+            }
+            return Ok(Stmt::Comp { span, arms });
+        }
+        self.expect(Tok::RBrace, "to close `comp` (arms are separated by `|`)")?;
+        Ok(Stmt::Comp { span, arms })
+    }
+
+    /// The arms of `comp(f) { … }`, up to (not including) the closing `}`.
+    fn comp_arms(&mut self, arms: &mut Vec<CompArm>) -> PResult<()> {
         loop {
             let mut mask = 0u8;
             loop {
@@ -643,11 +668,9 @@ impl<'a> Parser<'a> {
             };
             arms.push(CompArm { mask, body });
             if !self.eat(&Tok::Pipe) {
-                break;
+                return Ok(());
             }
         }
-        self.expect(Tok::RBrace, "to close `comp` (arms are separated by `|`)")?;
-        Ok(Stmt::Comp { span, arms })
     }
 
     fn param(&mut self) -> PResult<ParamDecl> {
