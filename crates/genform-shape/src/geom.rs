@@ -171,6 +171,9 @@ pub(crate) fn prism_mesh(foot: &[DVec2]) -> Mesh {
     to_mesh("mass", &pos, tris)
 }
 
+/// Most corners of a roof footprint.
+pub(crate) const MAX_ROOF_CORNERS: usize = 256;
+
 /// The four roof kinds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum RoofKind {
@@ -291,6 +294,12 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
     }
     if foot.len() < 3 || area2(foot) <= 0.0 {
         return Ok(Mesh { name: "roof".into(), ..Mesh::default() });
+    }
+    if foot.len() > MAX_ROOF_CORNERS {
+        return Err(format!(
+            "`{name}`: a roof footprint has at most {MAX_ROOF_CORNERS} corners, found {} (building the roof is cubic in them)",
+            foot.len()
+        ));
     }
     if !is_convex(foot) {
         return Err(format!(
@@ -571,5 +580,7 @@ mod tests {
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, f64::NAN, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 30.0, -1.0).is_err());
         assert!(roof_mesh(&[], RoofKind::Hip, 30.0, 0.0).unwrap().triangles.is_empty());
+        let many: Vec<DVec2> = (0..300).map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / 300.0)).collect();
+        assert!(roof_mesh(&many, RoofKind::Hip, 30.0, 0.0).unwrap_err().contains("at most 256 corners"));
     }
 }

@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// Most corners of a `lot` outline (its simplicity check is quadratic).
+const MAX_LOT_CORNERS: usize = 1024;
+
 impl SymbolCx<'_> {
     /// The single bare-name argument, if that is what `args` is.
     fn bare(args: &[Arg]) -> Option<&str> {
@@ -146,8 +149,17 @@ impl SymbolCx<'_> {
             }
             "lot" => {
                 let n = args.len();
-                if n != 2 && (n < 6 || n % 2 != 0) {
+                if n != 2 && (n < 6 || !n.is_multiple_of(2)) {
                     self.arity(name, span, "lot(width, depth)` or `lot(x0, z0, x1, z1, x2, z2, …)", n);
+                    return;
+                }
+                if n > 2 * MAX_LOT_CORNERS {
+                    let d = Diagnostic::error(
+                        span,
+                        format!("a `lot` has at most {MAX_LOT_CORNERS} corners, found {}", n / 2),
+                    )
+                    .with_hint("split a large footprint into several lots");
+                    self.errors.push(d);
                     return;
                 }
                 let Some(e) = self.expr_args(name, args) else { return };

@@ -109,7 +109,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         let (c, size) = ((lo + hi) * 0.5, hi - lo);
         let unit: Vec<DVec2> = p.iter().map(|q| (*q - c) / size).collect();
         let m = DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y);
-        self.cur.frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(c.x, 0.0, -c.y));
+        self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(c.x, 0.0, -c.y));
         self.cur.size = DVec3::new(size.x, size.y, 0.0);
         self.cur.geom = self.add_geom(GeomKind::Polygon, &unit)?;
         Ok(())
@@ -136,7 +136,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         let foot: Vec<DVec2> =
             if h > 0.0 { self.points(g).iter().map(|q| DVec2::new(q.x, -q.y)).collect() } else { Vec::new() };
         let m = DMat3::from_cols(DVec3::X, DVec3::Z, DVec3::NEG_Y);
-        self.cur.frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(0.0, 0.0, 0.5 * h));
+        self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(0.0, 0.0, 0.5 * h));
         self.cur.size = DVec3::new(self.cur.size.x, h, self.cur.size.y);
         self.cur.geom = self.add_geom(GeomKind::Mass, &foot)?;
         Ok(())
