@@ -103,6 +103,17 @@ impl Arg {
 pub(crate) struct Piece {
     pub size: ExprSrc,
     pub relative: bool,
+    /// `~2`: a floating size, stretched with the other floating pieces so
+    /// the split fills the scope.
+    pub floating: bool,
+    pub body: Vec<Stmt>,
+}
+
+/// One arm of `comp(f)`: `front: A` or `left, right: { ... }`.
+#[derive(Clone, Debug)]
+pub(crate) struct CompArm {
+    /// The face classes it takes (bits of `FACE_*` in `program`).
+    pub mask: u8,
     pub body: Vec<Stmt>,
 }
 
@@ -137,6 +148,11 @@ pub(crate) enum Stmt {
         axis: Axis,
         tile: ExprSrc,
         body: Vec<Stmt>,
+    },
+    /// `comp(f) { front: A | side: B | top: C }`: the faces of the mass.
+    Comp {
+        span: Span,
+        arms: Vec<CompArm>,
     },
     /// `[ ... ]`: the scope is saved before and restored after.
     Scoped(Vec<Stmt>),

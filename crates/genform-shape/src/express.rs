@@ -5,8 +5,10 @@ use crate::interp::{self, Mode, Stop};
 use crate::program::SlotCode;
 use crate::scratch::with_scratch;
 use genform_core::genome::{GenePos, Link};
-use genform_core::{ExpressError, Genome, Instance, LimitKind, Limits, Primitive, Scene};
+use genform_core::scene::Polygon;
+use genform_core::{ExpressError, Genome, Instance, LimitKind, Limits, Mesh, Primitive, Scene};
 use glam::Affine3A;
+use std::sync::Arc;
 
 /// Not yet added to the scene (in [`ExpressMode::tags`] and `meshes`).
 const UNSEEN: u32 = u32::MAX;
@@ -54,8 +56,33 @@ impl Mode for ExpressMode<'_> {
         self.scene.instances.push(Instance { transform, primitive, tag: self.tags[t] });
     }
 
+    fn emit_polygon(&mut self, g: &ShapeGrammar, points: Vec<glam::Vec3>, tag: u32) {
+        let tag = self.scene_tag(g, tag);
+        self.scene.polygons.push(Polygon { points, tag });
+    }
+
+    fn emit_mesh(&mut self, g: &ShapeGrammar, transform: Affine3A, mesh: Mesh, tag: u32) {
+        let tag = self.scene_tag(g, tag);
+        // Made by this run: a new mesh of the scene (exporters and scorers
+        // compare meshes by content, not by identity).
+        self.scene.meshes.push(Arc::new(mesh));
+        let primitive = Primitive::Mesh((self.scene.meshes.len() - 1) as u32);
+        self.scene.instances.push(Instance { transform, primitive, tag });
+    }
+
     fn limit(&self, kind: LimitKind, limits: &Limits) -> Stop {
         ExpressError::Limit { kind, limit: kind.value(limits) }.into()
+    }
+}
+
+impl ExpressMode<'_> {
+    /// The scene's id of grammar tag `tag`, interning it on first use.
+    fn scene_tag(&mut self, g: &ShapeGrammar, tag: u32) -> u32 {
+        let t = tag as usize;
+        if self.tags[t] == UNSEEN {
+            self.tags[t] = self.scene.tag(&g.tags[t]);
+        }
+        self.tags[t]
     }
 }
 

@@ -14,6 +14,8 @@
 //! trivial operands skip the bytecode evaluator ([`Fast`]), and error
 //! values stay small and are built out of line.
 
+mod build;
+
 use crate::ShapeGrammar;
 use crate::fast_expr::Fast;
 use crate::program::*;
@@ -59,6 +61,10 @@ pub(crate) trait Mode {
     ) -> Result<Option<GenePos>, Stop>;
     /// Places one primitive (already counted against the limit).
     fn emit(&mut self, g: &ShapeGrammar, transform: Affine3A, prim: Primitive, tag: u32);
+    /// Places one planar polygon, in world coordinates (counted already).
+    fn emit_polygon(&mut self, g: &ShapeGrammar, points: Vec<glam::Vec3>, tag: u32);
+    /// Places one mesh made by the run (a mass or a roof; counted already).
+    fn emit_mesh(&mut self, g: &ShapeGrammar, transform: Affine3A, mesh: genform_core::Mesh, tag: u32);
     /// What hitting a limit means in this mode.
     fn limit(&self, kind: LimitKind, limits: &Limits) -> Stop;
 }
@@ -79,9 +85,36 @@ struct Frame {
 /// An open `mirror`, `split` or `repeat`.
 #[derive(Clone, Copy)]
 enum Loop {
-    Mirror { axis: u8, second: bool, saved: usize },
-    Split { axis: u8, pieces: usize, index: f64, count: f64 },
-    Repeat { axis: u8, i: u32, n: u32, len: f64, size: f64, index: f64, count: f64 },
+    Mirror {
+        axis: u8,
+        second: bool,
+        saved: usize,
+    },
+    Split {
+        axis: u8,
+        pieces: usize,
+        index: f64,
+        count: f64,
+    },
+    Repeat {
+        axis: u8,
+        i: u32,
+        n: u32,
+        len: f64,
+        size: f64,
+        index: f64,
+        count: f64,
+    },
+    /// `comp(f)`: `n` faces from `faces` in [`Stacks::faces`]; the running
+    /// one is `pos`, the `k`-th of its arm.
+    Comp {
+        faces: usize,
+        n: u32,
+        pos: u32,
+        k: u32,
+        index: f64,
+        count: f64,
+    },
 }
 
 /// The interpreter's stacks. A run starts from empty stacks but keeps their
@@ -101,6 +134,12 @@ pub(crate) struct Stacks {
     loops: Vec<Loop>,
     pieces: Vec<(f64, f64)>,
     args: Vec<f64>,
+    /// Polygons and masses of polygon scopes (see `build`).
+    geoms: Vec<build::Geom>,
+    /// Their points.
+    pts: Vec<glam::DVec2>,
+    /// Faces of open `comp`s: arm and scope.
+    faces: Vec<(u32, ScopeState)>,
 }
 
 impl Stacks {
@@ -114,6 +153,9 @@ impl Stacks {
         self.loops.clear();
         self.pieces.clear();
         self.args.clear();
+        self.geoms.clear();
+        self.pts.clear();
+        self.faces.clear();
     }
 
     /// Bytes held by the stacks' buffers.
@@ -126,6 +168,9 @@ impl Stacks {
             + (self.counters.capacity() + self.saved_counters.capacity()) * size_of::<u32>()
             + self.loops.capacity() * size_of::<Loop>()
             + self.pieces.capacity() * size_of::<(f64, f64)>()
+            + self.geoms.capacity() * size_of::<build::Geom>()
+            + self.pts.capacity() * size_of::<glam::DVec2>()
+            + self.faces.capacity() * size_of::<(u32, ScopeState)>()
     }
 }
 
@@ -319,10 +364,22 @@ impl<'g, M: Mode> Interp<'g, M> {
                 if let Some(&Loop::Split { axis, pieces, .. }) = self.st.loops.last() {
                     let (centre, len) = self.st.pieces[pieces + k as usize];
                     self.st.scopes.push(self.cur);
+                    let parent = self.cur.size[axis as usize];
                     self.cur.piece(axis, centre, len);
+                    if self.cur.geom != crate::scope::NO_GEOM {
+                        self.cut_geom(axis, centre, len, parent)?;
+                    }
                     self.st.env[self.top.env + ENV_INDEX] = k as f64;
                 }
             }
+            Op::Lot { args, n, span } => self.lot(rule, args, n, span)?,
+            Op::Extrude(e) => self.extrude(rule, e)?,
+            Op::Shape(_) => self.shape(rule)?,
+            Op::Roof { kind, args, span } => self.roof(rule, kind, args, span)?,
+            Op::CompBegin { first, n, span } => self.comp_begin(rule, first, n, span)?,
+            Op::CompArm { arm, end } => self.comp_arm(arm, end),
+            Op::CompNext { arm, body } => self.comp_next(arm, body),
+            Op::CompEnd => self.comp_end(),
             Op::SplitEnd => {
                 if let Some(Loop::Split { pieces, index, count, .. }) = self.st.loops.pop() {
                     self.st.pieces.truncate(pieces);
@@ -338,9 +395,9 @@ impl<'g, M: Mode> Interp<'g, M> {
                 let n = if t > 0.0 && ratio.is_finite() { ratio.round().clamp(1.0, u32::MAX as f64) as u32 } else { 1 };
                 let len = size / n as f64;
                 self.st.loops.push(Loop::Repeat { axis, i: 0, n, len, size, index, count });
-                self.enter_tile(axis, 0, n, len, size);
+                self.enter_tile(axis, 0, n, len, size)?;
             }
-            Op::RepeatNext(body) => self.repeat_next(body),
+            Op::RepeatNext(body) => self.repeat_next(body)?,
         }
         Ok(())
     }
@@ -377,22 +434,43 @@ impl<'g, M: Mode> Interp<'g, M> {
         let base = self.top.env;
         let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
         let at = self.st.pieces.len();
+        let pieces = &rule.pieces[first as usize..(first + n) as usize];
+        // Floating sizes stretch to fill the scope unless relative pieces
+        // take the rest; then they are absolute.
+        let any_rel = pieces.iter().any(|p| p.1 == SizeKind::Relative);
         let mut absolute = 0.0;
         let mut weights = 0.0;
+        let mut floating = 0.0;
         for k in 0..n {
-            let (e, rel) = rule.pieces[(first + k) as usize];
+            let (e, kind) = rule.pieces[(first + k) as usize];
             let v = self.num(rule, e, "a split size")?.max(0.0);
-            if rel {
-                weights += v;
-            } else {
-                absolute += v;
-            }
-            self.st.pieces.push((v, if rel { 1.0 } else { 0.0 }));
+            let tag = match kind {
+                SizeKind::Relative => {
+                    weights += v;
+                    1.0
+                }
+                SizeKind::Floating if !any_rel => {
+                    floating += v;
+                    2.0
+                }
+                _ => {
+                    absolute += v;
+                    0.0
+                }
+            };
+            self.st.pieces.push((v, tag));
         }
         let rest = (total - absolute).max(0.0);
+        let stretch = if floating > 0.0 { rest / floating } else { 0.0 };
         let mut pos = -0.5 * total;
         for p in &mut self.st.pieces[at..] {
-            let len = if p.1 == 1.0 { if weights > 0.0 { rest * p.0 / weights } else { 0.0 } } else { p.0 };
+            let len = if p.1 == 1.0 {
+                if weights > 0.0 { rest * p.0 / weights } else { 0.0 }
+            } else if p.1 == 2.0 {
+                p.0 * stretch
+            } else {
+                p.0
+            };
             *p = (pos + 0.5 * len, len);
             pos += len;
         }
@@ -402,7 +480,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     }
 
     /// Leaves the tile; enters the next one (jumping to `body`) or ends.
-    fn repeat_next(&mut self, body: u32) {
+    fn repeat_next(&mut self, body: u32) -> Result<(), Stop> {
         if let Some(s) = self.st.scopes.pop() {
             self.cur = s;
         }
@@ -410,13 +488,14 @@ impl<'g, M: Mode> Interp<'g, M> {
             *i += 1;
             let (axis, i, n, len, size, index, count) = (*axis, *i, *n, *len, *size, *index, *count);
             if i < n {
-                self.enter_tile(axis, i, n, len, size);
+                self.enter_tile(axis, i, n, len, size)?;
                 self.top.pc = body as usize;
             } else {
                 self.st.loops.pop();
                 self.restore_index(index, count);
             }
         }
+        Ok(())
     }
 
     #[cold]
@@ -426,13 +505,17 @@ impl<'g, M: Mode> Interp<'g, M> {
         ExpressError::Eval(format!("{loc}: rule `{sym}`: {what} is not a finite number")).into()
     }
 
-    fn enter_tile(&mut self, axis: u8, i: u32, n: u32, len: f64, size: f64) {
+    fn enter_tile(&mut self, axis: u8, i: u32, n: u32, len: f64, size: f64) -> Result<(), Stop> {
         self.st.scopes.push(self.cur);
         let centre = -0.5 * size + (i as f64 + 0.5) * len;
         self.cur.piece(axis, centre, len);
+        if self.cur.geom != crate::scope::NO_GEOM {
+            self.cut_geom(axis, centre, len, size)?;
+        }
         let base = self.top.env;
         self.st.env[base + ENV_INDEX] = i as f64;
         self.st.env[base + ENV_COUNT] = n as f64;
+        Ok(())
     }
 
     fn restore_index(&mut self, index: f64, count: f64) {

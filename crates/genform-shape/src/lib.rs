@@ -25,6 +25,7 @@ mod compile;
 mod express;
 mod fast_expr;
 mod genome_check;
+mod geom;
 mod interp;
 mod lexer;
 mod parser;
@@ -110,3 +111,5 @@ pub fn compile(file: &SourceFile, assets: &dyn AssetResolver) -> Result<(ShapeGr
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_building;

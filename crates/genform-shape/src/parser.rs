@@ -7,6 +7,7 @@
 
 use crate::ast::*;
 use crate::lexer::{Lexer, Tok, Token};
+use crate::program::face_selector;
 use genform_core::expr::parse_prefix;
 use genform_core::{Diagnostic, Span};
 
@@ -486,12 +487,15 @@ impl<'a> Parser<'a> {
                 self.expect(Tok::LParen, "after `repeat`")?;
                 let axis = self.axis("in `repeat`")?;
                 self.expect(Tok::Comma, "after the repeat axis")?;
+                // `~2` reads as CGA's floating tile; repeat tiles always float.
+                self.eat(&Tok::Other('~'));
                 let tile = self.expr()?;
                 self.expect(Tok::RParen, "after the tile size")?;
                 let body = self.nested_block()?;
                 Ok(Stmt::Repeat { axis, tile, body })
             }
             "split" => self.split(),
+            "comp" => self.comp(),
             _ => {
                 let (target, args) = self.call("as a statement")?;
                 self.expect(Tok::Semi, "after the statement")?;
@@ -566,12 +570,13 @@ impl<'a> Parser<'a> {
         self.expect(Tok::LBrace, "to start the pieces of `split`")?;
         let mut pieces = Vec::new();
         loop {
+            let floating = self.eat(&Tok::Other('~'));
             let size = self.expr()?;
-            let relative = self.is_word("r");
+            let relative = !floating && self.is_word("r");
             if relative {
                 self.bump();
             }
-            self.expect(Tok::Colon, "after the size of a split piece (`2: A` or `1r: A`)")?;
+            self.expect(Tok::Colon, "after the size of a split piece (`2: A`, `1r: A` or `~2: A`)")?;
             let body = if self.is(&Tok::LBrace) {
                 self.nested_block()?
             } else {
@@ -580,13 +585,92 @@ impl<'a> Parser<'a> {
                 self.eat(&Tok::Semi);
                 vec![Stmt::Call { target, args }]
             };
-            pieces.push(Piece { size, relative, body });
+            pieces.push(Piece { size, relative, floating, body });
             if !self.eat(&Tok::Pipe) {
                 break;
             }
         }
         self.expect(Tok::RBrace, "to close `split` (pieces are separated by `|`)")?;
         Ok(Stmt::Split { axis, pieces })
+    }
+
+    /// `comp(f) { front: A | side | top: { ... } | ... }`.
+    fn comp(&mut self) -> PResult<Stmt> {
+        let span = self.bump().span;
+        self.expect(Tok::LParen, "after `comp`")?;
+        match &self.tok.kind {
+            Tok::Ident(s) if s == "f" => {
+                self.bump();
+            }
+            _ => {
+                let d = Diagnostic::error(
+                    self.tok.span,
+                    format!("expected `f` (faces) in `comp`, found {}", self.tok.kind.describe()),
+                )
+                .with_hint("only `comp(f)` is built: the faces of a mass; edges and vertices are not");
+                return Err(self.error(d));
+            }
+        }
+        self.expect(Tok::RParen, "after `comp(f`")?;
+        self.expect(Tok::LBrace, "to start the arms of `comp`")?;
+        let mut arms = Vec::new();
+        if self.comp_arms(&mut arms).is_err() {
+            // The error is recorded: skip the rest of the arms, up to and
+            // including the `}` that closes them, and go on after `comp`.
+            let mut depth = 0usize;
+            loop {
+                match self.tok.kind {
+                    Tok::Eof => break,
+                    Tok::LBrace => depth += 1,
+                    Tok::RBrace if depth == 0 => {
+                        self.bump();
+                        break;
+                    }
+                    Tok::RBrace => depth -= 1,
+                    _ => {}
+                }
+                self.bump();
+            }
+            return Ok(Stmt::Comp { span, arms });
+        }
+        self.expect(Tok::RBrace, "to close `comp` (arms are separated by `|`)")?;
+        Ok(Stmt::Comp { span, arms })
+    }
+
+    /// The arms of `comp(f) { … }`, up to (not including) the closing `}`.
+    fn comp_arms(&mut self, arms: &mut Vec<CompArm>) -> PResult<()> {
+        loop {
+            let mut mask = 0u8;
+            loop {
+                let (sel, sspan) = self.ident("a face selector", "in `comp`")?;
+                match face_selector(&sel) {
+                    Some(m) => mask |= m,
+                    None => {
+                        let d = Diagnostic::error(sspan, format!("unknown face selector `{sel}`")).with_hint(
+                            "selectors are front, back, left, right, top, bottom, side, vertical, horizontal, all",
+                        );
+                        return Err(self.error(d));
+                    }
+                }
+                // `side | top: A` would be ambiguous with the arm separator,
+                // so several selectors are joined with `,`.
+                if !self.eat(&Tok::Comma) {
+                    break;
+                }
+            }
+            self.expect(Tok::Colon, "after the face selector of a `comp` arm (`front: A`)")?;
+            let body = if self.is(&Tok::LBrace) {
+                self.nested_block()?
+            } else {
+                let (target, args) = self.call("as a comp arm")?;
+                self.eat(&Tok::Semi);
+                vec![Stmt::Call { target, args }]
+            };
+            arms.push(CompArm { mask, body });
+            if !self.eat(&Tok::Pipe) {
+                return Ok(());
+            }
+        }
     }
 
     fn param(&mut self) -> PResult<ParamDecl> {

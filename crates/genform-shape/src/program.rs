@@ -48,6 +48,41 @@ pub(crate) enum Prim {
     Mesh(u32),
 }
 
+/// Face classes of `comp(f)`, by the face's outward normal in the scope.
+pub(crate) const FACE_FRONT: u8 = 1;
+pub(crate) const FACE_BACK: u8 = 2;
+pub(crate) const FACE_LEFT: u8 = 4;
+pub(crate) const FACE_RIGHT: u8 = 8;
+pub(crate) const FACE_TOP: u8 = 16;
+pub(crate) const FACE_BOTTOM: u8 = 32;
+
+/// The face classes a `comp(f)` selector names.
+pub(crate) fn face_selector(name: &str) -> Option<u8> {
+    let side = FACE_FRONT | FACE_BACK | FACE_LEFT | FACE_RIGHT;
+    Some(match name {
+        "front" => FACE_FRONT,
+        "back" => FACE_BACK,
+        "left" => FACE_LEFT,
+        "right" => FACE_RIGHT,
+        "top" => FACE_TOP,
+        "bottom" => FACE_BOTTOM,
+        "side" | "vertical" => side,
+        "horizontal" => FACE_TOP | FACE_BOTTOM,
+        "all" => side | FACE_TOP | FACE_BOTTOM,
+        _ => return None,
+    })
+}
+
+/// A split piece's kind of size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SizeKind {
+    Absolute,
+    /// `1r`: a weight of what the absolute sizes leave.
+    Relative,
+    /// `~2`: stretched with the other floating sizes to fill the scope.
+    Floating,
+}
+
 /// One operation. Expression operands are indices into [`RuleCode::exprs`];
 /// vector operands use three consecutive expressions.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,6 +126,42 @@ pub(crate) enum Op {
     },
     /// Saves the scope and enters piece `k` (its body ends with `Pop`).
     Piece(u32),
+    /// `lot(w, d)` (`n` = 2) or `lot(x0, z0, x1, z1, …)`: `n` consecutive
+    /// expressions from `args`; `span` indexes [`RuleCode::spans`].
+    Lot {
+        args: u32,
+        n: u32,
+        span: u32,
+    },
+    /// `extrude(h)`: polygon scope → mass.
+    Extrude(u32),
+    /// `shape;`: emits the scope's geometry (`span` for errors).
+    Shape(u32),
+    /// `roof_*(angle, overhang)`: angle and overhang at `args`, `args + 1`.
+    Roof {
+        kind: u8,
+        args: u32,
+        span: u32,
+    },
+    /// Computes the faces of the mass and the arm of each, from the arm
+    /// masks `comps[first..first + n]`.
+    CompBegin {
+        first: u32,
+        n: u32,
+        span: u32,
+    },
+    /// Enters the first face of arm `arm`, or jumps to `end` when it has none.
+    CompArm {
+        arm: u32,
+        end: u32,
+    },
+    /// Leaves the face; enters the next face of `arm` (jumping to `body`)
+    /// or goes on.
+    CompNext {
+        arm: u32,
+        body: u32,
+    },
+    CompEnd,
     SplitEnd,
     /// Computes the tile count and enters the first tile.
     RepeatBegin {
@@ -123,8 +194,12 @@ pub(crate) struct RuleCode {
     pub fast: Vec<Fast>,
     /// Jump tables of `alt`s.
     pub tables: Vec<Vec<u32>>,
-    /// `(size expression, relative)` of split pieces.
-    pub pieces: Vec<(u32, bool)>,
+    /// `(size expression, kind)` of split pieces.
+    pub pieces: Vec<(u32, SizeKind)>,
+    /// Face-class masks of `comp` arms.
+    pub comps: Vec<u8>,
+    /// Where operations that can fail at run time are written.
+    pub spans: Vec<Span>,
     /// Initial env: built-ins, constants and the template index filled in.
     pub env_init: Vec<f64>,
     /// Env index of the first inherited argument.

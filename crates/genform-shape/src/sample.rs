@@ -85,6 +85,10 @@ impl Mode for SampleMode<'_> {
 
     fn emit(&mut self, _: &ShapeGrammar, _: Affine3A, _: Primitive, _: u32) {}
 
+    fn emit_polygon(&mut self, _: &ShapeGrammar, _: Vec<glam::Vec3>, _: u32) {}
+
+    fn emit_mesh(&mut self, _: &ShapeGrammar, _: Affine3A, _: genform_core::Mesh, _: u32) {}
+
     fn limit(&self, kind: LimitKind, _: &Limits) -> Stop {
         Stop::Truncate(kind)
     }

@@ -13,9 +13,15 @@ pub(crate) struct ScopeState {
     pub frame: DAffine3,
     pub size: DVec3,
     pub tag: u32,
+    /// The scope's polygon or mass in the interpreter's geometry arena, or
+    /// [`NO_GEOM`] for a plain box scope.
+    pub geom: u32,
 }
 
-fn axis_vec(axis: u8) -> DVec3 {
+/// `ScopeState::geom` of a plain box scope.
+pub(crate) const NO_GEOM: u32 = u32::MAX;
+
+pub(crate) fn axis_vec(axis: u8) -> DVec3 {
     match axis {
         0 => DVec3::X,
         1 => DVec3::Y,
@@ -25,7 +31,7 @@ fn axis_vec(axis: u8) -> DVec3 {
 
 impl ScopeState {
     /// The unit scope at the origin (the axiom's scope).
-    pub const UNIT: ScopeState = ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tag: 0 };
+    pub const UNIT: ScopeState = ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tag: 0, geom: NO_GEOM };
 
     /// Moves in the local frame (rotation only; size is not applied).
     #[inline]
@@ -55,6 +61,11 @@ impl ScopeState {
     pub fn piece(&mut self, axis: u8, centre: f64, len: f64) {
         self.translate(axis_vec(axis) * centre);
         self.size[axis as usize] = len;
+    }
+
+    /// Scope-local coordinates (sizes not applied) → world: the frame.
+    pub fn frame_transform(&self) -> Affine3A {
+        self.frame.as_affine3a()
     }
 
     /// Unit primitive → world: frame × diag(size).

@@ -7,8 +7,17 @@ use genform_core::{Generator, Genome, Mesh, Primitive, Rng, Scene, SourceFile};
 use genform_shape::{AssetResolver, ShapeGrammar};
 use std::collections::HashMap;
 
-const EXAMPLES: &[&str] =
-    &["spaceship", "spaceship_ritchie", "tree_v1", "tree_v2", "tree_two_branch", "city_grid", "city_filling"];
+const EXAMPLES: &[&str] = &[
+    "spaceship",
+    "spaceship_ritchie",
+    "tree_v1",
+    "tree_v2",
+    "tree_two_branch",
+    "city_grid",
+    "city_filling",
+    "row_house",
+    "setback_tower",
+];
 
 /// Loads assets from `examples/shape/`, as the CLI does next to the grammar.
 struct ExampleAssets;

@@ -295,6 +295,11 @@ impl SymbolCx<'_> {
                 Stmt::Mirror { body, .. } | Stmt::Repeat { body, .. } | Stmt::Scoped(body) => {
                     self.prepass(body, false);
                 }
+                Stmt::Comp { arms, .. } => {
+                    for a in arms {
+                        self.prepass(&a.body, false);
+                    }
+                }
                 Stmt::Split { pieces, .. } => {
                     for p in pieces {
                         self.prepass(&p.body, false);

@@ -30,9 +30,17 @@ pub(crate) const OPS: &[&str] = &[
     "frustum",
     "taper_box",
     "mesh",
+    "lot",
+    "extrude",
+    "shape",
+    "roof_gable",
+    "roof_hip",
+    "roof_pyramid",
+    "roof_shed",
 ];
 /// Statement keywords.
-pub(crate) const KEYWORDS: &[&str] = &["param", "slot", "let", "if", "else", "alt", "mirror", "split", "repeat"];
+pub(crate) const KEYWORDS: &[&str] =
+    &["param", "slot", "let", "if", "else", "alt", "mirror", "split", "repeat", "comp"];
 /// Names that the expression language already gives a value.
 const EXPR_CONSTANTS: &[&str] = &["pi", "PI", "tau", "e", "true", "false"];
 /// Distributions a `param` may use.
@@ -223,7 +231,9 @@ pub(crate) struct SymbolCx<'a> {
     code: Vec<Op>,
     exprs: Vec<Expr>,
     tables: Vec<Vec<u32>>,
-    pieces: Vec<(u32, bool)>,
+    pieces: Vec<(u32, SizeKind)>,
+    comps: Vec<u8>,
+    spans: Vec<Span>,
     emits: bool,
 }
 
@@ -252,6 +262,8 @@ impl<'a> SymbolCx<'a> {
             exprs: Vec::new(),
             tables: Vec::new(),
             pieces: Vec::new(),
+            comps: Vec::new(),
+            spans: Vec::new(),
             emits: false,
         }
     }
@@ -364,6 +376,8 @@ impl<'a> SymbolCx<'a> {
             exprs: self.exprs,
             tables: self.tables,
             pieces: self.pieces,
+            comps: self.comps,
+            spans: self.spans,
             env_init: self.env_init,
             arg_base,
             n_args,
@@ -431,6 +445,12 @@ impl<'a> SymbolCx<'a> {
         self.lets.truncate(saved);
     }
 
+    /// Records where a fallible operation is written.
+    fn span_index(&mut self, span: Span) -> u32 {
+        self.spans.push(span);
+        (self.spans.len() - 1) as u32
+    }
+
     fn here(&self) -> u32 {
         self.code.len() as u32
     }
@@ -491,7 +511,12 @@ impl<'a> SymbolCx<'a> {
                 let first = self.pieces.len() as u32;
                 for p in pieces {
                     let e = self.expr(&p.size);
-                    self.pieces.push((e, p.relative));
+                    let kind = match (p.relative, p.floating) {
+                        (true, _) => SizeKind::Relative,
+                        (_, true) => SizeKind::Floating,
+                        _ => SizeKind::Absolute,
+                    };
+                    self.pieces.push((e, kind));
                 }
                 self.code.push(Op::SplitBegin { axis: axis.index() as u8, first, n: pieces.len() as u32 });
                 for (k, p) in pieces.iter().enumerate() {
@@ -507,6 +532,21 @@ impl<'a> SymbolCx<'a> {
                 let start = self.here();
                 self.stmts(body);
                 self.code.push(Op::RepeatNext(start));
+            }
+            Stmt::Comp { span, arms } => {
+                let first = self.comps.len() as u32;
+                self.comps.extend(arms.iter().map(|a| a.mask));
+                let at = self.span_index(*span);
+                self.code.push(Op::CompBegin { first, n: arms.len() as u32, span: at });
+                for (k, arm) in arms.iter().enumerate() {
+                    let j = self.code.len();
+                    self.code.push(Op::CompArm { arm: k as u32, end: 0 });
+                    let body = self.here();
+                    self.stmts(&arm.body);
+                    self.code.push(Op::CompNext { arm: k as u32, body });
+                    self.code[j] = Op::CompArm { arm: k as u32, end: self.here() };
+                }
+                self.code.push(Op::CompEnd);
             }
             Stmt::Scoped(body) => {
                 self.code.push(Op::Push);

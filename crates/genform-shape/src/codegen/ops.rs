@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// Most corners of a `lot` outline (its simplicity check is quadratic).
+const MAX_LOT_CORNERS: usize = 1024;
+
 impl SymbolCx<'_> {
     /// The single bare-name argument, if that is what `args` is.
     fn bare(args: &[Arg]) -> Option<&str> {
@@ -143,6 +146,62 @@ impl SymbolCx<'_> {
                 let Some(e) = self.expr_args(name, args) else { return };
                 self.emits = true;
                 self.code.push(Op::Emit(if name == "frustum" { Prim::Frustum(e[0]) } else { Prim::Taper(e[0]) }));
+            }
+            "lot" => {
+                let n = args.len();
+                if n != 2 && (n < 6 || !n.is_multiple_of(2)) {
+                    self.arity(name, span, "lot(width, depth)` or `lot(x0, z0, x1, z1, x2, z2, …)", n);
+                    return;
+                }
+                if n > 2 * MAX_LOT_CORNERS {
+                    let d = Diagnostic::error(
+                        span,
+                        format!("a `lot` has at most {MAX_LOT_CORNERS} corners, found {}", n / 2),
+                    )
+                    .with_hint("split a large footprint into several lots");
+                    self.errors.push(d);
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                let at = self.span_index(span);
+                self.code.push(Op::Lot { args: e[0], n: n as u32, span: at });
+            }
+            "extrude" => {
+                if args.len() != 1 {
+                    self.arity(name, span, "extrude(height)", args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                self.code.push(Op::Extrude(e[0]));
+            }
+            "shape" => {
+                if !args.is_empty() {
+                    self.arity(name, span, "shape;", args.len());
+                    return;
+                }
+                self.emits = true;
+                let at = self.span_index(span);
+                self.code.push(Op::Shape(at));
+            }
+            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" => {
+                if args.is_empty() || args.len() > 2 {
+                    self.arity(name, span, &format!("{name}(angle)` or `{name}(angle, overhang)"), args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                if e.len() == 1 {
+                    let zero = self.g.zero.clone();
+                    self.exprs.push(Expr::new(zero, Vec::new(), span));
+                }
+                self.emits = true;
+                let kind = match name {
+                    "roof_gable" => 0,
+                    "roof_hip" => 1,
+                    "roof_pyramid" => 2,
+                    _ => 3,
+                };
+                let at = self.span_index(span);
+                self.code.push(Op::Roof { kind, args: e[0], span: at });
             }
             "mesh" => {
                 let Some(m) = Self::bare(args).map(str::to_string) else {

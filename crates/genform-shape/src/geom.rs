@@ -1,0 +1,586 @@
+//! Planar polygons, prisms and roofs: the geometry of polygon and mass
+//! scopes (`lot`, `extrude`, `comp`, `roof_*`).
+//!
+//! Everything here is plain `f64` geometry with no grammar concepts, so it
+//! is tested on its own. Polygons are lists of points, counter-clockwise
+//! (positive signed area) unless a function says otherwise.
+
+use genform_core::scene::{Mesh, triangulate_polygon};
+use glam::{DVec2, DVec3, Vec3};
+
+/// Twice the signed area (positive when counter-clockwise).
+pub(crate) fn area2(p: &[DVec2]) -> f64 {
+    let n = p.len();
+    (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum()
+}
+
+/// The area centroid, or the vertex mean when the area is zero.
+pub(crate) fn centroid(p: &[DVec2]) -> DVec2 {
+    let n = p.len();
+    let a = area2(p);
+    if a == 0.0 || n < 3 {
+        return p.iter().copied().sum::<DVec2>() / n.max(1) as f64;
+    }
+    let mut c = DVec2::ZERO;
+    for i in 0..n {
+        let (u, v) = (p[i], p[(i + 1) % n]);
+        c += (u + v) * u.perp_dot(v);
+    }
+    c / (3.0 * a)
+}
+
+/// Lower and upper corners of the bounding box (`None` when empty).
+pub(crate) fn bbox(p: &[DVec2]) -> Option<(DVec2, DVec2)> {
+    let first = *p.first()?;
+    Some(p.iter().fold((first, first), |(lo, hi), q| (lo.min(*q), hi.max(*q))))
+}
+
+/// Whether segments `a–b` and `c–d` touch (closed segments).
+fn segments_touch(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+    let o = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
+    let on = |p: DVec2, q: DVec2, r: DVec2| r.cmpge(p.min(q)).all() && r.cmple(p.max(q)).all();
+    let (d1, d2, d3, d4) = (o(c, d, a), o(c, d, b), o(a, b, c), o(a, b, d));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0)) && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0)) {
+        return true;
+    }
+    (d1 == 0.0 && on(c, d, a)) || (d2 == 0.0 && on(c, d, b)) || (d3 == 0.0 && on(a, b, c)) || (d4 == 0.0 && on(a, b, d))
+}
+
+/// Whether the outline is a simple polygon: at least three corners, no
+/// repeated points, no two edges meeting except neighbours at their shared
+/// corner.
+pub(crate) fn is_simple(p: &[DVec2]) -> bool {
+    let n = p.len();
+    if n < 3 {
+        return false;
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            if p[i] == p[j] {
+                return false;
+            }
+            let adjacent = j == i + 1 || (i == 0 && j == n - 1);
+            if !adjacent && segments_touch(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// Whether a counter-clockwise polygon is convex (collinear corners allowed).
+pub(crate) fn is_convex(p: &[DVec2]) -> bool {
+    let n = p.len();
+    let scale = bbox(p).map_or(0.0, |(lo, hi)| (hi - lo).length_squared());
+    (0..n).all(|i| {
+        let (a, b, c) = (p[i], p[(i + 1) % n], p[(i + 2) % n]);
+        (b - a).perp_dot(c - b) >= -1e-12 * scale
+    })
+}
+
+/// Sutherland–Hodgman: the part of `p` where `n · x <= c`. Convex pieces
+/// stay convex; a concave polygon may come back with zero-width bridges,
+/// which keep its area right.
+pub(crate) fn clip(p: &[DVec2], n: DVec2, c: f64) -> Vec<DVec2> {
+    let mut out = Vec::with_capacity(p.len() + 2);
+    let len = p.len();
+    for i in 0..len {
+        let (a, b) = (p[i], p[(i + 1) % len]);
+        let (da, db) = (n.dot(a) - c, n.dot(b) - c);
+        if da <= 0.0 {
+            out.push(a);
+        }
+        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+            let t = da / (da - db);
+            out.push(a + (b - a) * t);
+        }
+    }
+    out
+}
+
+/// The part of `p` with `lo <= x[axis] <= hi`.
+pub(crate) fn clip_slab(p: &[DVec2], axis: usize, lo: f64, hi: f64) -> Vec<DVec2> {
+    let mut n = DVec2::ZERO;
+    n[axis] = 1.0;
+    let upper = clip(p, n, hi);
+    clip(&upper, -n, -lo)
+}
+
+/// A convex counter-clockwise polygon grown outwards by `d` (each edge
+/// moved out by `d`, neighbours' lines intersected). Collinear corners are
+/// dropped first.
+pub(crate) fn offset_convex(p: &[DVec2], d: f64) -> Vec<DVec2> {
+    if d == 0.0 {
+        return p.to_vec();
+    }
+    let n = p.len();
+    let q: Vec<DVec2> = (0..n)
+        .filter(|&i| {
+            let (a, b, c) = (p[(i + n - 1) % n], p[i], p[(i + 1) % n]);
+            (b - a).perp_dot(c - b) > 1e-12 * (b - a).length() * (c - b).length()
+        })
+        .map(|i| p[i])
+        .collect();
+    let m = q.len();
+    if m < 3 {
+        return p.to_vec();
+    }
+    // Edge i from q[i] to q[i+1], moved out along its right normal.
+    let line = |i: usize| {
+        let (a, b) = (q[i], q[(i + 1) % m]);
+        let dir = (b - a).normalize();
+        let out = DVec2::new(dir.y, -dir.x);
+        (a + out * d, dir)
+    };
+    (0..m)
+        .map(|i| {
+            let (p0, d0) = line((i + m - 1) % m);
+            let (p1, d1) = line(i);
+            let t = (p1 - p0).perp_dot(d1) / d0.perp_dot(d1);
+            p0 + d0 * t
+        })
+        .collect()
+}
+
+/// Converts an `f64` mesh to the Scene's `f32` mesh.
+fn to_mesh(name: &str, pos: &[DVec3], tris: Vec<[u32; 3]>) -> Mesh {
+    Mesh { name: name.to_string(), positions: pos.iter().map(|p| p.as_vec3()).collect(), triangles: tris }
+}
+
+/// The closed prism over a footprint in the unit scope: `foot` gives
+/// `(x, z)` points counter-clockwise seen from +y (above), bottom at
+/// y = −0.5, top at y = +0.5; triangles wind counter-clockwise seen from
+/// outside. A concave footprint is ear-clipped.
+pub(crate) fn prism_mesh(foot: &[DVec2]) -> Mesh {
+    let n = foot.len();
+    let mut pos: Vec<DVec3> = Vec::with_capacity(2 * n);
+    pos.extend(foot.iter().map(|p| DVec3::new(p.x, -0.5, p.y)));
+    pos.extend(foot.iter().map(|p| DVec3::new(p.x, 0.5, p.y)));
+    let top: Vec<Vec3> = pos[n..].iter().map(|p| p.as_vec3()).collect();
+    let mut tris = Vec::new();
+    for t in triangulate_polygon(&top) {
+        tris.push([t[0] + n as u32, t[1] + n as u32, t[2] + n as u32]);
+        tris.push([t[2], t[1], t[0]]);
+    }
+    for i in 0..n as u32 {
+        let j = (i + 1) % n as u32;
+        let n = n as u32;
+        tris.push([i, j, j + n]);
+        tris.push([i, j + n, i + n]);
+    }
+    to_mesh("mass", &pos, tris)
+}
+
+/// Most corners of a roof footprint.
+pub(crate) const MAX_ROOF_CORNERS: usize = 256;
+
+/// The four roof kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RoofKind {
+    /// Two slopes meeting at a ridge along the longer side of the bounding
+    /// box, vertical gable walls at the ends.
+    Gable,
+    /// One slope from every edge (the straight skeleton roof).
+    Hip,
+    /// Planes from every edge to one apex above the centroid.
+    Pyramid,
+    /// One slope rising towards +y.
+    Shed,
+}
+
+impl RoofKind {
+    /// The operation's name.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            RoofKind::Gable => "roof_gable",
+            RoofKind::Hip => "roof_hip",
+            RoofKind::Pyramid => "roof_pyramid",
+            RoofKind::Shed => "roof_shed",
+        }
+    }
+}
+
+/// A height plane `z = a·x + b·y + c`.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    g: DVec2,
+    c: f64,
+}
+
+impl Plane {
+    fn at(&self, p: DVec2) -> f64 {
+        self.g.dot(p) + self.c
+    }
+}
+
+/// The roof planes of `kind` over a convex counter-clockwise footprint.
+fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64) -> Vec<Plane> {
+    let n = p.len();
+    let (lo, hi) = bbox(p).unwrap_or_default();
+    // Inward unit normal of edge i and its base point.
+    let edge = |i: usize| {
+        let (a, b) = (p[i], p[(i + 1) % n]);
+        let d = (b - a).normalize_or_zero();
+        (DVec2::new(-d.y, d.x), a)
+    };
+    match kind {
+        RoofKind::Hip => (0..n)
+            .map(|i| {
+                let (m, a) = edge(i);
+                Plane { g: m * t, c: -t * m.dot(a) }
+            })
+            .filter(|pl| pl.g != DVec2::ZERO)
+            .collect(),
+        RoofKind::Pyramid => {
+            let c = centroid(p);
+            let r = (0..n)
+                .map(|i| {
+                    let (m, a) = edge(i);
+                    m.dot(c - a)
+                })
+                .fold(f64::INFINITY, f64::min);
+            let h = t * r;
+            (0..n)
+                .filter_map(|i| {
+                    let (m, a) = edge(i);
+                    let dist = m.dot(c - a);
+                    (dist > 0.0 && m != DVec2::ZERO).then(|| {
+                        let s = h / dist;
+                        Plane { g: m * s, c: -s * m.dot(a) }
+                    })
+                })
+                .collect()
+        }
+        RoofKind::Gable => {
+            let along_x = hi.x - lo.x >= hi.y - lo.y;
+            let k = if along_x { 1 } else { 0 };
+            let mut g = DVec2::ZERO;
+            g[k] = t;
+            vec![Plane { g, c: -t * lo[k] }, Plane { g: -g, c: t * hi[k] }]
+        }
+        RoofKind::Shed => vec![Plane { g: DVec2::new(0.0, t), c: -t * lo.y }],
+    }
+}
+
+/// Points welded within a tolerance.
+struct Weld {
+    pts: Vec<DVec2>,
+    eps: f64,
+}
+
+impl Weld {
+    fn id(&mut self, p: DVec2) -> usize {
+        if let Some(i) = self.pts.iter().position(|q| q.distance_squared(p) <= self.eps * self.eps) {
+            return i;
+        }
+        self.pts.push(p);
+        self.pts.len() - 1
+    }
+}
+
+/// The closed roof solid over a convex counter-clockwise footprint in the
+/// xy plane (heights along +z from the eaves at z = 0): the points under
+/// the lower envelope of the roof planes, after growing the footprint by
+/// `overhang`. `angle` is the slope in degrees. Triangles wind
+/// counter-clockwise seen from outside and share their corners exactly, so
+/// the mesh is closed (every edge used once each way).
+pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f64) -> Result<Mesh, String> {
+    let name = kind.name();
+    if !(angle > 0.0 && angle < 90.0) {
+        return Err(format!("`{name}`: the slope angle must lie strictly between 0 and 90 degrees, found {angle}"));
+    }
+    if !(overhang >= 0.0 && overhang.is_finite()) {
+        return Err(format!("`{name}`: the overhang must be a finite number ≥ 0, found {overhang}"));
+    }
+    if foot.len() < 3 || area2(foot) <= 0.0 {
+        return Ok(Mesh { name: "roof".into(), ..Mesh::default() });
+    }
+    if foot.len() > MAX_ROOF_CORNERS {
+        return Err(format!(
+            "`{name}`: a roof footprint has at most {MAX_ROOF_CORNERS} corners, found {} (building the roof is cubic in them)",
+            foot.len()
+        ));
+    }
+    if !is_convex(foot) {
+        return Err(format!(
+            "`{name}` needs a convex footprint: roofs on concave footprints need a straight skeleton, which genform \
+             does not build yet (split the footprint into convex parts)"
+        ));
+    }
+    let f = offset_convex(foot, overhang);
+    let planes = roof_planes(&f, kind, angle.to_radians().tan());
+    let (lo, hi) = bbox(&f).unwrap_or_default();
+    let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let eps = 1e-9 * scale;
+    let env = |p: DVec2| planes.iter().map(|pl| pl.at(p)).fold(f64::INFINITY, f64::min).max(0.0);
+    let mut weld = Weld { pts: Vec::new(), eps };
+    for q in &f {
+        weld.id(*q);
+    }
+    // Top regions: where each plane is the lowest.
+    let mut regions: Vec<(usize, Vec<usize>)> = Vec::new();
+    for (i, pi) in planes.iter().enumerate() {
+        let mut r = f.clone();
+        for (j, pj) in planes.iter().enumerate() {
+            if i == j || r.is_empty() {
+                continue;
+            }
+            let g = pi.g - pj.g;
+            if g.length() <= 1e-12 * (pi.g.length() + pj.g.length()) {
+                // Parallel planes: the lower one wins, ties to the first.
+                if pi.c > pj.c || (pi.c == pj.c && j < i) {
+                    r.clear();
+                }
+                continue;
+            }
+            r = clip(&r, g, pj.c - pi.c);
+        }
+        if r.len() >= 3 && area2(&r) > eps * scale {
+            let ids = r.iter().map(|q| weld.id(*q)).collect();
+            regions.push((i, ids));
+        }
+    }
+    let pts = weld.pts.clone();
+    // Points on segment a–b strictly between its ends, in order from a.
+    let between = |a: usize, b: usize| {
+        let (pa, pb) = (pts[a], pts[b]);
+        let d = pb - pa;
+        let l2 = d.length_squared();
+        let mut on: Vec<(f64, usize)> = (0..pts.len())
+            .filter(|&k| k != a && k != b)
+            .filter_map(|k| {
+                let s = (pts[k] - pa).dot(d) / l2;
+                let off = (pts[k] - pa).perp_dot(d).abs() / l2.sqrt();
+                (s > 0.0 && s < 1.0 && off <= eps).then_some((s, k))
+            })
+            .collect();
+        on.sort_by(|x, y| x.0.total_cmp(&y.0));
+        on.into_iter().map(|(_, k)| k)
+    };
+    // Vertices: bottom (z = 0) per welded point, top where the roof is
+    // above the eaves (else the bottom one).
+    let mut pos: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    let mut top: Vec<usize> = (0..pts.len()).collect();
+    for (k, p) in pts.iter().enumerate() {
+        let h = env(*p);
+        if h > eps {
+            top[k] = pos.len();
+            pos.push(DVec3::new(p.x, p.y, h));
+        }
+    }
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let fan = |pos: &mut Vec<DVec3>, ring: &[usize], centre: DVec3, flip: bool, tris: &mut Vec<[u32; 3]>| {
+        let c = pos.len() as u32;
+        pos.push(centre);
+        for k in 0..ring.len() {
+            let (a, b) = (ring[k] as u32, ring[(k + 1) % ring.len()] as u32);
+            tris.push(if flip { [c, b, a] } else { [c, a, b] });
+        }
+    };
+    // The bottom ring: footprint corners with every point on its edges.
+    let corners: Vec<usize> = f.iter().map(|q| weld.id(*q)).collect();
+    let mut ring = Vec::new();
+    for k in 0..corners.len() {
+        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
+        if a == b {
+            continue;
+        }
+        ring.push(a);
+        ring.extend(between(a, b));
+    }
+    let cf = centroid(&f);
+    fan(&mut pos, &ring, DVec3::new(cf.x, cf.y, 0.0), true, &mut tris);
+    // Walls: between the bottom ring and the roof along each edge.
+    for k in 0..ring.len() {
+        let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+        let (ta, tb) = (top[a], top[b]);
+        if tb != b {
+            tris.push([a as u32, b as u32, tb as u32]);
+        }
+        if ta != a {
+            tris.push([a as u32, tb as u32, ta as u32]);
+        }
+    }
+    // Roof faces, each with every point on its edges.
+    for (i, ids) in &regions {
+        let mut r: Vec<usize> = Vec::new();
+        for k in 0..ids.len() {
+            let (a, b) = (ids[k], ids[(k + 1) % ids.len()]);
+            if a == b {
+                continue;
+            }
+            r.push(a);
+            r.extend(between(a, b));
+        }
+        r.dedup();
+        if r.len() < 3 {
+            continue;
+        }
+        let c2 = centroid(&r.iter().map(|&k| pts[k]).collect::<Vec<_>>());
+        let ring: Vec<usize> = r.iter().map(|&k| top[k]).collect();
+        fan(&mut pos, &ring, DVec3::new(c2.x, c2.y, planes[*i].at(c2).max(0.0)), false, &mut tris);
+    }
+    Ok(to_mesh("roof", &pos, tris))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(w: f64, d: f64) -> Vec<DVec2> {
+        vec![
+            DVec2::new(-w / 2.0, -d / 2.0),
+            DVec2::new(w / 2.0, -d / 2.0),
+            DVec2::new(w / 2.0, d / 2.0),
+            DVec2::new(-w / 2.0, d / 2.0),
+        ]
+    }
+
+    /// Every directed edge is used once and its reverse once: closed and
+    /// consistently oriented.
+    pub(crate) fn is_closed(m: &Mesh) -> bool {
+        let mut edges = std::collections::HashMap::<(u32, u32), i32>::new();
+        for t in &m.triangles {
+            for k in 0..3 {
+                *edges.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+            }
+        }
+        edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+    }
+
+    /// Signed volume by the divergence theorem (positive when outward).
+    pub(crate) fn volume(m: &Mesh) -> f64 {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize].as_dvec3());
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
+    fn max_z(m: &Mesh) -> f32 {
+        m.positions.iter().map(|p| p.z).fold(0.0, f32::max)
+    }
+
+    #[test]
+    fn polygon_measures() {
+        let r = rect(4.0, 2.0);
+        assert_eq!(area2(&r), 16.0);
+        assert_eq!(centroid(&r), DVec2::ZERO);
+        assert!(is_simple(&r) && is_convex(&r));
+        let bow = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)];
+        assert!(!is_simple(&bow));
+        let l = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        assert!(is_simple(&l) && !is_convex(&l));
+        assert_eq!(area2(&l), 6.0);
+    }
+
+    #[test]
+    fn slab_clips_keep_area() {
+        let l = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        let parts: f64 =
+            [(0.0, 0.5), (0.5, 1.5), (1.5, 2.0)].iter().map(|&(a, b)| area2(&clip_slab(&l, 0, a, b))).sum();
+        assert!((parts - 6.0).abs() < 1e-12, "{parts}");
+        assert!(clip_slab(&l, 1, 3.0, 4.0).is_empty());
+    }
+
+    #[test]
+    fn offset_grows_rectangles_exactly() {
+        let o = offset_convex(&rect(4.0, 2.0), 0.5);
+        assert!((area2(&o) / 2.0 - 5.0 * 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn prism_is_closed_with_unit_volume_share() {
+        let m =
+            prism_mesh(&[DVec2::new(-0.5, 0.5), DVec2::new(0.5, 0.5), DVec2::new(0.5, -0.5), DVec2::new(-0.5, -0.5)]);
+        assert!(is_closed(&m));
+        assert!((volume(&m) - 1.0).abs() < 1e-6, "{}", volume(&m));
+        assert_eq!(m.triangles.len(), 12);
+    }
+
+    #[test]
+    fn gable_on_a_rectangle() {
+        // 10 × 6, 45°: ridge along x at height 3, volume = 10 · 6 · 3 / 2.
+        let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Gable, 45.0, 0.0).unwrap();
+        assert!(is_closed(&m));
+        assert!((max_z(&m) - 3.0).abs() < 1e-5);
+        assert!((volume(&m) - 90.0).abs() < 1e-3, "{}", volume(&m));
+        // With an overhang of 1 the footprint is 12 × 8: ridge 4.
+        let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Gable, 45.0, 1.0).unwrap();
+        assert!(is_closed(&m));
+        assert!((max_z(&m) - 4.0).abs() < 1e-5);
+        assert!((volume(&m) - 12.0 * 8.0 * 4.0 / 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn hip_on_a_rectangle() {
+        // 10 × 6, 45°: height 3; volume = prism of the ridge part minus the
+        // two hip pyramids' complements: W²/4·tan·(L − W/3) = 9·(10 − 2) = 72.
+        let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Hip, 45.0, 0.0).unwrap();
+        assert!(is_closed(&m));
+        assert!((max_z(&m) - 3.0).abs() < 1e-5);
+        assert!((volume(&m) - 72.0).abs() < 1e-3, "{}", volume(&m));
+    }
+
+    #[test]
+    fn pyramid_and_shed_on_a_square() {
+        let m = roof_mesh(&rect(6.0, 6.0), RoofKind::Pyramid, 45.0, 0.0).unwrap();
+        assert!(is_closed(&m));
+        assert!((max_z(&m) - 3.0).abs() < 1e-5);
+        assert!((volume(&m) - 36.0 * 3.0 / 3.0).abs() < 1e-3);
+        let m = roof_mesh(&rect(6.0, 4.0), RoofKind::Shed, 45.0, 0.0).unwrap();
+        assert!(is_closed(&m));
+        assert!((max_z(&m) - 4.0).abs() < 1e-5);
+        assert!((volume(&m) - 6.0 * 4.0 * 4.0 / 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn hip_on_a_convex_pentagon_is_closed() {
+        let p: Vec<DVec2> =
+            (0..5).map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / 5.0 + 0.3) * 4.0).collect();
+        for kind in [RoofKind::Hip, RoofKind::Pyramid, RoofKind::Gable, RoofKind::Shed] {
+            let m = roof_mesh(&p, kind, 30.0, 0.25).unwrap();
+            assert!(is_closed(&m), "{kind:?}");
+            assert!(volume(&m) > 0.0, "{kind:?}");
+        }
+        // A regular polygon's hip roof is its pyramid.
+        let hip = roof_mesh(&p, RoofKind::Hip, 30.0, 0.0).unwrap();
+        let pyr = roof_mesh(&p, RoofKind::Pyramid, 30.0, 0.0).unwrap();
+        assert!((volume(&hip) - volume(&pyr)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn hostile_roofs_are_errors_or_empty() {
+        let l = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ];
+        assert!(roof_mesh(&l, RoofKind::Hip, 30.0, 0.0).unwrap_err().contains("straight skeleton"));
+        assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 90.0, 0.0).is_err());
+        assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, f64::NAN, 0.0).is_err());
+        assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 30.0, -1.0).is_err());
+        assert!(roof_mesh(&[], RoofKind::Hip, 30.0, 0.0).unwrap().triangles.is_empty());
+        let many: Vec<DVec2> = (0..300).map(|k| DVec2::from_angle(k as f64 * std::f64::consts::TAU / 300.0)).collect();
+        assert!(roof_mesh(&many, RoofKind::Hip, 30.0, 0.0).unwrap_err().contains("at most 256 corners"));
+    }
+}

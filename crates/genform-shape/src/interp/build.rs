@@ -1,0 +1,389 @@
+//! Polygon and mass scopes in the interpreter: `lot`, `extrude`, `comp(f)`,
+//! `shape`, the roofs, and how `split` and `repeat` cut their geometry.
+//!
+//! A scope's geometry lives in the run's arena ([`Stacks::geoms`] and
+//! [`Stacks::pts`]) in *unit* coordinates, like the built-in primitives: the
+//! scope's frame × diag(size) places it, so `size`, `scale`, `rotate` and
+//! `mirror` move and stretch it with the scope. A polygon lies in the
+//! scope's xy plane (unit points `(x, y)`, z = 0), counter-clockwise seen
+//! from +z, which is its outward side. A mass is the prism over a footprint
+//! in the xz plane (unit points `(x, z)`, counter-clockwise seen from +y)
+//! from y = −0.5 to +0.5.
+
+use super::*;
+use crate::geom::{self, RoofKind};
+use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP};
+use crate::scope::NO_GEOM;
+use genform_core::scene::Mesh;
+use glam::{DAffine3, DMat3, DVec2};
+
+/// Points the geometry arena of one run may hold (32 MiB); a run that
+/// needs more stops like one that places too many primitives.
+const MAX_GEOM_POINTS: usize = 1 << 21;
+
+/// What a scope's geometry is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum GeomKind {
+    Polygon,
+    Mass,
+}
+
+/// A polygon or mass: `len` points from `start` in [`Stacks::pts`]. An
+/// empty one (fewer than 3 points) is what cutting can leave: it emits
+/// nothing.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Geom {
+    kind: GeomKind,
+    start: u32,
+    len: u32,
+}
+
+/// The unit square, counter-clockwise in a polygon's xy plane.
+const SQUARE: [DVec2; 4] = [DVec2::new(-0.5, -0.5), DVec2::new(0.5, -0.5), DVec2::new(0.5, 0.5), DVec2::new(-0.5, 0.5)];
+/// The unit square as a footprint (x, z), counter-clockwise seen from +y.
+const FOOT_SQUARE: [DVec2; 4] =
+    [DVec2::new(-0.5, 0.5), DVec2::new(0.5, 0.5), DVec2::new(0.5, -0.5), DVec2::new(-0.5, -0.5)];
+
+/// Whether unit points are the whole unit square (so a box says the same).
+fn is_unit_square(p: &[DVec2]) -> bool {
+    p.len() == 4
+        && FOOT_SQUARE.iter().all(|c| p.iter().any(|q| (*q - *c).abs().max_element() <= 1e-12))
+        && (geom::area2(p).abs() - 2.0).abs() <= 1e-9
+}
+
+impl<'g, M: Mode> Interp<'g, M> {
+    fn geom_of(&self, id: u32) -> Option<Geom> {
+        (id != NO_GEOM).then(|| self.st.geoms[id as usize])
+    }
+
+    fn points(&self, g: Geom) -> &[DVec2] {
+        &self.st.pts[g.start as usize..(g.start + g.len) as usize]
+    }
+
+    /// Adds geometry (unit points) to the arena.
+    fn add_geom(&mut self, kind: GeomKind, pts: &[DVec2]) -> Result<u32, Stop> {
+        if self.st.pts.len() + pts.len() > MAX_GEOM_POINTS {
+            return Err(self.mode.limit(LimitKind::Primitives, &self.limits));
+        }
+        let start = self.st.pts.len() as u32;
+        self.st.pts.extend_from_slice(pts);
+        self.st.geoms.push(Geom { kind, start, len: pts.len() as u32 });
+        Ok((self.st.geoms.len() - 1) as u32)
+    }
+
+    #[cold]
+    fn fail_at(&self, span: genform_core::Span, msg: String) -> Stop {
+        let sym = &self.g.graph.symbols[self.top.sym as usize].name;
+        let loc = self.g.file.location(span.start);
+        ExpressError::Eval(format!("{loc}: rule `{sym}`: {msg}")).into()
+    }
+
+    /// `lot(w, d)` or `lot(x0, z0, …)`: a polygon scope in the current
+    /// scope's xz plane through its centre (absolute units), its +z up
+    /// along the current +y, its x along the current x.
+    pub(super) fn lot(&mut self, rule: &'g RuleCode, args: u32, n: u32, span: u32) -> Result<(), Stop> {
+        let at = rule.spans[span as usize];
+        let mut v = Vec::with_capacity(n as usize);
+        for k in 0..n {
+            v.push(self.num(rule, args + k, "a lot size or coordinate")?);
+        }
+        let mut p: Vec<DVec2> = if n == 2 {
+            let (w, d) = (v[0], v[1]);
+            if !(w > 0.0 && d > 0.0) {
+                return Err(self.fail_at(at, format!("`lot` needs a positive width and depth, found {w} and {d}")));
+            }
+            SQUARE.iter().map(|c| *c * DVec2::new(w, d)).collect()
+        } else {
+            // Written as (x, z); the polygon's y runs along −z.
+            v.chunks(2).map(|c| DVec2::new(c[0], -c[1])).collect()
+        };
+        if !geom::is_simple(&p) || geom::area2(&p) == 0.0 {
+            return Err(
+                self.fail_at(at, "the lot's outline crosses itself, repeats a corner or has no area".to_string())
+            );
+        }
+        if geom::area2(&p) < 0.0 {
+            p.reverse();
+        }
+        let (lo, hi) = geom::bbox(&p).unwrap_or_default();
+        let (c, size) = ((lo + hi) * 0.5, hi - lo);
+        let unit: Vec<DVec2> = p.iter().map(|q| (*q - c) / size).collect();
+        let m = DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y);
+        self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(c.x, 0.0, -c.y));
+        self.cur.size = DVec3::new(size.x, size.y, 0.0);
+        self.cur.geom = self.add_geom(GeomKind::Polygon, &unit)?;
+        Ok(())
+    }
+
+    /// `extrude(h)`: the prism over the polygon, `h` along its +z; the
+    /// scope becomes the mass's box, its +y along the extrusion.
+    pub(super) fn extrude(&mut self, rule: &'g RuleCode, e: u32) -> Result<(), Stop> {
+        let h = self.num(rule, e, "an extrusion height")?;
+        let at = rule.exprs[e as usize].span;
+        let g = match self.geom_of(self.cur.geom) {
+            Some(g) if g.kind == GeomKind::Polygon => g,
+            _ => {
+                return Err(
+                    self.fail_at(at, "`extrude` needs a polygon scope: a `lot`, or a face from `comp(f)`".to_string())
+                );
+            }
+        };
+        if h < 0.0 {
+            return Err(self.fail_at(at, format!("an extrusion height must be ≥ 0, found {h}")));
+        }
+        // (x, y) of the polygon → (x, z) of the footprint; a zero height
+        // gives an empty mass.
+        let foot: Vec<DVec2> =
+            if h > 0.0 { self.points(g).iter().map(|q| DVec2::new(q.x, -q.y)).collect() } else { Vec::new() };
+        let m = DMat3::from_cols(DVec3::X, DVec3::Z, DVec3::NEG_Y);
+        self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(0.0, 0.0, 0.5 * h));
+        self.cur.size = DVec3::new(self.cur.size.x, h, self.cur.size.y);
+        self.cur.geom = self.add_geom(GeomKind::Mass, &foot)?;
+        Ok(())
+    }
+
+    /// Counts one emission against the limit and checks the placement.
+    fn count_emission(&mut self) -> Result<Affine3A, Stop> {
+        if self.emitted >= self.limits.max_primitives {
+            return Err(self.mode.limit(LimitKind::Primitives, &self.limits));
+        }
+        self.emitted += 1;
+        let t = self.cur.transform();
+        if !t.is_finite() {
+            return Err(self.placement_overflow());
+        }
+        Ok(t)
+    }
+
+    /// `shape;`: a box scope emits its box, a polygon scope its polygon, a
+    /// mass its closed prism (a box when the footprint fills the scope).
+    pub(super) fn shape(&mut self, rule: &'g RuleCode) -> Result<(), Stop> {
+        let Some(g) = self.geom_of(self.cur.geom) else {
+            return self.emit(rule, Prim::Box);
+        };
+        if g.len < 3 {
+            return Ok(());
+        }
+        match g.kind {
+            GeomKind::Polygon => {
+                let (f, s) = (self.cur.frame, self.cur.size);
+                let pts: Vec<glam::Vec3> = self
+                    .points(g)
+                    .iter()
+                    .map(|q| f.transform_point3(DVec3::new(q.x * s.x, q.y * s.y, 0.0)).as_vec3())
+                    .collect();
+                self.count_emission()?;
+                if !pts.iter().all(|p| p.is_finite()) {
+                    return Err(self.placement_overflow());
+                }
+                self.mode.emit_polygon(self.g, pts, self.cur.tag);
+            }
+            GeomKind::Mass => {
+                if is_unit_square(self.points(g)) {
+                    return self.emit(rule, Prim::Box);
+                }
+                let mesh = geom::prism_mesh(self.points(g));
+                let t = self.count_emission()?;
+                self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
+            }
+        }
+        Ok(())
+    }
+
+    /// `roof_*(angle, overhang)` on a polygon scope: a closed roof solid on
+    /// the polygon, rising along its +z.
+    pub(super) fn roof(&mut self, rule: &'g RuleCode, kind: u8, args: u32, span: u32) -> Result<(), Stop> {
+        let kind = [RoofKind::Gable, RoofKind::Hip, RoofKind::Pyramid, RoofKind::Shed][kind as usize & 3];
+        let angle = self.num(rule, args, "a roof angle")?;
+        let overhang = self.num(rule, args + 1, "a roof overhang")?;
+        let at = rule.spans[span as usize];
+        let g = match self.geom_of(self.cur.geom) {
+            Some(g) if g.kind == GeomKind::Polygon => g,
+            _ => {
+                return Err(self.fail_at(
+                    at,
+                    format!(
+                        "`{}` needs a polygon scope: a `lot`, or a face from `comp(f)` (e.g. `comp(f) {{ top: {}(30) }}`)",
+                        kind.name(),
+                        kind.name()
+                    ),
+                ));
+            }
+        };
+        let s = self.cur.size;
+        let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
+        if geom::area2(&foot) < 0.0 {
+            foot.reverse();
+        }
+        let mesh: Mesh = geom::roof_mesh(&foot, kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
+        if mesh.triangles.is_empty() {
+            return Ok(());
+        }
+        self.count_emission()?;
+        let t = self.cur.frame_transform();
+        if !t.is_finite() {
+            return Err(self.placement_overflow());
+        }
+        self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
+        Ok(())
+    }
+
+    /// Cuts the scope's geometry to the piece just entered: the slab
+    /// `centre ± len/2` along `axis` of a parent `parent` long. The piece's
+    /// scope stays the whole slab; its geometry may come out empty.
+    pub(super) fn cut_geom(&mut self, axis: u8, centre: f64, len: f64, parent: f64) -> Result<(), Stop> {
+        let Some(g) = self.geom_of(self.cur.geom) else { return Ok(()) };
+        let k = match (g.kind, axis) {
+            (GeomKind::Polygon, 0) | (GeomKind::Mass, 0) => 0,
+            (GeomKind::Polygon, 1) | (GeomKind::Mass, 2) => 1,
+            // Along a polygon's normal or a mass's height: nothing to cut.
+            _ => return Ok(()),
+        };
+        let pts: Vec<DVec2> = if len == 0.0 || parent == 0.0 || g.len < 3 {
+            Vec::new()
+        } else {
+            let (a, b) = ((centre - 0.5 * len) / parent, (centre + 0.5 * len) / parent);
+            let mut piece = geom::clip_slab(self.points(g), k, a.min(b), a.max(b));
+            for q in &mut piece {
+                q[k] = (q[k] * parent - centre) / len;
+            }
+            if piece.len() < 3 { Vec::new() } else { piece }
+        };
+        self.cur.geom = self.add_geom(g.kind, &pts)?;
+        Ok(())
+    }
+
+    /// `comp(f)`: lists the faces of the mass (a box scope counts as the
+    /// mass of its box) with the arm each goes to, and opens the loop.
+    pub(super) fn comp_begin(&mut self, rule: &'g RuleCode, first: u32, n: u32, span: u32) -> Result<(), Stop> {
+        let foot: Vec<DVec2> = match self.geom_of(self.cur.geom) {
+            None => FOOT_SQUARE.to_vec(),
+            Some(g) if g.kind == GeomKind::Mass => self.points(g).to_vec(),
+            Some(_) => {
+                return Err(self.fail_at(
+                    rule.spans[span as usize],
+                    "`comp(f)` needs a mass (after `extrude`) or a box scope, not a polygon".to_string(),
+                ));
+            }
+        };
+        let masks = &rule.comps[first as usize..(first + n) as usize];
+        let arm_of = |class: u8| masks.iter().position(|m| m & class != 0).map(|a| a as u32);
+        let s = self.cur.size;
+        let frame = self.cur.frame;
+        let tag = self.cur.tag;
+        let start = self.st.faces.len();
+        let abs: Vec<DVec2> = foot.iter().map(|q| DVec2::new(q.x * s.x, q.y * s.z)).collect();
+        let mut faces: Vec<(u32, ScopeState, Option<Vec<DVec2>>)> = Vec::new();
+        if abs.len() >= 3 && s.y != 0.0 {
+            for i in 0..abs.len() {
+                let (a, b) = (abs[i], abs[(i + 1) % abs.len()]);
+                let l = a.distance(b);
+                if l == 0.0 {
+                    continue;
+                }
+                let d = (b - a) / l;
+                let nrm = DVec2::new(-d.y, d.x);
+                let class = if nrm.y.abs() >= nrm.x.abs() {
+                    if nrm.y > 0.0 { FACE_FRONT } else { FACE_BACK }
+                } else if nrm.x > 0.0 {
+                    FACE_RIGHT
+                } else {
+                    FACE_LEFT
+                };
+                let Some(arm) = arm_of(class) else { continue };
+                let m = DMat3::from_cols(DVec3::new(d.x, 0.0, d.y), DVec3::Y, DVec3::new(nrm.x, 0.0, nrm.y));
+                let mid = (a + b) * 0.5;
+                let f = frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, 0.0, mid.y));
+                let scope = ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tag, geom: NO_GEOM };
+                faces.push((arm, scope, None));
+            }
+        }
+        if abs.len() >= 3 {
+            // Top: (x, −z), seen from above; bottom: (x, z) reversed.
+            for (class, y, axes) in [
+                (FACE_TOP, 0.5 * s.y, DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y)),
+                (FACE_BOTTOM, -0.5 * s.y, DMat3::from_cols(DVec3::X, DVec3::Z, DVec3::NEG_Y)),
+            ] {
+                let Some(arm) = arm_of(class) else { continue };
+                let mut p: Vec<DVec2> = if class == FACE_TOP {
+                    abs.iter().map(|q| DVec2::new(q.x, -q.y)).collect()
+                } else {
+                    abs.iter().rev().copied().collect()
+                };
+                let Some((lo, hi)) = geom::bbox(&p) else { continue };
+                let (c, size) = ((lo + hi) * 0.5, hi - lo);
+                if size.x == 0.0 || size.y == 0.0 {
+                    continue;
+                }
+                for q in &mut p {
+                    *q = (*q - c) / size;
+                }
+                // The face centre in the mass's frame.
+                let centre = axes * DVec3::new(c.x, c.y, 0.0) + DVec3::new(0.0, y, 0.0);
+                let f = frame * DAffine3::from_mat3_translation(axes, centre);
+                let scope = ScopeState { frame: f, size: DVec3::new(size.x, size.y, 0.0), tag, geom: NO_GEOM };
+                faces.push((arm, scope, Some(p)));
+            }
+        }
+        let square =
+            if faces.iter().any(|f| f.2.is_none()) { self.add_geom(GeomKind::Polygon, &SQUARE)? } else { NO_GEOM };
+        for (arm, mut scope, pts) in faces {
+            scope.geom = match pts {
+                Some(p) => self.add_geom(GeomKind::Polygon, &p)?,
+                None => square,
+            };
+            self.st.faces.push((arm, scope));
+        }
+        let base = self.top.env;
+        let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
+        let nf = (self.st.faces.len() - start) as u32;
+        self.st.loops.push(Loop::Comp { faces: start, n: nf, pos: 0, k: 0, index, count });
+        Ok(())
+    }
+
+    /// The next face of `arm` at or after `from`.
+    fn next_face(&self, faces: usize, n: u32, arm: u32, from: u32) -> Option<u32> {
+        (from..n).find(|&j| self.st.faces[faces + j as usize].0 == arm)
+    }
+
+    fn enter_face(&mut self, faces: usize, n: u32, arm: u32, j: u32, k: u32) {
+        let count = (0..n).filter(|&i| self.st.faces[faces + i as usize].0 == arm).count();
+        if let Some(Loop::Comp { pos, k: kk, .. }) = self.st.loops.last_mut() {
+            (*pos, *kk) = (j, k);
+        }
+        self.st.scopes.push(self.cur);
+        self.cur = self.st.faces[faces + j as usize].1;
+        let base = self.top.env;
+        self.st.env[base + ENV_INDEX] = k as f64;
+        self.st.env[base + ENV_COUNT] = count as f64;
+    }
+
+    /// Enters the first face of `arm`, or jumps past the arm.
+    pub(super) fn comp_arm(&mut self, arm: u32, end: u32) {
+        let Some(&Loop::Comp { faces, n, .. }) = self.st.loops.last() else { return };
+        match self.next_face(faces, n, arm, 0) {
+            Some(j) => self.enter_face(faces, n, arm, j, 0),
+            None => self.top.pc = end as usize,
+        }
+    }
+
+    /// Leaves the face; enters the next one of `arm` or goes on.
+    pub(super) fn comp_next(&mut self, arm: u32, body: u32) {
+        if let Some(s) = self.st.scopes.pop() {
+            self.cur = s;
+        }
+        let Some(&Loop::Comp { faces, n, pos, k, .. }) = self.st.loops.last() else { return };
+        if let Some(j) = self.next_face(faces, n, arm, pos + 1) {
+            self.enter_face(faces, n, arm, j, k + 1);
+            self.top.pc = body as usize;
+        }
+    }
+
+    /// Closes the loop.
+    pub(super) fn comp_end(&mut self) {
+        if let Some(Loop::Comp { faces, index, count, .. }) = self.st.loops.pop() {
+            self.st.faces.truncate(faces);
+            self.restore_index(index, count);
+        }
+    }
+}

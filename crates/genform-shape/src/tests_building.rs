@@ -1,0 +1,245 @@
+//! Tests of the building operations through the whole pipeline: `lot`,
+//! `extrude`, `comp(f)`, `shape`, splits and repeats on polygon scopes,
+//! floating sizes and roofs.
+
+use super::*;
+use genform_core::Primitive;
+use glam::Vec3;
+
+fn grammar(src: &str) -> ShapeGrammar {
+    let file = SourceFile::new("t.sg", src);
+    match compile(&file, &NoAssets) {
+        Ok((g, _)) => g,
+        Err(d) => panic!("{}", d.short()),
+    }
+}
+
+fn try_scene(src: &str) -> Result<Scene, ExpressError> {
+    let g = grammar(src);
+    let limits = g.limits();
+    let s = g.sample(&mut Rng::from_seed(1), &limits)?;
+    let mut scene = Scene::new();
+    g.express(&s.genome, &limits, &mut scene).map(|()| scene)
+}
+
+fn scene(src: &str) -> Scene {
+    try_scene(src).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Area of a planar polygon in 3D.
+fn area(p: &[Vec3]) -> f32 {
+    let mut n = Vec3::ZERO;
+    for i in 0..p.len() {
+        n += p[i].cross(p[(i + 1) % p.len()]);
+    }
+    n.length() / 2.0
+}
+
+/// Outward unit normal of a planar polygon (counter-clockwise seen from it).
+fn normal(p: &[Vec3]) -> Vec3 {
+    let mut n = Vec3::ZERO;
+    for i in 0..p.len() {
+        n += p[i].cross(p[(i + 1) % p.len()]);
+    }
+    n.normalize()
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).abs().max_element() < 1e-4
+}
+
+#[test]
+fn a_lot_is_a_polygon_on_the_ground() {
+    let s = scene("A { lot(4, 2); shape; }");
+    assert_eq!(s.polygons.len(), 1);
+    let p = &s.polygons[0].points;
+    assert_eq!(p.len(), 4);
+    assert!((area(p) - 8.0).abs() < 1e-5);
+    assert!(close(normal(p), Vec3::Y), "{:?}", normal(p));
+    assert!(p.iter().all(|q| q.y == 0.0 && q.x.abs() <= 2.0 && q.z.abs() <= 1.0));
+}
+
+#[test]
+fn a_rectangular_mass_is_a_box_standing_on_the_lot() {
+    let s = scene("A { lot(4, 2); extrude(3); shape; }");
+    assert_eq!(s.instances.len(), 1);
+    assert_eq!(s.instances[0].primitive, Primitive::Box);
+    let t = s.instances[0].transform;
+    assert!(close(t.translation.into(), Vec3::new(0.0, 1.5, 0.0)));
+    assert!(close(t.transform_vector3(Vec3::ONE).abs(), Vec3::new(4.0, 3.0, 2.0)));
+}
+
+#[test]
+fn an_l_shaped_lot_extrudes_to_a_closed_prism() {
+    // (x, z) corners of an L: 3 × 3 minus the 1 × 1... area 8, height 2.
+    let s = scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); extrude(2); shape; }");
+    assert_eq!(s.instances.len(), 1);
+    let Primitive::Mesh(m) = s.instances[0].primitive else { panic!("{:?}", s.instances[0].primitive) };
+    let mesh = &s.meshes[m as usize];
+    // Volume by the divergence theorem, in world units.
+    let t = s.instances[0].transform;
+    let vol: f32 = mesh
+        .triangles
+        .iter()
+        .map(|tri| {
+            let [a, b, c] = tri.map(|i| t.transform_point3(mesh.positions[i as usize]));
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    assert!((vol - 2.0 * 7.0).abs() < 1e-3, "{vol}");
+    // 6 walls, 2 caps of 4 triangles each.
+    assert_eq!(mesh.triangles.len(), 6 * 2 + 2 * 4);
+}
+
+#[test]
+fn clockwise_and_crossing_lots() {
+    // A clockwise outline is turned round: the lot still faces up.
+    let s = scene("A { lot(0, 0, 0, 2, 2, 2, 2, 0); shape; }");
+    assert!(close(normal(&s.polygons[0].points), Vec3::Y));
+    let e = try_scene("A { lot(0, 0, 1, 1, 1, 0, 0, 1); shape; }").unwrap_err().to_string();
+    assert!(e.contains("t.sg:1:5") && e.contains("crosses itself"), "{e}");
+    let e = try_scene("A { lot(0, 2); }").unwrap_err().to_string();
+    assert!(e.contains("positive width and depth"), "{e}");
+}
+
+#[test]
+fn comp_hands_each_face_its_orientation() {
+    let src = "A { lot(4, 2); extrude(3);
+        comp(f) { front: { tag(\"front\"); shape; } | back: { tag(\"back\"); shape; }
+                | left, right: { tag(\"lr\"); shape; } | top: { tag(\"top\"); shape; }
+                | bottom: { tag(\"bottom\"); shape; } } }";
+    let s = scene(src);
+    assert_eq!(s.polygons.len(), 6);
+    let by_tag = |t: &str| -> Vec<&Vec<Vec3>> {
+        let id = s.tags.iter().position(|n| n == t).unwrap() as u32;
+        s.polygons.iter().filter(|p| p.tag == id).map(|p| &p.points).collect()
+    };
+    let front = by_tag("front");
+    assert_eq!(front.len(), 1);
+    assert!(close(normal(front[0]), Vec3::Z));
+    assert!((area(front[0]) - 12.0).abs() < 1e-4);
+    assert!(close(normal(by_tag("back")[0]), -Vec3::Z));
+    let lr = by_tag("lr");
+    assert_eq!(lr.len(), 2);
+    assert!(lr.iter().all(|p| (area(p) - 6.0).abs() < 1e-4 && normal(p).x.abs() > 0.999));
+    let top = by_tag("top");
+    assert!(close(normal(top[0]), Vec3::Y) && (area(top[0]) - 8.0).abs() < 1e-4);
+    assert!(top[0].iter().all(|p| (p.y - 3.0).abs() < 1e-5));
+    assert!(close(normal(by_tag("bottom")[0]), -Vec3::Y));
+}
+
+#[test]
+fn comp_follows_a_rotated_scope_and_first_match_wins() {
+    // Rotated 90° about y, the scope's front (+z) looks along world +x.
+    let src = "A { rotate(y, 90); lot(4, 2); extrude(3);
+        comp(f) { front: { tag(\"front\"); shape; } | side: { tag(\"side\"); shape; } } }";
+    let s = scene(src);
+    assert_eq!(s.polygons.len(), 4);
+    let front = s.tags.iter().position(|n| n == "front").unwrap() as u32;
+    let f: Vec<_> = s.polygons.iter().filter(|p| p.tag == front).collect();
+    assert_eq!(f.len(), 1);
+    assert!(close(normal(&f[0].points), Vec3::X), "{:?}", normal(&f[0].points));
+}
+
+#[test]
+fn face_scopes_run_x_along_the_bottom_edge_and_y_up() {
+    // On the front face a box at the scope's +x, +y corner sits at the
+    // mass's right top front corner.
+    let s =
+        scene("A { lot(4, 2); extrude(3); comp(f) { front: { translate(sx / 2, sy / 2, 0); size(0, 0, 0); box; } } }");
+    assert!(close(s.instances[0].transform.translation.into(), Vec3::new(2.0, 3.0, 1.0)));
+    assert_eq!((s.instances.len(), s.polygons.len()), (1, 0));
+}
+
+#[test]
+fn floating_splits_fill_the_face_exactly() {
+    // 10 wide: absolute 1, floating 2 and 3 stretched by 9 / 5.
+    let s = scene("A { lot(10, 2); extrude(3); comp(f) { front: { split(x) { 1: shape | ~2: shape | ~3: shape } } } }");
+    let w: Vec<f32> = s.polygons.iter().map(|p| area(&p.points) / 3.0).collect();
+    assert_eq!(w.len(), 3);
+    assert!((w[0] - 1.0).abs() < 1e-5 && (w[1] - 3.6).abs() < 1e-5 && (w[2] - 5.4).abs() < 1e-5, "{w:?}");
+    // With a relative piece the floating ones keep their size.
+    let s = scene("A { lot(10, 2); extrude(3); comp(f) { front: { split(x) { ~2: shape | 1r: shape } } } }");
+    let w: Vec<f32> = s.polygons.iter().map(|p| area(&p.points) / 3.0).collect();
+    assert!((w[0] - 2.0).abs() < 1e-5 && (w[1] - 8.0).abs() < 1e-5, "{w:?}");
+}
+
+#[test]
+fn floors_and_tiles_of_a_facade() {
+    // 10 × 7 front: floors of ~3 → 2 floors of 3.5; tiles of ~3 → 3 of 10/3.
+    let s = scene("A { lot(10, 4); extrude(7); comp(f) { front: { repeat(y, ~3) { repeat(x, ~3) { shape; } } } } }");
+    assert_eq!(s.polygons.len(), 6);
+    let total: f32 = s.polygons.iter().map(|p| area(&p.points)).sum();
+    assert!((total - 70.0).abs() < 1e-3);
+    assert!(s.polygons.iter().all(|p| (area(&p.points) - 3.5 * 10.0 / 3.0).abs() < 1e-4));
+}
+
+#[test]
+fn splitting_an_l_lot_keeps_its_area() {
+    let s = scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); split(x) { 1: shape | 1: shape | 1: shape } }");
+    let total: f32 = s.polygons.iter().map(|p| area(&p.points)).sum();
+    assert!((total - 7.0).abs() < 1e-4, "{total}");
+    // Pieces beyond the polygon are empty and emit nothing.
+    let s = scene("A { lot(2, 2); split(x) { 2: shape | 5: shape } }");
+    assert_eq!(s.polygons.len(), 1);
+}
+
+#[test]
+fn setbacks_stack_masses_on_inset_top_faces() {
+    let src = "A { lot(10, 6); extrude(4); shape;
+        comp(f) { top: { split(x) { 1: {} | 1r: { split(y) { 1: {} | 1r: { extrude(2); shape; } | 1: {} } } | 1: {} } } } }";
+    let s = scene(src);
+    assert_eq!(s.instances.len(), 2);
+    let t = s.instances[1].transform;
+    assert!(close(t.translation.into(), Vec3::new(0.0, 5.0, 0.0)), "{:?}", t.translation);
+    assert!(close(t.transform_vector3(Vec3::ONE).abs(), Vec3::new(8.0, 2.0, 4.0)));
+}
+
+#[test]
+fn roofs_sit_on_the_top_face() {
+    for (op, peak) in
+        [("roof_gable(45)", 3.0), ("roof_hip(45)", 3.0), ("roof_pyramid(45)", 3.0), ("roof_shed(45)", 6.0)]
+    {
+        let s = scene(&format!("A {{ lot(10, 6); extrude(4); comp(f) {{ top: {op} }} }}"));
+        assert_eq!(s.instances.len(), 1, "{op}");
+        let Primitive::Mesh(m) = s.instances[0].primitive else { panic!() };
+        let t = s.instances[0].transform;
+        let ys: Vec<f32> = s.meshes[m as usize].positions.iter().map(|p| t.transform_point3(*p).y).collect();
+        let (lo, hi) = ys.iter().fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(*y), b.max(*y)));
+        assert!((lo - 4.0).abs() < 1e-4 && (hi - 4.0 - peak).abs() < 1e-4, "{op}: {lo} {hi}");
+    }
+}
+
+#[test]
+fn hostile_building_operations_fail_clearly() {
+    let cases = [
+        ("A { extrude(2); }", "needs a polygon scope"),
+        ("A { lot(2, 2); extrude(-1); }", "must be ≥ 0"),
+        ("A { lot(2, 2); roof_hip(95); }", "between 0 and 90"),
+        ("A { roof_gable(30); }", "needs a polygon scope"),
+        ("A { lot(2, 2); comp(f) { top: shape } }", "needs a mass"),
+        ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_hip(30); }", "straight skeleton"),
+    ];
+    for (src, want) in cases {
+        let e = try_scene(src).unwrap_err().to_string();
+        assert!(e.contains(want) && e.contains("t.sg:1:"), "{src}: {e}");
+    }
+    // A zero extrusion is an empty mass: nothing, and no faces.
+    let s = scene("A { lot(2, 2); extrude(0); shape; comp(f) { all: shape } }");
+    assert!(s.is_empty());
+}
+
+#[test]
+fn building_parameters_are_genes() {
+    let g = grammar("A { param w: uniform(4, 8); param h: int(2, 5); lot(w, 6); extrude(3 * h); shape; }");
+    let mut heights = std::collections::BTreeSet::new();
+    for seed in 0..20 {
+        let limits = g.limits();
+        let s = g.sample(&mut Rng::from_seed(seed), &limits).unwrap();
+        let mut scene = Scene::new();
+        g.express(&s.genome, &limits, &mut scene).unwrap();
+        let size = scene.instances[0].transform.transform_vector3(Vec3::ONE);
+        heights.insert((size.y * 10.0).round() as i32);
+    }
+    assert!(heights.len() > 1 && heights.iter().all(|h| [60, 90, 120, 150].contains(h)), "{heights:?}");
+}
