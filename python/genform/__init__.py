@@ -26,6 +26,7 @@ from ._genform import (
     formalisms,
     load,
     load_scene,
+    tag_color,
 )
 
 __all__ = [
@@ -41,6 +42,7 @@ __all__ = [
     "formalisms",
     "load",
     "load_scene",
+    "tag_color",
 ]
 
 # GenformError always has a `diagnostics` list (empty unless a file failed to compile).

@@ -41,6 +41,10 @@ class GenformError(Exception):
 def formalisms() -> list[dict[str, Any]]:
     """The formalisms genform loads: ``{"name", "extensions"}`` per row."""
 
+def tag_color(name: str) -> tuple[float, float, float]:
+    """A tag's display colour as sRGB in [0, 1] (the GLB's and the previews'
+    palette: a trailing `#rrggbb` wins, else a hash of the name)."""
+
 def load(path: PathLike) -> Grammar:
     """Compiles a grammar file; its formalism follows the extension
     (.sg .ls .bsg .gg.yaml .gr8). Raises GenformError with diagnostics."""
@@ -82,6 +86,9 @@ class Model:
     def face_tags(self) -> tuple[npt.NDArray[np.uint32], list[str]]:
         """(index into the names per face of `mesh()`, in its order; the names:
         the scene's tags, then one per block state), e.g. for one material per tag."""
+    def tag_colors(self) -> list[tuple[float, float, float]]:
+        """The display colour (sRGB in [0, 1]) of each name of `face_tags()`:
+        the GLB materials' colours, block states in the block palette."""
     def triangle_count(self) -> int: ...
     def bounds(self) -> tuple[tuple[float, float, float], tuple[float, float, float]] | None: ...
     def save(self, path: PathLike) -> list[str]:

@@ -17,7 +17,6 @@ Nothing here registers classes: the operators call these functions.
 
 from __future__ import annotations
 
-import math
 import os
 import tempfile
 
@@ -26,53 +25,24 @@ import numpy as np
 
 
 def tag_color(name: str) -> tuple[float, float, float]:
-    """The display colour of a tag as sRGB in [0, 1]: the same colour the
-    GLB materials and the previews use (``genform_export::tag_color``): a
-    trailing ``#rrggbb`` wins, else a hash of the name picks a hue."""
-    hexpart = name[-7:]
-    if len(name) >= 7 and hexpart.startswith("#") and all(c in "0123456789abcdefABCDEF" for c in hexpart[1:]):
-        return tuple(int(hexpart[i : i + 2], 16) / 255.0 for i in (1, 3, 5))
-    mask = (1 << 64) - 1
-    h = 0xCBF29CE484222325
-    for b in name.encode():
-        h ^= b
-        h = (h * 0x100000001B3) & mask
-    h ^= h >> 30
-    h = (h * 0xBF58476D1CE4E5B9) & mask
-    h ^= h >> 27
-    h = (h * 0x94D049BB133111EB) & mask
-    h ^= h >> 31
-    f32 = np.float32
+    """The display colour of a tag as sRGB in [0, 1]: the colour the GLB
+    materials and the previews use, from the wheel's one palette
+    (``genform.tag_color``, i.e. ``genform_export::tag_color``), not a copy."""
+    import genform
 
-    def unit(bits: int) -> np.float32:
-        return f32(bits & 0xFFFF) / f32(65535.0)
-
-    hue, sat, val = unit(h), f32(0.40) + f32(0.25) * unit(h >> 16), f32(0.72) + f32(0.20) * unit(h >> 32)
-    rgb = _hsv_to_rgb(hue, sat, val)
-    # Rust's f32::round rounds halves away from zero; these are never negative.
-    return tuple(min(max(math.floor(float(f32(c) * f32(255.0)) + 0.5), 0), 255) / 255.0 for c in rgb)
+    return tuple(genform.tag_color(name))
 
 
-def _hsv_to_rgb(h, s, v):
-    """HSV to RGB in float32, as the Rust palette computes it."""
-    f32 = np.float32
-    h6 = min(f32(h - np.floor(h)) * f32(6.0), f32(5.999999))
-    sector = int(h6)
-    f = h6 - f32(sector)
-    one = f32(1.0)
-    p, q, t = v * (one - s), v * (one - s * f), v * (one - s * (one - f))
-    return [(v, t, p), (q, v, p), (p, v, t), (p, q, v), (t, p, v), (v, p, q)][min(sector, 5)]
-
-
-def tag_material(name: str) -> bpy.types.Material:
-    """The material of a tag: reused by name when it exists (so edits a user
-    made to it carry over to the next sample), else a new one in the tag's
-    colour, roughness 0.8 as in the GLB."""
+def tag_material(name: str, rgb: tuple[float, float, float] | None = None) -> bpy.types.Material:
+    """The material of a tag or block state: reused by name when it exists
+    (so edits a user made to it carry over to the next sample), else a new
+    one in ``rgb`` (sRGB in [0, 1]; the tag palette's colour when not
+    given), roughness 0.8 as in the GLB."""
     mat = bpy.data.materials.get(name)
     if mat is not None:
         return mat
     mat = bpy.data.materials.new(name)
-    r, g, b = tag_color(name)
+    r, g, b = rgb if rgb is not None else tag_color(name)
     # Material.diffuse_color is linear; the viewport shows it converted.
     linear = (*(_srgb_to_linear(c) for c in (r, g, b)), 1.0)
     mat.diffuse_color = linear
@@ -105,16 +75,19 @@ def _srgb_to_linear(c: float) -> float:
     return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
 
 
-def face_tags(model, face_count: int) -> tuple[np.ndarray, list[str]]:
-    """(tag index per face of ``Model.mesh()``, tag names); one unnamed
-    group ``genform`` when the model cannot tell (older wheels without
+def face_tags(model, face_count: int) -> tuple[np.ndarray, list[str], list]:
+    """(tag index per face of ``Model.mesh()``, tag names, their colours:
+    sRGB in [0, 1] from ``Model.tag_colors()``, the GLB's tag and block
+    palettes; None where the wheel cannot say); one unnamed group
+    ``genform`` when the model cannot tell (older wheels without
     ``Model.face_tags``)."""
     if hasattr(model, "face_tags"):
         tags, names = model.face_tags()
         tags = np.asarray(tags, dtype=np.int32)
         if len(tags) == face_count:
-            return tags, list(names)
-    return np.zeros(face_count, dtype=np.int32), ["genform"]
+            colors = list(model.tag_colors()) if hasattr(model, "tag_colors") else [None] * len(names)
+            return tags, list(names), colors
+    return np.zeros(face_count, dtype=np.int32), ["genform"], [None]
 
 
 def build_object(model, name: str, collection=None, y_up: bool = True) -> bpy.types.Object:
@@ -127,7 +100,7 @@ def build_object(model, name: str, collection=None, y_up: bool = True) -> bpy.ty
     faces = np.asarray(faces, dtype=np.int32).reshape(-1, 3)
     if y_up:
         verts = np.stack([verts[:, 0], -verts[:, 2], verts[:, 1]], axis=1)
-    tags, names = face_tags(model, len(faces))
+    tags, names, colors = face_tags(model, len(faces))
     # Only the tags in use become material slots, in order of first use.
     used, slot_of = [], {}
     for t in tags:
@@ -146,7 +119,7 @@ def build_object(model, name: str, collection=None, y_up: bool = True) -> bpy.ty
     mesh.polygons.foreach_set("material_index", slots)
     mesh.update(calc_edges=True)
     for t in used:
-        mesh.materials.append(tag_material(names[t]))
+        mesh.materials.append(tag_material(names[t], colors[t]))
 
     obj = bpy.data.objects.new(name, mesh)
     (collection or bpy.context.scene.collection).objects.link(obj)

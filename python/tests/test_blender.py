@@ -126,20 +126,85 @@ def test_bush_is_one_object_with_the_default_granularity(empty):
     assert len(bpy.context.view_layer.objects.active.data.polygons) == len(faces)
 
 
-def test_tag_colours_match_the_glb_materials(empty, tmp_path):
-    """The add-on's port of genform's tag palette gives the GLB's colours."""
-    path = tmp_path / "ship.glb"
-    genform.load(SHIP).sample(seed=SHIP_SEED).save(path)
-    data = path.read_bytes()
+def glb_materials(path) -> dict:
+    """Material name → linear base colour (RGB) of a GLB file."""
+    data = Path(path).read_bytes()
     (json_len,) = struct.unpack_from("<I", data, 12)
     materials = json.loads(data[20 : 20 + json_len])["materials"]
+    return {m["name"].removesuffix(" (double-sided)"): m["pbrMetallicRoughness"]["baseColorFactor"][:3] for m in materials}
+
+
+def test_tag_colours_match_the_glb_materials(empty, tmp_path):
+    """The add-on takes genform's one tag palette and gives the GLB's colours."""
+    path = tmp_path / "ship.glb"
+    genform.load(SHIP).sample(seed=SHIP_SEED).save(path)
+    materials = glb_materials(path)
     assert len(materials) >= 3
     srgb_to_linear = empty.build._srgb_to_linear
-    for m in materials:
-        want = m["pbrMetallicRoughness"]["baseColorFactor"][:3]
-        got = [srgb_to_linear(c) for c in empty.build.tag_color(m["name"].removesuffix(" (double-sided)"))]
-        assert np.allclose(got, want, atol=1e-4), m["name"]
-    assert empty.build.tag_color("leaf#3a7d23") == (0x3A / 255, 0x7D / 255, 0x23 / 255)
+    for name, want in materials.items():
+        got = [srgb_to_linear(c) for c in empty.build.tag_color(name)]
+        assert np.allclose(got, want, atol=1e-4), name
+    assert empty.build.tag_color("leaf#3a7d23") == pytest.approx((0x3A / 255, 0x7D / 255, 0x23 / 255))
+
+
+def test_block_models_take_the_glbs_block_palette(empty, tmp_path):
+    """Blocks come in the GLB's block colours (cobblestone grey, not a hashed hue)."""
+    house = EXAMPLES / "boxsplit" / "house.bsg"
+    path = tmp_path / "house.glb"
+    genform.load(house).sample(seed=0).save(path)
+    want = glb_materials(path)
+    assert bpy.ops.genform.sample(grammar=str(house), seed=0) == {"FINISHED"}
+    obj = bpy.context.view_layer.objects.active
+    assert len(obj.data.materials) >= 2
+    for mat in obj.data.materials:
+        # The GLB names a block material by its id, without properties.
+        glb = want[mat.name.split("[")[0]]
+        base = empty.build.principled_bsdf(mat).inputs["Base Color"].default_value
+        assert np.allclose(base[:3], glb, atol=1e-3), (mat.name, tuple(base), glb)
+    cobble = genform.load(house).sample(seed=0)
+    names = cobble.face_tags()[1]
+    colours = dict(zip(names, cobble.tag_colors()))
+    for name, (r, g, b) in colours.items():
+        if name.startswith("minecraft:cobblestone"):
+            assert max(r, g, b) - min(r, g, b) < 0.05, (name, r, g, b)
+
+
+def test_the_spaceship_renders_in_colour(empty, tmp_path):
+    """A tiny Cycles render (CPU, 4 samples) of the add-on's spaceship has at
+    least 3 distinct clearly coloured (non-grey) pixel colours."""
+    assert bpy.ops.genform.sample(grammar=str(SHIP), seed=SHIP_SEED) == {"FINISHED"}
+    obj = bpy.context.view_layer.objects.active
+    scene = bpy.context.scene
+    lo = np.min([obj.matrix_world @ v.co for v in obj.data.vertices], axis=0)
+    hi = np.max([obj.matrix_world @ v.co for v in obj.data.vertices], axis=0)
+    centre, radius = (lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2
+    cam_data = bpy.data.cameras.new("cam")
+    cam = bpy.data.objects.new("cam", cam_data)
+    scene.collection.objects.link(cam)
+    from mathutils import Vector
+
+    cam.location = Vector(centre) + Vector((1.2, -1.6, 1.0)) * (1.6 * radius)
+    cam.rotation_euler = (Vector(centre) - cam.location).to_track_quat("-Z", "Y").to_euler()
+    scene.camera = cam
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
+    sun.data.energy = 4.0
+    sun.rotation_euler = (0.6, 0.2, 0.8)
+    scene.collection.objects.link(sun)
+    engines = {e.identifier for e in bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items}
+    scene.render.engine = "CYCLES" if "CYCLES" in engines else next(e for e in engines if e.startswith("BLENDER_EEVEE"))
+    if scene.render.engine == "CYCLES":
+        scene.cycles.device = "CPU"
+        scene.cycles.samples = 4
+        scene.cycles.use_denoising = False
+    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 96, 72, 100
+    scene.render.image_settings.file_format = "PNG"
+    scene.render.filepath = str(tmp_path / "ship.png")
+    bpy.ops.render.render(write_still=True)
+    img = bpy.data.images.load(str(tmp_path / "ship.png"))
+    px = np.array(img.pixels[:], dtype=np.float32).reshape(-1, 4)[:, :3]
+    coloured = px[(px.max(axis=1) - px.min(axis=1)) > 0.12]
+    distinct = {tuple(np.round(c * 4).astype(int)) for c in coloured}
+    assert len(coloured) > 100 and len(distinct) >= 3, (scene.render.engine, len(coloured), distinct)
 
 
 def test_evolve_imports_the_best_and_reports_progress(empty):
@@ -196,3 +261,20 @@ def test_renders_get_the_tag_colours_through_the_principled_bsdf(empty):
         colours.add(tuple(round(c, 3) for c in base[:3]))
     grey = {c for c in colours if max(c) - min(c) < 0.02}
     assert len(colours - grey) >= 3, colours
+
+
+def test_graph_drawings_import_with_geometry(empty):
+    """Koch (a graph grammar's drawing) comes in as flat ribbons, not an empty object."""
+    koch = EXAMPLES / "graph" / "koch.gg.yaml"
+    for mode in ["MESH", "GLTF"]:
+        for o in list(bpy.data.objects):
+            bpy.data.objects.remove(o)
+        bpy.context.scene.genform.import_mode = mode
+        assert bpy.ops.genform.sample(grammar=str(koch), seed=3) == {"FINISHED"}
+        meshes = [o for o in bpy.data.objects if o.type == "MESH"]
+        assert sum(len(o.data.polygons) for o in meshes) > 1000, mode
+        points = np.array([o.matrix_world @ v.co for o in meshes for v in o.data.vertices])
+        size = points.max(axis=0) - points.min(axis=0)
+        # Drawn in genform's xy plane (+y up), so upright in Blender's xz.
+        assert size[0] == pytest.approx(98.708, abs=0.05) and size[2] == pytest.approx(108.542, abs=0.05), (mode, size)
+        assert size[1] < 1e-3, (mode, size)

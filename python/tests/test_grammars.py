@@ -52,7 +52,7 @@ def canonical(tri):
     return tri[i:] + tri[:i]
 
 
-@pytest.mark.parametrize("ext", [".sg", ".ls", ".bsg", ".gr8"])
+@pytest.mark.parametrize("ext", [".sg", ".ls", ".bsg", ".gr8", ".gg.yaml"])
 def test_mesh_arrays_match_the_obj_file(tmp_path, ext):
     # koch_snowflake.ls draws lines only; bush_3d.ls has faces.
     path, options = SAMPLES[ext], {}
@@ -62,7 +62,7 @@ def test_mesh_arrays_match_the_obj_file(tmp_path, ext):
     v, f = m.mesh()
     assert 0 < len(f) and len(v) < 20000
     out = tmp_path / "m.obj"
-    assert m.save(out) == [str(out)]
+    assert m.save(out)[0] == str(out)
     ov, ofaces = read_obj(out)
     # Same points, in any order: ours printed as the OBJ prints them (6 decimals).
     ours_pts = [tuple(float(f"{c:.6f}") for c in p) for p in v.tolist()]
@@ -83,13 +83,17 @@ def test_sampled_models_equal_the_cli_sample(tmp_path, cli):
     for ext in [".sg", ".ls", ".gr8"]:
         path = SAMPLES[ext]
         m = genform.load(path).sample(seed=7)
-        ours, theirs = tmp_path / f"py{ext}.obj", tmp_path / f"cli{ext}.obj"
+        # Same names in two folders: an OBJ names its .mtl by name.
+        (tmp_path / "py").mkdir(exist_ok=True)
+        (tmp_path / "cli").mkdir(exist_ok=True)
+        ours, theirs = tmp_path / "py" / f"m{ext}.obj", tmp_path / "cli" / f"m{ext}.obj"
         m.save(ours)
         args = [cli, "sample", str(path), "--seed", "7", "--out", str(theirs)]
         if m.genome is not None:
             args += ["--genome-out", str(tmp_path / "g.json")]
         subprocess.run(args, check=True, capture_output=True)
         assert ours.read_bytes() == theirs.read_bytes(), ext
+        assert ours.with_suffix(".mtl").read_bytes() == theirs.with_suffix(".mtl").read_bytes(), ext
         v, _ = m.mesh()
         assert np.allclose(read_obj(theirs)[0], v, atol=1e-5)
 
@@ -112,8 +116,12 @@ def test_save_writes_every_cli_format(tmp_path):
     m = genform.load(SAMPLES[".sg"]).sample(seed=2)
     for ext in ["obj", "glb", "ply", "stl", "png", "svg"]:
         out = tmp_path / f"m.{ext}"
-        m.save(out)
+        written = m.save(out)
         assert out.stat().st_size > 100, ext
+        # An OBJ brings its material library, named relative in `mtllib`.
+        assert written == ([str(out), str(tmp_path / "m.mtl")] if ext == "obj" else [str(out)]), ext
+    assert "mtllib m.mtl" in (tmp_path / "m.obj").read_text()
+    assert "newmtl" in (tmp_path / "m.mtl").read_text()
     png = m.png(64, 48)
     assert png[:8] == b"\x89PNG\r\n\x1a\n"
     assert m._repr_png_()[:4] == b"\x89PNG"
@@ -185,3 +193,25 @@ def test_surfaces_are_y_up_in_mesh_bounds_and_every_file(tmp_path):
     assert np.allclose(lo, v.min(axis=0)) and np.allclose(hi, v.max(axis=0))
     ov, _ = read_obj(tiles.save(tmp_path / "t.obj")[0])
     assert np.allclose(ov.min(axis=0), v.min(axis=0), atol=1e-5) and np.allclose(ov.max(axis=0), v.max(axis=0), atol=1e-5)
+
+
+def test_drawings_are_flat_ribbons_in_mesh_and_every_file(tmp_path):
+    """Graph-grammar drawings and 2D L-systems have faces: strokes as ribbons."""
+    for path in [SAMPLES[".gg.yaml"], SAMPLES[".ls"]]:
+        m = genform.load(path).sample(seed=3)
+        v, f = m.mesh()
+        assert len(f) > 100 and m.triangle_count() == len(f), path.name
+        # One stroke colour: every polygon on z = 0, facing the SVG's viewer.
+        assert np.all(v[:, 2] == 0), path.name
+        a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+        assert np.all(np.cross(b - a, c - a)[:, 2] > 0), path.name
+        lo, hi = m.bounds()
+        assert np.allclose(lo, v.min(axis=0)) and np.allclose(hi, v.max(axis=0))
+        for ext in ["obj", "glb", "ply", "stl"]:
+            out = tmp_path / f"d.{ext}"
+            assert m.save(out)[0] == str(out) and out.stat().st_size > 1000, (path.name, ext)
+        ov, faces = read_obj(tmp_path / "d.obj")
+        assert len(faces) > 0 and np.allclose(ov.min(axis=0), lo, atol=1e-5)
+    # The Koch graph: its extreme points widened by half the 0.6 stroke.
+    lo, hi = genform.load(SAMPLES[".gg.yaml"]).sample(seed=3).bounds()
+    assert np.allclose(lo, (-4.354, -30.3, 0), atol=0.01) and np.allclose(hi, (94.354, 78.242, 0), atol=0.01)

@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use genform_core::Scene;
 use genform_export::{ExportOptions, Format};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Refuses a command whose output (flag name, path) would overwrite one of
 /// its inputs: the same file reached by two spellings counts (paths are
@@ -47,17 +47,32 @@ pub fn unknown_format(path: &Path, extra: &[&str]) -> anyhow::Error {
     anyhow::anyhow!("cannot tell the output format of {}; use one of the extensions: {}", path.display(), all.join(" "))
 }
 
-/// Exports `scene` to `path` in the format its extension names.
-pub fn write_model(scene: &Scene, path: &Path) -> Result<()> {
+/// Exports `scene` to `path` in the format its extension names; returns
+/// the files written (an OBJ brings its material library).
+pub fn write_model(scene: &Scene, path: &Path) -> Result<Vec<PathBuf>> {
     write_model_with(scene, path, &ExportOptions::default())
 }
 
 /// [`write_model`] with explicit export options.
-pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<()> {
+///
+/// An OBJ gets its materials (the tag colours) in a `.mtl` file of the
+/// same stem beside it, named relative in its `mtllib` line; both go
+/// through [`write_atomic`], the library first, so the OBJ never names a
+/// library that is not there.
+pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>> {
     let format = output_format(path)?;
-    let bytes =
-        genform_export::export(scene, format, options).with_context(|| format!("cannot export {}", path.display()))?;
-    write_atomic(path, &bytes)
+    let context = || format!("cannot export {}", path.display());
+    if format == Format::Obj {
+        let mtl = path.with_extension("mtl");
+        let name = mtl.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let (obj, library) = genform_export::export_obj_with_mtl(scene, options, &name).with_context(context)?;
+        write_atomic(&mtl, &library)?;
+        write_atomic(path, &obj)?;
+        return Ok(vec![path.to_path_buf(), mtl]);
+    }
+    let bytes = genform_export::export(scene, format, options).with_context(context)?;
+    write_atomic(path, &bytes)?;
+    Ok(vec![path.to_path_buf()])
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder

@@ -65,12 +65,14 @@ fn sample(a: SampleArgs) -> Result<()> {
     Ok(())
 }
 
-/// The files a sample wrote, for the summary line: one by name, many as
-/// the first and last and how many.
+/// The files a sample wrote, for the summary line: one or two by name
+/// (an OBJ and its material library), more as the first and last and how
+/// many.
 fn shown(written: &[PathBuf]) -> String {
     match written {
         [] => "nothing written".to_string(),
         [one] => one.display().to_string(),
+        [a, b] => format!("{} and {}", a.display(), b.display()),
         [first, .., last] => format!("{} … {} ({} files)", first.display(), last.display(), written.len()),
     }
 }
@@ -85,8 +87,8 @@ fn derive(a: DeriveArgs) -> Result<()> {
         set: a.set.clone(),
     };
     let derived = genform_app::run::derive(&request)?;
-    write_model(&derived.scene, &a.out)?;
-    eprintln!("{} → {}", derived.summary, a.out.display());
+    let written = write_model(&derived.scene, &a.out)?;
+    eprintln!("{} → {}", derived.summary, shown(&written));
     Ok(())
 }
 
@@ -177,6 +179,7 @@ mod tests {
     fn written_files_are_shown_by_name_or_as_a_range() {
         let p = |s: &str| PathBuf::from(s);
         assert_eq!(shown(&[p("a.obj")]), "a.obj");
+        assert_eq!(shown(&[p("a.obj"), p("a.mtl")]), "a.obj and a.mtl");
         assert_eq!(shown(&[p("s0.obj"), p("s1.obj"), p("s2.obj")]), "s0.obj … s2.obj (3 files)");
     }
 }

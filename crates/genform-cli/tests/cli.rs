@@ -62,11 +62,14 @@ fn derive_replays_a_saved_genome_byte_for_byte() {
     let tmp = tempfile::tempdir().unwrap();
     for (grammar, seed) in [("spaceship.sg", "3"), ("city_grid.sg", "5"), ("tree_v2.sg", "2")] {
         let g = example(grammar);
-        genform(tmp.path(), &["sample", s(&g), "--seed", seed, "--out", "a.obj", "--genome-out", "g.json"]).ok();
-        genform(tmp.path(), &["derive", s(&g), "--genome", "g.json", "--out", "b.obj"]).ok();
-        let a = std::fs::read(tmp.path().join("a.obj")).unwrap();
-        let b = std::fs::read(tmp.path().join("b.obj")).unwrap();
-        assert_eq!(a, b, "{grammar}: derive must reproduce sample");
+        // Same file names in two folders: the OBJ names its `.mtl` by name.
+        genform(tmp.path(), &["sample", s(&g), "--seed", seed, "--out", "a/m.obj", "--genome-out", "g.json"]).ok();
+        genform(tmp.path(), &["derive", s(&g), "--genome", "g.json", "--out", "b/m.obj"]).ok();
+        for file in ["m.obj", "m.mtl"] {
+            let a = std::fs::read(tmp.path().join("a").join(file)).unwrap();
+            let b = std::fs::read(tmp.path().join("b").join(file)).unwrap();
+            assert_eq!(a, b, "{grammar}: derive must reproduce sample's {file}");
+        }
     }
 }
 
@@ -189,10 +192,13 @@ fn derive_rebuilds_an_evolved_best_from_its_scene_tree_or_codon() {
         args.extend(flags);
         genform(tmp.path(), &args).ok();
         let genome = format!("run/{genome}");
-        let err = genform(tmp.path(), &["derive", s(&scene), "--genome", &genome, "--out", "again.obj"]).ok().stderr();
-        assert!(err.contains("→ again.obj"), "{err}");
-        let (again, best) = (tmp.path().join("again.obj"), tmp.path().join("run/best.obj"));
-        assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&best).unwrap(), "{}", scene.display());
+        let args = ["derive", s(&scene), "--genome", &genome, "--out", "again/best.obj"];
+        let err = genform(tmp.path(), &args).ok().stderr();
+        assert!(err.contains("→ again/best.obj and again/best.mtl"), "{err}");
+        for file in ["best.obj", "best.mtl"] {
+            let (again, best) = (tmp.path().join("again").join(file), tmp.path().join("run").join(file));
+            assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&best).unwrap(), "{} {file}", scene.display());
+        }
     }
 }
 

@@ -35,8 +35,18 @@ fn evolve_writes_every_result_file() {
     assert_eq!(best, last_max, "with elitism the last generation holds the best individual");
     // The saved genome replays into the saved model.
     let ship_sg = root().join("examples/shape/spaceship.sg");
-    ok(tmp.path(), &["derive", ship_sg.to_str().unwrap(), "--genome", "run/best-genome.json", "--out", "replay.obj"]);
-    assert_eq!(std::fs::read(run.join("best.obj")).unwrap(), std::fs::read(tmp.path().join("replay.obj")).unwrap());
+    // Named best.obj too: the OBJ names its material library `best.mtl`.
+    ok(
+        tmp.path(),
+        &["derive", ship_sg.to_str().unwrap(), "--genome", "run/best-genome.json", "--out", "replay/best.obj"],
+    );
+    for f in ["best.obj", "best.mtl"] {
+        assert_eq!(
+            std::fs::read(run.join(f)).unwrap(),
+            std::fs::read(tmp.path().join("replay").join(f)).unwrap(),
+            "{f}"
+        );
+    }
     // `genform score` re-evaluates it to the same fitness.
     let (scored, text) = scored(tmp.path(), &scene, "run/best-genome.json");
     assert_eq!(scored, best, "{text}");

@@ -40,8 +40,15 @@ fn run_and_check(dir: &Path, scene: &Path, grammar_file: Option<&str>, generatio
 /// `genform sample` of `args` (the run's `best.gr8` or `best.ls`) writes
 /// the very `run/best.obj` the run wrote.
 fn regrows_into_best(dir: &Path, args: &[&str]) {
-    ok(dir, &[&["sample"], args, &["--out", "again.obj"]].concat());
-    assert_eq!(std::fs::read(dir.join("again.obj")).unwrap(), std::fs::read(dir.join("run/best.obj")).unwrap());
+    // Named best.obj too: the OBJ names its material library `best.mtl`.
+    ok(dir, &[&["sample"], args, &["--out", "again/best.obj"]].concat());
+    for f in ["best.obj", "best.mtl"] {
+        assert_eq!(
+            std::fs::read(dir.join("again").join(f)).unwrap(),
+            std::fs::read(dir.join("run").join(f)).unwrap(),
+            "{f}"
+        );
+    }
 }
 
 /// `genform score` of the run's `best-codons.json` gives the run's best
@@ -215,7 +222,17 @@ fn same_seed_same_bytes_at_one_and_two_threads() {
     let names: Vec<&str> = one.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(
         names,
-        ["best-codons.json", "best.glb", "best.gr8", "best.obj", "best.png", "gallery.png", "run.json", "stats.csv"]
+        [
+            "best-codons.json",
+            "best.glb",
+            "best.gr8",
+            "best.mtl",
+            "best.obj",
+            "best.png",
+            "gallery.png",
+            "run.json",
+            "stats.csv"
+        ]
     );
     for ((n, a), (_, b)) in one.iter().zip(&two) {
         assert!(a == b, "{n} differs between --threads 1 and 2");

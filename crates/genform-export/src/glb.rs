@@ -35,7 +35,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
 
 /// Writes `scene` as binary glTF 2.0 (a `.glb` file), its instances and
 /// polygons split into nodes as `granularity` says
-/// ([`Granularity::resolve`] decides `Auto` from the instance count).
+/// ([`Granularity::resolve`] decides `Auto` from the count of instances and polygons).
 ///
 /// [`Granularity::Instanced`]:
 /// - One set of vertex data per distinct primitive (box, each frustum or
@@ -88,7 +88,7 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
 pub fn write_glb_with(scene: &Scene, tess: Tessellation, granularity: Granularity) -> Vec<u8> {
     let shapes = Shapes::new(scene, tess);
     let mut doc = Doc::default();
-    match granularity.resolve(scene.instances.len()) {
+    match granularity.resolve(scene.instances.len() + scene.polygons.len()) {
         Granularity::Merged => doc.grouped(scene, &shapes, false),
         Granularity::PerTag => doc.grouped(scene, &shapes, true),
         Granularity::Instanced | Granularity::Auto => doc.instanced(scene, &shapes),

@@ -3,7 +3,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-/// Above this many instances [`Granularity::Auto`] merges: a DCC tool such
+/// Above this many instances and polygons [`Granularity::Auto`] merges: a DCC tool such
 /// as Blender makes one object per glTF node or OBJ object, and a few
 /// dozen objects is about what a user can still pick through by hand.
 pub const AUTO_MERGE_ABOVE: usize = 32;
@@ -15,7 +15,8 @@ pub const AUTO_MERGE_ABOVE: usize = 32;
 /// objects in every mode.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Granularity {
-    /// [`Granularity::Merged`] above [`AUTO_MERGE_ABOVE`] instances, else
+    /// [`Granularity::Merged`] above [`AUTO_MERGE_ABOVE`] instances and
+    /// polygons together, else
     /// [`Granularity::Instanced`].
     #[default]
     Auto,
@@ -44,7 +45,7 @@ impl Granularity {
         &["auto", "merged", "tag", "instanced"]
     }
 
-    /// The concrete mode for a scene of `instances` instances: `Auto`
+    /// The concrete mode for a scene of `instances` instances and polygons: `Auto`
     /// decided, the others unchanged.
     pub fn resolve(self, instances: usize) -> Granularity {
         match self {

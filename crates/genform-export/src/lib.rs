@@ -3,7 +3,8 @@
 //! Every writer turns a [`Scene`] into the bytes of one file; this crate does
 //! no file I/O. The formats:
 //!
-//! - [`Format::Obj`]: Wavefront OBJ text ([`write_obj`]).
+//! - [`Format::Obj`]: Wavefront OBJ text ([`write_obj`]); with a material
+//!   library (`.mtl`) of the tag colours through [`export_obj_with_mtl`].
 //! - [`Format::Glb`]: binary glTF 2.0 ([`write_glb`]).
 //! - [`Format::Ply`]: binary little-endian PLY, a triangle soup plus the
 //!   surfaces' polygons and typed edges ([`write_ply`]).
@@ -31,6 +32,11 @@
 //! faces, the edges in the colours of [`edge_color`], and the guides
 //! ([`Scene::guides`]) faintly; no model format writes guides.
 //!
+//! Flat drawings (a 2D turtle's strokes, a graph grammar's shapes) are
+//! written by OBJ, GLB, PLY and STL as flat polygons in the z = 0 plane
+//! ([`drawing_geometry`]: ribbons as wide as the strokes, fills in their
+//! SVG colours); 3D strokes stay lines (OBJ `l`, GLB `LINES`).
+//!
 //! Block grids are drawn by OBJ, GLB, PLY, STL and PNG as greedy meshes
 //! (one mesh per block state); region files are read and written by
 //! [`minecraft::read_terrain`] and [`minecraft::write_region`].
@@ -40,6 +46,7 @@
 //! coordinates, nothing to write) and reports an [`ExportError`]; the
 //! `write_*` functions trust their input.
 
+mod drawing;
 mod flat;
 mod glb;
 mod granularity;
@@ -60,10 +67,11 @@ use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 
+pub use drawing::{HAIRLINE_SHARE, drawing_geometry};
 pub use glb::{write_glb, write_glb_with};
 pub use granularity::{AUTO_MERGE_ABOVE, Granularity};
 pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFileError, MeshFormat, read_mesh, read_mesh_file};
-pub use obj::{write_obj, write_obj_with};
+pub use obj::{write_obj, write_obj_materials, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
 pub use render::{Backdrop, Camera, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over};
@@ -271,6 +279,13 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
     if format.is_blocks_only() {
         return export_blocks(scene, format, &opts.blocks);
     }
+    // The mesh formats get a flat drawing as polygons (ribbons for its
+    // strokes); SVG and PNG draw it as it is.
+    let drawn = match format {
+        Format::Obj | Format::Glb | Format::Ply | Format::Stl => drawing_geometry(scene),
+        _ => std::borrow::Cow::Borrowed(scene),
+    };
+    let scene = &*drawn;
     check_meshes(scene)?;
     check_surfaces(scene)?;
     let tess = opts.tessellation;
@@ -294,6 +309,25 @@ pub fn export(scene: &Scene, format: Format, opts: &ExportOptions) -> Result<Vec
         }
         Format::Schem | Format::Litematic | Format::Vox => return export_blocks(scene, format, &opts.blocks),
     })
+}
+
+/// An OBJ and its material library: `(OBJ bytes, MTL bytes)`, the OBJ
+/// naming `mtl_file` (a file name beside the OBJ, as OBJ readers look for
+/// it) in its `mtllib` line ([`write_obj_materials`]); checked and
+/// prepared as [`export`] does for [`Format::Obj`], which writes the OBJ
+/// alone.
+pub fn export_obj_with_mtl(
+    scene: &Scene,
+    opts: &ExportOptions,
+    mtl_file: &str,
+) -> Result<(Vec<u8>, Vec<u8>), ExportError> {
+    let drawn = drawing_geometry(scene);
+    let scene = &*drawn;
+    check_meshes(scene)?;
+    check_surfaces(scene)?;
+    check_geometry(scene, Format::Obj, opts.tessellation)?;
+    let (obj, mtl) = write_obj_materials(&surfaces_y_up(scene), opts.tessellation, opts.granularity, mtl_file);
+    Ok((obj.into_bytes(), mtl.into_bytes()))
 }
 
 /// [`export`] for the block formats.

@@ -1,6 +1,7 @@
 //! Wavefront OBJ text.
 
 use crate::granularity::Granularity;
+use crate::palette::tag_color;
 use crate::shapes::{Shapes, tag_name};
 use genform_core::scene::{Scene, TagId, Tessellation};
 use glam::Vec3;
@@ -20,7 +21,7 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
 
 /// Writes `scene` as Wavefront OBJ text, its instances and polygons split
 /// into objects as `granularity` says ([`Granularity::resolve`] decides
-/// `Auto` from the instance count).
+/// `Auto` from the count of instances and polygons).
 ///
 /// An instance is its unit mesh transformed to world space (`v` lines),
 /// then its triangles (`f`, counter-clockwise from outside, also for
@@ -46,7 +47,7 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
 /// then its edges as two-point `l` lines, one group per edge type in
 /// ascending order, `g <tag>_surface<k>_edges_type<N>`, untyped edges last
 /// in `g <tag>_surface<k>_edges_untyped`. Guides are left out. No normals,
-/// texture coordinates or materials. Numbers are printed with at most 6
+/// texture coordinates or materials ([`write_obj_materials`] adds them). Numbers are printed with at most 6
 /// decimals, trailing zeros trimmed, so the text is identical from run to
 /// run.
 ///
@@ -55,20 +56,97 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
 /// If an instance refers to a missing mesh asset (see [`crate::export`],
 /// which checks).
 pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularity) -> String {
+    write(scene, tess, granularity, None).0
+}
+
+/// [`write_obj_with`] with materials: the OBJ names the material library
+/// `mtl_file` (`mtllib`, a file name relative to the OBJ, as readers look
+/// for it beside the OBJ) and says `usemtl <name>` before each part's
+/// faces and lines; returns the OBJ text and the `.mtl` text.
+///
+/// One material per tag (named like the tag's objects with `#` as `_`, its colour from
+/// [`tag_color`], so the OBJ shows the GLB's colours), per block id
+/// (`minecraft:stone`, [`crate::minecraft::block_color`]) and per surface
+/// edge type (`edge<N>`, [`crate::edge_color`]), in first-use order: `Kd`
+/// the colour as displayed (sRGB, 0–1, 4 decimals; MTL names no colour
+/// space and most viewers show `Kd` as given), `Ka` 0, `Ks` 0, `d` 1,
+/// `illum 1` (diffuse only).
+pub fn write_obj_materials(
+    scene: &Scene,
+    tess: Tessellation,
+    granularity: Granularity,
+    mtl_file: &str,
+) -> (String, String) {
+    write(scene, tess, granularity, Some(mtl_file))
+}
+
+/// Materials in first-use order, written as `usemtl` lines when on.
+struct Materials {
+    on: bool,
+    list: Vec<(String, [u8; 3])>,
+}
+
+impl Materials {
+    /// `usemtl name`, adding the material on first use.
+    fn use_(&mut self, out: &mut String, name: &str, rgb: [u8; 3]) {
+        if !self.on {
+            return;
+        }
+        if !self.list.iter().any(|(n, _)| n == name) {
+            self.list.push((name.to_string(), rgb));
+        }
+        let _ = writeln!(out, "usemtl {name}");
+    }
+
+    fn tag(&mut self, out: &mut String, scene: &Scene, tag: TagId) {
+        // `#` starts a comment in many MTL readers: `leaf#3a7d23` → `leaf_3a7d23`.
+        let name = tag_name(scene, tag).replace('#', "_");
+        let rgb = tag_color(scene.tags.get(tag as usize).map_or("", String::as_str));
+        self.use_(out, &name, rgb);
+    }
+
+    /// The `.mtl` text.
+    fn library(&self) -> String {
+        let mut out = String::from("# genform\n");
+        for (name, rgb) in &self.list {
+            let _ = writeln!(out, "newmtl {name}");
+            out.push_str("Kd");
+            for c in rgb {
+                let _ = write!(out, " {}", trimmed(f32::from(*c) / 255.0, 4));
+            }
+            out.push_str("\nKa 0 0 0\nKs 0 0 0\nd 1\nillum 1\n");
+        }
+        out
+    }
+}
+
+/// `x` with `decimals` decimals, trailing zeros trimmed.
+fn trimmed(x: f32, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_string() } else { s }
+}
+
+fn write(scene: &Scene, tess: Tessellation, granularity: Granularity, mtl: Option<&str>) -> (String, String) {
     let shapes = Shapes::new(scene, tess);
     let mut out = String::with_capacity(64 + scene.instances.len() * 400);
     out.push_str("# genform\n");
+    let mut mats = Materials { on: mtl.is_some(), list: Vec::new() };
+    if let Some(file) = mtl {
+        let _ = writeln!(out, "mtllib {file}");
+    }
     // OBJ indices are 1-based and global.
     let mut next = 1usize;
     let polygons = || scene.polygons.iter().enumerate().filter(|(_, p)| p.points.len() >= 3);
-    let mode = granularity.resolve(scene.instances.len());
+    let mode = granularity.resolve(scene.instances.len() + scene.polygons.len());
     if mode == Granularity::Instanced {
         for (i, inst) in scene.instances.iter().enumerate() {
             let _ = writeln!(out, "o {}_{i}", tag_name(scene, inst.tag));
+            mats.tag(&mut out, scene, inst.tag);
             instance(&mut out, &mut next, &shapes, scene, i);
         }
         for (k, p) in polygons() {
             let _ = writeln!(out, "o {}_polygon{k}", tag_name(scene, p.tag));
+            mats.tag(&mut out, scene, p.tag);
             run(&mut out, &mut next, 'f', &p.points);
         }
     } else {
@@ -86,6 +164,7 @@ pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularit
         }
         for (tag, (instances, polys)) in by_tag {
             let _ = writeln!(out, "{} {}", if merged { 'g' } else { 'o' }, tag_name(scene, tag));
+            mats.tag(&mut out, scene, tag);
             for i in instances {
                 instance(&mut out, &mut next, &shapes, scene, i);
             }
@@ -97,10 +176,12 @@ pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularit
     // Polylines become one line element (`l`) each.
     for (k, l) in scene.polylines.iter().enumerate().filter(|(_, l)| l.points.len() >= 2) {
         let _ = writeln!(out, "o {}_polyline{k}", tag_name(scene, l.tag));
+        mats.tag(&mut out, scene, l.tag);
         run(&mut out, &mut next, 'l', &l.points);
     }
     for m in crate::minecraft::block_meshes(scene) {
         let _ = writeln!(out, "o {}", m.mesh.name);
+        mats.use_(&mut out, &m.state.name, crate::minecraft::block_color(&m.state));
         for &p in &m.mesh.positions {
             vertex(&mut out, p);
         }
@@ -113,6 +194,7 @@ pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularit
     for (k, surface) in scene.surfaces.iter().enumerate() {
         let name = crate::surfaces::surface_name(scene, k);
         let _ = writeln!(out, "o {name}");
+        mats.tag(&mut out, scene, surface.tag);
         for &p in &surface.positions {
             vertex(&mut out, p);
         }
@@ -129,13 +211,15 @@ pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularit
             } else {
                 let _ = writeln!(out, "g {name}_edges_type{kind}");
             }
+            mats.use_(&mut out, &crate::palette::edge_type_name(kind), crate::palette::edge_color(kind));
             for [a, b] in pairs {
                 let _ = writeln!(out, "l {} {}", next + a as usize, next + b as usize);
             }
         }
         next += surface.positions.len();
     }
-    out
+    let library = mats.library();
+    (out, library)
 }
 
 /// Instance `i`'s world-space vertices and triangles (faces kept outward
@@ -376,5 +460,36 @@ mod tests {
     fn text_is_deterministic() {
         let s = test_scenes::mixed();
         assert_eq!(write_obj(&s, Tessellation::default()), write_obj(&s.clone(), Tessellation::default()));
+    }
+
+    #[test]
+    fn materials_name_every_part_and_read_back() {
+        let mut s = test_scenes::surfaces();
+        let leaf = s.tag("leaf#3a7d23");
+        s.polygons.push(genform_core::scene::Polygon { points: vec![Vec3::ZERO, Vec3::X, Vec3::Y], tag: leaf });
+        let (obj, mtl) = write_obj_materials(&s, Tessellation::default(), Granularity::Auto, "m.mtl");
+        assert!(obj.starts_with("# genform\nmtllib m.mtl\n"));
+        // Without materials the text is the plain OBJ.
+        let plain: String = obj
+            .lines()
+            .filter(|l| !l.starts_with("mtllib") && !l.starts_with("usemtl"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        assert_eq!(plain, write_obj_with(&s, Tessellation::default(), Granularity::Auto));
+        let load = tobj::LoadOptions { triangulate: false, ignore_lines: false, ..Default::default() };
+        let (models, mats) = tobj::load_obj_buf(&mut std::io::Cursor::new(obj.as_bytes()), &load, |p| {
+            assert_eq!(p, std::path::Path::new("m.mtl"));
+            tobj::load_mtl_buf(&mut std::io::Cursor::new(mtl.as_bytes()))
+        })
+        .unwrap();
+        let mats = mats.unwrap();
+        let names: Vec<&str> = mats.iter().map(|m| m.name.as_str()).collect();
+        assert_eq!(names, ["hull", "leaf_3a7d23", "shell", "edge1", "edge2", "edge_untyped"]);
+        let kd = |n: &str| mats.iter().find(|m| m.name == n).unwrap().diffuse.unwrap();
+        assert_eq!(kd("leaf_3a7d23"), [0.2275, 0.4902, 0.1373]);
+        let hull = tag_color("hull");
+        assert_eq!(kd("hull"), hull.map(|c| (f32::from(c) / 255.0 * 1e4).round() / 1e4));
+        assert_eq!(kd("edge1"), crate::edge_color(1).map(|c| (f32::from(c) / 255.0 * 1e4).round() / 1e4));
+        assert!(models.iter().all(|m| m.mesh.material_id.is_some()), "every part has a material");
     }
 }

@@ -236,6 +236,20 @@ impl Drawing {
     }
 }
 
+/// One 2D shape as a standalone SVG document in scene units with y
+/// flipped (SVG y runs down), exactly as [`write_svg`] writes the element;
+/// the drawing-to-geometry conversion parses it with usvg. `color` stands
+/// in when the shape has neither fill nor stroke.
+pub(crate) fn shape_document(shape: &Shape2d, color: [u8; 3]) -> String {
+    let mut w = Writer { out: String::new(), decimals: 6 };
+    // No view box: usvg then applies no transform of its own, and keeps
+    // elements outside the 1×1 viewport (only rendering clips).
+    w.out.push_str("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1\" height=\"1\">\n");
+    shapes2d::write(&mut w, shape, &hex(color));
+    w.out.push_str("</svg>\n");
+    w.out
+}
+
 /// A surface seen from +z: its faces as one filled path (each face turned
 /// counter-clockwise, so the fill is their union), then its edges as lines,
 /// untyped first and thinnest.

@@ -83,6 +83,18 @@ pub fn load(path: &Bound<'_, PyAny>) -> PyResult<Grammar> {
     Ok(Grammar { core: Arc::new(GrammarCore::open(&path).or_raise()?) })
 }
 
+/// 8-bit sRGB as floats in [0, 1].
+fn unit_rgb([r, g, b]: [u8; 3]) -> (f32, f32, f32) {
+    (f32::from(r) / 255.0, f32::from(g) / 255.0, f32::from(b) / 255.0)
+}
+
+#[pyfunction]
+/// The display colour of a tag as sRGB in [0, 1], the GLB materials' and
+/// previews' palette (a trailing `#rrggbb` wins, else a hash of the name).
+pub fn tag_color(name: &str) -> (f32, f32, f32) {
+    unit_rgb(genform_export::tag_color(name))
+}
+
 #[pyfunction]
 /// The formalisms genform loads: `{"name", "extensions"}` per row.
 pub fn formalisms(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
@@ -341,10 +353,18 @@ impl Model {
         Ok((PyArray1::from_vec(py, a.tags).into_any(), a.tag_names))
     }
 
-    /// Triangles of instances, polygons, surfaces and block meshes (the
-    /// faces of `mesh()`).
+    /// The display colour of each group of `face_tags()` (same order), as
+    /// sRGB in [0, 1]: the colours of the GLB's materials (tags through the
+    /// tag palette, block states through the block palette).
+    fn tag_colors(&self, py: Python<'_>) -> Vec<(f32, f32, f32)> {
+        let a = py.detach(|| mesh::arrays(self.scene(), Tessellation::default()));
+        a.tag_colors.iter().map(|c| unit_rgb(*c)).collect()
+    }
+
+    /// Triangles of instances, polygons, a flat drawing's strokes and
+    /// shapes, surfaces and block meshes (the faces of `mesh()`).
     fn triangle_count(&self, py: Python<'_>) -> usize {
-        let scene = self.scene();
+        let scene = &*genform_export::drawing_geometry(self.scene());
         if scene.blocks.is_empty() {
             return scene.triangle_count(Tessellation::default());
         }
@@ -354,7 +374,8 @@ impl Model {
     /// ((min x, y, z), (max x, y, z)) of all geometry, blocks included;
     /// None when empty.
     fn bounds(&self, py: Python<'_>) -> Option<(Point, Point)> {
-        let scene = &*genform_export::surfaces_y_up(self.scene());
+        let drawn = genform_export::drawing_geometry(self.scene());
+        let scene = &*genform_export::surfaces_y_up(&drawn);
         let (lo, hi) = if scene.blocks.is_empty() {
             scene.bounds(Tessellation::default())?
         } else {
@@ -378,7 +399,7 @@ impl Model {
                     }
                     s.write(&path, &genform_export::ExportOptions::default())
                 }
-                Body::Scene(scene) => genform_app::output::write_model(scene, &path).map(|()| vec![path.clone()]),
+                Body::Scene(scene) => genform_app::output::write_model(scene, &path),
             })
             .or_raise()?;
         Ok(written.iter().map(|p| p.display().to_string()).collect())

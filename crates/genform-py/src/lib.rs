@@ -29,6 +29,7 @@ fn _genform(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<evolve::RunResult>()?;
     m.add_function(wrap_pyfunction!(grammar::load, m)?)?;
     m.add_function(wrap_pyfunction!(grammar::formalisms, m)?)?;
+    m.add_function(wrap_pyfunction!(grammar::tag_color, m)?)?;
     m.add_function(wrap_pyfunction!(grammar::derive_with_limits, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(evolve::evolve, m)?)?;

@@ -1,6 +1,7 @@
 //! A Scene as indexed triangle arrays for NumPy: the points and faces the
 //! OBJ writer of `genform_export` writes (n-gons split by
-//! `triangulate_polygon`, lines as points without faces), in the Scene's
+//! `triangulate_polygon`, a flat drawing's strokes and shapes as the
+//! polygons of `drawing_geometry`, 3D lines as points without faces), in the Scene's
 //! order (instances, polygons, polylines, block meshes merged per block
 //! state, surfaces), with exact `f32` coordinates.
 
@@ -19,6 +20,10 @@ pub struct Arrays {
     pub tags: Vec<u32>,
     /// The groups: the scene's tags, then one per block state.
     pub tag_names: Vec<String>,
+    /// Per group, its display colour (8-bit sRGB): a tag's
+    /// `genform_export::tag_color`, a block state's
+    /// `genform_export::minecraft::block_color` — the GLB materials' colours.
+    pub tag_colors: Vec<[u8; 3]>,
 }
 
 impl Arrays {
@@ -49,9 +54,12 @@ impl Arrays {
 /// `scene` as arrays: instances, polygons, polylines (vertices only),
 /// block meshes (merged per block state), surfaces.
 pub fn arrays(scene: &Scene, tess: Tessellation) -> Arrays {
-    // Surfaces turned to +y up, as the OBJ, PLY and STL writers give them.
-    let scene = &*genform_export::surfaces_y_up(scene);
-    let mut out = Arrays { tag_names: scene.tags.clone(), ..Arrays::default() };
+    // A flat drawing as polygons and surfaces turned to +y up, as the OBJ,
+    // PLY and STL writers give them.
+    let drawn = genform_export::drawing_geometry(scene);
+    let scene = &*genform_export::surfaces_y_up(&drawn);
+    let tag_colors = scene.tags.iter().map(|t| genform_export::tag_color(t)).collect();
+    let mut out = Arrays { tag_names: scene.tags.clone(), tag_colors, ..Arrays::default() };
     let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
     for inst in &scene.instances {
         let mesh: &Mesh = match inst.primitive {
@@ -85,6 +93,7 @@ pub fn arrays(scene: &Scene, tess: Tessellation) -> Arrays {
         let base = out.base();
         let (from, tag) = (out.faces.len() / 3, out.tag_names.len() as u32);
         out.tag_names.push(state.to_string());
+        out.tag_colors.push(genform_export::minecraft::block_color(&state));
         out.push_points(mesh.positions.iter().copied());
         out.faces.extend(mesh.triangles.iter().flat_map(|t| t.map(|v| base + v)));
         out.tag_since(from, tag);

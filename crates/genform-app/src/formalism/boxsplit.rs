@@ -210,19 +210,18 @@ impl Sample for BoxSample {
         let structure = &self.scene.blocks[0];
         if ends_with_any(out, REGION) {
             write_into_region(&self.regions, structure, out)?;
-        } else {
-            let options = ExportOptions { blocks: self.blocks, ..*export };
-            match &self.terrain {
-                Some(terrain) if is_preview(out)? => {
-                    let mut scene = Scene::new();
-                    scene.blocks.push(terrain_context(terrain, structure));
-                    scene.blocks.push(structure.clone());
-                    write_model_with(&scene, out, &options)?;
-                }
-                _ => write_model_with(&self.scene, out, &options)?,
-            }
+            return Ok(vec![out.to_path_buf()]);
         }
-        Ok(vec![out.to_path_buf()])
+        let options = ExportOptions { blocks: self.blocks, ..*export };
+        match &self.terrain {
+            Some(terrain) if is_preview(out)? => {
+                let mut scene = Scene::new();
+                scene.blocks.push(terrain_context(terrain, structure));
+                scene.blocks.push(structure.clone());
+                write_model_with(&scene, out, &options)
+            }
+            _ => write_model_with(&self.scene, out, &options),
+        }
     }
 }
 

@@ -112,9 +112,9 @@ impl Sample for GraphSample {
     fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
         if ends_with_any(out, YAML) {
             write_atomic(out, self.graph.to_yaml().as_bytes())?;
+            Ok(vec![out.to_path_buf()])
         } else {
-            write_model_with(&self.scene, out, export)?;
+            write_model_with(&self.scene, out, export)
         }
-        Ok(vec![out.to_path_buf()])
     }
 }

@@ -202,7 +202,7 @@ impl LoadedGrammar for HemlsFile {
 }
 
 /// Writes `scene` to `out`; PNG previews are seen with +z up.
-fn write_surface_scene(scene: &Scene, out: &Path) -> Result<()> {
+fn write_surface_scene(scene: &Scene, out: &Path) -> Result<Vec<PathBuf>> {
     if ends_with_any(out, &[".png"]) {
         write_model(&crate::codon_report::z_up(scene), out)
     } else {
@@ -354,8 +354,7 @@ impl Sample for Grown {
     /// `_export` changes nothing here.
     fn write(&self, out: &Path, _export: &genform_export::ExportOptions) -> Result<Vec<PathBuf>> {
         if self.steps.is_empty() {
-            write_surface_scene(&self.scene, out)?;
-            return Ok(vec![out.to_path_buf()]);
+            return write_surface_scene(&self.scene, out);
         }
         if ends_with_any(out, &[".png"]) {
             crate::output::write_atomic(out, &self.steps_png())?;
@@ -371,8 +370,7 @@ impl Sample for Grown {
             one.tags = self.scene.tags.clone();
             one.surfaces.push(surface.clone());
             let path = step_path(out, k);
-            write_model(&one, &path)?;
-            written.push(path);
+            written.extend(write_model(&one, &path)?);
         }
         Ok(written)
     }

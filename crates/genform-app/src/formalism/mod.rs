@@ -145,8 +145,7 @@ pub trait Sample: Send + Sync {
     /// step) override it; the default exports [`Sample::scene`] with
     /// `export` (`--granularity`).
     fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
-        write_model_with(self.scene(), out, export)?;
-        Ok(vec![out.to_path_buf()])
+        write_model_with(self.scene(), out, export)
     }
 }
 

@@ -393,13 +393,10 @@ pub fn stop_reason_name(reason: StopReason) -> &'static str {
     }
 }
 
-/// `best.glb` and `best.obj` of `scene`.
+/// `best.glb`, and `best.obj` with its materials `best.mtl`, of `scene`.
 fn write_models(out: &Path, scene: &Scene) -> Result<()> {
-    for (name, format) in [("best.glb", Format::Glb), ("best.obj", Format::Obj)] {
-        let bytes = genform_export::export(scene, format, &ExportOptions::default())
-            .with_context(|| format!("cannot export {name}"))?;
-        write_atomic(&out.join(name), &bytes)?;
-    }
+    crate::output::write_model(scene, &out.join("best.glb"))?;
+    crate::output::write_model(scene, &out.join("best.obj"))?;
     Ok(())
 }
 
