@@ -260,7 +260,16 @@ fn sampling_goes_through_the_formalism_table() {
     assert_eq!(glb.body, std::fs::read(tmp.path().join("cli.glb")).unwrap(), "the CLI's bytes");
     let id = a["id"].as_str().unwrap();
     let obj = server.get(&format!("/api/models/{id}.obj?download=1")).ok();
-    assert!(String::from_utf8_lossy(&obj.body).contains("\nv "), "an OBJ");
+    let obj = String::from_utf8_lossy(&obj.body).into_owned();
+    assert!(obj.contains("\nv "), "an OBJ");
+    // Its materials are a second download, named as the OBJ names them.
+    assert!(a["formats"].as_array().unwrap().iter().any(|f| f == "mtl"), "{a}");
+    assert!(obj.contains("\nmtllib spaceship-3.mtl\n"), "{}", &obj[..200.min(obj.len())]);
+    let mtl = String::from_utf8_lossy(&server.get(&format!("/api/models/{id}.mtl?download=1")).ok().body).into_owned();
+    assert!(mtl.contains("newmtl ") && mtl.contains("Kd "), "{mtl}");
+    for used in obj.lines().filter_map(|l| l.strip_prefix("usemtl ")) {
+        assert!(mtl.contains(&format!("newmtl {used}\n")), "`usemtl {used}` is in the library");
+    }
     assert_eq!(server.get(&format!("/api/models/{id}.mca")).status, 404);
     // An L-system with a parameter; a 3D one previews as GLB.
     let l = server

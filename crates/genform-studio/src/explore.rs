@@ -387,8 +387,20 @@ fn formats(scene: &Scene, own: &[&str]) -> Vec<String> {
         .filter(|e| !scene.blocks.is_empty() || !matches!(**e, "schem" | "litematic" | "vox"))
         .map(|e| e.to_string())
         .collect();
+    // An OBJ's materials come as a second file: offered beside it.
+    if let Some(i) = out.iter().position(|e| e == "obj") {
+        out.insert(i + 1, "mtl".to_string());
+    }
     out.extend(own.iter().map(|e| e.trim_start_matches('.').to_string()).filter(|e| e != "mca" && e != "yml"));
     out
+}
+
+/// `obj` with its `mtllib` line naming `library` (the line is among the
+/// first few; the rest of the file is left as it is).
+fn renamed_mtllib(obj: &[u8], library: &str) -> Vec<u8> {
+    let Some(start) = obj.windows(7).take(4096).position(|w| w == b"mtllib ") else { return obj.to_vec() };
+    let end = obj[start..].iter().position(|&b| b == b'\n').map_or(obj.len(), |i| start + i);
+    [&obj[..start], format!("mtllib {library}").as_bytes(), &obj[end..]].concat()
 }
 
 /// Whether a model is a flat drawing (shown as SVG): 2D shapes, or only
@@ -437,7 +449,9 @@ pub async fn model(
     let ext = ext.to_string();
     let out = ext.clone();
     let bytes = blocking(move || {
-        let path = entry.dir.join(format!("model.{out}"));
+        // The `.mtl` is the OBJ writer's second file.
+        let written_as = if out == "mtl" { "obj" } else { out.as_str() };
+        let path = entry.dir.join(format!("model.{written_as}"));
         let _one = entry.writing.lock().unwrap_or_else(|p| p.into_inner());
         if !path.is_file() {
             std::fs::create_dir_all(&entry.dir).map_err(|e| ApiError::internal(e.to_string()))?;
@@ -447,8 +461,15 @@ pub async fn model(
                 return Err(ApiError::internal(format!("the {out} writer did not write one file")));
             }
         }
-        let bytes = std::fs::read(&path).map_err(|e| ApiError::internal(e.to_string()))?;
-        Ok((bytes, format!("{}-{}.{out}", entry.stem, entry.seed)))
+        let served = entry.dir.join(format!("model.{out}"));
+        let mut bytes = std::fs::read(&served).map_err(|e| ApiError::internal(e.to_string()))?;
+        let name = format!("{}-{}", entry.stem, entry.seed);
+        if out == "obj" {
+            // Downloaded, the pair is named after the sample: the OBJ's
+            // `mtllib` must name the `.mtl` as it is downloaded.
+            bytes = renamed_mtllib(&bytes, &format!("{name}.mtl"));
+        }
+        Ok((bytes, format!("{name}.{out}")))
     })
     .await?;
     let mut r = bytes_response(content_type(&format!("m.{ext}")), bytes.0);
