@@ -248,11 +248,46 @@ fn auto_camera(scene: &Scene, shapes: &Shapes, blocks: &[BlockMesh], ghosts: &[M
     finite_points(scene, shapes, |p| pts.push(p));
     pts.extend(blocks.iter().flat_map(|m| m.mesh.positions.iter().copied()));
     pts.extend(ghosts.iter().flat_map(|m| m.positions.iter().copied()).filter(|p| p.is_finite()));
-    let b =
-        pts.iter().fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))));
+    let bounds = |pts: &[Vec3]| {
+        pts.iter().fold(None, |b: Option<(Vec3, Vec3)>, &p| Some(b.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p)))))
+    };
+    let mut b = bounds(&pts);
+    // Guides near the model (an environment's box, its charges) are framed
+    // with it, so the picture shows them whole; guides far away (a boundary
+    // many times the model's size) would shrink the model to a speck, so
+    // the frame is the model's alone then.
+    if let Some((lo, hi)) = b {
+        let limit = GUIDE_FRAME_GROWTH * (hi - lo).length().max(f32::EPSILON);
+        for guide in &scene.guides {
+            let near = guide_points(guide);
+            if let Some((glo, ghi)) = bounds(&near)
+                && (hi.max(ghi) - lo.min(glo)).length() <= limit
+            {
+                pts.extend(near);
+            }
+        }
+        b = bounds(&pts);
+    }
     let mut cam = Camera::fit_aspect(b.unwrap_or((Vec3::splat(-0.5), Vec3::splat(0.5))), aspect);
     refine(&mut cam, aspect, &pts);
     cam
+}
+
+/// How much larger than the model's own bounds (diagonal) the bounds with
+/// a guide may be for that guide to be framed too.
+const GUIDE_FRAME_GROWTH: f32 = 3.0;
+
+/// The finite points of a guide as drawn: a mesh's corners, a point
+/// marker's centre ± its radius along each axis.
+fn guide_points(g: &genform_core::surface::Guide) -> Vec<Vec3> {
+    match &g.kind {
+        GuideKind::Mesh(mesh) => mesh.positions.iter().copied().filter(|p| p.is_finite()).collect(),
+        GuideKind::Point { at, radius } if at.is_finite() && radius.is_finite() => {
+            let r = radius.abs();
+            [Vec3::X, Vec3::Y, Vec3::Z].iter().flat_map(|&d| [*at + d * r, *at - d * r]).collect()
+        }
+        GuideKind::Point { .. } => Vec::new(),
+    }
 }
 
 /// The camera [`render_rgb`] fits to `scene` when
@@ -1060,7 +1095,7 @@ mod tests {
     }
 
     #[test]
-    fn guides_are_faint_and_left_out_of_the_framing() {
+    fn guides_are_faint_and_far_ones_left_out_of_the_framing() {
         use genform_core::surface::{Guide, GuideKind};
         let (mut s, mut opts) = grid_from_above("shell#c0c0c0");
         // No edges, whose palette has a red and a blue too.
@@ -1083,8 +1118,8 @@ mod tests {
         assert_eq!(redness(&rgb, 100, 255), 0);
         let blue = rgb.chunks(3).filter(|p| i32::from(p[2]) > i32::from(p[0]) + 80).count();
         assert!(blue > 20, "{blue}");
-        // Auto-framing ignores guides: a far boundary changes nothing
-        // about where the surface is drawn.
+        // Auto-framing leaves far guides out: a boundary 100 units away
+        // changes nothing about where the surface is drawn.
         opts.camera = None;
         let far = genform_core::Mesh {
             name: "far".into(),
@@ -1096,6 +1131,33 @@ mod tests {
         s.guides.push(Guide { kind: GuideKind::Mesh(std::sync::Arc::new(far)), tag: b });
         let (again, _, _) = render_rgb(&s, &opts);
         assert_eq!(framed, again);
+    }
+
+    #[test]
+    fn a_guide_box_near_the_model_is_framed_whole() {
+        use genform_core::surface::{Guide, GuideKind};
+        let (mut s, mut opts) = grid_from_above("shell#c0c0c0");
+        opts.camera = None;
+        // A box twice the surface's size around it (an environment's
+        // boundary): every corner projects inside the picture.
+        let (lo, hi) = (Vec3::new(-2.0, -2.0, -2.0), Vec3::new(2.0, 2.0, 2.0));
+        let corners: Vec<Vec3> =
+            (0..8).map(|i| Vec3::new([lo.x, hi.x][i & 1], [lo.y, hi.y][(i >> 1) & 1], [lo.z, hi.z][i >> 2])).collect();
+        let faces = [[0, 1, 3], [0, 3, 2], [4, 6, 7], [4, 7, 5], [0, 4, 5], [0, 5, 1], [2, 3, 7], [2, 7, 6]];
+        let boxy = genform_core::Mesh { name: "box".into(), positions: corners.clone(), triangles: faces.to_vec() };
+        let b = s.tag("boundary");
+        s.guides.push(Guide { kind: GuideKind::Mesh(std::sync::Arc::new(boxy)), tag: b });
+        let camera = fitted_camera(&s, opts.width, opts.height);
+        let view = View::new(&camera, opts.width as usize, opts.height as usize);
+        for c in corners {
+            let p = view.project(view.to_camera(c));
+            assert!(
+                (0.0..=opts.width as f32).contains(&p.x) && (0.0..=opts.height as f32).contains(&p.y),
+                "corner {c} at {p} of {}×{}",
+                opts.width,
+                opts.height
+            );
+        }
     }
 
     #[test]
