@@ -34,7 +34,13 @@
 //! `subtree_mutation` regrows one derivation subtree of a child
 //! ([`Objective::subtrees`]) from its own stream `(seed,
 //! GE_SUBTREE_STREAM, generation, child)`, after point mutation and before
-//! the novelty pass.
+//! the novelty pass. Also off by default: `local_search` makes a share of
+//! the children as copies of the best with 1–3 read codons redrawn (stream
+//! `(seed, GE_LOCAL_STREAM, generation, child)`), and `restart_after`
+//! replaces all but the elites by fresh genomes (stream `(seed,
+//! GE_RESTART_STREAM, generation, index)`) once the best has not risen for
+//! that many generations. None of the three beat the defaults on all three
+//! Genr8 scenes (docs/evolve.md).
 //!
 //! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
 //! - [`operators`]: random genomes, crossover, mutation.
