@@ -6,8 +6,9 @@ use genform_core::{GuideKind, Scene};
 use genform_export::plot::{Chart, Series, charts_svg};
 use std::fmt::Write as _;
 
-use crate::codon_objective::{Invalid, InvalidCounts};
+use crate::codon_objective::{CodonObjective, Invalid, InvalidCounts, ScoreDetail};
 use crate::report::{self, Row};
+use genform_evolve::{Codons, Individual};
 
 /// The best individual's criteria in one generation: `(name, contribution)`
 /// per weighted criterion, in the scorer's order.
@@ -145,6 +146,45 @@ pub fn look(scene: &Scene, measures: &[f64]) -> String {
     out
 }
 
+/// What a surface looks like in a gallery, as text: per surface its face
+/// count, then the surface criteria's raw values (`criteria`), numbers to 4
+/// significant digits. Unlike [`look`] it leaves out the bounds: a surface
+/// and its mirror image or a shifted copy (GE finds many: a rule set that
+/// turns left where another turns right) score alike and look alike, but
+/// their bounds differ, so galleries of Genr8 runs showed one surface
+/// twice with the same score (canopy, seed 3: two cells at 3.8118). Two
+/// surfaces with one face count and one set of criteria values show once.
+pub fn surface_look(scene: &Scene, criteria: &[f64]) -> String {
+    let mut out = String::new();
+    for s in &scene.surfaces {
+        let _ = write!(out, "surface {} faces; ", s.face_count());
+    }
+    let values: Vec<String> = criteria.iter().map(|&m| sig4(m)).collect();
+    let _ = write!(out, "criteria {}", values.join(" "));
+    out
+}
+
+/// The look a gallery compares for a model scored with `detail`: Genr8
+/// surfaces by [`surface_look`], targets' counts by [`look`].
+pub fn gallery_look(scene: &Scene, detail: &ScoreDetail) -> String {
+    match detail {
+        ScoreDetail::Surface(s) => surface_look(scene, &s.components().iter().map(|c| c.measure).collect::<Vec<_>>()),
+        ScoreDetail::Counts(c) => look(scene, &[c.good, c.bad, c.overlap, c.outside]),
+    }
+}
+
+/// The individuals a codon run's `gallery.png` shows: going down
+/// `population` (best first), each valid individual whose
+/// [`gallery_look`] is new, at most `n`, as its index in `population` and
+/// its model. Individuals that cannot be rebuilt are skipped.
+pub fn gallery_picks(objective: &CodonObjective, population: &[Individual<Codons>], n: usize) -> Vec<(usize, Scene)> {
+    let looks = population.iter().enumerate().filter(|(_, ind)| ind.is_valid()).filter_map(|(i, ind)| {
+        let e = objective.express(&ind.genome).ok()?;
+        Some((gallery_look(&e.scene, &e.detail), (i, e.scene)))
+    });
+    distinct_looks(looks, n)
+}
+
 /// Up to `n` of `items` (`(look, item)`, best individual first) whose
 /// looks differ: the first of each look, in order. Fewer than `n` when
 /// fewer distinct looks exist, so a converged run shows a short gallery
@@ -172,6 +212,7 @@ mod tests {
     use super::*;
     use genform_core::surface::Surface;
     use genform_evolve::GenerationStats;
+    use std::collections::HashSet;
 
     fn row(g: usize) -> Row {
         let mut stats = GenerationStats::of_population(g, &[]);
@@ -241,6 +282,53 @@ mod tests {
         assert_eq!(distinct_looks(counted, 2), [0, 5]);
         assert_eq!(read, 6, "stops reading once it has enough");
         assert!(look(&strips(4, 1), &[]).starts_with("surface 4 faces; 0 instances 0 polylines; bounds"));
+    }
+
+    #[test]
+    fn surface_looks_ignore_where_a_surface_lies_and_which_way_it_faces() {
+        let mut mirrored = strips(4, 1);
+        for p in &mut mirrored.surfaces[0].positions {
+            *p = glam::Vec3::new(-p.x + 3.0, p.y, p.z);
+        }
+        assert_ne!(look(&strips(4, 1), &[10.0, 0.5]), look(&mirrored, &[10.0, 0.5]), "bounds differ");
+        assert_eq!(surface_look(&strips(4, 1), &[10.0, 0.5]), surface_look(&mirrored, &[10.0, 0.5]));
+        assert_ne!(surface_look(&strips(4, 1), &[10.0, 0.5]), surface_look(&strips(5, 1), &[10.0, 0.5]));
+        assert_ne!(surface_look(&strips(4, 1), &[10.0, 0.5]), surface_look(&strips(4, 1), &[10.0, 0.5001]));
+        assert_eq!(surface_look(&strips(4, 2), &[10.0, 0.5]), "surface 4 faces; criteria 1.000e1 5.000e-1");
+    }
+
+    #[test]
+    fn a_genr8_gallery_never_shows_one_face_count_and_criteria_twice() {
+        use genform_evolve::{Ge, Optimizer};
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/genr8_canopy.toml");
+        let loaded = crate::codon_scene::CodonSceneConfig::load(&path).unwrap();
+        let objective = CodonObjective::new(&loaded).unwrap();
+        let mut ge = Ge::new(loaded.config.ge.clone(), 3).unwrap();
+        for _ in 0..30 {
+            Optimizer::step(&mut ge, &objective);
+        }
+        let population = ge.population();
+        // Face counts and criteria to 4 significant digits.
+        let described = |i: usize| {
+            let e = objective.express(&population[i].genome).unwrap();
+            let ScoreDetail::Surface(s) = &e.detail else { panic!("a surface scene") };
+            let faces: Vec<usize> = e.scene.surfaces.iter().map(|s| s.face_count()).collect();
+            let criteria: Vec<String> = s.components().iter().map(|c| format!("{:.3e}", c.measure)).collect();
+            (faces, criteria)
+        };
+        let valid: Vec<usize> = (0..population.len()).filter(|&i| population[i].is_valid()).collect();
+        let surfaces: HashSet<_> = valid.iter().map(|&i| described(i)).collect();
+        // The population holds one surface more than once (copies, and rule
+        // sets that differ only where nothing is drawn).
+        assert!(surfaces.len() < valid.len(), "{} surfaces in {} members", surfaces.len(), valid.len());
+        let picks = gallery_picks(&objective, population, 16);
+        assert_eq!(picks.len(), surfaces.len().min(16), "as many cells as distinct surfaces allow");
+        let mut shown = HashSet::new();
+        for (i, _) in &picks {
+            assert!(shown.insert(described(*i)), "#{i} shows a surface already shown");
+        }
+        assert_eq!(picks[0].0, 0, "the best first");
+        assert!(picks.windows(2).all(|w| w[0].0 < w[1].0), "then down the ranks");
     }
 
     #[test]

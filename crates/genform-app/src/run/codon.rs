@@ -362,20 +362,15 @@ impl Run<'_> {
         if scene.surfaces.is_empty() { scene.clone() } else { codon_report::z_up(scene) }
     }
 
-    /// The best individuals that look distinct ([`codon_report::look`]:
-    /// surface faces and vertices, bounds and the scorer's measures), at
-    /// most [`GALLERY`], each framed on its own model; fewer when the
-    /// population holds fewer distinct looks.
+    /// The best individuals that look distinct
+    /// ([`codon_report::gallery_picks`]: surfaces by face count and
+    /// criteria values, other models by bounds and counts), at most
+    /// [`GALLERY`], each framed on its own model; fewer when the population
+    /// holds fewer distinct looks.
     fn gallery(&self, population: &[Individual<Codons>]) -> Vec<u8> {
-        let looks = population.iter().filter(|i| i.is_valid()).filter_map(|ind| {
-            let e = self.objective.express(&ind.genome).ok()?;
-            let measures: Vec<f64> = match &e.detail {
-                ScoreDetail::Surface(s) => s.components().iter().map(|c| c.measure).collect(),
-                ScoreDetail::Counts(c) => vec![c.good, c.bad, c.overlap, c.outside],
-            };
-            Some((codon_report::look(&e.scene, &measures), (self.preview(&e.scene), ind.fitness)))
-        });
-        report::gallery_png(&codon_report::distinct_looks(looks, GALLERY))
+        let picks = codon_report::gallery_picks(&self.objective, population, GALLERY);
+        let shown: Vec<(Scene, f64)> = picks.iter().map(|(i, s)| (self.preview(s), population[*i].fitness)).collect();
+        report::gallery_png(&shown)
     }
 }
 

@@ -79,6 +79,18 @@ pub struct GeConfig {
     /// an objective that tells the subtrees (ask/tell replays, as in the
     /// studio's breeding, do not, so there it changes nothing).
     pub subtree_mutation: f64,
+    /// Generations without a new best (strictly better than every
+    /// individual seen) after which GE restarts: the `elitism` best stay,
+    /// every other member is a fresh random genome, drawn as generation 0's
+    /// are. The best seen is never lost. 0 turns it off (the default).
+    pub restart_after: usize,
+    /// Share of each generation's children made by local search around the
+    /// best: a copy of the population's first member with one to three of
+    /// the codons its mapping reads redrawn (a (1 + λ) step on what
+    /// decides its phenotype), instead of selection, crossover and
+    /// mutation. Needs [`Objective::expressed`](crate::Objective::expressed);
+    /// without it the whole genome counts. 0 turns it off (the default).
+    pub local_search: f64,
 }
 
 /// What [`GeConfig::novel_children`] compares.
@@ -108,6 +120,8 @@ impl Default for GeConfig {
             novel_children: true,
             novel_key: NovelKey::Codons,
             subtree_mutation: 0.0,
+            restart_after: 0,
+            local_search: 0.0,
         }
     }
 }
@@ -123,7 +137,8 @@ impl GeConfig {
         }
         probability("crossover_rate", self.crossover_rate)?;
         probability("mutation_rate", self.mutation_rate)?;
-        probability("subtree_mutation", self.subtree_mutation)
+        probability("subtree_mutation", self.subtree_mutation)?;
+        probability("local_search", self.local_search)
     }
 }
 

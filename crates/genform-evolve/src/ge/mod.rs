@@ -34,7 +34,13 @@
 //! `subtree_mutation` regrows one derivation subtree of a child
 //! ([`Objective::subtrees`]) from its own stream `(seed,
 //! GE_SUBTREE_STREAM, generation, child)`, after point mutation and before
-//! the novelty pass.
+//! the novelty pass. Also off by default: `local_search` makes a share of
+//! the children as copies of the best with 1–3 read codons redrawn (stream
+//! `(seed, GE_LOCAL_STREAM, generation, child)`), and `restart_after`
+//! replaces all but the elites by fresh genomes (stream `(seed,
+//! GE_RESTART_STREAM, generation, index)`) once the best has not risen for
+//! that many generations. None of the three beat the defaults on all three
+//! Genr8 scenes (docs/evolve.md).
 //!
 //! - [`config`]: [`GeConfig`], [`CodonRandomConfig`].
 //! - [`operators`]: random genomes, crossover, mutation.
@@ -77,6 +83,12 @@ pub const GE_PAIR_STREAM: u64 = 0x4745_5041_4952; // "GEPAIR"
 pub const GE_NOVEL_STREAM: u64 = 0x4745_4e4f_5645; // "GENOVE"
 /// Stream id of subtree mutation: `(seed, GE_SUBTREE_STREAM, generation, child)`.
 pub const GE_SUBTREE_STREAM: u64 = 0x4745_5355_4254; // "GESUBT"
+/// Stream id of a restart's fresh genomes: `(seed, GE_RESTART_STREAM, generation, index)`.
+pub const GE_RESTART_STREAM: u64 = 0x4745_5253_5452; // "GERSTR"
+/// Stream id of local search around the best: `(seed, GE_LOCAL_STREAM, generation, child)`.
+pub const GE_LOCAL_STREAM: u64 = 0x4745_4c4f_4341; // "GELOCA"
+/// Most codons one local-search child redraws (uniform in `1..=LOCAL_CODONS`).
+const LOCAL_CODONS: usize = 3;
 /// Point mutations tried on a child before it keeps the fitness its
 /// expressed codons already had.
 const NOVEL_TRIES: usize = 8;
@@ -119,13 +131,28 @@ pub struct Ge {
     seen: HashMap<SeenKey, f64>,
     /// Codons held by `seen`'s keys.
     seen_codons: usize,
+    /// Fitness of the best individual seen (−∞ before any valid one).
+    record: f64,
+    /// Generations since `record` last rose (for `restart_after`).
+    stalled: usize,
+    /// Restarts so far.
+    restarts: usize,
 }
 
 impl Ge {
     /// A GE run with no population yet (see [`Ge::initialize`]).
     pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(Ge { config, seed, state: Population::default(), seen: HashMap::new(), seen_codons: 0 })
+        Ok(Ge {
+            config,
+            seed,
+            state: Population::default(),
+            seen: HashMap::new(),
+            seen_codons: 0,
+            record: f64::NEG_INFINITY,
+            stalled: 0,
+            restarts: 0,
+        })
     }
 
     /// The configuration.
@@ -153,16 +180,58 @@ impl Ge {
         self.state.evaluations()
     }
 
+    /// Restarts so far (see [`GeConfig::restart_after`]).
+    pub fn restarts(&self) -> usize {
+        self.restarts
+    }
+
+    /// Records the generation just made: the best seen rose or not.
+    fn observe(&mut self, stats: GenerationStats) -> GenerationStats {
+        let best = self.state.best().map_or(f64::NEG_INFINITY, |b| b.fitness);
+        if best > self.record {
+            (self.record, self.stalled) = (best, 0);
+        } else {
+            self.stalled += 1;
+        }
+        stats
+    }
+
     /// Builds and evaluates generation 0 (discarding any population):
     /// individual `i` is [`random_codons`](operators::random_codons) from
     /// stream `(seed, GE_INIT_STREAM, i)`.
     pub fn initialize<O: Objective<Codons>>(&mut self, objective: &O) -> GenerationStats {
         self.seen.clear();
         self.seen_codons = 0;
+        (self.record, self.stalled, self.restarts) = (f64::NEG_INFINITY, 0, 0);
         let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
-        self.state.initialize(objective, self.config.population, |i| {
+        let stats = self.state.initialize(objective, self.config.population, |i| {
             operators::random_codons(length, range, &mut Rng::stream(seed, &[GE_INIT_STREAM, i as u64]))
-        })
+        });
+        self.observe(stats)
+    }
+
+    /// A restart: the `elitism` best stay, the rest of generation
+    /// `generation` is fresh random genomes, drawn as generation 0's are
+    /// but from stream `(seed, GE_RESTART_STREAM, generation, i)`.
+    fn restart<O: Objective<Codons>>(&mut self, objective: &O, generation: usize) -> GenerationStats {
+        let started = Instant::now();
+        let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
+        let children = (0..self.config.population - self.config.elitism)
+            .map(|i| crate::evaluate::Child {
+                genome: operators::random_codons(
+                    length,
+                    range,
+                    &mut Rng::stream(seed, &[GE_RESTART_STREAM, generation as u64, i as u64]),
+                ),
+                fitness: None,
+            })
+            .collect();
+        self.restarts += 1;
+        let stats = self.state.advance(objective, self.config.elitism, children, Default::default(), started);
+        let stats = self.observe(stats);
+        // A fresh start gets a full `restart_after` generations after it.
+        self.stalled = 0;
+        stats
     }
 
     /// Makes the next generation; initializes first if there is no population.
@@ -170,8 +239,11 @@ impl Ge {
         if self.state.is_empty() {
             return self.initialize(objective);
         }
-        let started = Instant::now();
         let generation = self.state.generation() + 1;
+        if self.config.restart_after > 0 && self.stalled >= self.config.restart_after {
+            return self.restart(objective, generation);
+        }
+        let started = Instant::now();
         let mut fitness = self.state.fitness();
         if self.config.distinct_parents {
             // Members are sorted best first, so the first of equal scores is kept.
@@ -222,9 +294,15 @@ impl Ge {
             expressed: if self.config.effective { &expressed } else { &[] },
         };
         let seed = self.seed;
-        let (mut children, mut counts) = breed(self.config.population - self.config.elitism, |pair, need| {
+        let wanted = self.config.population - self.config.elitism;
+        let local = ((self.config.local_search * wanted as f64).round() as usize).min(wanted);
+        let (mut children, mut counts) = breed(wanted - local, |pair, need| {
             reproduce_pair(&ctx, need, &mut Rng::stream(seed, &[GE_PAIR_STREAM, generation as u64, pair as u64]))
         });
+        if local > 0 {
+            let reach = expressed.first().copied();
+            self.local_children(local, reach, &mut children, &mut counts, generation);
+        }
         if self.config.subtree_mutation > 0.0 {
             let scratch = scratch.get_or_insert_with(|| objective.scratch());
             self.subtree_mutate(objective, scratch, &mut children, &mut counts, generation);
@@ -232,7 +310,41 @@ impl Ge {
         if let (Some(scratch), false) = (scratch.as_mut(), expressed.is_empty() || !self.config.novel_children) {
             self.make_novel(objective, scratch, &mut children, &mut counts, generation);
         }
-        self.state.advance(objective, self.config.elitism, children, counts, started)
+        let stats = self.state.advance(objective, self.config.elitism, children, counts, started);
+        self.observe(stats)
+    }
+
+    /// Local search around the best: appends `count` children, each the
+    /// population's first member with 1 to [`LOCAL_CODONS`] codons redrawn
+    /// among the first `reach` (the codons its mapping reads; `None`: the
+    /// whole genome), child `k` from stream `(seed, GE_LOCAL_STREAM,
+    /// generation, k)`. The novelty pass that follows turns a child that
+    /// reads what was read before into a new one.
+    fn local_children(
+        &self,
+        count: usize,
+        reach: Option<usize>,
+        children: &mut Vec<crate::evaluate::Child<Codons>>,
+        counts: &mut crate::stats::ReproductionCounts,
+        generation: usize,
+    ) {
+        let Some(first) = self.state.members().first() else { return };
+        let region = reach.map_or(first.genome.len(), |e| e.min(first.genome.len()));
+        for k in 0..count {
+            let mut genome = first.genome.clone();
+            if region > 0 {
+                let mut rng = Rng::stream(self.seed, &[GE_LOCAL_STREAM, generation as u64, k as u64]);
+                for _ in 0..1 + rng.index(LOCAL_CODONS) {
+                    let i = rng.index(region);
+                    genome[i] = rng.below(self.config.codon_range as u64) as u32;
+                }
+            }
+            let same = genome == first.genome;
+            counts.mutations.alter += u64::from(!same);
+            counts.copies += u64::from(same);
+            let fitness = same.then_some(first.fitness);
+            children.push(crate::evaluate::Child { genome, fitness });
+        }
     }
 
     /// Phenotype-level duplicate removal: a child whose expressed codons

@@ -397,3 +397,91 @@ fn subtree_mutation_regrows_one_block_and_keeps_the_others_read_alike() {
     };
     assert_eq!(run(1), run(4));
 }
+
+#[test]
+fn restarts_replace_all_but_the_elites_after_a_stall_and_keep_the_best() {
+    // A flat objective never improves: a restart is due every
+    // `restart_after + 1` generations, and it replaces every member but the
+    // elites by fresh genomes (none descends from the old population).
+    let flat = FnObjective(|c: &Codons| if c.is_empty() { f64::NAN } else { 1.0 });
+    let config = GeConfig { population: 20, elitism: 2, restart_after: 3, ..GeConfig::default() };
+    let mut ge = Ge::new(config.clone(), 4).unwrap();
+    ge.step(&flat);
+    let mut before = ge.population().to_vec();
+    for generation in 1..=12 {
+        ge.step(&flat);
+        let now = ge.population();
+        let restarted = generation % 4 == 0;
+        assert_eq!(ge.restarts(), generation / 4, "generation {generation}");
+        if restarted {
+            assert_eq!(now[..2], before[..2], "the elites stay");
+            let old: HashSet<&Codons> = before.iter().map(|i| &i.genome).collect();
+            assert!(now[2..].iter().all(|i| !old.contains(&i.genome)), "fresh genomes");
+        }
+        before = now.to_vec();
+    }
+    // An improving run never restarts: SevensToy's best rises every few generations early on.
+    let mut improving = Ge::new(GeConfig { restart_after: 50, ..GeConfig::default() }, 1).unwrap();
+    let mut best = f64::NEG_INFINITY;
+    for _ in 0..40 {
+        improving.step(&SevensToy);
+        let b = improving.best().unwrap().fitness;
+        assert!(b >= best, "the best is never lost");
+        best = b;
+    }
+    assert_eq!(improving.restarts(), 0);
+    assert!(
+        GeConfig { local_search: 1.5, ..GeConfig::default() }
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("local_search")
+    );
+}
+
+#[test]
+fn local_search_children_are_the_best_with_a_few_read_codons_redrawn() {
+    // Every child is local (share 1), novelty off so they are seen as made:
+    // each differs from the first member in 1..=3 codons, all inside the
+    // codons PrefixToy reads, and the unread tail is the first member's.
+    let config = GeConfig {
+        population: 30,
+        elitism: 1,
+        local_search: 1.0,
+        novel_children: false,
+        distinct_parents: false,
+        ..GeConfig::default()
+    };
+    let mut ge = Ge::new(config.clone(), 3).unwrap();
+    ge.step(&PrefixToy);
+    for _ in 0..5 {
+        let first = ge.population()[0].clone();
+        let reads = PrefixToy.expressed(&first.genome, &mut ()).unwrap();
+        let stats = ge.step(&PrefixToy);
+        assert_eq!(stats.reproduction.crossovers, 0, "no crossover when every child is local");
+        for child in ge.population() {
+            if child.genome == first.genome {
+                continue;
+            }
+            assert_eq!(child.genome.len(), first.genome.len());
+            let changed: Vec<usize> = (0..child.genome.len()).filter(|&i| child.genome[i] != first.genome[i]).collect();
+            assert!((1..=3).contains(&changed.len()), "{changed:?}");
+            assert!(changed.iter().all(|&i| i < reads), "{changed:?} outside the {reads} read codons");
+        }
+    }
+    // Repeats at any thread count, with the EA's children alongside.
+    let config = GeConfig { local_search: 0.3, restart_after: 2, ..config };
+    let runs: Vec<_> = [1, 2]
+        .map(|threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut ge = Ge::new(config.clone(), 8).unwrap();
+                let stats: Vec<_> = (0..=15).map(|_| without_times(ge.step(&PrefixToy))).collect();
+                (ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>(), stats)
+            })
+        })
+        .into_iter()
+        .collect();
+    assert_eq!(runs[0].0, runs[1].0);
+    assert_eq!(format!("{:?}", runs[0].1), format!("{:?}", runs[1].1));
+}
