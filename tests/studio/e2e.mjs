@@ -481,6 +481,16 @@ async function main() {
         }, null, 60_000);
         await page.waitForTimeout(300);
         await screenshot('breed');
+        // At 1024 px the 3D view goes under the grid: nothing is cut off.
+        await page.setViewportSize({ width: 1024, height: 768 });
+        const cut = await page.evaluate(() => {
+          const main = document.querySelector('[data-testid="breed-viewer"]').closest('.main');
+          const view = document.querySelector('[data-testid="breed-viewer"]').getBoundingClientRect();
+          return { overflow: main.scrollWidth - main.clientWidth, right: view.right, width: window.innerWidth };
+        });
+        check(cut.overflow <= 0 && cut.right <= cut.width, `at 1024 px the breed view is cut: ${JSON.stringify(cut)}`);
+        await screenshot('breed-1024');
+        await page.setViewportSize({ width: 1400, height: 860 });
       }
       await page.click(byId('breed-next'));
       cards = await cardsLoaded(generation + 1);

@@ -2,7 +2,7 @@
 // the next generation is bred from them (optionally mixed with the scene's fitness).
 
 import * as api from './api.js';
-import { h, field, fmt, setChildren } from './dom.js';
+import { entryOption, h, field, fmt, setChildren } from './dom.js';
 import { on, store, toast } from './store.js';
 import { Viewer } from './viewer.js';
 
@@ -64,8 +64,8 @@ function fillSources() {
   const grammars = breedable.filter((e) => e.kind !== 'scene');
   const scenes = breedable.filter((e) => e.kind === 'scene');
   setChildren(els.source,
-    grammars.length ? h('optgroup', { label: 'Grammars (your eye is the fitness)' }, grammars.map((e) => h('option', { value: e.path, text: `${e.title} — ${e.path}` }))) : null,
-    scenes.length ? h('optgroup', { label: 'Scenes (can mix in their fitness)' }, scenes.map((e) => h('option', { value: e.path, text: `${e.title} — ${e.path}` }))) : null);
+    grammars.length ? h('optgroup', { label: 'Grammars (your eye is the fitness)' }, grammars.map(entryOption)) : null,
+    scenes.length ? h('optgroup', { label: 'Scenes (can mix in their fitness)' }, scenes.map(entryOption)) : null);
   const preferred = breedable.find((e) => e.default) || grammars.find((e) => e.path.endsWith('spaceship.sg')) || breedable[0];
   if (preferred) els.source.value = preferred.path;
   updateMix();

@@ -53,6 +53,15 @@ export function select(testid, options, onchange) {
   return el;
 }
 
+/**
+ * The `<option>` of a grammar or scene entry `{path, title}`: its file name first, so a
+ * narrow picker still shows which file it is, then the title; the whole path as tooltip.
+ */
+export function entryOption(e) {
+  const file = e.path.split('/').pop();
+  return h('option', { value: e.path, text: e.title ? `${file} — ${e.title}` : file, title: `${e.path}${e.title ? ` — ${e.title}` : ''}` });
+}
+
 /** Formats a number for the UI: fixed significant digits, no exponent for ordinary values. */
 export function fmt(x, digits = 4) {
   if (x === null || x === undefined || Number.isNaN(x)) return '–';

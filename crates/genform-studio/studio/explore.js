@@ -3,7 +3,7 @@
 // grammar's text and see its diagnostics (line:col) and the re-sampled model as you type.
 
 import * as api from './api.js';
-import { h, field, fmt } from './dom.js';
+import { entryOption, h, field, fmt } from './dom.js';
 import { emit, grammarEntries, on, store, toast } from './store.js';
 import { Viewer } from './viewer.js';
 
@@ -107,7 +107,7 @@ function fill() {
   els.grammarSelect.replaceChildren();
   for (const [formalism, entries] of groups) {
     const group = h('optgroup', { label: formalism });
-    for (const e of entries) group.append(h('option', { value: e.path, text: `${e.title} — ${e.path}` }));
+    for (const e of entries) group.append(entryOption(e));
     els.grammarSelect.append(group);
   }
   els.envList.replaceChildren(...store.entries.filter((e) => e.kind === 'environment').map((e) => h('option', { value: e.path })));

@@ -3,7 +3,7 @@
 // the best model with the target, pause/resume/stop and the run folder's files.
 
 import * as api from './api.js';
-import { describeChange, h, field, fmt, setChildren } from './dom.js';
+import { describeChange, entryOption, h, field, fmt, setChildren } from './dom.js';
 import { LinePlot } from './plot.js';
 import { emit, on, sceneEntries, store, toast } from './store.js';
 import { Gallery } from './gallery.js';
@@ -92,7 +92,7 @@ export function shown() {
 
 function fillScenes() {
   const scenes = sceneEntries();
-  setChildren(els.scene, scenes.map((s) => h('option', { value: s.path, text: `${s.title} — ${s.path}` })));
+  setChildren(els.scene, scenes.map(entryOption));
   const preferred = scenes.find((s) => s.default) || scenes[0];
   if (preferred) els.scene.value = preferred.path;
   fillAlgorithms();
