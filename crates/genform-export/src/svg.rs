@@ -585,7 +585,7 @@ mod shapes2d {
                 let _ = write!(w.out, " fill=\"{color}\"");
             }
         }
-        for (n, v) in &shape.attributes {
+        for (n, v) in shape.attributes.iter() {
             if valid_name(n) {
                 let _ = write!(w.out, " {n}=\"{}\"", escape(v));
             }
