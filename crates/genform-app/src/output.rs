@@ -55,9 +55,21 @@ pub fn write_model(scene: &Scene, path: &Path) -> Result<()> {
 /// [`write_model`] with explicit export options.
 pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<()> {
     let format = output_format(path)?;
-    let bytes =
-        genform_export::export(scene, format, options).with_context(|| format!("cannot export {}", path.display()))?;
-    write_atomic(path, &bytes)
+    // Straight into the file: a large drawing is never held whole.
+    let mut refused = None;
+    let written = write_atomic_with(path, |w| {
+        genform_export::export_to(scene, format, options, w).map_err(|e| match e {
+            genform_export::ExportError::Io(text) => std::io::Error::other(text),
+            e => {
+                refused = Some(e);
+                std::io::Error::other("refused")
+            }
+        })
+    });
+    if let Some(e) = refused {
+        return Err(e).with_context(|| format!("cannot export {}", path.display()));
+    }
+    written
 }
 
 /// Writes `bytes` to `path` through a temporary file in the same folder

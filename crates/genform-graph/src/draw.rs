@@ -149,18 +149,38 @@ impl Graph {
     pub fn to_scene(&self) -> Scene {
         let mut scene = Scene::new();
         let mut styles = Styles((0..self.attr_sets.len()).map(|_| None).collect());
-        let mut order: Vec<(f64, u64, bool, u32)> = Vec::with_capacity(self.element_count());
-        for &id in &self.vindex.all {
-            let c = &self.vertices[id as usize].c;
-            order.push((styles.get(self, c.attrs).z, c.birth, true, id));
+        // (birth, id with the top bit set for vertices): 16 bytes an
+        // element, sorted by birth alone when every element has the same
+        // `svg_z` (births are unique), else by z first.
+        const VERTEX: u32 = 1 << 31;
+        let mut order: Vec<(u64, u32)> = Vec::with_capacity(self.element_count());
+        let mut zs = Vec::new();
+        for (ids, vertex) in [(&self.vindex.all, true), (&self.eindex.all, false)] {
+            for &id in ids {
+                assert!(id < VERTEX, "fewer than 2^31 slots");
+                let c = if vertex { &self.vertices[id as usize].c } else { &self.edges[id as usize].c };
+                let z = styles.get(self, c.attrs).z;
+                if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
+                    zs.push(z);
+                }
+                order.push((c.birth, if vertex { id | VERTEX } else { id }));
+            }
         }
-        for &id in &self.eindex.all {
-            let c = &self.edges[id as usize].c;
-            order.push((styles.get(self, c.attrs).z, c.birth, false, id));
+        if zs.len() < 2 {
+            order.sort_unstable_by_key(|&(birth, _)| birth);
+        } else {
+            // Every list met above has its style already.
+            let styles = &styles;
+            let z = |tagged: u32| {
+                let id = (tagged & !VERTEX) as usize;
+                let set = if tagged & VERTEX != 0 { self.vertices[id].c.attrs } else { self.edges[id].c.attrs };
+                styles.0[set as usize].as_ref().map_or(0.0, |s| s.z)
+            };
+            order.sort_by(|a, b| z(a.1).total_cmp(&z(b.1)).then(a.0.cmp(&b.0)));
         }
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         scene.shapes2d.reserve(order.len());
-        for (_, _, is_vertex, id) in order {
+        for (_, tagged) in order {
+            let (is_vertex, id) = (tagged & VERTEX != 0, tagged & !VERTEX);
             let shape = if is_vertex { self.vertex_shape(id, &mut styles) } else { self.edge_shape(id, &mut styles) };
             if let Some((kind, attributes, label)) = shape {
                 let tag = scene.tag(label);
