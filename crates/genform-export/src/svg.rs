@@ -262,9 +262,12 @@ impl Drawing {
         if open.is_some() {
             w.out.push_str("\"/>\n");
         }
+        // Each tag's colour text once, not once per shape.
+        let defaults: Vec<String> = scene.tags.iter().map(|t| hex(tag_color(t))).collect();
+        let unknown = hex([0; 3]);
         for shape in &scene.shapes2d {
-            let default = scene.tags.get(shape.tag as usize).map_or([0; 3], |t| tag_color(t));
-            shapes2d::write(&mut w, shape, &hex(default));
+            let default = defaults.get(shape.tag as usize).unwrap_or(&unknown);
+            shapes2d::write(&mut w, shape, default);
             spill(&mut w.out);
         }
         guides::write_points(&mut w, scene, 3.0 * floor.max(self.size.x / width_px as f32));
@@ -564,8 +567,18 @@ mod shapes2d {
         }
     }
 
-    fn escape(s: &str) -> String {
-        s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    /// Appends `s` with `&`, `<`, `>` and `"` escaped (no allocation: a
+    /// drawing of a graph grammar writes millions of attribute values).
+    fn push_escaped(out: &mut String, s: &str) {
+        for c in s.chars() {
+            match c {
+                '&' => out.push_str("&amp;"),
+                '<' => out.push_str("&lt;"),
+                '>' => out.push_str("&gt;"),
+                '"' => out.push_str("&quot;"),
+                c => out.push(c),
+            }
+        }
     }
 
     fn valid_name(n: &str) -> bool {
@@ -599,7 +612,9 @@ mod shapes2d {
                 let image = matches!(shape.kind, Shape2dKind::Image { .. });
                 w.out.push_str(if image { "<image" } else { "<rect" });
                 if let Shape2dKind::Image { href, .. } = &shape.kind {
-                    let _ = write!(w.out, " href=\"{}\" preserveAspectRatio=\"none\"", escape(href));
+                    w.out.push_str(" href=\"");
+                    push_escaped(&mut w.out, href);
+                    w.out.push_str("\" preserveAspectRatio=\"none\"");
                 }
                 // The top edge in SVG's y-down frame.
                 w.out.push_str(" x=\"");
@@ -614,7 +629,9 @@ mod shapes2d {
             }
             Shape2dKind::Path { d } => {
                 // Path data stays in scene coordinates; the transform flips y.
-                let _ = write!(w.out, "<path transform=\"scale(1 -1)\" d=\"{}\"", escape(d));
+                w.out.push_str("<path transform=\"scale(1 -1)\" d=\"");
+                push_escaped(&mut w.out, d);
+                w.out.push('"');
             }
         }
         let has = |n: &str| attr(shape, n).is_some();
@@ -627,7 +644,9 @@ mod shapes2d {
         }
         for (n, v) in shape.attributes.iter() {
             if valid_name(n) {
-                let _ = write!(w.out, " {n}=\"{}\"", escape(v));
+                let _ = write!(w.out, " {n}=\"");
+                push_escaped(&mut w.out, v);
+                w.out.push('"');
             }
         }
         w.out.push_str("/>\n");

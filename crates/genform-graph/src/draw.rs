@@ -26,8 +26,11 @@ enum Tag {
     Line,
 }
 
+/// SVG presentation attributes, shared by the shapes that carry them.
+type Attributes = Arc<[(String, String)]>;
+
 /// A shape, its SVG attributes and its tag name.
-type Drawn<'g> = (Shape2dKind, Arc<[(String, String)]>, &'g str);
+type Drawn<'g> = (Shape2dKind, Attributes, &'g str);
 
 /// An element's attribute list read for drawing.
 struct Styled<'g> {
@@ -41,7 +44,7 @@ struct Style {
     z: f64,
     tag: Tag,
     /// The presentation attributes, for stroked and for filled shapes.
-    attributes: [Option<Arc<[(String, String)]>>; 2],
+    attributes: [Option<Attributes>; 2],
 }
 
 /// Per shared attribute list id, its [`Style`] once asked for.
@@ -55,7 +58,7 @@ impl Styles {
         })
     }
 
-    fn attributes(&mut self, g: &Graph, set: u32, stroked: bool) -> Arc<[(String, String)]> {
+    fn attributes(&mut self, g: &Graph, set: u32, stroked: bool) -> Attributes {
         let style = self.get(g, set);
         style.attributes[usize::from(stroked)]
             .get_or_insert_with(|| Styled { g, attrs: g.attr_sets.get(set) }.attributes(stroked).into())
