@@ -768,7 +768,7 @@ mod tests {
     #[test]
     fn drawings_become_polygons_the_scorers_see() {
         let mut scene = Scene::new();
-        let shape = |kind, attributes: Vec<(String, String)>| Shape2d { kind, attributes, tag: 0 };
+        let shape = |kind, attributes: Vec<(String, String)>| Shape2d { kind, attributes: attributes.into(), tag: 0 };
         scene.shapes2d.push(shape(Shape2dKind::Rect { min: Vec2::ZERO, size: Vec2::new(2.0, 1.0) }, vec![]));
         scene.shapes2d.push(shape(Shape2dKind::Circle { center: Vec2::ONE, radius: 0.5 }, vec![]));
         let wide = vec![("stroke-width".to_string(), "0.4".to_string())];

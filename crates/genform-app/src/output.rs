@@ -70,8 +70,21 @@ pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> 
         write_atomic(path, &obj)?;
         return Ok(vec![path.to_path_buf(), mtl]);
     }
-    let bytes = genform_export::export(scene, format, options).with_context(context)?;
-    write_atomic(path, &bytes)?;
+    // Straight into the file: a large drawing is never held whole.
+    let mut refused = None;
+    let written = write_atomic_with(path, |w| {
+        genform_export::export_to(scene, format, options, w).map_err(|e| match e {
+            genform_export::ExportError::Io(text) => std::io::Error::other(text),
+            e => {
+                refused = Some(e);
+                std::io::Error::other("refused")
+            }
+        })
+    });
+    if let Some(e) = refused {
+        return Err(e).with_context(context);
+    }
+    written?;
     Ok(vec![path.to_path_buf()])
 }
 
@@ -82,6 +95,13 @@ pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> 
 /// nothing, or the complete new one — never a partial file (at worst a
 /// hidden temporary file stays behind).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, |w| w.write_all(bytes))
+}
+
+/// [`write_atomic`] for output made piece by piece: `fill` writes the
+/// whole content to the (buffered) temporary file, so a large output is
+/// never held in memory at once.
+pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
@@ -92,8 +112,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let tmp = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));
     let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
+        let mut f = std::io::BufWriter::with_capacity(1 << 16, std::fs::File::create(&tmp)?);
+        fill(&mut f)?;
+        let f = f.into_inner().map_err(std::io::IntoInnerError::into_error)?;
         f.sync_all()?;
         std::fs::rename(&tmp, path)
     })();

@@ -116,7 +116,7 @@ mod tests {
         let tag = s.tag("wall");
         let rect = |min: Vec2, fill: &str| Shape2d {
             kind: Shape2dKind::Rect { min, size: Vec2::splat(1.0) },
-            attributes: vec![("fill".into(), fill.into())],
+            attributes: vec![("fill".into(), fill.into())].into(),
             tag,
         };
         // Red lower left, blue upper right (y up).

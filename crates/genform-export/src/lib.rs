@@ -252,6 +252,9 @@ pub enum ExportError {
     /// A block format could not hold the blocks.
     #[error(transparent)]
     Blocks(#[from] minecraft::MinecraftError),
+    /// Writing to the sink of [`export_to`] failed (the I/O error's text).
+    #[error("{0}")]
+    Io(String),
     /// The image size is zero or larger than [`MAX_IMAGE_SIDE`].
     #[error("cannot render a {width}×{height} image (each side must be 1..={max})", max = MAX_IMAGE_SIDE)]
     ImageSize {
@@ -328,6 +331,32 @@ pub fn export_obj_with_mtl(
     check_geometry(scene, Format::Obj, opts.tessellation)?;
     let (obj, mtl) = write_obj_materials(&surfaces_y_up(scene), opts.tessellation, opts.granularity, mtl_file);
     Ok((obj.into_bytes(), mtl.into_bytes()))
+}
+
+/// [`export`] written to `sink`: the same bytes, but an SVG drawing goes
+/// out piece by piece instead of as one text (a graph grammar's drawing
+/// of a million shapes would otherwise be held whole). Nothing is written
+/// when the scene is refused.
+///
+/// # Errors
+///
+/// [`export`]'s, and the sink's as [`ExportError::Io`].
+pub fn export_to(
+    scene: &Scene,
+    format: Format,
+    opts: &ExportOptions,
+    sink: &mut dyn std::io::Write,
+) -> Result<(), ExportError> {
+    if format != Format::Svg {
+        let bytes = export(scene, format, opts)?;
+        return sink.write_all(&bytes).map_err(|e| ExportError::Io(e.to_string()));
+    }
+    check_meshes(scene)?;
+    check_surfaces(scene)?;
+    check_geometry(scene, format, opts.tessellation)?;
+    svg::Drawing::new(scene, opts.tessellation)
+        .write_to(scene, &opts.svg, sink)
+        .map_err(|e| ExportError::Io(e.to_string()))
 }
 
 /// [`export`] for the block formats.

@@ -136,6 +136,42 @@ impl Drawing {
     /// The SVG text, sized in centimetres when `physical`, else
     /// `opts.width_px` wide.
     pub(crate) fn write_sized(&self, scene: &Scene, opts: &SvgOptions, physical: bool) -> String {
+        self.write_pieces(scene, opts, physical, &mut |_| {})
+    }
+
+    /// The SVG text ([`Drawing::write`]) written to `sink` piece by piece,
+    /// so a drawing of millions of shapes is never held as one text.
+    pub(crate) fn write_to(
+        &self,
+        scene: &Scene,
+        opts: &SvgOptions,
+        sink: &mut dyn std::io::Write,
+    ) -> std::io::Result<()> {
+        let mut failed = None;
+        let rest = self.write_pieces(scene, opts, self.physical, &mut |out| {
+            if out.len() >= PIECE {
+                if failed.is_none() {
+                    failed = sink.write_all(out.as_bytes()).err();
+                }
+                out.clear();
+            }
+        });
+        match failed {
+            Some(e) => Err(e),
+            None => sink.write_all(rest.as_bytes()),
+        }
+    }
+
+    /// Writes the text; `spill` is offered the text so far after every 2D
+    /// shape (the one part that grows with the model) and may take it;
+    /// returns what is left.
+    fn write_pieces(
+        &self,
+        scene: &Scene,
+        opts: &SvgOptions,
+        physical: bool,
+        spill: &mut dyn FnMut(&mut String),
+    ) -> String {
         let mut w = Writer { out: String::new(), decimals: self.decimals };
         let width_px = opts.width_px.max(1);
         let height_px = ((width_px as f32 / self.aspect()).round() as u32).max(1);
@@ -226,9 +262,13 @@ impl Drawing {
         if open.is_some() {
             w.out.push_str("\"/>\n");
         }
+        // Each tag's colour text once, not once per shape.
+        let defaults: Vec<String> = scene.tags.iter().map(|t| hex(tag_color(t))).collect();
+        let unknown = hex([0; 3]);
         for shape in &scene.shapes2d {
-            let default = scene.tags.get(shape.tag as usize).map_or([0; 3], |t| tag_color(t));
-            shapes2d::write(&mut w, shape, &hex(default));
+            let default = defaults.get(shape.tag as usize).unwrap_or(&unknown);
+            shapes2d::write(&mut w, shape, default);
+            spill(&mut w.out);
         }
         guides::write_points(&mut w, scene, 3.0 * floor.max(self.size.x / width_px as f32));
         w.out.push_str("</svg>\n");
@@ -422,6 +462,9 @@ impl Bounds {
 }
 
 /// The SVG text with its number format.
+/// Text gathered before [`Drawing::write_to`] hands it on.
+const PIECE: usize = 1 << 16;
+
 struct Writer {
     out: String,
     decimals: usize,
@@ -538,8 +581,18 @@ mod shapes2d {
         }
     }
 
-    fn escape(s: &str) -> String {
-        s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    /// Appends `s` with `&`, `<`, `>` and `"` escaped (no allocation: a
+    /// drawing of a graph grammar writes millions of attribute values).
+    fn push_escaped(out: &mut String, s: &str) {
+        for c in s.chars() {
+            match c {
+                '&' => out.push_str("&amp;"),
+                '<' => out.push_str("&lt;"),
+                '>' => out.push_str("&gt;"),
+                '"' => out.push_str("&quot;"),
+                c => out.push(c),
+            }
+        }
     }
 
     fn valid_name(n: &str) -> bool {
@@ -573,7 +626,9 @@ mod shapes2d {
                 let image = matches!(shape.kind, Shape2dKind::Image { .. });
                 w.out.push_str(if image { "<image" } else { "<rect" });
                 if let Shape2dKind::Image { href, .. } = &shape.kind {
-                    let _ = write!(w.out, " href=\"{}\" preserveAspectRatio=\"none\"", escape(href));
+                    w.out.push_str(" href=\"");
+                    push_escaped(&mut w.out, href);
+                    w.out.push_str("\" preserveAspectRatio=\"none\"");
                 }
                 // The top edge in SVG's y-down frame.
                 w.out.push_str(" x=\"");
@@ -588,7 +643,9 @@ mod shapes2d {
             }
             Shape2dKind::Path { d } => {
                 // Path data stays in scene coordinates; the transform flips y.
-                let _ = write!(w.out, "<path transform=\"scale(1 -1)\" d=\"{}\"", escape(d));
+                w.out.push_str("<path transform=\"scale(1 -1)\" d=\"");
+                push_escaped(&mut w.out, d);
+                w.out.push('"');
             }
         }
         let has = |n: &str| attr(shape, n).is_some();
@@ -599,9 +656,11 @@ mod shapes2d {
                 let _ = write!(w.out, " fill=\"{color}\"");
             }
         }
-        for (n, v) in &shape.attributes {
+        for (n, v) in shape.attributes.iter() {
             if valid_name(n) {
-                let _ = write!(w.out, " {n}=\"{}\"", escape(v));
+                let _ = write!(w.out, " {n}=\"");
+                push_escaped(&mut w.out, v);
+                w.out.push('"');
             }
         }
         w.out.push_str("/>\n");
@@ -866,6 +925,39 @@ mod tests {
 
     fn shape(kind: Shape2dKind, attributes: &[(&str, &str)], tag: TagId) -> Shape2d {
         Shape2d { kind, attributes: attributes.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(), tag }
+    }
+
+    #[test]
+    fn a_drawing_written_in_pieces_has_the_same_bytes() {
+        use glam::Vec2;
+        let mut s = Scene::new();
+        let ink = s.tag("ink");
+        for i in 0..5000 {
+            let from = Vec2::new(i as f32 * 0.01, (i % 7) as f32);
+            s.shapes2d.push(shape(Shape2dKind::Line { from, to: from + Vec2::ONE }, &[("stroke", "#000")], ink));
+        }
+        let opts = crate::ExportOptions::default();
+        let whole = crate::export(&s, crate::Format::Svg, &opts).unwrap();
+        assert!(whole.len() > 3 * PIECE, "several pieces: {}", whole.len());
+        let mut pieces = Vec::new();
+        crate::export_to(&s, crate::Format::Svg, &opts, &mut pieces).unwrap();
+        assert_eq!(pieces, whole);
+        // A refused scene writes nothing.
+        let mut none = Vec::new();
+        let err = crate::export_to(&Scene::new(), crate::Format::Svg, &opts, &mut none).unwrap_err();
+        assert!(matches!(err, crate::ExportError::EmptyScene(_)) && none.is_empty(), "{err}");
+        // A failing sink is an error, not a panic.
+        struct Full;
+        impl std::io::Write for Full {
+            fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+                Err(std::io::Error::other("disk full"))
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let err = crate::export_to(&s, crate::Format::Svg, &opts, &mut Full).unwrap_err();
+        assert_eq!(err.to_string(), "disk full");
     }
 
     #[test]

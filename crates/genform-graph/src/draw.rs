@@ -1,10 +1,11 @@
 //! `Graph` → `Scene`: one 2D shape per element, styled by `svg_*`
 //! attributes.
 
-use crate::graph::{Common, Graph, Value};
+use crate::graph::{Graph, Value};
 use crate::template::format_number;
 use genform_core::scene::{Scene, Shape2d, Shape2dKind};
 use glam::Vec2;
+use std::sync::Arc;
 
 /// Radius of a vertex drawn with the default style.
 pub const DEFAULT_VERTEX_RADIUS: f64 = 0.1;
@@ -14,6 +15,7 @@ pub const DEFAULT_STROKE_WIDTH: f64 = 0.1;
 /// Attributes with a meaning of their own (not passed through).
 const GEOMETRY: &[&str] = &["svg_tag", "svg_d", "svg_r", "svg_width", "svg_height", "svg_href", "svg_z"];
 
+#[derive(Clone, Copy)]
 enum Tag {
     Default,
     Hidden,
@@ -24,17 +26,50 @@ enum Tag {
     Line,
 }
 
-/// A shape, its SVG attributes and its tag name.
-type Drawn = (Shape2dKind, Vec<(String, String)>, String);
+/// SVG presentation attributes, shared by the shapes that carry them.
+type Attributes = Arc<[(String, String)]>;
 
+/// A shape, its SVG attributes and its tag name.
+type Drawn<'g> = (Shape2dKind, Attributes, &'g str);
+
+/// An element's attribute list read for drawing.
 struct Styled<'g> {
     g: &'g Graph,
-    c: &'g Common,
+    attrs: &'g [(u32, Value)],
+}
+
+/// What one attribute list means for drawing, worked out once per list
+/// (per shared list id): elements of a grammar share a few lists.
+struct Style {
+    z: f64,
+    tag: Tag,
+    /// The presentation attributes, for stroked and for filled shapes.
+    attributes: [Option<Attributes>; 2],
+}
+
+/// Per shared attribute list id, its [`Style`] once asked for.
+struct Styles(Vec<Option<Style>>);
+
+impl Styles {
+    fn get(&mut self, g: &Graph, set: u32) -> &mut Style {
+        self.0[set as usize].get_or_insert_with(|| {
+            let s = Styled { g, attrs: g.attr_sets.get(set) };
+            Style { z: s.num("svg_z").unwrap_or(0.0), tag: s.tag(), attributes: [None, None] }
+        })
+    }
+
+    fn attributes(&mut self, g: &Graph, set: u32, stroked: bool) -> Attributes {
+        let style = self.get(g, set);
+        style.attributes[usize::from(stroked)]
+            .get_or_insert_with(|| Styled { g, attrs: g.attr_sets.get(set) }.attributes(stroked).into())
+            .clone()
+    }
 }
 
 impl Styled<'_> {
     fn value(&self, name: &str) -> Option<&Value> {
-        self.g.attr_names.get(name).and_then(|id| self.c.attr(id))
+        let id = self.g.attr_names.get(name)?;
+        self.attrs.iter().find(|(a, _)| *a == id).map(|(_, v)| v)
     }
 
     fn text(&self, name: &str) -> Option<String> {
@@ -67,7 +102,7 @@ impl Styled<'_> {
     /// in the grammar's attribute order, plus defaults.
     fn attributes(&self, stroked: bool) -> Vec<(String, String)> {
         let mut out = Vec::new();
-        for (id, v) in &self.c.attrs {
+        for (id, v) in self.attrs {
             let name = self.g.attr_names.name(*id);
             let Some(rest) = name.strip_prefix("svg_") else { continue };
             if GEOMETRY.contains(&name) {
@@ -116,32 +151,54 @@ impl Graph {
     /// is the element's label (`vertex`/`edge` when it has none).
     pub fn to_scene(&self) -> Scene {
         let mut scene = Scene::new();
-        let mut order: Vec<(f64, u64, bool, u32)> = Vec::new();
-        for &id in &self.vindex.all {
-            let c = &self.vertices[id as usize].c;
-            order.push((Styled { g: self, c }.num("svg_z").unwrap_or(0.0), c.birth, true, id));
+        let mut styles = Styles((0..self.attr_sets.len()).map(|_| None).collect());
+        // (birth, id with the top bit set for vertices): 16 bytes an
+        // element, sorted by birth alone when every element has the same
+        // `svg_z` (births are unique), else by z first.
+        const VERTEX: u32 = 1 << 31;
+        let mut order: Vec<(u64, u32)> = Vec::with_capacity(self.element_count());
+        let mut zs = Vec::new();
+        for (ids, vertex) in [(&self.vindex.all, true), (&self.eindex.all, false)] {
+            for &id in ids {
+                assert!(id < VERTEX, "fewer than 2^31 slots");
+                let c = if vertex { &self.vertices[id as usize].c } else { &self.edges[id as usize].c };
+                let z = styles.get(self, c.attrs).z;
+                if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
+                    zs.push(z);
+                }
+                order.push((c.birth, if vertex { id | VERTEX } else { id }));
+            }
         }
-        for &id in &self.eindex.all {
-            let c = &self.edges[id as usize].c;
-            order.push((Styled { g: self, c }.num("svg_z").unwrap_or(0.0), c.birth, false, id));
+        if zs.len() < 2 {
+            order.sort_unstable_by_key(|&(birth, _)| birth);
+        } else {
+            // Every list met above has its style already.
+            let styles = &styles;
+            let z = |tagged: u32| {
+                let id = (tagged & !VERTEX) as usize;
+                let set = if tagged & VERTEX != 0 { self.vertices[id].c.attrs } else { self.edges[id].c.attrs };
+                styles.0[set as usize].as_ref().map_or(0.0, |s| s.z)
+            };
+            order.sort_by(|a, b| z(a.1).total_cmp(&z(b.1)).then(a.0.cmp(&b.0)));
         }
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for (_, _, is_vertex, id) in order {
-            let shape = if is_vertex { self.vertex_shape(id) } else { self.edge_shape(id) };
+        scene.shapes2d.reserve(order.len());
+        for (_, tagged) in order {
+            let (is_vertex, id) = (tagged & VERTEX != 0, tagged & !VERTEX);
+            let shape = if is_vertex { self.vertex_shape(id, &mut styles) } else { self.edge_shape(id, &mut styles) };
             if let Some((kind, attributes, label)) = shape {
-                let tag = scene.tag(&label);
+                let tag = scene.tag(label);
                 scene.shapes2d.push(Shape2d { kind, attributes, tag });
             }
         }
         scene
     }
 
-    fn vertex_shape(&self, id: u32) -> Option<Drawn> {
+    fn vertex_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn<'_>> {
         let v = &self.vertices[id as usize];
-        let s = Styled { g: self, c: &v.c };
+        let s = Styled { g: self, attrs: self.attr_sets.get(v.c.attrs) };
         let p = v2(v.pos);
         let size = || Vec2::new(s.num("svg_width").unwrap_or(1.0) as f32, s.num("svg_height").unwrap_or(1.0) as f32);
-        let (kind, stroked) = match s.tag() {
+        let (kind, stroked) = match styles.get(self, v.c.attrs).tag {
             Tag::Hidden => return None,
             Tag::Default | Tag::Circle | Tag::Line => (
                 Shape2dKind::Circle { center: p, radius: s.num("svg_r").unwrap_or(DEFAULT_VERTEX_RADIUS) as f32 },
@@ -154,18 +211,18 @@ impl Graph {
             Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
         };
         let label = self.labels.name(v.c.label);
-        Some((kind, s.attributes(stroked), if label.is_empty() { "vertex".into() } else { label.into() }))
+        Some((kind, styles.attributes(self, v.c.attrs, stroked), if label.is_empty() { "vertex" } else { label }))
     }
 
-    fn edge_shape(&self, id: u32) -> Option<Drawn> {
+    fn edge_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn<'_>> {
         let e = &self.edges[id as usize];
-        let s = Styled { g: self, c: &e.c };
+        let s = Styled { g: self, attrs: self.attr_sets.get(e.c.attrs) };
         let (a, b) = (v2(self.vertices[e.from as usize].pos), v2(self.vertices[e.to as usize].pos));
         let bbox = || match (s.num("svg_width"), s.num("svg_height")) {
             (Some(w), Some(h)) => (a, Vec2::new(w as f32, h as f32)),
             _ => (a.min(b), (b - a).abs()),
         };
-        let (kind, stroked) = match s.tag() {
+        let (kind, stroked) = match styles.get(self, e.c.attrs).tag {
             Tag::Hidden => return None,
             Tag::Default | Tag::Line => (Shape2dKind::Line { from: a, to: b }, true),
             Tag::Circle => {
@@ -183,6 +240,6 @@ impl Graph {
             Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
         };
         let label = self.labels.name(e.c.label);
-        Some((kind, s.attributes(stroked), if label.is_empty() { "edge".into() } else { label.into() }))
+        Some((kind, styles.attributes(self, e.c.attrs, stroked), if label.is_empty() { "edge" } else { label }))
     }
 }

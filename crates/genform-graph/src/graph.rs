@@ -11,7 +11,7 @@
 pub(crate) use crate::index::Index;
 use crate::index::{NONE, Slots, index_insert, index_remove, relabel, slot_of};
 use crate::names::Interner;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 /// An attribute value.
@@ -41,34 +41,27 @@ impl Value {
     }
 }
 
-/// What vertices and edges share.
+/// What vertices and edges share. An element is live while it is in the
+/// index of all live elements (`slots.all` is set).
 #[derive(Clone, Debug)]
 pub(crate) struct Common {
-    pub(crate) alive: bool,
     pub(crate) label: u32,
     pub(crate) generation: u32,
     /// Creation order, for drawing and writing in a stable order.
     pub(crate) birth: u64,
-    /// Sorted by attribute id.
-    pub(crate) attrs: Vec<(u32, Value)>,
+    /// The element's attribute list, an id in [`AttrSets`] (0: none).
+    pub(crate) attrs: u32,
     pub(crate) slots: Slots,
 }
 
 impl Common {
     fn new() -> Common {
-        Common { alive: false, label: 0, generation: 0, birth: 0, attrs: Vec::new(), slots: Slots::EMPTY }
+        Common { label: 0, generation: 0, birth: 0, attrs: 0, slots: Slots::EMPTY }
     }
 
-    /// The value of attribute `id`.
-    pub(crate) fn attr(&self, id: u32) -> Option<&Value> {
-        self.attrs.iter().find(|(a, _)| *a == id).map(|(_, v)| v)
-    }
-
-    pub(crate) fn set_attr(&mut self, id: u32, value: Value) {
-        match self.attrs.binary_search_by_key(&id, |(a, _)| *a) {
-            Ok(i) => self.attrs[i].1 = value,
-            Err(i) => self.attrs.insert(i, (id, value)),
-        }
+    /// Whether the element is live.
+    pub(crate) fn alive(&self) -> bool {
+        self.slots.all != NONE
     }
 }
 
@@ -76,8 +69,8 @@ impl Common {
 pub(crate) struct Vertex {
     pub(crate) c: Common,
     pub(crate) pos: [f64; 2],
-    /// Incident edges; a self-loop is listed twice.
-    pub(crate) adj: Vec<u32>,
+    /// Incident edges (in [`AdjPool`]); a self-loop is listed twice.
+    pub(crate) adj: Adj,
 }
 
 #[derive(Clone, Debug)]
@@ -90,6 +83,229 @@ pub(crate) struct Edge {
     pub(crate) adj_pos: [u32; 2],
 }
 
+/// Attribute lists shared between elements: most elements of a grammar
+/// carry one of a few lists (every Koch edge the same stroke), so an
+/// element holds a 4-byte id instead of its own heap list. Lists are
+/// reference counted and found again by content (a hash chain per content
+/// hash), so equal lists share one entry and an unused one is freed.
+#[derive(Clone, Debug)]
+pub(crate) struct AttrSets {
+    sets: Vec<AttrSet>,
+    free: Vec<u32>,
+    /// Content hash → first set of that hash (the rest chain via `next`).
+    by_hash: HashMap<u64, u32>,
+}
+
+#[derive(Clone, Debug)]
+struct AttrSet {
+    /// Sorted by attribute id.
+    attrs: Box<[(u32, Value)]>,
+    refs: u32,
+    hash: u64,
+    next: u32,
+}
+
+/// Bit-exact equality: two lists share an entry only when every reader sees
+/// the same values.
+fn same_attrs(a: &[(u32, Value)], b: &[(u32, Value)]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|((ia, va), (ib, vb))| {
+            ia == ib
+                && match (va, vb) {
+                    (Value::Num(x), Value::Num(y)) => x.to_bits() == y.to_bits(),
+                    (Value::Text(x), Value::Text(y)) => x == y,
+                    _ => false,
+                }
+        })
+}
+
+/// A multiply-rotate hash (as rustc's FxHash): attribute lists are hashed
+/// once per new element, where SipHash cost about 15 % of a Koch step.
+/// Only in-process lookups use it, so its quality needs no more.
+struct Fx(u64);
+
+impl std::hash::Hasher for Fx {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+
+    fn write_u32(&mut self, v: u32) {
+        self.write_u64(u64::from(v));
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+fn hash_attrs(attrs: &[(u32, Value)]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = Fx(0);
+    for (id, v) in attrs {
+        id.hash(&mut h);
+        match v {
+            Value::Num(x) => x.to_bits().hash(&mut h),
+            Value::Text(t) => t.hash(&mut h),
+        }
+    }
+    h.finish()
+}
+
+impl AttrSets {
+    fn new() -> AttrSets {
+        // Set 0 is the empty list, never counted nor freed.
+        let empty = AttrSet { attrs: Box::default(), refs: 0, hash: 0, next: NONE };
+        AttrSets { sets: vec![empty], free: Vec::new(), by_hash: HashMap::new() }
+    }
+
+    /// One more than the largest set id.
+    pub(crate) fn len(&self) -> usize {
+        self.sets.len()
+    }
+
+    /// The list of set `id`.
+    pub(crate) fn get(&self, id: u32) -> &[(u32, Value)] {
+        &self.sets[id as usize].attrs
+    }
+
+    /// The id of `attrs` (sorted by attribute id), counting one more user.
+    pub(crate) fn intern(&mut self, attrs: &[(u32, Value)]) -> u32 {
+        if attrs.is_empty() {
+            return 0;
+        }
+        let hash = hash_attrs(attrs);
+        let head = self.by_hash.get(&hash).copied().unwrap_or(NONE);
+        let mut at = head;
+        while at != NONE {
+            let set = &mut self.sets[at as usize];
+            if same_attrs(&set.attrs, attrs) {
+                set.refs += 1;
+                return at;
+            }
+            at = set.next;
+        }
+        let set = AttrSet { attrs: attrs.into(), refs: 1, hash, next: head };
+        let id = match self.free.pop() {
+            Some(id) => {
+                self.sets[id as usize] = set;
+                id
+            }
+            None => {
+                self.sets.push(set);
+                u32::try_from(self.sets.len() - 1).expect("fewer than 2^32 distinct attribute lists")
+            }
+        };
+        self.by_hash.insert(hash, id);
+        id
+    }
+
+    /// One user less of set `id`; the last one frees it.
+    pub(crate) fn release(&mut self, id: u32) {
+        if id == 0 {
+            return;
+        }
+        let set = &mut self.sets[id as usize];
+        set.refs -= 1;
+        if set.refs > 0 {
+            return;
+        }
+        let (hash, next) = (set.hash, set.next);
+        set.attrs = Box::default();
+        let head = self.by_hash[&hash];
+        if head == id {
+            if next == NONE {
+                self.by_hash.remove(&hash);
+            } else {
+                self.by_hash.insert(hash, next);
+            }
+        } else {
+            let mut at = head;
+            while self.sets[at as usize].next != id {
+                at = self.sets[at as usize].next;
+            }
+            self.sets[at as usize].next = next;
+        }
+        self.free.push(id);
+    }
+}
+
+/// A vertex's adjacency list: a block of [`AdjPool`].
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Adj {
+    start: u32,
+    pub(crate) len: u32,
+    cap: u32,
+}
+
+/// Every adjacency list in one array of power-of-two blocks (free blocks
+/// reused per size), instead of one heap allocation per vertex: most
+/// vertices have a few edges, and a separate `Vec` would cost 24 bytes plus
+/// an allocation each.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct AdjPool {
+    data: Vec<u32>,
+    /// Free block starts per log2 of the block size.
+    free: Vec<Vec<u32>>,
+}
+
+impl AdjPool {
+    /// The list `a`.
+    pub(crate) fn list(&self, a: Adj) -> &[u32] {
+        &self.data[a.start as usize..(a.start + a.len) as usize]
+    }
+
+    fn push(&mut self, a: &mut Adj, id: u32) {
+        if a.len == a.cap {
+            self.grow(a);
+        }
+        self.data[(a.start + a.len) as usize] = id;
+        a.len += 1;
+    }
+
+    fn grow(&mut self, a: &mut Adj) {
+        let cap = if a.cap == 0 { 2 } else { a.cap * 2 };
+        let class = cap.trailing_zeros() as usize;
+        let reused = self.free.get_mut(class).and_then(Vec::pop);
+        let start = match reused {
+            Some(s) => s,
+            None => {
+                let s = self.data.len();
+                self.data.resize(s + cap as usize, NONE);
+                u32::try_from(s).expect("fewer than 2^32 adjacency entries")
+            }
+        };
+        self.data.copy_within(a.start as usize..(a.start + a.len) as usize, start as usize);
+        if a.cap > 0 {
+            let old = a.cap.trailing_zeros() as usize;
+            if self.free.len() <= old {
+                self.free.resize_with(old + 1, Vec::new);
+            }
+            self.free[old].push(a.start);
+        }
+        a.start = start;
+        a.cap = cap;
+    }
+
+    /// Removes position `pos` as `Vec::swap_remove` does; returns the entry
+    /// moved into it, if any.
+    fn swap_remove(&mut self, a: &mut Adj, pos: u32) -> Option<u32> {
+        a.len -= 1;
+        let last = self.data[(a.start + a.len) as usize];
+        if pos < a.len {
+            self.data[(a.start + pos) as usize] = last;
+            Some(last)
+        } else {
+            None
+        }
+    }
+}
+
 /// The attributed graph being rewritten.
 #[derive(Clone, Debug)]
 pub struct Graph {
@@ -98,6 +314,8 @@ pub struct Graph {
     pub(crate) attr_names: Arc<Interner>,
     pub(crate) vertices: Vec<Vertex>,
     pub(crate) edges: Vec<Edge>,
+    pub(crate) adj: AdjPool,
+    pub(crate) attr_sets: AttrSets,
     free_vertices: Vec<u32>,
     free_edges: Vec<u32>,
     pub(crate) vindex: Index,
@@ -149,18 +367,18 @@ impl<'g> VertexRef<'g> {
 
     /// Number of incident edges (a self-loop counts twice).
     pub fn degree(&self) -> usize {
-        self.v().adj.len()
+        self.v().adj.len as usize
     }
 
     /// The attributes, in the grammar's attribute order.
     pub fn attrs(&self) -> impl Iterator<Item = (&'g str, &'g Value)> + 'g {
         let g = self.g;
-        self.v().c.attrs.iter().map(move |(a, v)| (g.attr_names.name(*a), v))
+        g.attr_sets.get(self.v().c.attrs).iter().map(move |(a, v)| (g.attr_names.name(*a), v))
     }
 
     /// The value of attribute `name`.
     pub fn attr(&self, name: &str) -> Option<&'g Value> {
-        self.g.attr_names.get(name).and_then(|id| self.v().c.attr(id))
+        self.g.attr_names.get(name).and_then(|id| self.g.attr(&self.v().c, id))
     }
 }
 
@@ -202,17 +420,18 @@ impl<'g> EdgeRef<'g> {
     /// The attributes, in the grammar's attribute order.
     pub fn attrs(&self) -> impl Iterator<Item = (&'g str, &'g Value)> + 'g {
         let g = self.g;
-        self.e().c.attrs.iter().map(move |(a, v)| (g.attr_names.name(*a), v))
+        g.attr_sets.get(self.e().c.attrs).iter().map(move |(a, v)| (g.attr_names.name(*a), v))
     }
 
     /// The value of attribute `name`.
     pub fn attr(&self, name: &str) -> Option<&'g Value> {
-        self.g.attr_names.get(name).and_then(|id| self.e().c.attr(id))
+        self.g.attr_names.get(name).and_then(|id| self.g.attr(&self.e().c, id))
     }
 }
 
-/// The data of a new element; `attrs` (sorted by id) is drained into the
-/// element, so the caller's buffer keeps its capacity.
+/// The data of a new element; `attrs` (sorted by id) is copied into the
+/// graph's shared lists and cleared, so the caller's buffer keeps its
+/// capacity.
 pub(crate) struct NewCommon<'a> {
     pub(crate) label: u32,
     pub(crate) generation: u32,
@@ -227,6 +446,8 @@ impl Graph {
             attr_names,
             vertices: Vec::new(),
             edges: Vec::new(),
+            adj: AdjPool::default(),
+            attr_sets: AttrSets::new(),
             free_vertices: Vec::new(),
             free_edges: Vec::new(),
             vindex: Index::default(),
@@ -268,18 +489,55 @@ impl Graph {
 
     /// The vertex in slot `id`, if it is live.
     pub fn vertex(&self, id: u32) -> Option<VertexRef<'_>> {
-        self.vertices.get(id as usize).filter(|v| v.c.alive).map(|_| VertexRef { g: self, id })
+        self.vertices.get(id as usize).filter(|v| v.c.alive()).map(|_| VertexRef { g: self, id })
     }
 
     /// The edge in slot `id`, if it is live.
     pub fn edge(&self, id: u32) -> Option<EdgeRef<'_>> {
-        self.edges.get(id as usize).filter(|e| e.c.alive).map(|_| EdgeRef { g: self, id })
+        self.edges.get(id as usize).filter(|e| e.c.alive()).map(|_| EdgeRef { g: self, id })
     }
 
     fn sorted(&self, ids: &[u32], birth: impl Fn(u32) -> u64) -> Vec<u32> {
         let mut v = ids.to_vec();
         v.sort_unstable_by_key(|&id| birth(id));
         v
+    }
+
+    /// The value of attribute `id` of an element.
+    pub(crate) fn attr(&self, c: &Common, id: u32) -> Option<&Value> {
+        self.attr_sets.get(c.attrs).iter().find(|(a, _)| *a == id).map(|(_, v)| v)
+    }
+
+    /// Sets the given attributes (sorted by id, drained) of an element,
+    /// keeping its others; `buf` is scratch space.
+    pub(crate) fn set_attrs(
+        &mut self,
+        vertex: bool,
+        id: u32,
+        new: &mut Vec<(u32, Value)>,
+        buf: &mut Vec<(u32, Value)>,
+    ) {
+        if new.is_empty() {
+            return;
+        }
+        let old = if vertex { self.vertices[id as usize].c.attrs } else { self.edges[id as usize].c.attrs };
+        buf.clear();
+        buf.extend_from_slice(self.attr_sets.get(old));
+        for (a, val) in new.drain(..) {
+            match buf.binary_search_by_key(&a, |(b, _)| *b) {
+                Ok(i) => buf[i].1 = val,
+                Err(i) => buf.insert(i, (a, val)),
+            }
+        }
+        // The new list first, so an unchanged list is never freed between.
+        let set = self.attr_sets.intern(buf);
+        self.attr_sets.release(old);
+        buf.clear();
+        if vertex {
+            self.vertices[id as usize].c.attrs = set;
+        } else {
+            self.edges[id as usize].c.attrs = set;
+        }
     }
 
     fn take_birth(&mut self) -> u64 {
@@ -294,19 +552,20 @@ impl Graph {
         let id = match self.free_vertices.pop() {
             Some(id) => id,
             None => {
-                self.vertices.push(Vertex { c: Common::new(), pos: [0.0; 2], adj: Vec::new() });
+                self.vertices.push(Vertex { c: Common::new(), pos: [0.0; 2], adj: Adj::default() });
                 self.vertices.len() as u32 - 1
             }
         };
+        let attrs = self.attr_sets.intern(new.attrs);
+        new.attrs.clear();
         let v = &mut self.vertices[id as usize];
-        v.c.alive = true;
         v.c.label = new.label;
         v.c.generation = new.generation;
         v.c.birth = birth;
-        v.c.attrs.clear();
-        v.c.attrs.append(new.attrs);
+        v.c.attrs = attrs;
         v.pos = pos;
-        v.adj.clear();
+        // A reused slot keeps its (empty) adjacency block.
+        debug_assert_eq!(v.adj.len, 0);
         index_insert(&mut self.vindex, &mut v.c, id, self.track_generations, &mut self.generations);
         id
     }
@@ -321,17 +580,17 @@ impl Graph {
                 self.edges.len() as u32 - 1
             }
         };
-        let pf = self.vertices[from as usize].adj.len() as u32;
-        self.vertices[from as usize].adj.push(id);
-        let pt = self.vertices[to as usize].adj.len() as u32;
-        self.vertices[to as usize].adj.push(id);
+        let pf = self.vertices[from as usize].adj.len;
+        self.adj.push(&mut self.vertices[from as usize].adj, id);
+        let pt = self.vertices[to as usize].adj.len;
+        self.adj.push(&mut self.vertices[to as usize].adj, id);
+        let attrs = self.attr_sets.intern(new.attrs);
+        new.attrs.clear();
         let e = &mut self.edges[id as usize];
-        e.c.alive = true;
         e.c.label = new.label;
         e.c.generation = new.generation;
         e.c.birth = birth;
-        e.c.attrs.clear();
-        e.c.attrs.append(new.attrs);
+        e.c.attrs = attrs;
         e.from = from;
         e.to = to;
         e.directed = directed;
@@ -344,7 +603,7 @@ impl Graph {
     pub(crate) fn remove_edge(&mut self, id: u32) {
         let (from, to, [pf, pt]) = {
             let e = &self.edges[id as usize];
-            debug_assert!(e.c.alive);
+            debug_assert!(e.c.alive());
             (e.from, e.to, e.adj_pos)
         };
         // The `to` side first: for a self-loop it may sit after the `from`
@@ -360,8 +619,8 @@ impl Graph {
         index_remove(&mut self.eindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
             *slot_of(&mut edges[moved as usize].c.slots, w) = pos;
         });
-        c.alive = false;
-        c.attrs.clear();
+        self.attr_sets.release(c.attrs);
+        c.attrs = 0;
         self.edges[id as usize].c = c;
         self.free_edges.push(id);
     }
@@ -370,10 +629,8 @@ impl Graph {
     /// position record of the edge moved into it.
     fn adj_remove(&mut self, v: u32, pos: u32) {
         let adj = &mut self.vertices[v as usize].adj;
-        let last = adj.len() as u32 - 1;
-        adj.swap_remove(pos as usize);
-        if pos < last {
-            let moved = adj[pos as usize];
+        let last = adj.len - 1;
+        if let Some(moved) = self.adj.swap_remove(adj, pos) {
             let e = &mut self.edges[moved as usize];
             // The moved entry was at `last`: find which side of `moved`
             // recorded it there.
@@ -388,7 +645,7 @@ impl Graph {
     /// Deletes a live vertex and every edge still attached to it
     /// (single-pushout: no dangling edges).
     pub(crate) fn remove_vertex(&mut self, id: u32) {
-        while let Some(&e) = self.vertices[id as usize].adj.last() {
+        while let Some(&e) = self.adj.list(self.vertices[id as usize].adj).last() {
             self.remove_edge(e);
         }
         let tg = self.track_generations;
@@ -397,8 +654,8 @@ impl Graph {
         index_remove(&mut self.vindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
             *slot_of(&mut vertices[moved as usize].c.slots, w) = pos;
         });
-        c.alive = false;
-        c.attrs.clear();
+        self.attr_sets.release(c.attrs);
+        c.attrs = 0;
         self.vertices[id as usize].c = c;
         self.free_vertices.push(id);
     }
@@ -453,22 +710,23 @@ impl Graph {
     /// Checks every internal invariant (tests only).
     #[cfg(test)]
     pub(crate) fn check(&self) {
-        let live_v: Vec<u32> = (0..self.vertices.len() as u32).filter(|&i| self.vertices[i as usize].c.alive).collect();
-        let live_e: Vec<u32> = (0..self.edges.len() as u32).filter(|&i| self.edges[i as usize].c.alive).collect();
+        let live_v: Vec<u32> =
+            (0..self.vertices.len() as u32).filter(|&i| self.vertices[i as usize].c.alive()).collect();
+        let live_e: Vec<u32> = (0..self.edges.len() as u32).filter(|&i| self.edges[i as usize].c.alive()).collect();
         assert_eq!(live_v.len(), self.vindex.all.len());
         assert_eq!(live_e.len(), self.eindex.all.len());
         for &e in &live_e {
             let ed = &self.edges[e as usize];
             for (side, v) in [ed.from, ed.to].into_iter().enumerate() {
-                assert!(self.vertices[v as usize].c.alive, "edge {e} dangles");
-                assert_eq!(self.vertices[v as usize].adj[ed.adj_pos[side] as usize], e);
+                assert!(self.vertices[v as usize].c.alive(), "edge {e} dangles");
+                assert_eq!(self.adj.list(self.vertices[v as usize].adj)[ed.adj_pos[side] as usize], e);
             }
         }
         for &v in &live_v {
-            for &e in &self.vertices[v as usize].adj {
-                assert!(self.edges[e as usize].c.alive);
+            for &e in self.adj.list(self.vertices[v as usize].adj) {
+                assert!(self.edges[e as usize].c.alive());
             }
-            let n = self.vertices[v as usize].adj.len();
+            let n = self.vertices[v as usize].adj.len as usize;
             let deg: usize = live_e
                 .iter()
                 .map(|&e| {
@@ -539,6 +797,55 @@ mod tests {
             assert_eq!(again, v[1]);
             g.check();
         }
+    }
+
+    #[test]
+    fn equal_attribute_lists_share_one_entry_until_the_last_user_goes() {
+        let mut g = graph(false);
+        let text = |t: &str| Value::Text(t.into());
+        let list = || vec![(1, Value::Num(0.5)), (2, text("round"))];
+        let a = g.add_vertex([0.0; 2], new(1, 0, &mut list()));
+        let b = g.add_vertex([1.0, 0.0], new(1, 0, &mut list()));
+        let (sa, sb) = (g.vertices[a as usize].c.attrs, g.vertices[b as usize].c.attrs);
+        assert_eq!(sa, sb);
+        assert_eq!(g.vertex(b).unwrap().attr("missing"), None);
+        // 0.0 and -0.0 compare equal but print differently: not shared.
+        let z = g.add_vertex([0.0; 2], new(1, 0, &mut vec![(1, Value::Num(0.0))]));
+        let nz = g.add_vertex([0.0; 2], new(1, 0, &mut vec![(1, Value::Num(-0.0))]));
+        assert_ne!(g.vertices[z as usize].c.attrs, g.vertices[nz as usize].c.attrs);
+        // Changing one element's list leaves the other's alone.
+        let mut buf = Vec::new();
+        g.set_attrs(true, a, &mut vec![(2, text("square"))], &mut buf);
+        assert_eq!(g.attr_sets.get(g.vertices[b as usize].c.attrs), list().as_slice());
+        assert_eq!(g.attr_sets.get(g.vertices[a as usize].c.attrs), [(1, Value::Num(0.5)), (2, text("square"))]);
+        // The last user of a list frees it; its id is reused.
+        g.remove_vertex(b);
+        assert!(g.attr_sets.get(sb).is_empty());
+        let c = g.add_vertex([0.0; 2], new(1, 0, &mut vec![(3, text("x"))]));
+        assert_eq!(g.vertices[c as usize].c.attrs, sb);
+        g.check();
+    }
+
+    #[test]
+    fn adjacency_blocks_grow_and_are_reused() {
+        let mut none = Vec::new();
+        let mut g = graph(false);
+        // Four self-loops: 8 entries, the hub's list grows 2 → 4 → 8.
+        let hub = g.add_vertex([0.0; 2], new(1, 0, &mut none));
+        let loops: Vec<u32> = (0..4).map(|_| g.add_edge(hub, hub, false, new(1, 0, &mut none))).collect();
+        g.check();
+        assert_eq!(g.vertex(hub).unwrap().degree(), 8);
+        assert_eq!(g.adj.data.len(), 2 + 4 + 8);
+        g.remove_edge(loops[1]);
+        g.check();
+        // Its outgrown blocks (2 and 4 entries) went to the free lists: a
+        // new vertex with 4 entries takes them instead of growing the pool.
+        let x = g.add_vertex([0.0; 2], new(1, 0, &mut none));
+        g.add_edge(x, x, false, new(1, 0, &mut none));
+        g.add_edge(x, x, false, new(1, 0, &mut none));
+        g.check();
+        assert_eq!(g.adj.data.len(), 2 + 4 + 8);
+        assert_eq!(g.vertex(x).unwrap().degree(), 4);
     }
 
     #[test]

@@ -23,6 +23,7 @@ pub(crate) struct Scratch {
     new_e: Vec<Pending>,
     new_ids: Vec<u32>,
     text: String,
+    attrs: Vec<(u32, Value)>,
 }
 
 #[derive(Default)]
@@ -128,11 +129,9 @@ pub(crate) fn apply(
         if let Some(l) = new.label {
             g.relabel_vertex(id, l);
         }
-        let v = &mut g.vertices[id as usize];
-        v.pos = new.pos;
-        for (a, val) in new.attrs.drain(..) {
-            v.c.set_attr(a, val);
-        }
+        g.vertices[id as usize].pos = new.pos;
+        new.attrs.sort_by_key(|(a, _)| *a);
+        g.set_attrs(true, id, &mut new.attrs, &mut s.attrs);
     }
     for (d, new) in opt.kept_edges.iter().zip(&mut s.kept_e) {
         let id = me[d.mother.expect("a kept edge has a mother")];
@@ -144,10 +143,8 @@ pub(crate) fn apply(
         };
         let directed = d.directed.unwrap_or(g.edges[id as usize].directed);
         g.orient_edge(id, mv[a], mv[b], directed);
-        let e = &mut g.edges[id as usize];
-        for (a, val) in new.attrs.drain(..) {
-            e.c.set_attr(a, val);
-        }
+        new.attrs.sort_by_key(|(a, _)| *a);
+        g.set_attrs(false, id, &mut new.attrs, &mut s.attrs);
     }
     s.new_ids.clear();
     for new in &mut s.new_v[..opt.new_vertices.len()] {

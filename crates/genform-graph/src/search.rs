@@ -193,7 +193,7 @@ impl<'a> Search<'a> {
             Op::Extend { edge, from, to, to_bound } => {
                 let m = &p.me[edge];
                 let hv = self.mv[from];
-                let adj = &g.vertices[hv as usize].adj;
+                let adj = g.adj.list(g.vertices[hv as usize].adj);
                 let mut order = Order::new(adj.len(), pick);
                 while let Some(i) = order.next(pick) {
                     self.tick()?;
@@ -256,7 +256,7 @@ impl<'a> Search<'a> {
         if !self.gen_ok(&hv.c) {
             return false;
         }
-        if !m.wildcard && (m.label.is_some_and(|l| l != hv.c.label) || !attrs_match(&m.attrs, &hv.c)) {
+        if !m.wildcard && (m.label.is_some_and(|l| l != hv.c.label) || !attrs_match(self.g, &m.attrs, &hv.c)) {
             return false;
         }
         self.mv[v] = h;
@@ -264,9 +264,9 @@ impl<'a> Search<'a> {
             self.env[slot as usize] = match load {
                 Load::X => hv.pos[0],
                 Load::Y => hv.pos[1],
-                Load::Degree => hv.adj.len() as f64,
+                Load::Degree => f64::from(hv.adj.len),
                 Load::Generation => f64::from(hv.c.generation),
-                Load::Attr(a) => num_attr(&hv.c, a),
+                Load::Attr(a) => num_attr(self.g, &hv.c, a),
             };
         }
         true
@@ -280,7 +280,7 @@ impl<'a> Search<'a> {
             && (!m.directed || he.directed)
             && m.label.is_none_or(|l| l == he.c.label)
             && self.gen_ok(&he.c)
-            && attrs_match(&m.attrs, &he.c)
+            && attrs_match(self.g, &m.attrs, &he.c)
     }
 
     fn bind_edge(&mut self, e: usize, h: u32) {
@@ -289,7 +289,7 @@ impl<'a> Search<'a> {
         for &(slot, load) in &self.p.me[e].loads {
             self.env[slot as usize] = match load {
                 Load::Generation => f64::from(he.c.generation),
-                Load::Attr(a) => num_attr(&he.c, a),
+                Load::Attr(a) => num_attr(self.g, &he.c, a),
                 Load::X | Load::Y | Load::Degree => f64::NAN,
             };
         }
@@ -327,13 +327,16 @@ fn same_order(want: i8, d: f64) -> bool {
     }
 }
 
-fn num_attr(c: &Common, a: u32) -> f64 {
-    match c.attr(a) {
+fn num_attr(g: &Graph, c: &Common, a: u32) -> f64 {
+    match g.attr(c, a) {
         Some(Value::Num(v)) => *v,
         _ => f64::NAN,
     }
 }
 
-fn attrs_match(want: &[(u32, Value)], c: &Common) -> bool {
-    want.iter().all(|(a, v)| c.attr(*a) == Some(v))
+fn attrs_match(g: &Graph, want: &[(u32, Value)], c: &Common) -> bool {
+    want.is_empty() || {
+        let have = g.attr_sets.get(c.attrs);
+        want.iter().all(|(a, v)| have.iter().find(|(b, _)| b == a).map(|(_, w)| w) == Some(v))
+    }
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
 use crate::grammar::Loaded;
-use crate::output::{write_atomic, write_model_with};
+use crate::output::{write_atomic_with, write_model_with};
 use genform_export::ExportOptions;
 
 /// The graph-grammar row of the table.
@@ -65,7 +65,7 @@ impl LoadedGrammar for GraphFile {
             d.steps,
             v + e
         );
-        Ok(Box::new(GraphSample { scene: d.graph.to_scene(), graph: d.graph, summary }))
+        Ok(Box::new(GraphSample { scene: std::sync::OnceLock::new(), graph: d.graph, summary }))
     }
 
     fn describe(&self) -> String {
@@ -96,13 +96,14 @@ impl LoadedGrammar for GraphFile {
 /// A derived graph: drawn as a Scene, or written as YAML.
 struct GraphSample {
     graph: Graph,
-    scene: Scene,
+    /// The drawing, made when first asked for (a YAML output needs none).
+    scene: std::sync::OnceLock<Scene>,
     summary: String,
 }
 
 impl Sample for GraphSample {
     fn scene(&self) -> &Scene {
-        &self.scene
+        self.scene.get_or_init(|| self.graph.to_scene())
     }
 
     fn summary(&self) -> String {
@@ -111,10 +112,10 @@ impl Sample for GraphSample {
 
     fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
         if ends_with_any(out, YAML) {
-            write_atomic(out, self.graph.to_yaml().as_bytes())?;
+            write_atomic_with(out, |mut w| self.graph.write_yaml(&mut w))?;
             Ok(vec![out.to_path_buf()])
         } else {
-            write_model_with(&self.scene, out, export)
+            write_model_with(self.scene(), out, export)
         }
     }
 }

@@ -315,7 +315,8 @@ impl Grown {
                     ("fill".into(), "none".into()),
                     ("stroke".into(), "#bbbbbb".into()),
                     ("stroke-width".into(), format!("{}", 0.004 * unit)),
-                ],
+                ]
+                .into(),
                 tag: frame_tag,
             });
             labels.push((corner + glam::Vec2::new(pad, cell.y - 0.75 * band), self.step_label(k)));

@@ -94,8 +94,9 @@ pub struct Shape2d {
     /// The geometry.
     pub kind: Shape2dKind,
     /// Extra SVG presentation attributes (`stroke`, `fill`,
-    /// `stroke-width`, …), written as given, in order.
-    pub attributes: Vec<(String, String)>,
+    /// `stroke-width`, …), written as given, in order; shared, since many
+    /// shapes of a drawing carry the same list.
+    pub attributes: std::sync::Arc<[(String, String)]>,
     /// Semantic tag.
     pub tag: TagId,
 }
