@@ -165,13 +165,17 @@ export class LinePlot {
       this.root.append(g);
     }
 
-    // The first series (the headline curve) is drawn last, on top of the others.
-    for (const [name, s] of [...this.series].reverse()) {
+    // The first series (the headline curve) is drawn last, on top of the others; each
+    // series below is drawn wider than the ones above it, so where curves coincide (the
+    // generation's best on the best so far) every colour still shows as a border.
+    const layers = [...this.series].reverse();
+    layers.forEach(([name, s], layer) => {
       const d = thin(s.points, Math.round(plotW)).map((p, i) => `${i ? 'L' : 'M'}${sx(p[0]).toFixed(1)},${sy(p[1]).toFixed(1)}`).join('');
-      const path = svg('path', { d, stroke: s.color, class: 'plot-line', 'data-series': name });
+      const width = (1.8 + 1.2 * (layers.length - 1 - layer)).toFixed(1);
+      const path = svg('path', { d, stroke: s.color, class: 'plot-line', style: `stroke-width: ${width}px`, 'data-series': name });
       if (s.dashed) path.setAttribute('stroke-dasharray', '5 3');
       this.root.append(path);
-    }
+    });
 
     // Legend under the x axis, wrapping into rows.
     const perRow = Math.max(1, Math.floor(plotW / LEGEND_W));
