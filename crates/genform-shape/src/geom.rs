@@ -427,6 +427,18 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
 mod tests {
     use super::*;
 
+    /// An L of three unit squares (area 3, concave at (1, 1)).
+    fn l_shape() -> Vec<DVec2> {
+        vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(2.0, 0.0),
+            DVec2::new(2.0, 1.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(1.0, 2.0),
+            DVec2::new(0.0, 2.0),
+        ]
+    }
+
     fn rect(w: f64, d: f64) -> Vec<DVec2> {
         vec![
             DVec2::new(-w / 2.0, -d / 2.0),
@@ -471,28 +483,14 @@ mod tests {
         assert!(is_simple(&r) && is_convex(&r));
         let bow = vec![DVec2::new(0.0, 0.0), DVec2::new(1.0, 1.0), DVec2::new(1.0, 0.0), DVec2::new(0.0, 1.0)];
         assert!(!is_simple(&bow));
-        let l = vec![
-            DVec2::new(0.0, 0.0),
-            DVec2::new(2.0, 0.0),
-            DVec2::new(2.0, 1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(1.0, 2.0),
-            DVec2::new(0.0, 2.0),
-        ];
+        let l = l_shape();
         assert!(is_simple(&l) && !is_convex(&l));
         assert_eq!(area2(&l), 6.0);
     }
 
     #[test]
     fn slab_clips_keep_area() {
-        let l = vec![
-            DVec2::new(0.0, 0.0),
-            DVec2::new(2.0, 0.0),
-            DVec2::new(2.0, 1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(1.0, 2.0),
-            DVec2::new(0.0, 2.0),
-        ];
+        let l = l_shape();
         let parts: f64 =
             [(0.0, 0.5), (0.5, 1.5), (1.5, 2.0)].iter().map(|&(a, b)| area2(&clip_slab(&l, 0, a, b))).sum();
         assert!((parts - 6.0).abs() < 1e-12, "{parts}");
@@ -567,14 +565,7 @@ mod tests {
 
     #[test]
     fn hostile_roofs_are_errors_or_empty() {
-        let l = vec![
-            DVec2::new(0.0, 0.0),
-            DVec2::new(2.0, 0.0),
-            DVec2::new(2.0, 1.0),
-            DVec2::new(1.0, 1.0),
-            DVec2::new(1.0, 2.0),
-            DVec2::new(0.0, 2.0),
-        ];
+        let l = l_shape();
         assert!(roof_mesh(&l, RoofKind::Hip, 30.0, 0.0).unwrap_err().contains("straight skeleton"));
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 90.0, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, f64::NAN, 0.0).is_err());

@@ -534,14 +534,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             Prim::Taper(e) => Primitive::TaperedBox { top: self.num(rule, e, "a taper ratio")?.max(0.0) as f32 },
             Prim::Mesh(m) => Primitive::Mesh(m),
         };
-        if self.emitted >= self.limits.max_primitives {
-            return Err(self.mode.limit(LimitKind::Primitives, &self.limits));
-        }
-        self.emitted += 1;
-        let t = self.cur.transform();
-        if !t.is_finite() {
-            return Err(self.placement_overflow());
-        }
+        let t = self.count_emission()?;
         self.mode.emit(self.g, t, prim, self.cur.tag);
         Ok(())
     }

@@ -143,7 +143,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     }
 
     /// Counts one emission against the limit and checks the placement.
-    fn count_emission(&mut self) -> Result<Affine3A, Stop> {
+    pub(super) fn count_emission(&mut self) -> Result<Affine3A, Stop> {
         if self.emitted >= self.limits.max_primitives {
             return Err(self.mode.limit(LimitKind::Primitives, &self.limits));
         }
