@@ -134,6 +134,23 @@ fn without_times(mut s: GenerationStats) -> GenerationStats {
     s
 }
 
+/// 16 generations of `config` with `seed` on [`PrefixToy`], on 1 and on 2
+/// threads: each run's final population (genomes, fitness bits) and stats.
+#[allow(clippy::type_complexity)]
+fn on_one_and_two_threads(config: &GeConfig, seed: u64) -> Vec<(Vec<(Codons, u64)>, Vec<GenerationStats>)> {
+    [1, 2]
+        .map(|threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut ge = Ge::new(config.clone(), seed).unwrap();
+                let stats: Vec<_> = (0..=15).map(|_| without_times(ge.step(&PrefixToy))).collect();
+                (ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>(), stats)
+            })
+        })
+        .into_iter()
+        .collect()
+}
+
 #[test]
 fn same_seed_same_run_at_one_and_two_threads() {
     let objective = HalfInvalidToy;
@@ -190,17 +207,7 @@ fn both_codon_algorithms_run_through_the_driver() {
 #[test]
 fn effective_operators_and_novel_children_repeat_at_one_and_two_threads() {
     let config = GeConfig { population: 31, elitism: 2, mutation_rate: 0.05, ..GeConfig::default() };
-    let runs: Vec<_> = [1, 2]
-        .map(|threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| {
-                let mut ge = Ge::new(config.clone(), 5).unwrap();
-                let stats: Vec<_> = (0..=15).map(|_| without_times(ge.step(&PrefixToy))).collect();
-                (ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>(), stats)
-            })
-        })
-        .into_iter()
-        .collect();
+    let runs = on_one_and_two_threads(&config, 5);
     assert_eq!(runs[0].0, runs[1].0);
     assert_eq!(format!("{:?}", runs[0].1), format!("{:?}", runs[1].1));
     let dup: u64 = runs[0].1.iter().map(|s| s.reproduction.duplicates).sum();
@@ -471,17 +478,7 @@ fn local_search_children_are_the_best_with_a_few_read_codons_redrawn() {
     }
     // Repeats at any thread count, with the EA's children alongside.
     let config = GeConfig { local_search: 0.3, restart_after: 2, ..config };
-    let runs: Vec<_> = [1, 2]
-        .map(|threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            pool.install(|| {
-                let mut ge = Ge::new(config.clone(), 8).unwrap();
-                let stats: Vec<_> = (0..=15).map(|_| without_times(ge.step(&PrefixToy))).collect();
-                (ge.population().iter().map(|i| (i.genome.clone(), i.fitness.to_bits())).collect::<Vec<_>>(), stats)
-            })
-        })
-        .into_iter()
-        .collect();
+    let runs = on_one_and_two_threads(&config, 8);
     assert_eq!(runs[0].0, runs[1].0);
     assert_eq!(format!("{:?}", runs[0].1), format!("{:?}", runs[1].1));
 }
