@@ -427,6 +427,12 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
 mod tests {
     use super::*;
 
+    /// A closed roof mesh of ridge height `height` and volume `vol`.
+    fn assert_roof(m: &Mesh, height: f32, vol: f64) {
+        assert!(is_closed(m));
+        assert!((max_z(m) - height).abs() < 1e-5, "height {}", max_z(m));
+        assert!((volume(m) - vol).abs() < 1e-3, "volume {}", volume(m));
+    }
     /// An L of three unit squares (area 3, concave at (1, 1)).
     fn l_shape() -> Vec<DVec2> {
         vec![
@@ -516,14 +522,10 @@ mod tests {
     fn gable_on_a_rectangle() {
         // 10 × 6, 45°: ridge along x at height 3, volume = 10 · 6 · 3 / 2.
         let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Gable, 45.0, 0.0).unwrap();
-        assert!(is_closed(&m));
-        assert!((max_z(&m) - 3.0).abs() < 1e-5);
-        assert!((volume(&m) - 90.0).abs() < 1e-3, "{}", volume(&m));
+        assert_roof(&m, 3.0, 90.0);
         // With an overhang of 1 the footprint is 12 × 8: ridge 4.
         let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Gable, 45.0, 1.0).unwrap();
-        assert!(is_closed(&m));
-        assert!((max_z(&m) - 4.0).abs() < 1e-5);
-        assert!((volume(&m) - 12.0 * 8.0 * 4.0 / 2.0).abs() < 1e-3);
+        assert_roof(&m, 4.0, 12.0 * 8.0 * 4.0 / 2.0);
     }
 
     #[test]
@@ -531,21 +533,15 @@ mod tests {
         // 10 × 6, 45°: height 3; volume = prism of the ridge part minus the
         // two hip pyramids' complements: W²/4·tan·(L − W/3) = 9·(10 − 2) = 72.
         let m = roof_mesh(&rect(10.0, 6.0), RoofKind::Hip, 45.0, 0.0).unwrap();
-        assert!(is_closed(&m));
-        assert!((max_z(&m) - 3.0).abs() < 1e-5);
-        assert!((volume(&m) - 72.0).abs() < 1e-3, "{}", volume(&m));
+        assert_roof(&m, 3.0, 72.0);
     }
 
     #[test]
     fn pyramid_and_shed_on_a_square() {
         let m = roof_mesh(&rect(6.0, 6.0), RoofKind::Pyramid, 45.0, 0.0).unwrap();
-        assert!(is_closed(&m));
-        assert!((max_z(&m) - 3.0).abs() < 1e-5);
-        assert!((volume(&m) - 36.0 * 3.0 / 3.0).abs() < 1e-3);
+        assert_roof(&m, 3.0, 36.0 * 3.0 / 3.0);
         let m = roof_mesh(&rect(6.0, 4.0), RoofKind::Shed, 45.0, 0.0).unwrap();
-        assert!(is_closed(&m));
-        assert!((max_z(&m) - 4.0).abs() < 1e-5);
-        assert!((volume(&m) - 6.0 * 4.0 * 4.0 / 2.0).abs() < 1e-3);
+        assert_roof(&m, 4.0, 6.0 * 4.0 * 4.0 / 2.0);
     }
 
     #[test]
