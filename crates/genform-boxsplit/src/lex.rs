@@ -22,22 +22,10 @@ pub(crate) enum Tok {
     Comma,
     Semi,
     Assign,
-    EqEq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-    Plus,
     Minus,
-    Star,
-    Slash,
-    SlashSlash,
-    Percent,
-    Caret,
-    Bang,
-    AndAnd,
-    OrOr,
+    /// Any other operator of formulas (`//`, `<=`, `&&`, `*`, …): formulas
+    /// themselves are read by the core expression parser.
+    Operator,
     /// A character the language does not use.
     Other,
     Eof,
@@ -50,22 +38,9 @@ pub(crate) struct Token {
     pub span: Span,
 }
 
-/// Skips whitespace and `#` comments from `pos`.
-pub(crate) fn skip_trivia(src: &str, mut pos: usize) -> usize {
-    let b = src.as_bytes();
-    loop {
-        while pos < b.len() && b[pos].is_ascii_whitespace() {
-            pos += 1;
-        }
-        if pos < b.len() && b[pos] == b'#' {
-            while pos < b.len() && b[pos] != b'\n' {
-                pos += 1;
-            }
-        } else {
-            return pos;
-        }
-    }
-}
+/// Skips whitespace and `#` comments from `pos` (the trivia of the
+/// `.bsg` dialect of formulas too).
+pub(crate) use genform_core::expr::skip_hash_trivia as skip_trivia;
 
 /// The token starting at the first non-trivia byte from `pos`.
 pub(crate) fn token_at(src: &str, pos: usize) -> Token {
@@ -110,22 +85,8 @@ pub(crate) fn token_at(src: &str, pos: usize) -> Token {
             end += if b[end] == b'\\' && end + 1 < b.len() && b[end + 1] != b'\n' { 2 } else { 1 };
         }
         if end < b.len() && b[end] == b'"' { (Tok::Str, end + 1 - start) } else { (Tok::BadStr, end - start) }
-    } else if at(b"//") {
-        (Tok::SlashSlash, 2)
-    } else if at(b"==") {
-        (Tok::EqEq, 2)
-    } else if at(b"!=") {
-        (Tok::Ne, 2)
-    } else if at(b"<=") {
-        (Tok::Le, 2)
-    } else if at(b">=") {
-        (Tok::Ge, 2)
-    } else if at(b"&&") {
-        (Tok::AndAnd, 2)
-    } else if at(b"||") {
-        (Tok::OrOr, 2)
-    } else if at(b"**") {
-        (Tok::Caret, 2)
+    } else if [&b"//"[..], b"==", b"!=", b"<=", b">=", b"&&", b"||", b"**"].iter().any(|op| at(op)) {
+        (Tok::Operator, 2)
     } else {
         let t = match c {
             b'{' => Tok::LBrace,
@@ -137,15 +98,8 @@ pub(crate) fn token_at(src: &str, pos: usize) -> Token {
             b',' => Tok::Comma,
             b';' => Tok::Semi,
             b'=' => Tok::Assign,
-            b'<' => Tok::Lt,
-            b'>' => Tok::Gt,
-            b'+' => Tok::Plus,
             b'-' => Tok::Minus,
-            b'*' => Tok::Star,
-            b'/' => Tok::Slash,
-            b'%' => Tok::Percent,
-            b'^' => Tok::Caret,
-            b'!' => Tok::Bang,
+            b'<' | b'>' | b'+' | b'*' | b'/' | b'%' | b'^' | b'!' => Tok::Operator,
             _ => Tok::Other,
         };
         (t, src[start..].chars().next().map_or(1, char::len_utf8))
@@ -219,8 +173,13 @@ mod tests {
 
     #[test]
     fn integer_division_is_an_operator_and_hash_a_comment() {
-        assert_eq!(toks("X // 2 # half\n"), vec![Tok::Ident, Tok::SlashSlash, Tok::Num(2.0), Tok::Eof]);
-        assert_eq!(toks("a<=b!=c"), vec![Tok::Ident, Tok::Le, Tok::Ident, Tok::Ne, Tok::Ident, Tok::Eof]);
+        assert_eq!(toks("X // 2 # half\n"), vec![Tok::Ident, Tok::Operator, Tok::Num(2.0), Tok::Eof]);
+        let src = "a<=b!=c-d";
+        assert_eq!(
+            toks(src),
+            [Tok::Ident, Tok::Operator, Tok::Ident, Tok::Operator, Tok::Ident, Tok::Minus, Tok::Ident, Tok::Eof]
+        );
+        assert_eq!(token_at(src, 1).span, Span::new(1, 3), "two-character operators are one token");
         assert_eq!(toks("\"ab\\\"c\" \"open"), vec![Tok::Str, Tok::BadStr, Tok::Eof]);
         assert_eq!(toks("1_000 2.5e1"), vec![Tok::Num(1000.0), Tok::Num(25.0), Tok::Eof]);
     }

@@ -2,10 +2,11 @@
 //! reports every error it can find: after a mistake it skips to the end of
 //! the alternative or declaration and carries on.
 
-use crate::formula::{BinOp, Expr, ExprKind, Observer, UnOp};
-use crate::lex::{Tok, Token, block_at, skip_trivia, string_value, token_at};
+use crate::formula::DIALECT;
+use crate::lex::{Tok, Token, block_at, string_value, token_at};
 use crate::split::Round;
 use genform_core::diag::{Diagnostic, Span};
+use genform_core::expr::{self, Ast};
 
 /// A name and where it is.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,7 +38,7 @@ pub(crate) enum Item {
     AllowUnknownBlocks(Span),
     Group(Ident, Vec<Ident>),
     Material(Ident, Vec<MixEntry>),
-    Let(Ident, Expr),
+    Let(Ident, Ast),
     Rule(RuleSyn),
 }
 
@@ -52,7 +53,7 @@ pub(crate) struct RuleSyn {
 #[derive(Clone, Debug)]
 pub(crate) enum Guard {
     Always,
-    When(Expr),
+    When(Ast),
     Else,
 }
 
@@ -71,7 +72,7 @@ pub(crate) struct AltSyn {
 pub(crate) enum OpSyn {
     Split {
         axis: usize,
-        sizes: Vec<Expr>,
+        sizes: Vec<Ast>,
         repeat: bool,
         round: Round,
         children: Vec<OpSyn>,
@@ -97,7 +98,8 @@ pub(crate) const KEYWORDS: &[&str] = &[
 const DECLARATIONS: &[&str] =
     &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let"];
 
-/// Deepest nesting of formulas and split children accepted.
+/// Deepest nesting of split children accepted (formulas have the core
+/// parser's own limit).
 const MAX_NESTING: usize = 100;
 
 type PResult<T> = Result<T, Diagnostic>;
@@ -124,7 +126,7 @@ struct Parser<'a> {
     tok: Token,
     /// Open `{` braces consumed so far.
     depth: usize,
-    /// Current nesting of formulas and child lists (recursion guard).
+    /// Current nesting of child lists (recursion guard).
     nesting: usize,
     errors: Vec<Diagnostic>,
 }
@@ -575,203 +577,21 @@ impl<'a> Parser<'a> {
 
     // ---- formulas -------------------------------------------------------
 
-    fn formula(&mut self) -> PResult<Expr> {
-        self.nesting += 1;
-        if self.nesting > MAX_NESTING {
-            return Err(Diagnostic::error(self.tok.span, "formula is nested too deeply")
-                .with_hint(format!("at most {MAX_NESTING} levels of nesting")));
-        }
-        let r = self.or_expr();
-        self.nesting -= 1;
-        r
-    }
-
-    fn binary(op: BinOp, a: Expr, b: Expr) -> Expr {
-        let span = a.span.to(b.span);
-        Expr { kind: ExprKind::Binary(op, Box::new(a), Box::new(b)), span }
-    }
-
-    fn or_expr(&mut self) -> PResult<Expr> {
-        let mut lhs = self.and_expr()?;
-        while self.tok.tok == Tok::OrOr || self.is_kw("or") {
-            self.bump();
-            let rhs = self.and_expr()?;
-            lhs = Self::binary(BinOp::Or, lhs, rhs);
-        }
-        Ok(lhs)
-    }
-
-    fn and_expr(&mut self) -> PResult<Expr> {
-        let mut lhs = self.not_expr()?;
-        while self.tok.tok == Tok::AndAnd || self.is_kw("and") {
-            self.bump();
-            let rhs = self.not_expr()?;
-            lhs = Self::binary(BinOp::And, lhs, rhs);
-        }
-        Ok(lhs)
-    }
-
-    fn not_expr(&mut self) -> PResult<Expr> {
-        if self.tok.tok == Tok::Bang || self.is_kw("not") {
-            let start = self.bump().span;
-            self.nest()?;
-            let inner = self.not_expr()?;
-            self.nesting -= 1;
-            let span = start.to(inner.span);
-            return Ok(Expr { kind: ExprKind::Unary(UnOp::Not, Box::new(inner)), span });
-        }
-        self.comparison()
-    }
-
-    fn nest(&mut self) -> PResult<()> {
-        self.nesting += 1;
-        if self.nesting > MAX_NESTING {
-            return Err(Diagnostic::error(self.tok.span, "formula is nested too deeply"));
-        }
-        Ok(())
-    }
-
-    fn comparison(&mut self) -> PResult<Expr> {
-        let lhs = self.sum()?;
-        let op = |t: Tok| match t {
-            Tok::EqEq => Some(BinOp::Eq),
-            Tok::Ne => Some(BinOp::Ne),
-            Tok::Lt => Some(BinOp::Lt),
-            Tok::Le => Some(BinOp::Le),
-            Tok::Gt => Some(BinOp::Gt),
-            Tok::Ge => Some(BinOp::Ge),
-            _ => None,
-        };
-        if self.tok.tok == Tok::Assign {
-            return Err(Diagnostic::error(self.tok.span, "`=` is not a comparison").with_hint("write `==`"));
-        }
-        let Some(o) = op(self.tok.tok) else { return Ok(lhs) };
-        self.bump();
-        let rhs = self.sum()?;
-        if op(self.tok.tok).is_some() {
-            return Err(
-                Diagnostic::error(self.tok.span, "comparisons do not chain").with_hint("write `a < b and b < c`")
-            );
-        }
-        Ok(Self::binary(o, lhs, rhs))
-    }
-
-    fn sum(&mut self) -> PResult<Expr> {
-        let mut lhs = self.term()?;
-        loop {
-            let op = match self.tok.tok {
-                Tok::Plus => BinOp::Add,
-                Tok::Minus => BinOp::Sub,
-                _ => return Ok(lhs),
-            };
-            self.bump();
-            let rhs = self.term()?;
-            lhs = Self::binary(op, lhs, rhs);
-        }
-    }
-
-    fn term(&mut self) -> PResult<Expr> {
-        let mut lhs = self.unary()?;
-        loop {
-            let op = match self.tok.tok {
-                Tok::Star => BinOp::Mul,
-                Tok::Slash => BinOp::Div,
-                Tok::SlashSlash => BinOp::IntDiv,
-                Tok::Percent => BinOp::Rem,
-                _ => return Ok(lhs),
-            };
-            self.bump();
-            let rhs = self.unary()?;
-            lhs = Self::binary(op, lhs, rhs);
-        }
-    }
-
-    fn unary(&mut self) -> PResult<Expr> {
-        match self.tok.tok {
-            Tok::Minus => {
-                let start = self.bump().span;
-                self.nest()?;
-                let inner = self.unary()?;
-                self.nesting -= 1;
-                let span = start.to(inner.span);
-                Ok(Expr { kind: ExprKind::Unary(UnOp::Neg, Box::new(inner)), span })
+    /// A formula, read by the core expression parser in the `.bsg`
+    /// dialect ([`DIALECT`]).
+    fn formula(&mut self) -> PResult<Ast> {
+        match expr::parse_prefix_in(self.src, self.tok.span.start as usize, DIALECT) {
+            Ok((ast, end)) => {
+                self.tok = token_at(self.src, end);
+                Ok(ast)
             }
-            Tok::Plus => {
-                self.bump();
-                self.nest()?;
-                let inner = self.unary();
-                self.nesting -= 1;
-                inner
-            }
-            _ => self.power(),
-        }
-    }
-
-    fn power(&mut self) -> PResult<Expr> {
-        let base = self.atom()?;
-        if self.tok.tok == Tok::Caret {
-            self.bump();
-            self.nest()?;
-            let exp = self.unary()?;
-            self.nesting -= 1;
-            return Ok(Self::binary(BinOp::Pow, base, exp));
-        }
-        Ok(base)
-    }
-
-    fn atom(&mut self) -> PResult<Expr> {
-        let t = self.tok;
-        match t.tok {
-            Tok::Num(v) => {
-                self.bump();
-                Ok(Expr { kind: ExprKind::Num(v), span: t.span })
-            }
-            Tok::LParen => {
-                self.bump();
-                let inner = self.formula()?;
-                let close = self.expect(Tok::RParen, "`)` to close `(`")?;
-                Ok(Expr { kind: inner.kind, span: t.span.to(close) })
-            }
-            Tok::Ident if !KEYWORDS.contains(&self.text(t.span)) => {
-                let name = self.text(t.span).to_string();
-                self.bump();
-                if self.tok.tok != Tok::LParen {
-                    return Ok(Expr { kind: ExprKind::Name(name), span: t.span });
+            Err(d) => {
+                // Recovery goes on from where the formula broke.
+                if let Some(at) = d.span {
+                    self.tok = token_at(self.src, at.start as usize);
                 }
-                let open = self.bump().span;
-                if let Some(obs) = Observer::from_name(&name) {
-                    let arg_span = block_at(self.src, open.end as usize);
-                    if arg_span.start == arg_span.end {
-                        return Err(Diagnostic::error(
-                            Span::new(
-                                skip_trivia(self.src, open.end as usize),
-                                skip_trivia(self.src, open.end as usize),
-                            ),
-                            format!("expected a block type in `{name}(…)`"),
-                        )
-                        .with_hint("block types are SOLID, LIQUID, AIR, PASSABLE, a `group` or a block id"));
-                    }
-                    self.tok = token_at(self.src, arg_span.end as usize);
-                    let close = self.expect(Tok::RParen, &format!("`)` after the block type of `{name}`"))?;
-                    let arg = Ident { name: self.text(arg_span).to_string(), span: arg_span };
-                    return Ok(Expr { kind: ExprKind::Observe(obs, arg), span: t.span.to(close) });
-                }
-                let mut args = Vec::new();
-                if self.tok.tok != Tok::RParen {
-                    loop {
-                        args.push(self.formula()?);
-                        if self.tok.tok != Tok::Comma {
-                            break;
-                        }
-                        self.bump();
-                    }
-                }
-                let close = self.expect(Tok::RParen, &format!("`,` or `)` in the arguments of `{name}`"))?;
-                Ok(Expr { kind: ExprKind::Call(name, t.span, args), span: t.span.to(close) })
+                Err(d)
             }
-            _ => Err(self.error_here("a formula").with_hint(
-                "a formula is a number, a size like `X`, an observer like `FULL(SOLID)`, or a calculation of these",
-            )),
         }
     }
 

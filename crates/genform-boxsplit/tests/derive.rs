@@ -394,6 +394,11 @@ fn a_zero_divisor_in_a_split_size_or_a_remainder_is_an_error_too() {
     let e = derive_in(src, None, IVec3::new(4, 2, 1), false).unwrap_err();
     assert_eq!(e.kind, FailureKind::DivisionByZero);
     assert!(e.message.contains("test.bsg:2:14") && e.message.contains("`Y % (Z - 1)`"), "{}", e.message);
+    // `mod(a, b)` is `a % b` written as a call: checked the same way.
+    let src = "axiom A;\nA { split x [mod(Y, Z - 1), -1] { fill stone, void } }\n";
+    let e = derive_in(src, None, IVec3::new(4, 2, 1), false).unwrap_err();
+    assert_eq!(e.kind, FailureKind::DivisionByZero);
+    assert!(e.message.contains("test.bsg:2:14") && e.message.contains("`mod(Y, Z - 1)`"), "{}", e.message);
 }
 
 #[test]

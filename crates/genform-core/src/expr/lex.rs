@@ -1,5 +1,6 @@
 //! Tokens of the expression language.
 
+use super::dialect::{Dialect, skip_hash_trivia};
 use crate::diag::Span;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +27,10 @@ pub(crate) enum Tok<'a> {
     AndAnd,
     OrOr,
     Bang,
+    /// `//` in a [`Dialect::hash_comments`] dialect.
+    SlashSlash,
+    /// A single `=` in a [`Dialect::word_logic`] dialect (a mistaken `==`).
+    Assign,
     /// Anything the expression language does not use; ends an expression.
     Other,
     Eof,
@@ -58,16 +63,23 @@ pub fn skip_trivia(src: &str, mut pos: usize) -> (usize, Option<usize>) {
 
 pub(crate) struct Lexer<'a> {
     src: &'a str,
-    pos: usize,
+    pub(crate) pos: usize,
+    dialect: Dialect<'a>,
 }
 
 impl<'a> Lexer<'a> {
-    pub(crate) fn new(src: &'a str) -> Self {
-        Lexer { src, pos: 0 }
+    /// A lexer over `src` from byte `start`.
+    pub(crate) fn new(src: &'a str, start: usize, dialect: Dialect<'a>) -> Self {
+        Lexer { src, pos: start, dialect }
+    }
+
+    /// Where the next token after byte `pos` starts.
+    pub(crate) fn trivia_end(&self, pos: usize) -> usize {
+        if self.dialect.hash_comments { skip_hash_trivia(self.src, pos) } else { skip_trivia(self.src, pos).0 }
     }
 
     fn skip_trivia(&mut self) {
-        self.pos = skip_trivia(self.src, self.pos).0;
+        self.pos = self.trivia_end(self.pos);
     }
 
     /// The next token and its span; does not consume `Other`/`Eof` past themselves.
@@ -81,8 +93,9 @@ impl<'a> Lexer<'a> {
         let c = b[start];
         let two = |s: &[u8]| b[start..].starts_with(s);
         let (tok, len) = if c.is_ascii_digit() || (c == b'.' && b.get(start + 1).is_some_and(u8::is_ascii_digit)) {
+            let sep = self.dialect.digit_separators;
             let mut end = start;
-            while end < b.len() && (b[end].is_ascii_digit() || b[end] == b'.') {
+            while end < b.len() && (b[end].is_ascii_digit() || b[end] == b'.' || (sep && b[end] == b'_')) {
                 end += 1;
             }
             if end < b.len() && (b[end] == b'e' || b[end] == b'E') {
@@ -97,7 +110,9 @@ impl<'a> Lexer<'a> {
                     end = e;
                 }
             }
-            match self.src[start..end].parse::<f64>() {
+            let text = &self.src[start..end];
+            let parsed = if sep { text.replace('_', "").parse::<f64>() } else { text.parse::<f64>() };
+            match parsed {
                 Ok(v) => (Tok::Num(v), end - start),
                 Err(_) => (Tok::Other, end - start),
             }
@@ -108,13 +123,19 @@ impl<'a> Lexer<'a> {
                     end += 1;
                 }
                 // Dotted names: `size.x`, `scope.sx`.
-                if end + 1 < b.len() && b[end] == b'.' && (b[end + 1].is_ascii_alphabetic() || b[end + 1] == b'_') {
+                if self.dialect.dotted_names
+                    && end + 1 < b.len()
+                    && b[end] == b'.'
+                    && (b[end + 1].is_ascii_alphabetic() || b[end + 1] == b'_')
+                {
                     end += 1;
                 } else {
                     break;
                 }
             }
             (Tok::Ident(&self.src[start..end]), end - start)
+        } else if self.dialect.hash_comments && two(b"//") {
+            (Tok::SlashSlash, 2)
         } else if two(b"&&") {
             (Tok::AndAnd, 2)
         } else if two(b"||") {
@@ -145,6 +166,7 @@ impl<'a> Lexer<'a> {
                 b'<' => Tok::Lt,
                 b'>' => Tok::Gt,
                 b'!' => Tok::Bang,
+                b'=' if self.dialect.word_logic => Tok::Assign,
                 _ => Tok::Other,
             };
             let len = self.src[start..].chars().next().map_or(1, char::len_utf8);

@@ -12,13 +12,15 @@
 //! non-NaN value is true. `&&`/`and`, `||`/`or` short-circuit.
 
 mod compile;
+mod dialect;
 mod lex;
 mod parse;
 pub mod vec2;
 
 pub use compile::{Arith, Operand, Program, Trivial, compile, smootherstep};
+pub use dialect::{Dialect, RawArgument, Wording, skip_hash_trivia};
 pub use lex::skip_trivia;
-pub use parse::{Ast, parse, parse_prefix};
+pub use parse::{Ast, BinOp, Node, UnOp, parse, parse_prefix, parse_prefix_in};
 
 /// Names visible to an expression, mapped to indices of the `env` slice
 /// passed to [`Program::eval`].

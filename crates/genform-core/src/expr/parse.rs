@@ -1,50 +1,78 @@
 //! Pratt parser for expressions.
 
+use super::dialect::Dialect;
 use super::lex::{Lexer, Tok};
 use crate::diag::{Diagnostic, Span};
 
 /// Deepest nesting accepted, so hostile input cannot overflow the stack.
 const MAX_DEPTH: usize = 128;
 
-/// A parsed expression.
+/// A parsed expression. Hosts may read and rewrite it (box-split replaces
+/// its observer calls and inlines its `let`s) before [`super::compile`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ast {
-    pub(crate) kind: Node,
+    /// What the expression is.
+    pub kind: Node,
     /// Where the expression (or sub-expression) is, relative to the parsed text.
     pub span: Span,
 }
 
+/// The kinds of expression.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum Node {
+pub enum Node {
+    /// A number literal.
     Num(f64),
+    /// A name: a variable or constant of the scope.
     Var(String),
+    /// A prefix operator.
     Unary(UnOp, Box<Ast>),
+    /// An infix operator.
     Binary(BinOp, Box<Ast>, Box<Ast>),
+    /// `test ? then : else`.
     Cond(Box<Ast>, Box<Ast>, Box<Ast>),
+    /// A call: the function's name, the name's span, the arguments.
     Call(String, Span, Vec<Ast>),
 }
 
+/// Prefix operators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum UnOp {
+pub enum UnOp {
+    /// `-a`.
     Neg,
+    /// `!a`, `not a`.
     Not,
 }
 
+/// Infix operators (`&&`/`and`, `||`/`or` short-circuit).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum BinOp {
+pub enum BinOp {
+    /// `||`, `or`.
     Or,
+    /// `&&`, `and`.
     And,
+    /// `==`.
     Eq,
+    /// `!=`.
     Ne,
+    /// `<`.
     Lt,
+    /// `<=`.
     Le,
+    /// `>`.
     Gt,
+    /// `>=`.
     Ge,
+    /// `+`.
     Add,
+    /// `-`.
     Sub,
+    /// `*`.
     Mul,
+    /// `/`.
     Div,
+    /// `%`, the truncated remainder.
     Rem,
+    /// `^`, `**`.
     Pow,
 }
 
@@ -69,7 +97,14 @@ fn binop(t: Tok<'_>) -> Option<(BinOp, u8, bool)> {
     })
 }
 
+/// Precedence of the comparisons.
+const COMPARISON: u8 = 3;
+/// Precedence of `+` and `-`.
+const SUM: u8 = 5;
+
 struct Parser<'a> {
+    src: &'a str,
+    dialect: Dialect<'a>,
     lex: Lexer<'a>,
     tok: Tok<'a>,
     span: Span,
@@ -79,16 +114,6 @@ struct Parser<'a> {
 }
 
 type PResult<T> = Result<T, Diagnostic>;
-
-fn describe(t: Tok<'_>) -> String {
-    match t {
-        Tok::Eof => "end of input".into(),
-        Tok::Num(v) => format!("number `{v}`"),
-        Tok::Ident(s) => format!("`{s}`"),
-        Tok::Other => "an unexpected character".into(),
-        t => format!("`{}`", tok_text(t)),
-    }
-}
 
 fn tok_text(t: Tok<'_>) -> &'static str {
     match t {
@@ -101,6 +126,7 @@ fn tok_text(t: Tok<'_>) -> &'static str {
         Tok::Minus => "-",
         Tok::Star => "*",
         Tok::Slash => "/",
+        Tok::SlashSlash => "//",
         Tok::Percent => "%",
         Tok::Caret => "^",
         Tok::Lt => "<",
@@ -112,15 +138,38 @@ fn tok_text(t: Tok<'_>) -> &'static str {
         Tok::AndAnd => "&&",
         Tok::OrOr => "||",
         Tok::Bang => "!",
+        Tok::Assign => "=",
         _ => "?",
     }
 }
 
+fn is_comparison(t: Tok<'_>) -> bool {
+    matches!(t, Tok::EqEq | Tok::Ne | Tok::Lt | Tok::Le | Tok::Gt | Tok::Ge)
+}
+
+fn is_not(t: Tok<'_>) -> bool {
+    matches!(t, Tok::Bang | Tok::Ident("not"))
+}
+
 impl<'a> Parser<'a> {
-    fn new(src: &'a str) -> Self {
-        let mut lex = Lexer::new(src);
+    fn new(src: &'a str, start: usize, dialect: Dialect<'a>) -> Self {
+        let mut lex = Lexer::new(src, start, dialect);
         let (tok, span) = lex.next();
-        Parser { lex, tok, span, last_end: 0, depth: 0 }
+        Parser { src, dialect, lex, tok, span, last_end: start, depth: 0 }
+    }
+
+    /// The current token, for messages.
+    fn describe(&self) -> String {
+        let w = self.dialect.wording;
+        match self.tok {
+            Tok::Eof => w.end.into(),
+            Tok::Other if w.quote_source && self.src[self.span.start as usize..].starts_with('"') => "a string".into(),
+            _ if w.quote_source => format!("`{}`", &self.src[self.span.start as usize..self.span.end as usize]),
+            Tok::Num(v) => format!("number `{v}`"),
+            Tok::Ident(s) => format!("`{s}`"),
+            Tok::Other => "an unexpected character".into(),
+            t => format!("`{}`", tok_text(t)),
+        }
     }
 
     fn bump(&mut self) -> (Tok<'a>, Span) {
@@ -132,26 +181,49 @@ impl<'a> Parser<'a> {
         cur
     }
 
+    /// Continues lexing at byte `pos`.
+    fn seek(&mut self, pos: usize) {
+        self.lex.pos = pos;
+        let (t, s) = self.lex.next();
+        self.tok = t;
+        self.span = s;
+    }
+
     fn expect(&mut self, want: Tok<'a>, context: &str) -> PResult<Span> {
         if self.tok == want {
             Ok(self.bump().1)
         } else {
             Err(Diagnostic::error(
                 self.span,
-                format!("expected `{}` {context}, found {}", tok_text(want), describe(self.tok)),
+                format!("expected `{}` {context}, found {}", tok_text(want), self.describe()),
             ))
         }
     }
 
-    fn expr(&mut self, min_prec: u8) -> PResult<Ast> {
+    fn enter(&mut self, at: Span) -> PResult<()> {
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(Diagnostic::error(self.span, "expression is nested too deeply")
+            let name = self.dialect.wording.expression.split_once(' ').map_or("expression", |(_, n)| n);
+            return Err(Diagnostic::error(at, format!("{name} is nested too deeply"))
                 .with_hint(format!("at most {MAX_DEPTH} levels of nesting are allowed")));
         }
-        let mut lhs = self.unary()?;
+        Ok(())
+    }
+
+    fn expr(&mut self, min_prec: u8) -> PResult<Ast> {
+        self.enter(self.span)?;
+        let word_logic = self.dialect.word_logic;
+        let mut lhs = if word_logic && min_prec <= COMPARISON && is_not(self.tok) {
+            // `not` applies to a whole comparison (or another `not`).
+            let (_, start) = self.bump();
+            let inner = self.expr(COMPARISON)?;
+            let span = start.to(inner.span);
+            Ast { kind: Node::Unary(UnOp::Not, Box::new(inner)), span }
+        } else {
+            self.unary()?
+        };
         loop {
-            if self.tok == Tok::Question && min_prec == 0 {
+            if self.tok == Tok::Question && min_prec == 0 && !word_logic {
                 self.bump();
                 let then = self.expr(0)?;
                 self.expect(Tok::Colon, "between the branches of `?:`")?;
@@ -160,36 +232,67 @@ impl<'a> Parser<'a> {
                 lhs = Ast { kind: Node::Cond(Box::new(lhs), Box::new(then), Box::new(els)), span };
                 continue;
             }
-            let Some((op, prec, right)) = binop(self.tok) else {
+            if self.tok == Tok::Assign && min_prec <= COMPARISON {
+                return Err(Diagnostic::error(self.span, "`=` is not a comparison").with_hint("write `==`"));
+            }
+            let Some((op, prec, right)) = self.binop() else {
                 break;
+            };
+            let (prec, next) = if word_logic && is_comparison(self.tok) {
+                // One comparison between two sums: `a < b < c` is a mistake.
+                (COMPARISON, SUM)
+            } else {
+                (prec, if right { prec } else { prec + 1 })
             };
             if prec < min_prec.max(1) {
                 break;
             }
             self.bump();
-            let rhs = self.expr(if right { prec } else { prec + 1 })?;
+            let rhs = self.expr(next)?;
             let span = lhs.span.to(rhs.span);
-            lhs = Ast { kind: Node::Binary(op, Box::new(lhs), Box::new(rhs)), span };
+            lhs = match op {
+                Op::Plain(op) => Ast { kind: Node::Binary(op, Box::new(lhs), Box::new(rhs)), span },
+                Op::Call(name) => Ast { kind: Node::Call(name.into(), span, vec![lhs, rhs]), span },
+                Op::FloorDiv => {
+                    let quotient = Ast { kind: Node::Binary(BinOp::Div, Box::new(lhs), Box::new(rhs)), span };
+                    Ast { kind: Node::Call("floor".into(), span, vec![quotient]), span }
+                }
+            };
+            if word_logic && prec == COMPARISON && is_comparison(self.tok) {
+                return Err(
+                    Diagnostic::error(self.span, "comparisons do not chain").with_hint("write `a < b and b < c`")
+                );
+            }
         }
         self.depth -= 1;
         Ok(lhs)
+    }
+
+    /// The infix operator at the current token in this dialect.
+    fn binop(&self) -> Option<(Op, u8, bool)> {
+        let floored = self.dialect.hash_comments;
+        match self.tok {
+            Tok::SlashSlash => Some((Op::FloorDiv, 6, false)),
+            Tok::Percent if floored => Some((Op::Call("mod"), 6, false)),
+            t => binop(t).map(|(op, p, r)| (Op::Plain(op), p, r)),
+        }
     }
 
     fn unary(&mut self) -> PResult<Ast> {
         let (op, span) = match self.tok {
             Tok::Minus => (UnOp::Neg, self.span),
             Tok::Plus => {
-                self.bump();
-                return self.unary();
+                let (_, at) = self.bump();
+                self.enter(at)?;
+                let inner = self.unary();
+                self.depth -= 1;
+                return inner;
             }
-            Tok::Bang | Tok::Ident("not") => (UnOp::Not, self.span),
+            Tok::Bang | Tok::Ident("not") if !self.dialect.word_logic => (UnOp::Not, self.span),
             _ => return self.power(),
         };
         self.bump();
-        self.depth += 1;
-        if self.depth > MAX_DEPTH {
-            return Err(Diagnostic::error(span, "expression is nested too deeply"));
-        }
+        self.enter(span)?;
         // Unary minus binds looser than `^`: -2^2 = -4.
         let inner = self.unary()?;
         self.depth -= 1;
@@ -200,12 +303,18 @@ impl<'a> Parser<'a> {
     fn power(&mut self) -> PResult<Ast> {
         let base = self.atom()?;
         if self.tok == Tok::Caret {
-            self.bump();
+            let (_, at) = self.bump();
+            self.enter(at)?;
             let exp = self.unary()?;
+            self.depth -= 1;
             let span = base.span.to(exp.span);
             return Ok(Ast { kind: Node::Binary(BinOp::Pow, Box::new(base), Box::new(exp)), span });
         }
         Ok(base)
+    }
+
+    fn is_name(&self, name: &str) -> bool {
+        !matches!(name, "and" | "or" | "not") && !self.dialect.reserved.contains(&name)
     }
 
     fn atom(&mut self) -> PResult<Ast> {
@@ -214,12 +323,15 @@ impl<'a> Parser<'a> {
                 let (_, span) = self.bump();
                 Ok(Ast { kind: Node::Num(v), span })
             }
-            Tok::Ident(name) if !matches!(name, "and" | "or" | "not") => {
+            Tok::Ident(name) if self.is_name(name) => {
                 let (_, span) = self.bump();
                 if self.tok != Tok::LParen {
                     return Ok(Ast { kind: Node::Var(name.to_string()), span });
                 }
-                self.bump();
+                let (_, open) = self.bump();
+                if let Some(raw) = self.dialect.raw_argument.filter(|r| r.calls.contains(&name)) {
+                    return self.raw_call(name, span, open, raw);
+                }
                 let mut args = Vec::new();
                 if self.tok != Tok::RParen {
                     loop {
@@ -231,7 +343,13 @@ impl<'a> Parser<'a> {
                         }
                     }
                 }
-                let end = self.expect(Tok::RParen, &format!("to close the arguments of `{name}`"))?;
+                if self.tok != Tok::RParen {
+                    return Err(Diagnostic::error(
+                        self.span,
+                        format!("expected `,` or `)` in the arguments of `{name}`, found {}", self.describe()),
+                    ));
+                }
+                let (_, end) = self.bump();
                 Ok(Ast { kind: Node::Call(name.to_string(), span, args), span: span.to(end) })
             }
             Tok::LParen => {
@@ -240,11 +358,37 @@ impl<'a> Parser<'a> {
                 let close = self.expect(Tok::RParen, "to close `(`")?;
                 Ok(Ast { kind: inner.kind, span: open.to(close) })
             }
-            t => Err(Diagnostic::error(self.span, format!("expected an expression, found {}", describe(t))).with_hint(
-                "an expression is a number, a name, a function call like `min(a, b)`, or a parenthesized formula",
-            )),
+            _ => {
+                let w = self.dialect.wording;
+                Err(Diagnostic::error(self.span, format!("expected {}, found {}", w.expression, self.describe()))
+                    .with_hint(w.hint))
+            }
         }
     }
+
+    /// `name(` raw text `)`: the text as one [`Node::Var`] argument.
+    fn raw_call(&mut self, name: &str, span: Span, open: Span, raw: super::RawArgument<'a>) -> PResult<Ast> {
+        let start = self.lex.trivia_end(open.end as usize);
+        let end = (raw.scan)(self.src, start).clamp(start, self.src.len());
+        if end == start {
+            return Err(Diagnostic::error(Span::new(start, start), format!("expected a {} in `{name}(…)`", raw.noun))
+                .with_hint(raw.hint));
+        }
+        let arg = Ast { kind: Node::Var(self.src[start..end].to_string()), span: Span::new(start, end) };
+        self.seek(end);
+        self.last_end = end;
+        let close = self.expect(Tok::RParen, &format!("after the {} of `{name}`", raw.noun))?;
+        Ok(Ast { kind: Node::Call(name.to_string(), span, vec![arg]), span: span.to(close) })
+    }
+}
+
+/// An infix operator as the parser builds it.
+enum Op {
+    Plain(BinOp),
+    /// `a % b` in a floored dialect: `mod(a, b)`.
+    Call(&'static str),
+    /// `a // b`: `floor(a / b)`.
+    FloorDiv,
 }
 
 /// Parses one expression at the start of `text`. Returns it and the number
@@ -252,7 +396,14 @@ impl<'a> Parser<'a> {
 /// at the first token that cannot continue it (`;`, `]`, `{`, an identifier
 /// after a complete operand, …). Spans are relative to `text`.
 pub fn parse_prefix(text: &str) -> Result<(Ast, usize), Diagnostic> {
-    let mut p = Parser::new(text);
+    parse_prefix_in(text, 0, Dialect::STANDARD)
+}
+
+/// Parses one expression of `dialect` starting at byte `start` of `text`
+/// (a host's whole file, so spans are positions in it). Returns it and the
+/// end of its last token; the expression ends as for [`parse_prefix`].
+pub fn parse_prefix_in<'a>(text: &'a str, start: usize, dialect: Dialect<'a>) -> Result<(Ast, usize), Diagnostic> {
+    let mut p = Parser::new(text, start, dialect);
     let ast = p.expr(0)?;
     Ok((ast, p.last_end))
 }
@@ -260,12 +411,12 @@ pub fn parse_prefix(text: &str) -> Result<(Ast, usize), Diagnostic> {
 /// Parses `text`, which must be exactly one expression (surrounding
 /// whitespace and comments allowed).
 pub fn parse(text: &str) -> Result<Ast, Diagnostic> {
-    let mut p = Parser::new(text);
+    let mut p = Parser::new(text, 0, Dialect::STANDARD);
     let ast = p.expr(0)?;
     if p.tok != Tok::Eof {
         return Err(Diagnostic::error(
             p.span,
-            format!("expected an operator or the end of the expression, found {}", describe(p.tok)),
+            format!("expected an operator or the end of the expression, found {}", p.describe()),
         ));
     }
     Ok(ast)

@@ -117,6 +117,91 @@ fn deep_nesting_is_an_error_not_a_crash() {
     assert!(parse(&src).unwrap_err().message.contains("nested too deeply"));
     let src = "-".repeat(10_000) + "1";
     assert!(parse(&src).is_err());
+    // `+` and `^` recurse too.
+    for src in ["+".repeat(10_000) + "1", "2^".repeat(10_000) + "1"] {
+        assert!(parse(&src).unwrap_err().message.contains("nested too deeply"));
+    }
+    let src = format!("{}x < 1", "not ".repeat(10_000));
+    assert!(parse_prefix_in(&src, 0, HASH).unwrap_err().message.contains("formula is nested too deeply"));
+}
+
+/// A dialect like box-split's: `#` comments, `//` floor division, word
+/// logic, raw block-type arguments to `FULL`.
+const HASH: Dialect<'static> = Dialect {
+    hash_comments: true,
+    word_logic: true,
+    digit_separators: true,
+    dotted_names: false,
+    reserved: &["when"],
+    raw_argument: Some(RawArgument {
+        calls: &["FULL"],
+        noun: "block type",
+        hint: "a block id",
+        scan: |s, i| i + s[i..].find(|c: char| c == ')' || c.is_whitespace()).unwrap_or(s.len() - i),
+    }),
+    wording: Wording { expression: "a formula", hint: "", end: "the end of the file", quote_source: true },
+};
+
+fn hash_eval(src: &str) -> f64 {
+    let (ast, _) = parse_prefix_in(src, 0, HASH).unwrap_or_else(|e| panic!("{src}: {e:?}"));
+    compile(&ast, NAMES).unwrap_or_else(|e| panic!("{src}: {e:?}")).eval(&[2.0, 3.0, 0.5, 1.0])
+}
+
+fn hash_err(src: &str) -> (String, u32) {
+    let d = parse_prefix_in(src, 0, HASH).expect_err("an error");
+    (d.message, d.span.unwrap().start)
+}
+
+#[test]
+fn a_hash_dialect_floors_and_reads_words_loosely() {
+    let cases = [
+        ("-7 // 2", -4.0),
+        ("-7 % 3", 2.0),
+        ("x // 2 * 2 + x % 2 # a comment", 2.0),
+        ("1_000 + y", 1003.0),
+        // `not` takes the whole comparison; `!` too.
+        ("not x < 1", 1.0),
+        ("! x > 1 or y == 3", 1.0),
+        ("not not x == 2 and y > 2", 1.0),
+    ];
+    for (s, v) in cases {
+        assert_eq!(hash_eval(s), v, "{s}");
+    }
+    // The standard dialect reads the same text differently.
+    assert_eq!(eval("!x < 1"), 1.0);
+    assert_eq!(eval("-7 % 3"), -1.0);
+}
+
+#[test]
+fn a_hash_dialect_reports_its_own_mistakes_where_they_are() {
+    assert_eq!(hash_err("1 < x < 3"), ("comparisons do not chain".into(), 6));
+    assert_eq!(hash_err("x = 3"), ("`=` is not a comparison".into(), 2));
+    assert_eq!(hash_err("x < not y"), ("expected a formula, found `not`".into(), 4));
+    assert_eq!(hash_err("when > 1"), ("expected a formula, found `when`".into(), 0));
+    assert_eq!(hash_err("x +"), ("expected a formula, found the end of the file".into(), 3));
+    assert_eq!(hash_err("FULL( )"), ("expected a block type in `FULL(…)`".into(), 6));
+    assert_eq!(hash_err("FULL(a:b c"), ("expected `)` after the block type of `FULL`, found `c`".into(), 9));
+    assert_eq!(hash_err("min(1 2)"), ("expected `,` or `)` in the arguments of `min`, found `2`".into(), 6));
+    // `?:` and dotted names are not part of it: the formula ends there.
+    for (src, expect) in [("x ? 1 : 2", "x"), ("size.x", "size"), ("x // 2 ]", "x // 2")] {
+        let (_, n) = parse_prefix_in(src, 0, HASH).unwrap();
+        assert_eq!(&src[..n], expect, "{src}");
+    }
+}
+
+#[test]
+fn raw_arguments_and_offsets_keep_file_positions() {
+    let text = "let a = FULL(minecraft:stone) // 2;";
+    let (ast, end) = parse_prefix_in(text, 8, HASH).unwrap();
+    assert_eq!(&text[8..end], "FULL(minecraft:stone) // 2");
+    assert_eq!((ast.span.start, ast.span.end), (8, end as u32));
+    let Node::Call(f, _, args) = &ast.kind else { panic!("{ast:?}") };
+    assert_eq!(f, "floor");
+    let Node::Binary(BinOp::Div, lhs, _) = &args[0].kind else { panic!("{ast:?}") };
+    let Node::Call(obs, _, raw) = &lhs.kind else { panic!("{lhs:?}") };
+    assert_eq!(obs, "FULL");
+    assert_eq!(raw[0].kind, Node::Var("minecraft:stone".into()));
+    assert_eq!((raw[0].span.start, raw[0].span.end), (13, 28));
 }
 
 proptest::proptest! {
@@ -126,6 +211,21 @@ proptest::proptest! {
             let _ = p.eval(&[1.0, 2.0, 3.0, 4.0]);
         }
         let _ = parse_prefix(&s);
+    }
+
+    #[test]
+    fn the_hash_dialect_never_panics_and_spans_stay_in_the_text(s in "[-+*/%^()<>=!&|#,_ .0-9a-zA-Z:\n]{0,48}", at in 0usize..8) {
+        let at = at.min(s.len());
+        match parse_prefix_in(&s, at, HASH) {
+            Ok((ast, end)) => {
+                proptest::prop_assert!(at <= ast.span.start as usize && ast.span.end as usize <= end && end <= s.len());
+                let _ = compile(&ast, NAMES).map(|p| p.eval(&[1.0, 2.0, 3.0, 4.0]));
+            }
+            Err(d) => {
+                let span = d.span.unwrap();
+                proptest::prop_assert!(at <= span.start as usize && span.end as usize <= s.len(), "{d:?}");
+            }
+        }
     }
 
     #[test]
