@@ -90,10 +90,14 @@ pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> 
 
 /// Writes `bytes` to `path` through a temporary file in the same folder
 /// (`.NAME.PID-N.tmp`, unique within the process, so two threads saving
-/// the same file never share one) and a rename, then syncs the folder:
-/// killed at any moment, the command leaves at `path` either the old file,
-/// nothing, or the complete new one — never a partial file (at worst a
-/// hidden temporary file stays behind).
+/// the same file never share one) and a rename: killed at any moment, the
+/// command leaves at `path` either the old file, nothing, or the complete
+/// new one — never a partial file (at worst a hidden temporary file stays
+/// behind). Nothing is synced to the disk: a kill leaves the page cache
+/// intact, and waiting for the disk cost most of a whole `sample` (7 ms of
+/// work, 25 ms of wall time for a 1.8 MB string on a busy disk); against a
+/// power cut, replacing a file by rename is what ext4 and others flush
+/// first.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_with(path, |w| w.write_all(bytes))
 }
@@ -114,20 +118,13 @@ pub fn write_atomic_with(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::
     let result = (|| -> std::io::Result<()> {
         let mut f = std::io::BufWriter::with_capacity(1 << 16, std::fs::File::create(&tmp)?);
         fill(&mut f)?;
-        let f = f.into_inner().map_err(std::io::IntoInnerError::into_error)?;
-        f.sync_all()?;
+        f.into_inner().map_err(std::io::IntoInnerError::into_error)?;
         std::fs::rename(&tmp, path)
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    result.with_context(|| format!("cannot write {}", path.display()))?;
-    // The rename itself survives a crash once the folder is synced (where
-    // folders can be opened for it; elsewhere this is a no-op).
-    if let Ok(d) = std::fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+    result.with_context(|| format!("cannot write {}", path.display()))
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@ pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
     /// Memory budget that the sizes a scene asks for (population, chains,
-    /// particles, archive, voxel grid, pictures) are checked against before
+    /// particles, archive, voxel grid, pictures, L-system drawings) are checked against before
     /// anything is allocated, e.g. `8G` or `512M` (default: half of the
     /// machine's memory, or of a smaller cgroup or `ulimit -v` limit).
     #[arg(long, global = true, value_name = "SIZE", value_parser = genform_app::memory::parse_size)]

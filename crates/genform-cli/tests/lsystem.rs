@@ -40,12 +40,19 @@ fn koch_svg_png_and_string_are_deterministic() {
 }
 
 #[test]
-fn a_string_alone_is_not_drawn_nor_held_to_the_primitive_limit() {
+fn a_string_alone_is_not_drawn_and_a_drawing_is_limited_by_memory_not_a_fixed_count() {
     let tmp = tempfile::tempdir().unwrap();
     let plant = ls("abop_1_24e");
-    // 3.18 M modules, 1.05 M segments: past the 200,000-primitive limit when drawn.
-    let drawn = genform(tmp.path(), &["sample", s(&plant), "--steps", "12", "--out", "p.svg"]).fails();
-    assert!(drawn.stderr().contains("primitive"), "{}", drawn.show());
+    // 3.18 M modules, 1.05 M segments: drawn within the default memory
+    // budget, refused under a small one (or an explicit limit).
+    let drawn = genform(tmp.path(), &["sample", s(&plant), "--steps", "12", "--out", "p.svg"]).ok();
+    assert!(drawn.stderr().contains("1054690 segments"), "{}", drawn.show());
+    for extra in [&["--max-memory", "200M"][..], &["--max-primitives", "200000"][..]] {
+        let args = [&["sample", s(&plant), "--steps", "12", "--out", "q.svg"][..], extra].concat();
+        let refused = genform(tmp.path(), &args).fails();
+        assert!(refused.stderr().contains("more than 200000 primitives"), "{}", refused.show());
+    }
+    assert!(!tmp.path().join("q.svg").exists());
     let run = genform(tmp.path(), &["sample", s(&plant), "--steps", "12", "--string-out", "p.txt"]).ok();
     assert!(run.stdout().contains("12 steps: 3180451 modules (not drawn"), "{}", run.show());
     assert_eq!(std::fs::metadata(tmp.path().join("p.txt")).unwrap().len(), 3180451 + 1);

@@ -27,6 +27,7 @@ fn rewriting(c: &mut Criterion) {
     let mut g = c.benchmark_group("rewrite");
     for (name, steps, label) in [
         ("abop_1_24e", 9, "deterministic_fig1_24e_n9"),
+        ("abop_1_24e", 12, "deterministic_fig1_24e_n12"),
         ("row_of_trees", 12, "parametric_row_of_trees_n12"),
         ("hogeweg", 30, "context_hogeweg_n30"),
     ] {

@@ -222,7 +222,7 @@ impl LSystem {
         if self.alphabet.symbols.iter().any(|s| s.arity > 0) {
             return None;
         }
-        let mut table = FastTable { ranges: Vec::new(), succ: Vec::new() };
+        let mut table = FastTable { ranges: Vec::new(), succ: Vec::new(), wide: None };
         for s in 0..self.alphabet.symbols.len() {
             let start = table.succ.len() as u32;
             match self.productions.unconditional(s as Sym)? {
@@ -230,6 +230,14 @@ impl LSystem {
                 None => table.succ.push(s as Sym),
             }
             table.ranges.push((start, table.succ.len() as u32));
+        }
+        if table.ranges.iter().all(|&(a, b)| (b - a) as usize <= WIDE) {
+            let wide = table.ranges.iter().map(|&(a, b)| {
+                let mut w = [0; WIDE];
+                w[..(b - a) as usize].copy_from_slice(&table.succ[a as usize..b as usize]);
+                w
+            });
+            table.wide = Some(wide.collect());
         }
         Some(table)
     }
@@ -580,7 +588,14 @@ fn pick(cands: &[(u32, f64)], total: f64, roulette: Option<f64>, draws: &mut imp
 struct FastTable {
     ranges: Vec<(u32, u32)>,
     succ: Vec<Sym>,
+    /// Each successor padded to [`WIDE`] symbols, when none is longer:
+    /// copying a fixed-size block and advancing by the true length beats a
+    /// variable-length copy per module (most successors are a few symbols).
+    wide: Option<Vec<[Sym; WIDE]>>,
 }
+
+/// Successors up to this many symbols are copied as fixed-size blocks.
+const WIDE: usize = 16;
 
 /// One deterministic, parameter-free step: a copy per module.
 fn rewrite_fast(table: &FastTable, cur: &[Sym], out: &mut Vec<Sym>, cap: usize) -> bool {
@@ -596,6 +611,18 @@ fn rewrite_fast(table: &FastTable, cur: &[Sym], out: &mut Vec<Sym>, cap: usize) 
         .sum();
     if len > cap {
         return false;
+    }
+    if let Some(wide) = &table.wide {
+        // Room for the last block's padding; cut off after.
+        out.resize(len + WIDE, 0);
+        let mut at = 0;
+        for &s in cur {
+            out[at..at + WIDE].copy_from_slice(&wide[s as usize]);
+            let (a, b) = table.ranges[s as usize];
+            at += (b - a) as usize;
+        }
+        out.truncate(len);
+        return true;
     }
     out.reserve(len);
     for &s in cur {

@@ -54,6 +54,22 @@ impl ModuleString {
     /// The string as text: names, and parameters in parentheses when
     /// `with_params` (shortest round-trip formatting).
     pub fn display(&self, alphabet: &Alphabet, with_params: bool) -> String {
+        let names = &alphabet.symbols;
+        if !with_params || self.params.is_empty() {
+            // Names only: one table lookup per module (`--string-out` of a
+            // plant is millions of one-letter names).
+            if names.iter().all(|n| n.name.len() == 1) {
+                let bytes: Vec<u8> = names.iter().map(|n| n.name.as_bytes()[0]).collect();
+                let out: Vec<u8> = self.syms.iter().map(|&s| bytes[s as usize]).collect();
+                return String::from_utf8(out).expect("one-byte names are ASCII");
+            }
+            let len = self.syms.iter().map(|&s| names[s as usize].name.len()).sum();
+            let mut out = String::with_capacity(len);
+            for &s in &self.syms {
+                out.push_str(&names[s as usize].name);
+            }
+            return out;
+        }
         let mut out = String::new();
         for (s, p) in self.modules(alphabet) {
             out.push_str(&alphabet.symbols[s as usize].name);

@@ -503,6 +503,29 @@ mod properties {
             }
         }
 
+        /// Deterministic, parameter-free systems take the table path (fixed
+        /// 16-symbol blocks for short successors, slices for longer ones):
+        /// the string is the textbook parallel rewrite of every character.
+        #[test]
+        fn table_rewriting_is_the_parallel_rewrite(
+            axiom in "[ABF+]{1,6}",
+            a in "[ABF+\\-]{0,24}",
+            b in "[ABF+\\-]{0,12}",
+            steps in 0u32..6,
+        ) {
+            let text = format!("axiom: {axiom}\nproduction:\nA -> {a}\nB -> {b}\n");
+            let (s, _) = compile_text(&text).expect("compiles");
+            let mut want = axiom.clone();
+            for _ in 0..steps {
+                want = want.chars().map(|c| match c { 'A' => a.clone(), 'B' => b.clone(), c => c.to_string() }).collect();
+                if want.len() > 20_000 {
+                    return Ok(());
+                }
+            }
+            let m = s.derive_limited(steps, &mut Rng::from_seed(1), 20_000, |_, _| {}).expect("within the cap");
+            prop_assert!(m.display(&s.alphabet, false) == want);
+        }
+
         /// Random (possibly unbalanced, context-sensitive, cutting) systems
         /// derive and draw within their limits without panicking.
         #[test]

@@ -59,13 +59,28 @@ impl LsFile {
     }
 }
 
+/// Bytes one drawn primitive may take from turtle to file: its scene entry
+/// and its share of an exporter's meshes (measured: 1.05 M segments of ABOP
+/// Fig. 1.24e peak at 2.0 GB while writing GLB, 0.8 GB for PNG).
+const DRAWN_PRIMITIVE_BYTES: u64 = 4096;
+
+/// The primitive limit of a sampled drawing when `--max-primitives` is not
+/// given: what fits in the memory budget, and never below the generators'
+/// default. A drawing is what the user asked for, so it scales with the
+/// machine rather than stopping at a count meant for runaway individuals of
+/// an evolution (ABOP Fig. 1.24e at n = 12 is 1.05 M segments).
+fn drawing_limit() -> usize {
+    let fits = crate::memory::budget().bytes / DRAWN_PRIMITIVE_BYTES;
+    usize::try_from(fits).unwrap_or(usize::MAX).max(Limits::default().max_primitives)
+}
+
 impl LoadedGrammar for LsFile {
     fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
         let system = &self.system;
         let st = &system.settings;
         let steps = request.steps.unwrap_or(st.derivation);
         let max_modules = request.max_modules.unwrap_or(st.max_modules);
-        let max_primitives = request.limits.max_primitives.unwrap_or(Limits::default().max_primitives);
+        let max_primitives = request.limits.max_primitives.unwrap_or_else(drawing_limit);
         let mut scene = Scene::new();
         let string = if request.genome_out.is_some() {
             // Through the generator, so `genform derive` replays the genome.
