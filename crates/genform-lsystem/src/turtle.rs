@@ -99,6 +99,10 @@ struct Turtle<'a> {
     /// Only the turtle state matters (filling query modules): nothing is
     /// drawn.
     dry: bool,
+    /// Sine and cosine of the file's angle and of its negative: turns
+    /// without a parameter are most modules of a plant, and `sin_cos` was
+    /// an eighth of drawing one.
+    turns: [(f64, f64); 2],
 }
 
 impl LSystem {
@@ -170,13 +174,19 @@ impl<'a> Turtle<'a> {
             limit,
             over: false,
             dry,
+            turns: [st.angle.to_radians().sin_cos(), (-st.angle).to_radians().sin_cos()],
         }
     }
 }
 
-/// `a` turned towards `b` by `deg` degrees, and `b` turned along.
-fn rotate(a: DVec3, b: DVec3, deg: f64) -> (DVec3, DVec3) {
-    let (s, c) = deg.to_radians().sin_cos();
+/// `a` turned towards `b` by `sign` × the parameter in degrees (the file's
+/// angle, whose sines and cosines are `turns`, without one), and `b`
+/// turned along.
+fn rotate(a: DVec3, b: DVec3, arg: Option<f64>, sign: f64, turns: &[(f64, f64); 2]) -> (DVec3, DVec3) {
+    let (s, c) = match arg {
+        Some(deg) => (sign * deg).to_radians().sin_cos(),
+        None => turns[usize::from(sign < 0.0)],
+    };
     (a * c + b * s, b * c - a * s)
 }
 
@@ -204,6 +214,7 @@ impl Turtle<'_> {
     fn apply(&mut self, sym: Sym, params: &[f64]) {
         let st = &self.sys.settings;
         let arg = params.first().copied();
+        let turns = self.turns;
         let s = &mut self.state;
         match self.sys.alphabet.command(sym) {
             Command::Draw => {
@@ -220,13 +231,13 @@ impl Turtle<'_> {
                     self.start_cylinder();
                 }
             }
-            Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg.unwrap_or(st.angle)),
-            Command::Right => (s.h, s.l) = rotate(s.h, s.l, -arg.unwrap_or(st.angle)),
+            Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg, 1.0, &turns),
+            Command::Right => (s.h, s.l) = rotate(s.h, s.l, arg, -1.0, &turns),
             // Pitching down turns H towards −U.
-            Command::Down => (s.h, s.u) = rotate(s.h, s.u, -arg.unwrap_or(st.angle)),
-            Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg.unwrap_or(st.angle)),
-            Command::RollRight => (s.l, s.u) = rotate(s.l, s.u, arg.unwrap_or(st.angle)),
-            Command::RollLeft => (s.l, s.u) = rotate(s.l, s.u, -arg.unwrap_or(st.angle)),
+            Command::Down => (s.h, s.u) = rotate(s.h, s.u, arg, -1.0, &turns),
+            Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg, 1.0, &turns),
+            Command::RollRight => (s.l, s.u) = rotate(s.l, s.u, arg, 1.0, &turns),
+            Command::RollLeft => (s.l, s.u) = rotate(s.l, s.u, arg, -1.0, &turns),
             Command::TurnAround => {
                 s.h = -s.h;
                 s.l = -s.l;
