@@ -41,3 +41,27 @@ fn the_building_envelope_scene_evolves_reproducibly() {
     assert!(run["best_fitness"].as_f64().unwrap() > 0.0, "{run}");
     assert!(std::fs::metadata(tmp.path().join("one/best.glb")).unwrap().len() > 0);
 }
+
+#[test]
+fn the_l_wings_leave_out_the_windows_the_other_wing_covers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let wings = root().join("examples/shape/l_wings.sg");
+    let primitives = |run: &common::Run| -> usize {
+        let err = run.stderr();
+        let at = err.find(" primitives").unwrap_or_else(|| panic!("{err}"));
+        err[..at].rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let with = ok(tmp.path(), &["sample", s(&wings), "--seed", "3", "--out", "wings.glb"]);
+    // The same grammar with every tile glazed.
+    let text = std::fs::read_to_string(&wings).unwrap();
+    let glazed = text.replace("is_side ? !overlaps(MainWing) : !overlaps(SideWing)", "1");
+    assert_ne!(glazed, text, "the query is in the example");
+    std::fs::write(tmp.path().join("glazed.sg"), glazed).unwrap();
+    let without = ok(tmp.path(), &["sample", "glazed.sg", "--seed", "3", "--out", "glazed.glb"]);
+    let (a, b) = (primitives(&with), primitives(&without));
+    // Where the wings meet, whole columns of tiles reach into the other wing.
+    assert!(a + 4 <= b, "{a} with the query, {b} without");
+    let glb = std::fs::read(tmp.path().join("wings.glb")).unwrap();
+    ok(tmp.path(), &["sample", s(&wings), "--seed", "3", "--out", "again.glb"]);
+    assert_eq!(glb, std::fs::read(tmp.path().join("again.glb")).unwrap());
+}

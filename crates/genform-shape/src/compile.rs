@@ -28,7 +28,15 @@ pub(crate) fn compile(
         errors.push(Diagnostic::error(Span::default(), "the expression compiler is unavailable"));
         return Err(finish(file, errors, warnings));
     };
-    let mut g = Globals { consts: Vec::new(), rules: Vec::new(), meshes: Vec::new(), tags: Vec::new(), zero };
+    let mut g = Globals {
+        consts: Vec::new(),
+        rules: Vec::new(),
+        meshes: Vec::new(),
+        tags: Vec::new(),
+        tags_given: Vec::new(),
+        query_tags: Vec::new(),
+        zero,
+    };
 
     let mut name: Option<String> = None;
     let mut axiom: Option<SymRef> = None;
@@ -160,6 +168,7 @@ pub(crate) fn compile(
         },
     };
 
+    g.check_query_tags(&mut errors);
     let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
     let name = name.or(stem).unwrap_or_else(|| "grammar".into());
     let graph = GeneratorGraph { name: name.clone(), symbols: specs, root: root.unwrap_or(0) };
@@ -199,7 +208,9 @@ pub(crate) fn compile(
 
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
     let check = crate::genome_check::GenomeCheck::new(&graph);
-    let grammar = ShapeGrammar { name, graph, rules: codes, meshes, tags: g.tags, limits, file: file.clone(), check };
+    let occlusion = codes.iter().any(|r| r.exprs.iter().any(|e| !e.queries.is_empty()));
+    let grammar =
+        ShapeGrammar { name, graph, rules: codes, meshes, tags: g.tags, limits, file: file.clone(), check, occlusion };
     Ok((grammar, finish(file, Vec::new(), warnings)))
 }
 

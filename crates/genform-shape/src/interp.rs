@@ -15,6 +15,7 @@
 //! values stay small and are built out of line.
 
 mod build;
+mod occlusion;
 
 use crate::ShapeGrammar;
 use crate::fast_expr::Fast;
@@ -140,6 +141,11 @@ pub(crate) struct Stacks {
     pts: Vec<glam::DVec2>,
     /// Faces of open `comp`s: arm and scope.
     faces: Vec<(u32, ScopeState)>,
+    /// What the run has placed, for occlusion queries (only kept when the
+    /// grammar asks them).
+    placed: Vec<occlusion::Placed>,
+    /// The running gene and its callers (a query's lineage).
+    lineage: Vec<GenePos>,
 }
 
 impl Stacks {
@@ -156,6 +162,7 @@ impl Stacks {
         self.geoms.clear();
         self.pts.clear();
         self.faces.clear();
+        self.placed.clear();
     }
 
     /// Bytes held by the stacks' buffers.
@@ -270,6 +277,16 @@ impl<'g, M: Mode> Interp<'g, M> {
         for &(idx, slot) in &ex.has {
             let v = self.has(rule, slot)?;
             self.st.env[base + idx as usize] = v;
+        }
+        if !ex.queries.is_empty() {
+            let st = &mut self.st;
+            st.lineage.clear();
+            st.lineage.extend(st.frames.iter().map(|f| f.gene).chain([self.top.gene]));
+            let scope = occlusion::Placed::of(&self.cur, self.top.gene);
+            for &(idx, q) in &ex.queries {
+                let v = occlusion::holds(q, &scope, &st.placed, &st.lineage);
+                st.env[base + idx as usize] = if v { 1.0 } else { 0.0 };
+            }
         }
         Ok(ex.prog.eval(&self.st.env[base..base + rule.env_init.len()]))
     }

@@ -70,6 +70,8 @@ pub struct ShapeGrammar {
     file: SourceFile,
     /// Tables for the fast genome check of `express`, built from `graph`.
     check: genome_check::GenomeCheck,
+    /// Some rule asks an occlusion query: runs record what they place.
+    occlusion: bool,
 }
 
 impl ShapeGrammar {

@@ -19,6 +19,8 @@ pub(crate) struct Expr {
     pub needs_size: bool,
     /// `(env index, local slot)` pairs to fill before evaluating.
     pub has: Vec<(u32, u32)>,
+    /// Occlusion queries to answer into the env before evaluating.
+    pub queries: Vec<(u32, Query)>,
     /// Where it is written (for runtime error messages).
     pub span: Span,
 }
@@ -26,11 +28,48 @@ pub(crate) struct Expr {
 impl Expr {
     /// Wraps a compiled program, classifying it for the interpreter.
     pub fn new(prog: Program, has: Vec<(u32, u32)>, span: Span) -> Expr {
-        let fast = if has.is_empty() { Fast::of(&prog) } else { Fast::Run };
+        Expr::with_queries(prog, has, Vec::new(), span)
+    }
+
+    /// [`Expr::new`] for a program that also reads occlusion queries.
+    pub fn with_queries(prog: Program, has: Vec<(u32, u32)>, queries: Vec<(u32, Query)>, span: Span) -> Expr {
+        let fast = if has.is_empty() && queries.is_empty() { Fast::of(&prog) } else { Fast::Run };
         let size = ENV_SX as u32..ENV_SX as u32 + 3;
         let needs_size = matches!(fast, Fast::Run) && prog.loads().any(|i| size.contains(&i));
-        Expr { prog, fast, needs_size, has, span }
+        Expr { prog, fast, needs_size, has, queries, span }
     }
+}
+
+/// What an occlusion query asks of the scope's box (see
+/// `interp::occlusion`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum QueryKind {
+    /// `inside()`: within one placed box.
+    Inside,
+    /// `overlaps()`: sharing volume with one.
+    Overlaps,
+    /// `touches()`: overlapping or touching one.
+    Touches,
+}
+
+impl QueryKind {
+    /// The query a function name asks.
+    pub(crate) fn from_name(name: &str) -> Option<QueryKind> {
+        Some(match name {
+            "inside" => QueryKind::Inside,
+            "overlaps" => QueryKind::Overlaps,
+            "touches" => QueryKind::Touches,
+            _ => return None,
+        })
+    }
+}
+
+/// An occlusion query: its kind, and the tag occluders must have (any
+/// when `None`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Query {
+    pub kind: QueryKind,
+    pub tag: Option<u32>,
 }
 
 /// A primitive to emit.

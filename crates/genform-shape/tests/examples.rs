@@ -17,6 +17,7 @@ const EXAMPLES: &[&str] = &[
     "city_filling",
     "row_house",
     "setback_tower",
+    "l_wings",
 ];
 
 /// Loads assets from `examples/shape/`, as the CLI does next to the grammar.

@@ -363,8 +363,12 @@ impl Compiler<'_> {
                 self.uses_rng = true;
                 self.code.push(Op::Rand(r));
             }
-        } else if let [Ast { kind: Node::Var(arg), .. }] = args {
-            // Host queries such as `has(slot)`.
+        } else if let Some(arg) = match args {
+            [Ast { kind: Node::Var(arg), .. }] => Some(arg.as_str()),
+            [] => Some(""),
+            _ => None,
+        } {
+            // Host queries such as `has(slot)` or `inside()`.
             let key = format!("{name}({arg})");
             match self.scope.variable(&key) {
                 Some(i) => self.code.push(Op::Load(i)),

@@ -27,7 +27,8 @@ pub use parse::{Ast, BinOp, Node, UnOp, parse, parse_prefix, parse_prefix_in};
 pub trait Scope {
     /// The env index of variable `name` (names may contain dots, e.g.
     /// `size.x`; a call `f(x)` of a non-builtin function `f` with one bare
-    /// identifier argument is looked up as the variable `"f(x)"`).
+    /// identifier argument is looked up as the variable `"f(x)"`, and a call
+    /// `f()` without arguments as `"f()"`).
     fn variable(&self, name: &str) -> Option<u32>;
     /// The value of a named constant (folded at compile time); variables
     /// shadow constants, constants shadow the built-in `pi`, `e`, ….

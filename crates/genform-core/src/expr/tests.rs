@@ -1,12 +1,12 @@
 use super::*;
 use crate::rng::Rng;
 
-const NAMES: &Names<'static> = &Names(&["x", "y", "size.x", "has(next)"]);
+const NAMES: &Names<'static> = &Names(&["x", "y", "size.x", "has(next)", "inside()"]);
 
 fn eval(src: &str) -> f64 {
     let ast = parse(src).unwrap_or_else(|e| panic!("{src}: {e:?}"));
     let p = compile(&ast, NAMES).unwrap_or_else(|e| panic!("{src}: {e:?}"));
-    p.eval(&[2.0, 3.0, 0.5, 1.0])
+    p.eval(&[2.0, 3.0, 0.5, 1.0, 7.0])
 }
 
 fn err(src: &str) -> String {
@@ -49,6 +49,7 @@ fn logic_comparisons_and_conditionals() {
         ("x > 9 ? 10 : y > 2 ? 30 : 40", 30.0),
         ("if(x > 9, 1, 2)", 2.0),
         ("has(next) ? 1 : 0", 1.0),
+        ("inside() * 2", 14.0),
         ("true + false", 1.0),
     ];
     for (s, v) in cases {
@@ -93,6 +94,7 @@ fn errors_name_the_problem_with_hints() {
     assert!(err("sizex").contains("unknown name `sizex`"));
     assert!(err("min(1)").contains("`min` takes 2 arguments, found 1"));
     assert!(err("sine(1)").contains("unknown function `sine`"));
+    assert!(err("outside()").contains("unknown function `outside`"));
     assert!(err("1 2").contains("found number `2`"));
     let ast = parse("sizex").unwrap();
     let e = compile(&ast, NAMES).unwrap_err();
@@ -144,7 +146,7 @@ const HASH: Dialect<'static> = Dialect {
 
 fn hash_eval(src: &str) -> f64 {
     let (ast, _) = parse_prefix_in(src, 0, HASH).unwrap_or_else(|e| panic!("{src}: {e:?}"));
-    compile(&ast, NAMES).unwrap_or_else(|e| panic!("{src}: {e:?}")).eval(&[2.0, 3.0, 0.5, 1.0])
+    compile(&ast, NAMES).unwrap_or_else(|e| panic!("{src}: {e:?}")).eval(&[2.0, 3.0, 0.5, 1.0, 7.0])
 }
 
 fn hash_err(src: &str) -> (String, u32) {
@@ -208,7 +210,7 @@ proptest::proptest! {
     #[test]
     fn parser_never_panics(s in "\\PC{0,64}") {
         if let Ok(p) = parse(&s).map_err(|_| ()).and_then(|ast| compile(&ast, NAMES).map_err(|_| ())) {
-            let _ = p.eval(&[1.0, 2.0, 3.0, 4.0]);
+            let _ = p.eval(&[1.0, 2.0, 3.0, 4.0, 5.0]);
         }
         let _ = parse_prefix(&s);
     }
@@ -219,7 +221,7 @@ proptest::proptest! {
         match parse_prefix_in(&s, at, HASH) {
             Ok((ast, end)) => {
                 proptest::prop_assert!(at <= ast.span.start as usize && ast.span.end as usize <= end && end <= s.len());
-                let _ = compile(&ast, NAMES).map(|p| p.eval(&[1.0, 2.0, 3.0, 4.0]));
+                let _ = compile(&ast, NAMES).map(|p| p.eval(&[1.0, 2.0, 3.0, 4.0, 5.0]));
             }
             Err(d) => {
                 let span = d.span.unwrap();

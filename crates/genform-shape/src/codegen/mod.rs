@@ -11,7 +11,7 @@ mod ops;
 
 use crate::ast::*;
 use crate::program::*;
-use genform_core::expr::{Program, Scope, did_you_mean};
+use genform_core::expr::{Ast, Node, Program, Scope, did_you_mean};
 use genform_core::{Diagnostic, Distribution, ParamSpec, SlotSpec, Span, SymbolSpec};
 use std::cell::RefCell;
 use std::sync::Arc;
@@ -65,6 +65,11 @@ pub(crate) struct Globals {
     pub rules: Vec<RuleInfo>,
     pub meshes: Vec<(String, Arc<genform_core::Mesh>)>,
     pub tags: Vec<String>,
+    /// Which of `tags` a rule or a `tag(…)` gives (the others are only
+    /// named by occlusion queries, see [`Globals::check_query_tags`]).
+    pub tags_given: Vec<bool>,
+    /// Tags named by occlusion queries: name, the call, its position.
+    pub query_tags: Vec<(String, String, Span)>,
     /// `0` compiled once, standing in for expressions that failed.
     pub zero: Program,
 }
@@ -74,12 +79,51 @@ impl Globals {
         self.rules.iter().position(|r| r.name == name)
     }
 
+    /// The id of tag `name`, which a rule or a `tag(…)` gives.
     pub fn intern_tag(&mut self, name: &str) -> u32 {
+        let i = self.tag_id(name);
+        self.tags_given[i as usize] = true;
+        i
+    }
+
+    fn tag_id(&mut self, name: &str) -> u32 {
         if let Some(i) = self.tags.iter().position(|t| t == name) {
             return i as u32;
         }
         self.tags.push(name.to_string());
+        self.tags_given.push(false);
         (self.tags.len() - 1) as u32
+    }
+
+    /// The id of tag `name` named by occlusion query `call` at `at`; it is
+    /// checked once every rule is compiled (a `tag(…)` may come later in
+    /// the file).
+    fn query_tag(&mut self, name: &str, call: String, at: Span) -> u32 {
+        self.query_tags.push((name.to_string(), call, at));
+        self.tag_id(name)
+    }
+
+    /// Errors for query tags that no rule and no `tag(…)` gives.
+    pub fn check_query_tags(&self, errors: &mut Vec<Diagnostic>) {
+        for (name, call, at) in &self.query_tags {
+            let given = self.tags.iter().zip(&self.tags_given).any(|(t, g)| *g && t == name);
+            if given || self.rule(name).is_some() {
+                continue;
+            }
+            let fname = call.split('(').next().unwrap_or_default();
+            let known = self
+                .rules
+                .iter()
+                .map(|r| r.name.as_str())
+                .chain(self.tags.iter().zip(&self.tags_given).filter(|(_, g)| **g).map(|(t, _)| t.as_str()));
+            let d = Diagnostic::error(*at, format!("`{call}`: no rule or tag is called `{name}`"));
+            errors.push(match did_you_mean(name, known) {
+                Some(s) => d.with_hint(format!("did you mean `{fname}({s})`?")),
+                None => d.with_hint(format!(
+                    "`{fname}` takes a rule name or a tag given with `tag(\"…\")`, or nothing for any occluder"
+                )),
+            });
+        }
     }
 }
 
@@ -184,10 +228,15 @@ struct BodyScope<'s> {
     lets: &'s [(String, u32)],
     slots: &'s [LocalSlot],
     bad_has: RefCell<Vec<String>>,
+    /// Occlusion queries by their call text (`inside(Wing)`, `touches()`).
+    queries: &'s [(String, u32, Query)],
 }
 
 impl Scope for BodyScope<'_> {
     fn variable(&self, name: &str) -> Option<u32> {
+        if let Some((_, i, _)) = self.queries.iter().find(|(k, _, _)| k == name) {
+            return Some(*i);
+        }
         if let Some((_, i)) = self.lets.iter().rev().find(|(n, _)| n == name) {
             return Some(*i);
         }
@@ -235,6 +284,8 @@ pub(crate) struct SymbolCx<'a> {
     comps: Vec<u8>,
     spans: Vec<Span>,
     emits: bool,
+    /// Occlusion queries met so far: call text, env index, query.
+    queries: Vec<(String, u32, Query)>,
 }
 
 impl<'a> SymbolCx<'a> {
@@ -265,6 +316,7 @@ impl<'a> SymbolCx<'a> {
             comps: Vec::new(),
             spans: Vec::new(),
             emits: false,
+            queries: Vec::new(),
         }
     }
 
@@ -391,8 +443,14 @@ impl<'a> SymbolCx<'a> {
     // ---- expressions --------------------------------------------------
 
     fn expr(&mut self, e: &ExprSrc) -> u32 {
-        let scope =
-            BodyScope { names: &self.names, lets: &self.lets, slots: &self.slots, bad_has: RefCell::new(vec![]) };
+        self.find_queries(&e.ast, e.offset);
+        let scope = BodyScope {
+            names: &self.names,
+            lets: &self.lets,
+            slots: &self.slots,
+            bad_has: RefCell::new(vec![]),
+            queries: &self.queries,
+        };
         let res = genform_core::expr::compile(&e.ast, &scope);
         let bad = scope.bad_has.into_inner();
         let mut prog = self.g.zero.clone();
@@ -418,8 +476,47 @@ impl<'a> SymbolCx<'a> {
                 }
             }
         }
-        self.exprs.push(Expr::new(prog, has, e.span()));
+        let loads: Vec<u32> = prog.loads().collect();
+        let queries = self.queries.iter().filter(|(_, i, _)| loads.contains(i)).map(|&(_, i, q)| (i, q)).collect();
+        self.exprs.push(Expr::with_queries(prog, has, queries, e.span()));
         (self.exprs.len() - 1) as u32
+    }
+
+    /// Gives each occlusion query in `ast` (`inside()`, `overlaps(Wing)`, …)
+    /// an env slot the interpreter fills before evaluating. A name, when
+    /// given, must be a rule or a tag: occluders are filtered by the tag
+    /// they were placed with.
+    fn find_queries(&mut self, ast: &Ast, offset: usize) {
+        let mut stack = vec![ast];
+        while let Some(a) = stack.pop() {
+            match &a.kind {
+                Node::Call(name, name_span, args) => {
+                    let arg = match args.as_slice() {
+                        [] => Some(None),
+                        [Ast { kind: Node::Var(t), .. }] => Some(Some(t.as_str())),
+                        _ => None,
+                    };
+                    match (QueryKind::from_name(name), arg) {
+                        (Some(kind), Some(tag)) => self.query(name, kind, tag, name_span.shift(offset)),
+                        _ => stack.extend(args),
+                    }
+                }
+                Node::Unary(_, x) => stack.push(x),
+                Node::Binary(_, x, y) => stack.extend([&**x, &**y]),
+                Node::Cond(c, x, y) => stack.extend([&**c, &**x, &**y]),
+                Node::Num(_) | Node::Var(_) => {}
+            }
+        }
+    }
+
+    fn query(&mut self, name: &str, kind: QueryKind, tag: Option<&str>, at: Span) {
+        let key = format!("{name}({})", tag.unwrap_or(""));
+        if self.queries.iter().any(|(k, _, _)| *k == key) {
+            return;
+        }
+        let tag = tag.map(|t| self.g.query_tag(t, key.clone(), at));
+        let env = self.new_env(None, 0.0);
+        self.queries.push((key, env, Query { kind, tag }));
     }
 
     /// An expression for a parameter component (`size.x`), or 0.

@@ -152,6 +152,9 @@ impl<'g, M: Mode> Interp<'g, M> {
         if !t.is_finite() {
             return Err(self.placement_overflow());
         }
+        if self.g.occlusion {
+            self.st.placed.push(super::occlusion::Placed::of(&self.cur, self.top.gene));
+        }
         Ok(t)
     }
 
