@@ -11,6 +11,7 @@ pub mod codon_objective;
 pub mod codon_report;
 pub mod codon_scene;
 pub mod comparison;
+pub mod footprints;
 pub mod formalism;
 pub mod grammar;
 pub mod memory;

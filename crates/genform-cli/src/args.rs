@@ -245,6 +245,11 @@ pub struct SampleArgs {
     /// HEMLS (.gr8): apply K Catmull–Clark subdivision steps to the final surface (at most 6).
     #[arg(long, value_name = "K")]
     pub smooth: Option<u32>,
+    /// Shape grammars (.sg): derive once per lot of this GeoJSON file
+    /// (Polygon and MultiPolygon features, metres), lot k with seed
+    /// SEED + k, instead of the `footprints` the grammar declares.
+    #[arg(long, value_name = "LOTS.geojson")]
+    pub footprints: Option<PathBuf>,
     #[command(flatten)]
     pub limits: LimitArgs,
     /// The long flags given on the command line (filled by [`parse`], not
@@ -273,6 +278,7 @@ impl SampleArgs {
             env: self.env.clone(),
             every_step: self.every_step,
             smooth: self.smooth,
+            footprints: self.footprints.clone(),
         }
     }
 }

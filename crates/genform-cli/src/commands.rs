@@ -34,7 +34,8 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn sample(a: SampleArgs) -> Result<()> {
-    let inputs: Vec<&std::path::Path> = [Some(a.file.as_path()), a.env.as_deref()].into_iter().flatten().collect();
+    let inputs: Vec<&std::path::Path> =
+        [Some(a.file.as_path()), a.env.as_deref(), a.footprints.as_deref()].into_iter().flatten().collect();
     genform_app::output::refuse_overwriting_inputs(
         &inputs,
         &[

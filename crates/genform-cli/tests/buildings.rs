@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{fitness_columns, json, ok, root, s, small_scene};
+use common::{fitness_columns, genform, json, ok, root, s, small_scene};
 
 #[test]
 fn the_row_house_samples_with_no_flags_into_a_glb_and_an_obj() {
@@ -64,4 +64,42 @@ fn the_l_wings_leave_out_the_windows_the_other_wing_covers() {
     let glb = std::fs::read(tmp.path().join("wings.glb")).unwrap();
     ok(tmp.path(), &["sample", s(&wings), "--seed", "3", "--out", "again.glb"]);
     assert_eq!(glb, std::fs::read(tmp.path().join("again.glb")).unwrap());
+}
+
+#[test]
+fn the_city_block_derives_once_per_footprint_with_its_own_seed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let block = root().join("examples/shape/city_block.sg");
+    // No flags: the grammar's own footprint file (8 lots).
+    let run = ok(tmp.path(), &["sample", s(&block), "--seed", "4", "--out", "block.glb"]);
+    assert!(run.stderr().contains("8 footprints (seeds 4–11)"), "{}", run.show());
+    let glb = std::fs::read(tmp.path().join("block.glb")).unwrap();
+    ok(tmp.path(), &["sample", s(&block), "--seed", "4", "--out", "again.glb"]);
+    assert_eq!(glb, std::fs::read(tmp.path().join("again.glb")).unwrap(), "same seed, same bytes");
+    // Another file: two lots, the second an L; each lot is its own derivation.
+    let lots = r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [10, 8], [0, 8], [0, 0]]]}},
+        {"type": "Feature", "geometry": {"type": "Polygon",
+         "coordinates": [[[20, 0], [30, 0], [30, 4], [24, 4], [24, 12], [20, 12], [20, 0]]]}}]}"#;
+    std::fs::write(tmp.path().join("two.geojson"), lots).unwrap();
+    let two = ok(tmp.path(), &["sample", s(&block), "--footprints", "two.geojson", "--out", "two.obj"]);
+    assert!(two.stderr().contains("2 footprints (seeds 0–1)"), "{}", two.show());
+    let obj = std::fs::read_to_string(tmp.path().join("two.obj")).unwrap();
+    let xs: Vec<f64> = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|v| v.split(' ').next().unwrap().parse().unwrap())
+        .collect();
+    let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    assert!(lo > -0.5 && lo < 0.5 && hi > 29.5 && hi < 30.5, "the lots stand where the file puts them: x {lo}..{hi}");
+    // Errors name the file and the lot.
+    std::fs::write(
+        tmp.path().join("bad.geojson"),
+        r#"{"type": "Polygon", "coordinates": [[[0, 0], [4, 4], [4, 0], [0, 4]]]}"#,
+    )
+    .unwrap();
+    let bad = genform(tmp.path(), &["sample", s(&block), "--footprints", "bad.geojson"]).fails();
+    assert!(bad.stderr().contains("footprint 1 crosses itself"), "{}", bad.show());
+    let genome = genform(tmp.path(), &["sample", s(&block), "--genome-out", "g.json"]).fails();
+    assert!(genome.stderr().contains("each of the 8 footprints has its own"), "{}", genome.show());
 }

@@ -216,5 +216,7 @@ pub(crate) enum Item {
     Limits(Vec<(String, Span, ExprSrc)>),
     Const(String, Span, ExprSrc),
     Mesh(String, Span, String, Span),
+    /// `footprints "path";`: the path and its span.
+    Footprints(String, Span),
     Rule(Rule),
 }

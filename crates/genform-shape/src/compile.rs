@@ -42,6 +42,8 @@ pub(crate) fn compile(
     let mut axiom: Option<SymRef> = None;
     let mut limit_items = Vec::new();
     let mut rules: Vec<Rule> = Vec::new();
+    let mut footprints = Vec::new();
+    let mut footprints_at = None;
     for item in items {
         match item {
             Item::Grammar(n, span) => {
@@ -87,6 +89,32 @@ pub(crate) fn compile(
                     }
                 };
                 g.meshes.push((n, Arc::new(mesh)));
+            }
+            Item::Footprints(path, pspan) => {
+                if !footprints.is_empty() || footprints_at.is_some() {
+                    errors.push(Diagnostic::error(pspan, "`footprints` is given twice"));
+                    continue;
+                }
+                footprints_at = Some(pspan);
+                match assets.load_footprints(&path) {
+                    Ok(polys) if polys.is_empty() => errors.push(
+                        Diagnostic::error(pspan, format!("\"{path}\" holds no footprint"))
+                            .with_hint("a GeoJSON file of Polygon or MultiPolygon features"),
+                    ),
+                    Ok(polys) => {
+                        for (k, corners) in polys.iter().enumerate() {
+                            match crate::footprint::outline(corners) {
+                                Ok(lot) => footprints.push(lot),
+                                Err(why) => errors
+                                    .push(Diagnostic::error(pspan, format!("footprint {} of \"{path}\" {why}", k + 1))),
+                            }
+                        }
+                    }
+                    Err(msg) => errors.push(
+                        Diagnostic::error(pspan, format!("cannot load footprints from \"{path}\": {msg}"))
+                            .with_hint("footprint paths are relative to the grammar file"),
+                    ),
+                }
             }
             Item::Rule(r) => rules.push(r),
         }
@@ -209,8 +237,19 @@ pub(crate) fn compile(
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
     let check = crate::genome_check::GenomeCheck::new(&graph);
     let occlusion = codes.iter().any(|r| r.exprs.iter().any(|e| !e.queries.is_empty()));
-    let grammar =
-        ShapeGrammar { name, graph, rules: codes, meshes, tags: g.tags, limits, file: file.clone(), check, occlusion };
+    let grammar = ShapeGrammar {
+        name,
+        graph,
+        rules: codes,
+        meshes,
+        tags: g.tags,
+        limits,
+        file: file.clone(),
+        check,
+        occlusion,
+        footprints,
+        start_lot: None,
+    };
     Ok((grammar, finish(file, Vec::new(), warnings)))
 }
 

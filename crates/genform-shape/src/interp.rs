@@ -185,7 +185,12 @@ impl Stacks {
 /// the unit scope, on `stacks`, and hands back the mode.
 pub(crate) fn run<M: Mode>(g: &ShapeGrammar, limits: &Limits, mode: M, stacks: &mut Stacks) -> (Result<(), Stop>, M) {
     let mut it = Interp::new(g, limits, mode, std::mem::take(stacks));
-    let res = it.run();
+    // A grammar set on a footprint starts on it, as if its axiom began
+    // with `lot` of the footprint's corners.
+    let res = match &g.start_lot {
+        Some(lot) => it.set_lot(lot.to_vec(), None).and_then(|()| it.run()),
+        None => it.run(),
+    };
     *stacks = it.st;
     (res, it.mode)
 }

@@ -24,6 +24,7 @@ mod codegen;
 mod compile;
 mod express;
 mod fast_expr;
+mod footprint;
 mod genome_check;
 mod geom;
 mod interp;
@@ -45,6 +46,12 @@ pub trait AssetResolver {
     /// CLI resolves it relative to the grammar file). The error message is
     /// shown to the user next to the path.
     fn load_mesh(&self, path: &str) -> Result<Mesh, String>;
+
+    /// Loads the footprints at `path` (`footprints "…";`): one list of
+    /// world `(x, z)` corners per polygon.
+    fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
+        Err(format!("no footprint files are available here (asked for \"{path}\")"))
+    }
 }
 
 /// A resolver without assets: every `mesh` declaration is an error.
@@ -72,6 +79,10 @@ pub struct ShapeGrammar {
     check: genome_check::GenomeCheck,
     /// Some rule asks an occlusion query: runs record what they place.
     occlusion: bool,
+    /// The lots of `footprints "…";`.
+    footprints: Vec<Arc<[glam::DVec2]>>,
+    /// The lot runs start on ([`ShapeGrammar::on_footprint`]).
+    start_lot: Option<Arc<[glam::DVec2]>>,
 }
 
 impl ShapeGrammar {

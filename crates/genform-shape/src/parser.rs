@@ -15,7 +15,7 @@ use genform_core::{Diagnostic, Span};
 pub(crate) const MAX_NESTING: usize = 256;
 
 /// Words with a fixed meaning at the start of a top-level item.
-const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh"];
+const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh", "footprints"];
 
 /// Marker for "an error was recorded; recover".
 struct Fail;
@@ -195,7 +195,7 @@ impl<'a> Parser<'a> {
                     format!("expected a rule or a header item, found {}", self.tok.kind.describe()),
                 )
                 .with_hint(
-                    "a file holds `grammar`, `axiom`, `limits`, `const` and `mesh` items and rules `Name { ... }`",
+                    "a file holds `grammar`, `axiom`, `limits`, `const`, `mesh` and `footprints` items and rules `Name { ... }`",
                 ),
             ));
         };
@@ -250,6 +250,16 @@ impl<'a> Parser<'a> {
                 let pspan = self.bump().span;
                 self.expect(Tok::Semi, "after the mesh path")?;
                 Ok(Item::Mesh(name, span, path, pspan))
+            }
+            "footprints" => {
+                self.bump();
+                let path = match &self.tok.kind {
+                    Tok::Str(s) => s.clone(),
+                    _ => return Err(self.expected("a quoted file path", "after `footprints`")),
+                };
+                let pspan = self.bump().span;
+                self.expect(Tok::Semi, "after the footprint file")?;
+                Ok(Item::Footprints(path, pspan))
             }
             _ => self.rule().map(Item::Rule),
         }

@@ -211,6 +211,9 @@ pub struct SampleRequest {
     pub every_step: bool,
     /// `--smooth`: Catmull–Clark steps on the final surface (HEMLS).
     pub smooth: Option<u32>,
+    /// `--footprints`: lots to derive a shape grammar on, one derivation
+    /// each (GeoJSON).
+    pub footprints: Option<PathBuf>,
 }
 
 impl SampleRequest {
@@ -234,6 +237,7 @@ impl SampleRequest {
             env: None,
             every_step: false,
             smooth: None,
+            footprints: None,
         }
     }
 
@@ -362,6 +366,10 @@ impl FileAssets {
 impl genform_shape::AssetResolver for FileAssets {
     fn load_mesh(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
         self.load(path)
+    }
+
+    fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
+        crate::footprints::read_geojson(&self.base.join(path)).map_err(|e| format!("{e:#}"))
     }
 }
 

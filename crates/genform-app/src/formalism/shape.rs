@@ -1,7 +1,7 @@
 //! Shape grammars (`.sg`): the generator graph is the grammar, so sampling
 //! draws a genome from its prior and expresses it.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use genform_core::Generator;
 use genform_shape::ShapeGrammar;
 use std::path::Path;
@@ -22,7 +22,7 @@ impl Formalism for ShapeGrammars {
     }
 
     fn sample_options(&self) -> &'static [&'static str] {
-        &["--genome-out", "--max-genes", "--max-depth", "--max-primitives"]
+        &["--genome-out", "--max-genes", "--max-depth", "--max-primitives", "--footprints"]
     }
 
     fn genomes(&self) -> super::Genomes {
@@ -35,8 +35,30 @@ impl Formalism for ShapeGrammars {
     }
 }
 
+/// The grammar set on each footprint of `--footprints`, else on each it
+/// declares; empty when there are none.
+fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Vec<ShapeGrammar>> {
+    match &request.footprints {
+        Some(path) => {
+            let lots = crate::footprints::read_geojson(path)?;
+            if lots.is_empty() {
+                anyhow::bail!("{} holds no footprint (Polygon or MultiPolygon)", path.display());
+            }
+            let on = |(k, c): (usize, &Vec<[f64; 2]>)| {
+                g.on_footprint(c).map_err(|why| anyhow::anyhow!("{}: footprint {} {why}", path.display(), k + 1))
+            };
+            lots.iter().enumerate().map(on).collect()
+        }
+        None => Ok((0..g.footprints().len()).filter_map(|k| g.on_declared_footprint(k)).collect()),
+    }
+}
+
 impl LoadedGrammar for ShapeGrammar {
     fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
+        let lots = on_lots(self, request)?;
+        if !lots.is_empty() {
+            return sample_on_lots(self, &lots, request);
+        }
         let limits = request.limits.apply(self.limits());
         let genome = sample_genome(self, request, &limits)?;
         let scene = express(self, &genome, &limits)?;
@@ -87,6 +109,35 @@ impl LoadedGrammar for ShapeGrammar {
     fn into_generator(self: Box<Self>) -> Result<Loaded> {
         Ok(Loaded { name: self.name().to_string(), limits: self.limits(), generator: self })
     }
+}
+
+/// One derivation per lot, lot `k` with seed `seed + k`, into one scene.
+fn sample_on_lots(g: &ShapeGrammar, lots: &[ShapeGrammar], request: &SampleRequest) -> Result<Box<dyn Sample>> {
+    if request.genome_out.is_some() {
+        anyhow::bail!(
+            "--genome-out saves one genome, and each of the {} footprints has its own: sample one lot (a grammar \
+             without footprints) to save its genome",
+            lots.len()
+        );
+    }
+    let limits = request.limits.apply(g.limits());
+    let mut scene = genform_core::Scene::new();
+    let mut genes = 0;
+    for (k, lot) in lots.iter().enumerate() {
+        let one = SampleRequest { seed: request.seed.wrapping_add(k as u64), ..request.clone() };
+        let genome = sample_genome(lot, &one, &limits).with_context(|| format!("footprint {}", k + 1))?;
+        lot.express(&genome, &limits, &mut scene)
+            .with_context(|| format!("footprint {}: cannot build the model", k + 1))?;
+        genes += genome.len();
+    }
+    let (n, seed) = (lots.len(), request.seed);
+    let primitives = scene.instances.len() + scene.polygons.len();
+    let summary = format!(
+        "{} seed {seed}: {n} footprints (seeds {seed}–{}), {genes} genes, {primitives} primitives",
+        g.name(),
+        seed.wrapping_add(n as u64 - 1)
+    );
+    Ok(Box::new(SceneSample { scene, summary }))
 }
 
 fn format_prob(p: f64) -> String {

@@ -87,7 +87,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         for k in 0..n {
             v.push(self.num(rule, args + k, "a lot size or coordinate")?);
         }
-        let mut p: Vec<DVec2> = if n == 2 {
+        let p: Vec<DVec2> = if n == 2 {
             let (w, d) = (v[0], v[1]);
             if !(w > 0.0 && d > 0.0) {
                 return Err(self.fail_at(at, format!("`lot` needs a positive width and depth, found {w} and {d}")));
@@ -97,10 +97,19 @@ impl<'g, M: Mode> Interp<'g, M> {
             // Written as (x, z); the polygon's y runs along −z.
             v.chunks(2).map(|c| DVec2::new(c[0], -c[1])).collect()
         };
-        if !geom::is_simple(&p) || geom::area2(&p) == 0.0 {
-            return Err(
-                self.fail_at(at, "the lot's outline crosses itself, repeats a corner or has no area".to_string())
-            );
+        self.set_lot(p, Some(at))
+    }
+
+    /// Makes the scope the polygon `p` (points in the scope's xz plane
+    /// relative to its centre, as `(x, −z)`), for `lot` at `at` or for a
+    /// footprint the run starts on.
+    pub(super) fn set_lot(&mut self, mut p: Vec<DVec2>, at: Option<genform_core::Span>) -> Result<(), Stop> {
+        if !crate::footprint::is_valid_outline(&p) {
+            let msg = "the lot's outline crosses itself, repeats a corner or has no area".to_string();
+            return Err(match at {
+                Some(at) => self.fail_at(at, msg),
+                None => ExpressError::Eval(format!("the footprint: {msg}")).into(),
+            });
         }
         if geom::area2(&p) < 0.0 {
             p.reverse();

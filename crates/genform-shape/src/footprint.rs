@@ -1,0 +1,59 @@
+//! Footprints: building lots given by a file instead of by `lot(…)`.
+//!
+//! A grammar can declare `footprints "lots.geojson";` (or a door can pass
+//! a file): each polygon is then one lot, and the grammar is derived once
+//! per lot, its axiom starting on the lot as if it began with
+//! `lot(x0, z0, x1, z1, …)` at the world origin ([`ShapeGrammar::on_footprint`]).
+//! Reading the file is the door's job ([`crate::AssetResolver::load_footprints`]);
+//! this module checks what it read.
+
+use crate::ShapeGrammar;
+use crate::geom;
+use glam::DVec2;
+use std::sync::Arc;
+
+/// Most corners of one footprint (as for `lot`).
+pub const MAX_CORNERS: usize = 1024;
+
+/// Whether `p` (at least 3 points) is a simple polygon with an area.
+pub(crate) fn is_valid_outline(p: &[DVec2]) -> bool {
+    p.len() >= 3 && geom::is_simple(p) && geom::area2(p) != 0.0
+}
+
+/// Checks one footprint given as world `(x, z)` corners and turns it into
+/// the outline a lot holds (`(x, −z)`, any winding).
+pub(crate) fn outline(corners: &[[f64; 2]]) -> Result<Arc<[DVec2]>, String> {
+    if corners.len() < 3 || corners.len() > MAX_CORNERS {
+        return Err(format!("has {} corners (3 to {MAX_CORNERS} are allowed)", corners.len()));
+    }
+    if corners.iter().flatten().any(|v| !v.is_finite() || v.abs() > 1e9) {
+        return Err("has a corner that is not a finite coordinate within ±10⁹".into());
+    }
+    let p: Vec<DVec2> = corners.iter().map(|&[x, z]| DVec2::new(x, -z)).collect();
+    if !is_valid_outline(&p) {
+        return Err("crosses itself, repeats a corner or has no area".into());
+    }
+    Ok(p.into())
+}
+
+impl ShapeGrammar {
+    /// The footprints the grammar declares (`footprints "…";`), in file
+    /// order; empty when it declares none.
+    pub fn footprints(&self) -> &[Arc<[DVec2]>] {
+        &self.footprints
+    }
+
+    /// The grammar set on the footprint with world `(x, z)` corners (either
+    /// winding): sampling and expressing start on that lot. An invalid
+    /// footprint is an error saying why.
+    pub fn on_footprint(&self, corners: &[[f64; 2]]) -> Result<ShapeGrammar, String> {
+        let lot = outline(corners)?;
+        Ok(ShapeGrammar { start_lot: Some(lot), ..self.clone() })
+    }
+
+    /// The grammar set on its `k`-th declared footprint.
+    pub fn on_declared_footprint(&self, k: usize) -> Option<ShapeGrammar> {
+        let lot = self.footprints.get(k)?.clone();
+        Some(ShapeGrammar { start_lot: Some(lot), ..self.clone() })
+    }
+}
