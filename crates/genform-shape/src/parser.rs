@@ -202,11 +202,7 @@ impl<'a> Parser<'a> {
         match word.as_str() {
             "grammar" => {
                 self.bump();
-                let name = match &self.tok.kind {
-                    Tok::Str(s) => s.clone(),
-                    _ => return Err(self.expected("a quoted name", "after `grammar`")),
-                };
-                let span = self.bump().span;
+                let (name, span) = self.quoted("a quoted name", "after `grammar`")?;
                 self.expect(Tok::Semi, "after the grammar name")?;
                 Ok(Item::Grammar(name, span))
             }
@@ -243,26 +239,27 @@ impl<'a> Parser<'a> {
                 self.bump();
                 let (name, span) = self.ident("a name", "after `mesh`")?;
                 self.expect(Tok::Eq, &format!("after `mesh {name}`"))?;
-                let path = match &self.tok.kind {
-                    Tok::Str(s) => s.clone(),
-                    _ => return Err(self.expected("a quoted file path", &format!("for mesh `{name}`"))),
-                };
-                let pspan = self.bump().span;
+                let (path, pspan) = self.quoted("a quoted file path", &format!("for mesh `{name}`"))?;
                 self.expect(Tok::Semi, "after the mesh path")?;
                 Ok(Item::Mesh(name, span, path, pspan))
             }
             "footprints" => {
                 self.bump();
-                let path = match &self.tok.kind {
-                    Tok::Str(s) => s.clone(),
-                    _ => return Err(self.expected("a quoted file path", "after `footprints`")),
-                };
-                let pspan = self.bump().span;
+                let (path, pspan) = self.quoted("a quoted file path", "after `footprints`")?;
                 self.expect(Tok::Semi, "after the footprint file")?;
                 Ok(Item::Footprints(path, pspan))
             }
             _ => self.rule().map(Item::Rule),
         }
+    }
+
+    /// A string token: its text and span (`what` is expected `context`).
+    fn quoted(&mut self, what: &str, context: &str) -> PResult<(String, Span)> {
+        let text = match &self.tok.kind {
+            Tok::Str(s) => s.clone(),
+            _ => return Err(self.expected(what, context)),
+        };
+        Ok((text, self.bump().span))
     }
 
     fn rule(&mut self) -> PResult<Rule> {
