@@ -126,7 +126,7 @@ pub fn assert_located(input: &str, diags: &Diagnostics) {
     let len = diags.file.text.len() as u32;
     for d in diags.items.iter().filter(|d| d.severity == Severity::Error) {
         let span = d.span.unwrap_or_else(|| panic!("{input}: error without a location: {}", d.message));
-        assert!(span.start <= span.end && span.start <= len, "{input}: span {span:?} outside the file");
+        assert!(span.start <= span.end && span.end <= len, "{input}: span {span:?} outside the file ({len} bytes)");
     }
     let name = &diags.file.name;
     assert!(diags.short().lines().all(|l| l.starts_with(&format!("{name}:")) || l.starts_with("  ")), "{input}");

@@ -8,6 +8,7 @@
 //! yields a number, not text.
 
 use crate::graph::Value;
+use crate::yaml::Positions;
 use genform_core::diag::{Diagnostic, Span};
 use genform_core::expr::vec2::{Compiled, VecScope, compile_any};
 use genform_core::expr::{Program, parse_prefix};
@@ -32,9 +33,9 @@ pub(crate) struct Template {
 }
 
 impl Template {
-    /// Compiles `text`; `at` is the byte offset of the text in the file,
-    /// for error spans. Every error is reported.
-    pub(crate) fn compile(text: &str, at: usize, scope: &dyn VecScope) -> Result<Template, Vec<Diagnostic>> {
+    /// Compiles `text`; `pos` says where its bytes were written in the
+    /// file, for error spans. Every error is reported.
+    pub(crate) fn compile(text: &str, pos: &Positions, scope: &dyn VecScope) -> Result<Template, Vec<Diagnostic>> {
         let mut parts = Vec::new();
         let mut errors = Vec::new();
         let mut lit = String::new();
@@ -49,7 +50,7 @@ impl Template {
             }
             if c == b'}' {
                 errors.push(
-                    Diagnostic::error(Span::new(at + i, at + i + 1), "unmatched `}` in a template")
+                    Diagnostic::error(pos.span(Span::new(i, i + 1)), "unmatched `}` in a template")
                         .with_hint("write `}}` for a literal brace"),
                 );
                 i += 1;
@@ -67,7 +68,7 @@ impl Template {
             let (ast, used) = match parse_prefix(inner) {
                 Ok(x) => x,
                 Err(d) => {
-                    errors.push(d.shifted(at + start));
+                    errors.push(pos.place(d.shifted(start)));
                     match inner.find('}') {
                         Some(j) => {
                             i = start + j + 1;
@@ -88,7 +89,7 @@ impl Template {
                     Ok(n) if n <= 12 => decimals = Some(n),
                     _ => errors.push(
                         Diagnostic::error(
-                            Span::new(at + j, at + j + 2 + digits.len()),
+                            pos.span(Span::new(j, j + 2 + digits.len())),
                             "bad precision in a template hole",
                         )
                         .with_hint("write `{r:.2}` for two decimals (at most 12)"),
@@ -98,7 +99,7 @@ impl Template {
             }
             if b.get(j) != Some(&b'}') {
                 errors.push(
-                    Diagnostic::error(Span::new(at + j, at + j + 1), "expected `}` to close the template hole")
+                    Diagnostic::error(pos.span(Span::new(j, j + 1)), "expected `}` to close the template hole")
                         .with_hint("a hole is `{formula}` or `{formula:.N}`"),
                 );
                 match text[j..].find('}') {
@@ -120,7 +121,7 @@ impl Template {
                         Compiled::Vector(p) => Part::Vec(p, decimals),
                     });
                 }
-                Err(ds) => errors.extend(ds.into_iter().map(|d| d.shifted(at + start))),
+                Err(ds) => errors.extend(ds.into_iter().map(|d| pos.place(d.shifted(start)))),
             }
         }
         if !lit.is_empty() {
@@ -242,7 +243,7 @@ mod tests {
     }
 
     fn run(t: &str) -> Value {
-        let tpl = Template::compile(t, 0, &S).unwrap_or_else(|e| panic!("{t}: {e:?}"));
+        let tpl = Template::compile(t, &Positions::verbatim(0, t.len()), &S).unwrap_or_else(|e| panic!("{t}: {e:?}"));
         tpl.eval(&[1.5, -2.0, 1.0 / 3.0], &mut Rng::from_seed(1), &mut String::new())
     }
 
@@ -266,12 +267,12 @@ mod tests {
 
     #[test]
     fn errors_point_into_the_text() {
-        let e = Template::compile("ab {A.z} {r +} }", 10, &S).unwrap_err();
+        let e = Template::compile("ab {A.z} {r +} }", &Positions::verbatim(10, 16), &S).unwrap_err();
         let spans: Vec<u32> = e.iter().map(|d| d.span.unwrap().start).collect();
         assert_eq!(e.len(), 3, "{e:?}");
         assert_eq!(spans, [14, 23, 25]);
         assert!(e[0].message.contains("unknown name `A.z`"));
-        let e = Template::compile("{r", 0, &S).unwrap_err();
+        let e = Template::compile("{r", &Positions::verbatim(0, 2), &S).unwrap_err();
         assert!(e[0].message.contains("expected `}`"), "{e:?}");
     }
 }

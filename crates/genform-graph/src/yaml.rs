@@ -8,6 +8,7 @@ use genform_core::diag::{Diagnostic, Span};
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_saphyr::{Location, Spanned};
 use std::fmt;
+use std::sync::Arc;
 
 /// Most YAML nodes a file may have (serde-saphyr's default is 250,000,
 /// too few for a large result graph read back as a host).
@@ -195,32 +196,170 @@ pub(crate) fn parse(text: &str) -> Result<Node, Diagnostic> {
     }
 }
 
-/// Where the text of string `value` starts, given its node starts at
-/// `node`: after an opening quote, or on the first content line of a block
-/// scalar. Formula positions are offsets from here.
-pub(crate) fn content_offset(text: &str, node: usize, value: &str) -> usize {
-    let rest = text.get(node..).unwrap_or("");
-    if rest.starts_with(value) {
-        return node;
+/// Where each byte of a decoded string value was written in the file.
+/// Quotes, escapes, folded line breaks and the indentation of block
+/// scalars make the two differ, so every position inside a formula or
+/// template goes through this map; each lies inside the file.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Positions(Arc<[u32]>);
+
+impl Positions {
+    /// A value written as is from byte `at` (a number shown as text).
+    pub(crate) fn verbatim(at: usize, len: usize) -> Positions {
+        Positions((at..=at + len).map(|k| k as u32).collect())
     }
-    if (rest.starts_with('"') || rest.starts_with('\'')) && rest[1..].starts_with(value) {
-        return node + 1;
-    }
-    // Quoted with escapes, or a block scalar: find the first line of the
-    // value nearby.
-    let first = value.lines().next().unwrap_or("").trim();
-    if !first.is_empty() {
-        let mut end = rest.len().min(value.len() * 2 + 256);
-        while !rest.is_char_boundary(end) {
-            end -= 1;
+
+    /// The positions of `value`, whose node starts at `node` in `text`: the
+    /// value is walked against the text from where its content starts, in
+    /// the scalar's style — byte for byte where it was written as is, one
+    /// escape (double quotes), doubled quote (single quotes) or folded line
+    /// break at a time where not, skipping indentation and escaped line
+    /// breaks, which decode to nothing. Positions only move forwards and
+    /// never past the end of the text.
+    pub(crate) fn of(text: &str, node: usize, value: &str) -> Positions {
+        let raw = text.as_bytes();
+        let (style, mut r) = content_start(text, node);
+        let mut out = Vec::with_capacity(value.len() + 1);
+        for ch in value.chars() {
+            r = skip_silent(text, r, ch, style);
+            let here = r;
+            r = if style == Style::Double && raw.get(r) == Some(&b'\\') {
+                r + escape_len(&raw[r..])
+            } else if style == Style::Single && ch == '\'' && text[r..].starts_with("''") {
+                r + 2
+            } else if text[r..].starts_with(ch) {
+                r + ch.len_utf8()
+            } else if matches!(raw.get(r), Some(b'\n' | b'\r')) {
+                skip_fold(raw, r)
+            } else {
+                r
+            }
+            .min(text.len());
+            while !text.is_char_boundary(r) {
+                r += 1;
+            }
+            for b in 0..ch.len_utf8() {
+                out.push((here + b).min(r.max(here)) as u32);
+            }
         }
-        let window = &rest[..end];
-        if let Some(i) = window.find(first) {
-            let lead = value.len() - value.trim_start().len();
-            return (node + i).saturating_sub(lead);
+        out.push(r as u32);
+        Positions(out.into())
+    }
+
+    /// The file offset of byte `k` of the value (its end for `k` past it).
+    pub(crate) fn at(&self, k: usize) -> usize {
+        self.0[k.min(self.0.len() - 1)] as usize
+    }
+
+    /// A span of the value as a span of the file.
+    pub(crate) fn span(&self, s: Span) -> Span {
+        let start = self.at(s.start as usize);
+        Span::new(start, self.at(s.end as usize).max(start))
+    }
+
+    /// A diagnostic about the value (spans within it) placed in the file.
+    pub(crate) fn place(&self, mut d: Diagnostic) -> Diagnostic {
+        d.span = d.span.map(|s| self.span(s));
+        for (s, _) in &mut d.labels {
+            *s = self.span(*s);
+        }
+        d
+    }
+}
+
+/// How a string scalar is written.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Style {
+    Plain,
+    Single,
+    Double,
+    Block,
+}
+
+/// The style of the scalar at `node` and where its content starts: after
+/// the opening quote, or at `node` itself (a block scalar's node starts at
+/// its first content line, after a header line ending in `|` or `>` with
+/// any chomping and indentation indicators).
+fn content_start(text: &str, node: usize) -> (Style, usize) {
+    let node = node.min(text.len());
+    let before = text.get(..node).unwrap_or("");
+    let line = before.rfind('\n').map_or(0, |i| i + 1);
+    if line > 0 && before[line..].bytes().all(|b| b == b' ' || b == b'\t') {
+        let header = before[..line - 1].lines().next_back().unwrap_or("");
+        let header = header.split(" #").next().unwrap_or("").trim_end();
+        let indicators = header.trim_end_matches(|c: char| c == '-' || c == '+' || c.is_ascii_digit());
+        if indicators.ends_with('|') || indicators.ends_with('>') {
+            return (Style::Block, node);
         }
     }
-    node + usize::from(rest.starts_with('"') || rest.starts_with('\''))
+    match text.as_bytes().get(node) {
+        Some(b'"') => (Style::Double, node + 1),
+        Some(b'\'') => (Style::Single, node + 1),
+        _ => (Style::Plain, node),
+    }
+}
+
+/// From `r`, past what decodes to nothing before character `ch`:
+/// indentation and line breaks that a block scalar or a fold consumed, and
+/// escaped line breaks in double quotes. Where the text does not explain
+/// `ch` at all (a fuzzer's input), the next place it is written, within a
+/// short window, else `r`.
+fn skip_silent(text: &str, mut r: usize, ch: char, style: Style) -> usize {
+    let raw = text.as_bytes();
+    loop {
+        if style == Style::Double && raw.get(r) == Some(&b'\\') && matches!(raw.get(r + 1), Some(b'\n' | b'\r')) {
+            r = skip_fold(raw, r + 1);
+            continue;
+        }
+        if matches!(raw.get(r), Some(b' ' | b'\t')) && !text[r..].starts_with(ch) {
+            // Indentation (or spaces a fold swallowed).
+            let mut k = r;
+            while matches!(raw.get(k), Some(b' ' | b'\t')) {
+                k += 1;
+            }
+            let line_start = r == 0 || matches!(raw.get(r - 1), Some(b'\n' | b'\r' | b' ' | b'\t'));
+            if line_start {
+                r = k;
+                continue;
+            }
+        }
+        break;
+    }
+    let explained = |k: usize| {
+        text[k..].starts_with(ch)
+            || style == Style::Double && raw.get(k) == Some(&b'\\')
+            || matches!(raw.get(k), Some(b'\n' | b'\r')) && matches!(ch, ' ' | '\n')
+    };
+    if r >= text.len() || explained(r) {
+        return r.min(text.len());
+    }
+    let end = text.len().min(r + 256);
+    (r + 1..end).find(|&k| text.is_char_boundary(k) && explained(k)).unwrap_or(r)
+}
+
+/// Bytes of the escape at the start of `raw` (a backslash first).
+fn escape_len(raw: &[u8]) -> usize {
+    match raw.get(1) {
+        Some(b'x') => 4,
+        Some(b'u') => 6,
+        Some(b'U') => 10,
+        Some(_) => 2,
+        None => 1,
+    }
+}
+
+/// Past a line break at `r` and the indentation after it.
+fn skip_fold(raw: &[u8], mut r: usize) -> usize {
+    if raw.get(r) == Some(&b'\r') {
+        r += 1;
+    }
+    if raw.get(r) == Some(&b'\n') {
+        r += 1;
+    }
+    while matches!(raw.get(r), Some(b' ' | b'\t')) {
+        r += 1;
+    }
+    r
 }
 
 #[cfg(test)]
@@ -235,15 +374,6 @@ mod tests {
     }
 
     #[test]
-    fn the_search_window_never_cuts_a_character() {
-        // A fuzzer's find: the window after a node ended inside a two-byte
-        // character (every odd offset here is a boundary, 258 is not).
-        let text = format!("a{}", "é".repeat(200));
-        assert_eq!(content_offset(&text, 0, "x"), 0);
-        assert_eq!(content_offset(&text, 0, "éé"), 1);
-    }
-
-    #[test]
     fn values_keep_their_byte_spans() {
         let src = "name: k\nv:\n  a: {x: 1, when: \"A.x > 2\"}\n  b: [1, 'q', true, ~]\n";
         let root = parse(src).unwrap();
@@ -254,23 +384,75 @@ mod tests {
         let a = map(&v[0].1);
         let when = &a[1].1;
         let Val::Str(s) = &when.value else { panic!() };
-        assert_eq!(&src[content_offset(src, when.span.start as usize, s)..][..7], "A.x > 2");
+        assert_eq!(&src[Positions::of(src, when.span.start as usize, s).at(0)..][..7], "A.x > 2");
         let Val::Seq(items) = &v[1].1.value else { panic!() };
         assert!(matches!(items[3].value, Val::Null));
         assert_eq!(items[1].span.start, 49);
     }
 
+    /// The scalar of `k: …` and its positions.
+    fn positions(src: &str) -> (String, Positions) {
+        let root = parse(src).unwrap_or_else(|e| panic!("{src:?}: {e:?}"));
+        let n = &map(&root)[0].1;
+        let Val::Str(s) = &n.value else { panic!("{src:?}: {:?}", n.value) };
+        (s.clone(), Positions::of(src, n.span.start as usize, s))
+    }
+
+    /// Every brace of the value is found where it was written, in every
+    /// style; no position leaves the file.
+    fn braces_are_where_written(src: &str) {
+        let (value, pos) = positions(src);
+        let mut last = 0;
+        for k in 0..=value.len() {
+            let at = pos.at(k);
+            assert!(at >= last && at <= src.len(), "{src:?}: byte {k} of {value:?} at {at}");
+            last = at;
+        }
+        for (k, c) in value.char_indices().filter(|(_, c)| matches!(c, '{' | '}')) {
+            assert_eq!(src[pos.at(k)..].chars().next(), Some(c), "{src:?}: {value:?} byte {k}");
+        }
+    }
+
     #[test]
-    fn block_scalars_and_escapes_find_their_text() {
-        let src = "a: |\n  B.y + 1\nb: \"x\\ty + q\"\n";
-        let root = parse(src).unwrap();
-        let top = map(&root);
-        // An escape moves later columns; the text start is still right.
-        for (i, want) in [(0, "B.y + 1"), (1, "x\\ty")] {
-            let n = &top[i].1;
-            let Val::Str(s) = &n.value else { panic!() };
-            let at = content_offset(src, n.span.start as usize, s);
-            assert!(src[at..].starts_with(want), "{i}: {:?}", &src[at..]);
+    fn escapes_folds_and_indentation_keep_positions() {
+        for src in [
+            "k: \"a\\tb {x} \\\" }\"\n",
+            "k: 'it''s {x} }'\n",
+            "k: |-\n  line {a}\n    more }\n  end {b\n",
+            "k: >-\n  one {a}\n  two }\n",
+            "k: \"é\\u00e9 {x}\\\n   folded }\"\n",
+            "k: plain {a}\n  continued }\n",
+        ] {
+            braces_are_where_written(src);
+        }
+        // The escape `\t` is one character of the value, two of the file.
+        let (v, pos) = positions("k: \"\\t{\"\n");
+        assert_eq!((v.as_str(), pos.at(0), pos.at(1)), ("\t{", 4, 6));
+    }
+
+    proptest::proptest! {
+        /// Random text of quotes, escapes, braces and line breaks, written
+        /// as a double-quoted, single-quoted and literal block scalar.
+        #[test]
+        fn positions_follow_every_style(chars in proptest::collection::vec(
+            proptest::sample::select(vec!["a", " ", "{", "}", "\"", "'", "\\", "\t", "é", "\n", "x {", "} y"]), 0..24)) {
+            let value: String = chars.concat();
+            let double: String = value.chars().map(|c| match c {
+                '"' => "\\\"".to_string(),
+                '\\' => "\\\\".to_string(),
+                '\t' => "\\t".to_string(),
+                '\n' => "\\n".to_string(),
+                c => c.to_string(),
+            }).collect();
+            braces_are_where_written(&format!("k: \"{double}\"\n"));
+            let one_line: String = value.replace(['\n', '\t'], " ");
+            if !one_line.trim().is_empty() {
+                braces_are_where_written(&format!("k: '{}'\n", one_line.replace('\'', "''")));
+            }
+            let lines: Vec<&str> = value.split('\n').map(str::trim).filter(|l| !l.is_empty()).collect();
+            if !lines.is_empty() && !lines.iter().any(|l| l.starts_with('#')) {
+                braces_are_where_written(&format!("k: |-\n  {}\n", lines.join("\n  ")));
+            }
         }
     }
 

@@ -61,7 +61,7 @@ impl Cx {
 
     fn template(&mut self, f: &Formula, scope: &ProdScope, new_names: &[String]) -> Option<Template> {
         let before = self.errors.len();
-        let t = Template::compile(&f.s, f.at, scope);
+        let t = Template::compile(&f.s, &f.pos, scope);
         match t {
             Ok(t) => Some(t),
             Err(ds) => {

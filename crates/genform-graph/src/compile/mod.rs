@@ -221,19 +221,19 @@ impl Cx {
     }
 
     /// Parses and compiles a formula (number or vector) against `scope`;
-    /// errors are shifted to the file and reported.
+    /// errors are placed in the file and reported.
     pub(crate) fn formula(&mut self, f: &Formula, scope: &dyn genform_core::expr::vec2::VecScope) -> Option<Compiled> {
         let ast = match parse(&f.s) {
             Ok(a) => a,
             Err(d) => {
-                self.errors.push(d.shifted(f.at));
+                self.errors.push(f.pos.place(d));
                 return None;
             }
         };
         match compile_any(&ast, scope) {
             Ok(c) => Some(c),
             Err(ds) => {
-                self.errors.extend(ds.into_iter().map(|d| d.shifted(f.at)));
+                self.errors.extend(ds.into_iter().map(|d| f.pos.place(d)));
                 None
             }
         }

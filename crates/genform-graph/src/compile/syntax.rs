@@ -2,7 +2,7 @@
 //! problem (a wrong type, an unknown key) is collected, none stops the
 //! reading.
 
-use crate::yaml::{Key, Node, Val, content_offset};
+use crate::yaml::{Key, Node, Positions, Val};
 use genform_core::diag::{Diagnostic, Span};
 use genform_core::expr::did_you_mean;
 
@@ -13,12 +13,12 @@ pub(crate) struct Text {
     pub(crate) span: Span,
 }
 
-/// A string value: a formula or template, with the offset of its first
-/// character in the file.
+/// A string value: a formula or template, with where each of its bytes
+/// was written in the file.
 #[derive(Clone, Debug)]
 pub(crate) struct Formula {
     pub(crate) s: String,
-    pub(crate) at: usize,
+    pub(crate) pos: Positions,
     pub(crate) span: Span,
 }
 
@@ -41,7 +41,7 @@ impl Written {
 impl Formula {
     /// The formula's text (inside any quotes).
     pub(crate) fn content_span(&self) -> Span {
-        Span::new(self.at, self.at + self.s.len())
+        self.pos.span(Span::new(0, self.s.len()))
     }
 }
 
@@ -243,10 +243,14 @@ impl<'t> Reader<'t> {
     fn formula(&mut self, node: &Node, context: &str) -> Option<Formula> {
         match &node.value {
             Val::Str(s) => {
-                let at = content_offset(self.text, node.span.start as usize, s);
-                Some(Formula { s: s.clone(), at, span: node.span })
+                let pos = Positions::of(self.text, node.span.start as usize, s);
+                Some(Formula { s: s.clone(), pos, span: node.span })
             }
-            Val::Num(v) => Some(Formula { s: crate::write::number(*v), at: node.span.start as usize, span: node.span }),
+            Val::Num(v) => {
+                let s = crate::write::number(*v);
+                let pos = Positions::verbatim(node.span.start as usize, s.len());
+                Some(Formula { s, pos, span: node.span })
+            }
             _ => {
                 self.wrong(node, "a formula in quotes", context);
                 None
