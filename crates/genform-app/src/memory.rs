@@ -203,21 +203,31 @@ pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()
 /// a derivation may grow to before it is stopped, so one past the budget
 /// would let it exhaust memory first.
 pub fn check_flags(flags: &[(&str, Option<usize>, u64, &str)]) -> Result<()> {
-    let budget = budget();
     for &(flag, value, each, what) in flags {
-        let Some(n) = value else { continue };
-        let bytes = estimate(n as u64, each);
-        if bytes > u128::from(budget.bytes) {
-            bail!(
-                "{flag} {n} lets a derivation grow to about {} ({n} {what} of about {} each), more than the memory \
-                 budget of {} ({}); lower {flag}, or raise the budget with --max-memory {}G if the machine has the memory",
-                human(bytes as f64),
-                human(each as f64),
-                human(budget.bytes as f64),
-                budget.origin,
-                bytes.div_ceil(1 << 30).max(1),
-            );
+        if let Some(n) = value {
+            check_limit(&format!("{flag} {n}"), flag, n, each, what)?;
         }
+    }
+    Ok(())
+}
+
+/// Refuses a limit a grammar file sets (`setting`, e.g. ``"`max_modules:
+/// 99999999999` (plant.ls:3:14)"``) whose items alone would take more than
+/// the [`budget`], as [`check_flags`] does for flags; `lower` says what to
+/// lower (e.g. "`max_modules:` in the file, or --max-modules").
+pub fn check_limit(setting: &str, lower: &str, n: usize, each: u64, what: &str) -> Result<()> {
+    let budget = budget();
+    let bytes = estimate(n as u64, each);
+    if bytes > u128::from(budget.bytes) {
+        bail!(
+            "{setting} lets a derivation grow to about {} ({n} {what} of about {} each), more than the memory \
+             budget of {} ({}); lower {lower}, or raise the budget with --max-memory {}G if the machine has the memory",
+            human(bytes as f64),
+            human(each as f64),
+            human(budget.bytes as f64),
+            budget.origin,
+            bytes.div_ceil(1 << 30).max(1),
+        );
     }
     Ok(())
 }

@@ -113,6 +113,32 @@ fn sample_limits_past_the_budget_are_refused() {
     ok(dir, &["sample", s(&koch), "--max-modules", "100000000000", "--max-memory", "8T", "--out", "k.svg"]);
 }
 
+#[test]
+fn limits_set_in_grammar_files_are_checked_against_the_budget_with_their_position() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // A shape grammar whose `limits` would let one derivation take terabytes,
+    // with a repeat that would place ten million boxes.
+    std::fs::write(dir.join("h.sg"), "limits primitives = 999999999999;\nA { repeat(x, 0.0000001) { box; } }\n")
+        .unwrap();
+    let (run, took) = capped(dir, &["sample", "h.sg", "--out", "h.glb"]);
+    let err = refused(&run, took, "`limits primitives = 999999999999` (h.sg:1:21)");
+    assert!(err.contains("lower `primitives` in the grammar's `limits`, or give --max-primitives"), "{err}");
+    // A flag overrides the file's limit, and so is what is checked.
+    let (run, _) = capped(dir, &["sample", "h.sg", "--max-primitives", "100", "--out", "h.glb"]);
+    assert!(run.stderr().contains("primitive") && !run.stderr().contains("memory budget"), "{}", run.show());
+    // An L-system's `max_modules:` (it aborted allocating 2 GB before).
+    std::fs::write(
+        dir.join("h.ls"),
+        "name: h\nderivation: 60\nmax_modules: 99999999999\naxiom: F\nproduction:\nF -> FF\n",
+    )
+    .unwrap();
+    let (run, took) = capped(dir, &["sample", "h.ls", "--string-out", "h.txt"]);
+    let err = refused(&run, took, "`max_modules: 99999999999` (h.ls:3:14)");
+    assert!(err.contains("lower `max_modules:` in the file, or give --max-modules"), "{err}");
+    assert!(!dir.join("h.txt").exists());
+}
+
 /// A star that grows one random spoke a step while a hexagon pattern,
 /// which never matches a tree, is searched first at every step: the
 /// searches grow with the graph until the derivation's time guard ends it.

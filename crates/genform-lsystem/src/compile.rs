@@ -268,6 +268,7 @@ impl Compiler {
                 "max_modules" => {
                     if let Some(v) = self.non_negative(s) {
                         st.max_modules = v.min(usize::MAX as f64) as usize;
+                        st.max_modules_at = Some(value_span(s));
                     }
                 }
                 "view" => match s.value.as_str() {
@@ -839,6 +840,11 @@ pub(crate) fn compile_text(text: &str) -> Result<(LSystem, Vec<Diagnostic>), Vec
 }
 
 impl LSystem {
+    /// `file:line:col` of a position in the file it was compiled from.
+    pub fn location(&self, span: genform_core::Span) -> Option<String> {
+        self.source.as_ref().map(|f| f.location(span.start))
+    }
+
     /// Number of productions, decomposition rules and interpretation rules.
     pub fn rule_counts(&self) -> [usize; 3] {
         [self.productions.rules.len(), self.decomposition.rules.len(), self.interpretation.rules.len()]

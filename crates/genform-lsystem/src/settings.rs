@@ -97,11 +97,15 @@ pub struct Settings {
     /// Longest string a derivation may produce (`max_modules:`, default
     /// 5,000,000).
     pub max_modules: usize,
+    /// Where `max_modules:` sets it, so a door can name the setting when
+    /// it refuses the value ([`crate::LSystem::location`]).
+    pub max_modules_at: Option<genform_core::Span>,
 }
 
 impl Default for Settings {
     fn default() -> Self {
         Settings {
+            max_modules_at: None,
             name: String::new(),
             derivation: 1,
             angle: 90.0,

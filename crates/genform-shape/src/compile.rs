@@ -120,7 +120,7 @@ pub(crate) fn compile(
         }
     }
 
-    let limits = limits(&limit_items, &g, &mut errors);
+    let (limits, limits_at) = limits(&limit_items, &g, &mut errors);
 
     // The rule table: names, template ranges, symbol ids.
     let mut kept: Vec<(Rule, Option<(i64, i64)>)> = Vec::new();
@@ -249,6 +249,7 @@ pub(crate) fn compile(
         occlusion,
         footprints,
         start_lot: None,
+        limits_at,
     };
     Ok((grammar, finish(file, Vec::new(), warnings)))
 }
@@ -268,13 +269,16 @@ fn finish(file: &SourceFile, errors: Vec<Diagnostic>, warnings: Vec<Diagnostic>)
     out
 }
 
-fn limits(items: &[(String, Span, ExprSrc)], g: &Globals, errors: &mut Vec<Diagnostic>) -> Limits {
+/// The limits of the `limits` items, and where each value is written
+/// (genes, depth, primitives).
+fn limits(items: &[(String, Span, ExprSrc)], g: &Globals, errors: &mut Vec<Diagnostic>) -> (Limits, [Option<Span>; 3]) {
     let mut l = Limits::default();
+    let mut at = [None; 3];
     for (k, span, e) in items {
-        let field = match k.as_str() {
-            "genes" => &mut l.max_genes,
-            "depth" => &mut l.max_depth,
-            "primitives" => &mut l.max_primitives,
+        let (field, slot) = match k.as_str() {
+            "genes" => (&mut l.max_genes, 0),
+            "depth" => (&mut l.max_depth, 1),
+            "primitives" => (&mut l.max_primitives, 2),
             other => {
                 let mut d = Diagnostic::error(*span, format!("unknown limit `{other}`"));
                 d = match did_you_mean(other, ["genes", "depth", "primitives"]) {
@@ -291,10 +295,11 @@ fn limits(items: &[(String, Span, ExprSrc)], g: &Globals, errors: &mut Vec<Diagn
                 errors.push(Diagnostic::error(e.span(), format!("a limit must be a positive integer, found {v}")));
             } else {
                 *field = v as usize;
+                at[slot] = Some(e.span());
             }
         }
     }
-    l
+    (l, at)
 }
 
 fn template_range(t: &Template, g: &Globals, errors: &mut Vec<Diagnostic>) -> Option<(i64, i64)> {

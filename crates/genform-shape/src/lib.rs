@@ -83,6 +83,8 @@ pub struct ShapeGrammar {
     footprints: Vec<Arc<[glam::DVec2]>>,
     /// The lot runs start on ([`ShapeGrammar::on_footprint`]).
     start_lot: Option<Arc<[glam::DVec2]>>,
+    /// Where the `limits` item sets genes, depth and primitives.
+    limits_at: [Option<genform_core::Span>; 3],
 }
 
 impl ShapeGrammar {
@@ -94,6 +96,17 @@ impl ShapeGrammar {
     /// The limits of the `limits` header, defaults for those not given.
     pub fn limits(&self) -> Limits {
         self.limits
+    }
+
+    /// `file:line:col` of the value the `limits` header gives `kind`, if it
+    /// gives one.
+    pub fn limit_location(&self, kind: genform_core::LimitKind) -> Option<String> {
+        let i = match kind {
+            genform_core::LimitKind::Genes => 0,
+            genform_core::LimitKind::Depth => 1,
+            genform_core::LimitKind::Primitives => 2,
+        };
+        self.limits_at[i].map(|s| self.file.location(s.start))
     }
 }
 

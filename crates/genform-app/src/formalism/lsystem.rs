@@ -59,6 +59,11 @@ impl LsFile {
     }
 }
 
+/// Bytes a module may take while deriving: its symbol in two strings (the
+/// current and the next) and a share of parameters, as `--max-modules`
+/// counts it.
+const MODULE_BYTES: u64 = 64;
+
 /// Bytes one drawn primitive may take from turtle to file: its scene entry
 /// and its share of an exporter's meshes (measured: 1.05 M segments of ABOP
 /// Fig. 1.24e peak at 2.0 GB while writing GLB, 0.8 GB for PNG).
@@ -80,6 +85,16 @@ impl LoadedGrammar for LsFile {
         let st = &system.settings;
         let steps = request.steps.unwrap_or(st.derivation);
         let max_modules = request.max_modules.unwrap_or(st.max_modules);
+        if let (None, Some(span)) = (request.max_modules, st.max_modules_at) {
+            let at = system.location(span).unwrap_or_else(|| self.path.display().to_string());
+            crate::memory::check_limit(
+                &format!("`max_modules: {max_modules}` ({at})"),
+                "`max_modules:` in the file, or give --max-modules",
+                max_modules,
+                MODULE_BYTES,
+                "modules",
+            )?;
+        }
         let max_primitives = request.limits.max_primitives.unwrap_or_else(drawing_limit);
         let mut scene = Scene::new();
         let string = if request.genome_out.is_some() {

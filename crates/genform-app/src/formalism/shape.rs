@@ -53,8 +53,47 @@ fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Vec<ShapeGrammar
     }
 }
 
+/// Refuses limits of the grammar's `limits` header (those no flag
+/// overrides) that would let one derivation exhaust the memory budget.
+fn check_file_limits(g: &ShapeGrammar, request: &SampleRequest) -> Result<()> {
+    use genform_core::LimitKind;
+    let l = g.limits();
+    let given = [
+        (
+            LimitKind::Genes,
+            "genes",
+            request.limits.max_genes,
+            l.max_genes,
+            crate::memory::GENE_BYTES,
+            "genes",
+            "--max-genes",
+        ),
+        (
+            LimitKind::Primitives,
+            "primitives",
+            request.limits.max_primitives,
+            l.max_primitives,
+            crate::scene_config::PRIMITIVE_BYTES,
+            "primitives",
+            "--max-primitives",
+        ),
+    ];
+    for (kind, key, flag_value, n, each, what, flag) in given {
+        let Some(at) = g.limit_location(kind).filter(|_| flag_value.is_none()) else { continue };
+        crate::memory::check_limit(
+            &format!("`limits {key} = {n}` ({at})"),
+            &format!("`{key}` in the grammar's `limits`, or give {flag}"),
+            n,
+            each,
+            what,
+        )?;
+    }
+    Ok(())
+}
+
 impl LoadedGrammar for ShapeGrammar {
     fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
+        check_file_limits(self, request)?;
         let lots = on_lots(self, request)?;
         if !lots.is_empty() {
             return sample_on_lots(self, &lots, request);
