@@ -35,6 +35,7 @@ pub(crate) fn compile(
         tags: Vec::new(),
         tags_given: Vec::new(),
         query_tags: Vec::new(),
+        colors: Vec::new(),
         zero,
     };
 
@@ -234,9 +235,11 @@ pub(crate) fn compile(
         }
     }
 
+    let occlusion = codes.iter().any(|r| r.exprs.iter().any(|e| !e.queries.is_empty()));
+    let color_tags = g.color_tags();
+    let base_tags = if occlusion { g.base_tags() } else { Vec::new() };
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
     let check = crate::genome_check::GenomeCheck::new(&graph);
-    let occlusion = codes.iter().any(|r| r.exprs.iter().any(|e| !e.queries.is_empty()));
     let grammar = ShapeGrammar {
         name,
         graph,
@@ -250,6 +253,8 @@ pub(crate) fn compile(
         footprints,
         start_lot: None,
         limits_at,
+        color_tags,
+        base_tags,
     };
     Ok((grammar, finish(file, Vec::new(), warnings)))
 }

@@ -289,7 +289,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             st.lineage.extend(st.frames.iter().map(|f| f.gene).chain([self.top.gene]));
             let scope = occlusion::Placed::of(&self.cur, self.top.gene);
             for &(idx, q) in &ex.queries {
-                let v = occlusion::holds(q, &scope, &st.placed, &st.lineage);
+                let v = occlusion::holds(q, &scope, &st.placed, &st.lineage, &self.g.base_tags);
                 st.env[base + idx as usize] = if v { 1.0 } else { 0.0 };
             }
         }
@@ -352,6 +352,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 self.cur.size = s;
             }
             Op::Tag(t) => self.cur.tag = t,
+            Op::Color(k) => self.cur.tag = self.g.color_tags[k as usize][self.cur.tag as usize],
             Op::Let(idx, e) => {
                 let v = self.eval(rule, e)?;
                 self.st.env[self.top.env + idx as usize] = v;

@@ -85,6 +85,10 @@ pub struct ShapeGrammar {
     start_lot: Option<Arc<[glam::DVec2]>>,
     /// Where the `limits` item sets genes, depth and primitives.
     limits_at: [Option<genform_core::Span>; 3],
+    /// Per `color(…)` colour, the tag each tag becomes.
+    color_tags: Vec<Vec<u32>>,
+    /// Each tag's tag without a colour (kept when occlusion queries ask).
+    base_tags: Vec<u32>,
 }
 
 impl ShapeGrammar {

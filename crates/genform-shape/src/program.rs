@@ -135,6 +135,9 @@ pub(crate) enum Op {
     Size(u32),
     Scale(u32),
     Tag(u32),
+    /// `color("#rrggbb")`: the current tag with that colour (index into
+    /// the grammar's colours; see `ShapeGrammar::color_tags`).
+    Color(u32),
     /// Stores an expression's value in an env slot.
     Let(u32, u32),
     Emit(Prim),

@@ -23,6 +23,7 @@ pub(crate) const OPS: &[&str] = &[
     "size",
     "scale",
     "tag",
+    "color",
     "box",
     "cylinder",
     "cone",
@@ -70,6 +71,8 @@ pub(crate) struct Globals {
     pub tags_given: Vec<bool>,
     /// Tags named by occlusion queries: name, the call, its position.
     pub query_tags: Vec<(String, String, Span)>,
+    /// The colours of `color(…)`, `#rrggbb` in lower case.
+    pub colors: Vec<String>,
     /// `0` compiled once, standing in for expressions that failed.
     pub zero: Program,
 }
@@ -103,6 +106,33 @@ impl Globals {
         self.tag_id(name)
     }
 
+    /// For each colour of `color(…)`, the tag each tag becomes: its name
+    /// without a `#rrggbb` suffix, then the colour (exporters colour a tag
+    /// named `name#rrggbb` exactly so). Interns what it needs.
+    pub fn color_tags(&mut self) -> Vec<Vec<u32>> {
+        if self.colors.is_empty() {
+            return Vec::new();
+        }
+        let bases: Vec<String> = self.tags.iter().map(|t| base_tag(t).to_string()).collect();
+        let colors = self.colors.clone();
+        for b in &bases {
+            for c in &colors {
+                self.intern_tag(&format!("{b}{c}"));
+            }
+        }
+        // Interning added tags whose bases are among `bases`: every
+        // combination already exists, so this lookup adds nothing.
+        let all: Vec<String> = self.tags.iter().map(|t| base_tag(t).to_string()).collect();
+        colors.iter().map(|c| all.iter().map(|b| self.tag_id(&format!("{b}{c}"))).collect()).collect()
+    }
+
+    /// Each tag's tag without a colour suffix (itself when it has none),
+    /// which occlusion queries name.
+    pub fn base_tags(&mut self) -> Vec<u32> {
+        let bases: Vec<String> = self.tags.iter().map(|t| base_tag(t).to_string()).collect();
+        bases.iter().map(|b| self.tag_id(b)).collect()
+    }
+
     /// Errors for query tags that no rule and no `tag(…)` gives.
     pub fn check_query_tags(&self, errors: &mut Vec<Diagnostic>) {
         for (name, call, at) in &self.query_tags {
@@ -124,6 +154,14 @@ impl Globals {
                 )),
             });
         }
+    }
+}
+
+/// A tag name without its `#rrggbb` colour suffix.
+pub(crate) fn base_tag(t: &str) -> &str {
+    match t.rsplit_once('#') {
+        Some((b, c)) if c.len() == 6 && c.bytes().all(|x| x.is_ascii_hexdigit()) => b,
+        _ => t,
     }
 }
 
@@ -514,7 +552,7 @@ impl<'a> SymbolCx<'a> {
         if self.queries.iter().any(|(k, _, _)| *k == key) {
             return;
         }
-        let tag = tag.map(|t| self.g.query_tag(t, key.clone(), at));
+        let tag = tag.map(|t| self.g.query_tag(base_tag(t), key.clone(), at));
         let env = self.new_env(None, 0.0);
         self.queries.push((key, env, Query { kind, tag }));
     }

@@ -125,6 +125,25 @@ impl SymbolCx<'_> {
                     self.errors.push(d);
                 }
             },
+            "color" => match args {
+                [Arg::Str(c, _)] if is_hex_color(c) => {
+                    let c = c.to_ascii_lowercase();
+                    let k = match self.g.colors.iter().position(|x| *x == c) {
+                        Some(k) => k,
+                        None => {
+                            self.g.colors.push(c);
+                            self.g.colors.len() - 1
+                        }
+                    };
+                    self.code.push(Op::Color(k as u32));
+                }
+                _ => {
+                    let at = args.first().map_or(span, Arg::span);
+                    let d = Diagnostic::error(at, "`color` takes one quoted colour `#rrggbb`")
+                        .with_hint("write `color(\"#b5523b\")`: six hex digits, red, green, blue");
+                    self.errors.push(d);
+                }
+            },
             "box" | "cylinder" | "cone" | "sphere" => {
                 if !args.is_empty() {
                     self.arity(name, span, &format!("{name};"), args.len());
@@ -262,4 +281,9 @@ impl SymbolCx<'_> {
             self.code.push(Op::Invoke { slot: g, args: first, nargs: args.len() as u32 });
         }
     }
+}
+
+/// `#rrggbb`: six hex digits after a hash.
+fn is_hex_color(c: &str) -> bool {
+    c.len() == 7 && c.starts_with('#') && c[1..].bytes().all(|b| b.is_ascii_hexdigit())
 }

@@ -79,9 +79,11 @@ fn separation(a: &Placed, b: &Placed) -> f64 {
 }
 
 /// Whether the query holds for `scope` against `placed`, leaving out what
-/// `lineage` (the running gene and its ancestors) placed.
-pub(crate) fn holds(q: Query, scope: &Placed, placed: &[Placed], lineage: &[GenePos]) -> bool {
-    placed.iter().filter(|p| q.tag.is_none_or(|t| t == p.tag) && !lineage.contains(&p.gene)).any(|p| {
+/// `lineage` (the running gene and its ancestors) placed; a query's tag is
+/// matched against each occluder's tag without its colour (`base`).
+pub(crate) fn holds(q: Query, scope: &Placed, placed: &[Placed], lineage: &[GenePos], base: &[u32]) -> bool {
+    let tagged = |p: &Placed| q.tag.is_none_or(|t| base.get(p.tag as usize).copied().unwrap_or(p.tag) == t);
+    placed.iter().filter(|p| tagged(p) && !lineage.contains(&p.gene)).any(|p| {
         // Positions are `f64` from `f32`-free arithmetic, but long chains of
         // splits leave rounding of a few ulps of the model's size.
         let eps = 1e-9 * (1.0 + scope.scale().max(p.scale()));
@@ -118,7 +120,7 @@ mod tests {
     }
 
     fn ask(kind: QueryKind, a: &Placed, b: &Placed) -> bool {
-        holds(Query { kind, tag: None }, a, std::slice::from_ref(b), &[])
+        holds(Query { kind, tag: None }, a, std::slice::from_ref(b), &[], &[])
     }
 
     #[test]
@@ -158,8 +160,11 @@ mod tests {
         let wing = Placed { tag: 3, gene: GenePos(7), ..boxed([0.0; 3], [4.0; 3], 0.0) };
         let piece = boxed([0.0; 3], [1.0; 3], 0.0);
         let q = |tag| Query { kind: QueryKind::Inside, tag };
-        assert!(holds(q(Some(3)), &piece, &[wing], &[GenePos(0)]));
-        assert!(!holds(q(Some(4)), &piece, &[wing], &[GenePos(0)]));
-        assert!(!holds(q(None), &piece, &[wing], &[GenePos(0), GenePos(7)]), "its own branch's mass");
+        assert!(holds(q(Some(3)), &piece, &[wing], &[GenePos(0)], &[]));
+        assert!(!holds(q(Some(4)), &piece, &[wing], &[GenePos(0)], &[]));
+        assert!(!holds(q(None), &piece, &[wing], &[GenePos(0), GenePos(7)], &[]), "its own branch's mass");
+        // Tag 3 recoloured is tag 5, whose base is 3.
+        let red = Placed { tag: 5, ..wing };
+        assert!(holds(q(Some(3)), &piece, &[red], &[GenePos(0)], &[0, 1, 2, 3, 4, 3]));
     }
 }
