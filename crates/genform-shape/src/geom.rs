@@ -171,6 +171,24 @@ pub(crate) fn prism_mesh(foot: &[DVec2]) -> Mesh {
     to_mesh("mass", &pos, tris)
 }
 
+/// The pyramid over a counter-clockwise polygon (in the xy plane) with its
+/// apex `h` above the polygon's area centroid: the base facing −z, one
+/// triangle per edge. Empty for a degenerate polygon or `h` = 0.
+pub(crate) fn pyramid_mesh(foot: &[DVec2], h: f64) -> Mesh {
+    let a2 = area2(foot);
+    if foot.len() < 3 || a2 <= 0.0 || h <= 0.0 {
+        return Mesh { name: "taper".into(), ..Mesh::default() };
+    }
+    let c = centroid(foot);
+    let n = foot.len() as u32;
+    let mut pos: Vec<DVec3> = foot.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    pos.push(DVec3::new(c.x, c.y, h));
+    let base: Vec<Vec3> = pos[..foot.len()].iter().map(|p| p.as_vec3()).collect();
+    let mut tris: Vec<[u32; 3]> = triangulate_polygon(&base).into_iter().map(|t| [t[2], t[1], t[0]]).collect();
+    tris.extend((0..n).map(|i| [i, (i + 1) % n, n]));
+    to_mesh("taper", &pos, tris)
+}
+
 /// Most corners of a roof footprint.
 pub(crate) const MAX_ROOF_CORNERS: usize = 256;
 
@@ -479,6 +497,18 @@ mod tests {
 
     fn max_z(m: &Mesh) -> f32 {
         m.positions.iter().map(|p| p.z).fold(0.0, f32::max)
+    }
+
+    #[test]
+    fn pyramids_are_closed_with_a_third_of_the_prism() {
+        for (foot, area) in [(rect(4.0, 2.0), 8.0), (l_shape(), 3.0)] {
+            let m = pyramid_mesh(&foot, 3.0);
+            assert!(is_closed(&m), "{foot:?}");
+            assert!((volume(&m) - area * 3.0 / 3.0).abs() < 1e-9, "{}", volume(&m));
+            assert_eq!(max_z(&m), 3.0);
+            assert_eq!(m.triangles.len(), (foot.len() - 2) + foot.len());
+        }
+        assert!(pyramid_mesh(&rect(4.0, 2.0), 0.0).triangles.is_empty());
     }
 
     #[test]

@@ -397,6 +397,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             }
             Op::Lot { args, n, span } => self.lot(rule, args, n, span)?,
             Op::Extrude(e) => self.extrude(rule, e)?,
+            Op::Taper { height, span } => self.taper(rule, height, span)?,
             Op::Shape(_) => self.shape(rule)?,
             Op::Roof { kind, args, span } => self.roof(rule, kind, args, span)?,
             Op::CompBegin { first, n, span } => self.comp_begin(rule, first, n, span)?,

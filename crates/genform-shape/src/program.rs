@@ -177,6 +177,11 @@ pub(crate) enum Op {
     },
     /// `extrude(h)`: polygon scope → mass.
     Extrude(u32),
+    /// `taper(h)`: the pyramid of height `h` over a polygon scope.
+    Taper {
+        height: u32,
+        span: u32,
+    },
     /// `shape;`: emits the scope's geometry (`span` for errors).
     Shape(u32),
     /// `roof_*(angle, overhang)`: angle and overhang at `args`, `args + 1`.

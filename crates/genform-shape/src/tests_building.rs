@@ -44,6 +44,19 @@ fn normal(p: &[Vec3]) -> Vec3 {
     n.normalize()
 }
 
+/// Volume of mesh instance `k` in world units (divergence theorem).
+fn world_volume(s: &Scene, k: usize) -> f32 {
+    let Primitive::Mesh(m) = s.instances[k].primitive else { panic!("{:?}", s.instances[k].primitive) };
+    let (mesh, t) = (&s.meshes[m as usize], s.instances[k].transform);
+    mesh.triangles
+        .iter()
+        .map(|tri| {
+            let [a, b, c] = tri.map(|i| t.transform_point3(mesh.positions[i as usize]));
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
 fn close(a: Vec3, b: Vec3) -> bool {
     (a - b).abs().max_element() < 1e-4
 }
@@ -76,16 +89,7 @@ fn an_l_shaped_lot_extrudes_to_a_closed_prism() {
     assert_eq!(s.instances.len(), 1);
     let Primitive::Mesh(m) = s.instances[0].primitive else { panic!("{:?}", s.instances[0].primitive) };
     let mesh = &s.meshes[m as usize];
-    // Volume by the divergence theorem, in world units.
-    let t = s.instances[0].transform;
-    let vol: f32 = mesh
-        .triangles
-        .iter()
-        .map(|tri| {
-            let [a, b, c] = tri.map(|i| t.transform_point3(mesh.positions[i as usize]));
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum();
+    let vol = world_volume(&s, 0);
     assert!((vol - 2.0 * 7.0).abs() < 1e-3, "{vol}");
     // 6 walls, 2 caps of 4 triangles each.
     assert_eq!(mesh.triangles.len(), 6 * 2 + 2 * 4);
@@ -211,6 +215,24 @@ fn roofs_sit_on_the_top_face() {
 }
 
 #[test]
+fn taper_raises_a_pyramid_on_the_top_face() {
+    // On the 10 × 6 top face of a 4 high mass: apex 5 above it, over the
+    // face's centre; volume 10 · 6 · 5 / 3.
+    let s = scene("A { lot(10, 6); extrude(4); comp(f) { top: taper(5) } }");
+    let Primitive::Mesh(m) = s.instances[0].primitive else { panic!() };
+    let t = s.instances[0].transform;
+    let mesh = &s.meshes[m as usize];
+    let top = mesh
+        .positions
+        .iter()
+        .map(|p| t.transform_point3(*p))
+        .fold(Vec3::splat(f32::MIN), |a, p| if p.y > a.y { p } else { a });
+    assert!(close(top, Vec3::new(0.0, 9.0, 0.0)), "{top}");
+    let vol = world_volume(&s, 0);
+    assert!((vol - 100.0).abs() < 1e-3, "{vol}");
+}
+
+#[test]
 fn hostile_building_operations_fail_clearly() {
     let cases = [
         ("A { extrude(2); }", "needs a polygon scope"),
@@ -219,6 +241,8 @@ fn hostile_building_operations_fail_clearly() {
         ("A { roof_gable(30); }", "needs a polygon scope"),
         ("A { lot(2, 2); comp(f) { top: shape } }", "needs a mass"),
         ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_hip(30); }", "straight skeleton"),
+        ("A { taper(3); }", "needs a polygon scope"),
+        ("A { lot(2, 2); taper(-1); }", "must be ≥ 0"),
     ];
     for (src, want) in cases {
         let e = try_scene(src).unwrap_err().to_string();

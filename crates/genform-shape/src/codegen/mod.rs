@@ -33,6 +33,7 @@ pub(crate) const OPS: &[&str] = &[
     "mesh",
     "lot",
     "extrude",
+    "taper",
     "shape",
     "roof_gable",
     "roof_hip",

@@ -193,6 +193,16 @@ impl SymbolCx<'_> {
                 let Some(e) = self.expr_args(name, args) else { return };
                 self.code.push(Op::Extrude(e[0]));
             }
+            "taper" => {
+                if args.len() != 1 {
+                    self.arity(name, span, "taper(height)", args.len());
+                    return;
+                }
+                let Some(e) = self.expr_args(name, args) else { return };
+                self.emits = true;
+                let at = self.span_index(span);
+                self.code.push(Op::Taper { height: e[0], span: at });
+            }
             "shape" => {
                 if !args.is_empty() {
                     self.arity(name, span, "shape;", args.len());

@@ -240,6 +240,42 @@ impl<'g, M: Mode> Interp<'g, M> {
         Ok(())
     }
 
+    /// `taper(h)` on a polygon scope: the pyramid over the polygon with its
+    /// apex `h` above the polygon's centroid (CGA's `taper`), a closed
+    /// solid emitted like a roof. On a concave polygon whose centroid does
+    /// not see every edge the sides cross, as in CGA.
+    pub(super) fn taper(&mut self, rule: &'g RuleCode, e: u32, span: u32) -> Result<(), Stop> {
+        let h = self.num(rule, e, "a taper height")?;
+        let at = rule.spans[span as usize];
+        let g = match self.geom_of(self.cur.geom) {
+            Some(g) if g.kind == GeomKind::Polygon => g,
+            _ => {
+                return Err(
+                    self.fail_at(at, "`taper` needs a polygon scope: a `lot`, or a face from `comp(f)`".to_string())
+                );
+            }
+        };
+        if h < 0.0 {
+            return Err(self.fail_at(at, format!("a taper height must be ≥ 0, found {h}")));
+        }
+        let s = self.cur.size;
+        let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
+        if geom::area2(&foot) < 0.0 {
+            foot.reverse();
+        }
+        let mesh = geom::pyramid_mesh(&foot, h);
+        if mesh.triangles.is_empty() {
+            return Ok(());
+        }
+        self.count_emission()?;
+        let t = self.cur.frame_transform();
+        if !t.is_finite() {
+            return Err(self.placement_overflow());
+        }
+        self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
+        Ok(())
+    }
+
     /// Cuts the scope's geometry to the piece just entered: the slab
     /// `centre ± len/2` along `axis` of a parent `parent` long. The piece's
     /// scope stays the whole slab; its geometry may come out empty.
