@@ -127,19 +127,8 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// `extrude(h)`: the prism over the polygon, `h` along its +z; the
     /// scope becomes the mass's box, its +y along the extrusion.
     pub(super) fn extrude(&mut self, rule: &'g RuleCode, e: u32) -> Result<(), Stop> {
-        let h = self.num(rule, e, "an extrusion height")?;
         let at = rule.exprs[e as usize].span;
-        let g = match self.geom_of(self.cur.geom) {
-            Some(g) if g.kind == GeomKind::Polygon => g,
-            _ => {
-                return Err(
-                    self.fail_at(at, "`extrude` needs a polygon scope: a `lot`, or a face from `comp(f)`".to_string())
-                );
-            }
-        };
-        if h < 0.0 {
-            return Err(self.fail_at(at, format!("an extrusion height must be ≥ 0, found {h}")));
-        }
+        let (g, h) = self.polygon_height(rule, e, at, "extrude", "an extrusion height")?;
         // (x, y) of the polygon → (x, z) of the footprint; a zero height
         // gives an empty mass.
         let foot: Vec<DVec2> =
@@ -222,22 +211,9 @@ impl<'g, M: Mode> Interp<'g, M> {
                 ));
             }
         };
-        let s = self.cur.size;
-        let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
-        if geom::area2(&foot) < 0.0 {
-            foot.reverse();
-        }
-        let mesh: Mesh = geom::roof_mesh(&foot, kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
-        if mesh.triangles.is_empty() {
-            return Ok(());
-        }
-        self.count_emission()?;
-        let t = self.cur.frame_transform();
-        if !t.is_finite() {
-            return Err(self.placement_overflow());
-        }
-        self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
-        Ok(())
+        let mesh: Mesh =
+            geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
+        self.emit_on_polygon(mesh)
     }
 
     /// `taper(h)` on a polygon scope: the pyramid over the polygon with its
@@ -245,25 +221,50 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// solid emitted like a roof. On a concave polygon whose centroid does
     /// not see every edge the sides cross, as in CGA.
     pub(super) fn taper(&mut self, rule: &'g RuleCode, e: u32, span: u32) -> Result<(), Stop> {
-        let h = self.num(rule, e, "a taper height")?;
         let at = rule.spans[span as usize];
+        let (g, h) = self.polygon_height(rule, e, at, "taper", "a taper height")?;
+        let mesh = geom::pyramid_mesh(&self.absolute_foot(g), h);
+        self.emit_on_polygon(mesh)
+    }
+
+    /// The polygon of a polygon scope and the height (≥ 0) expression `e`
+    /// gives `op` there.
+    fn polygon_height(
+        &mut self,
+        rule: &'g RuleCode,
+        e: u32,
+        at: genform_core::Span,
+        op: &str,
+        what: &str,
+    ) -> Result<(Geom, f64), Stop> {
+        let h = self.num(rule, e, what)?;
         let g = match self.geom_of(self.cur.geom) {
             Some(g) if g.kind == GeomKind::Polygon => g,
             _ => {
                 return Err(
-                    self.fail_at(at, "`taper` needs a polygon scope: a `lot`, or a face from `comp(f)`".to_string())
+                    self.fail_at(at, format!("`{op}` needs a polygon scope: a `lot`, or a face from `comp(f)`"))
                 );
             }
         };
         if h < 0.0 {
-            return Err(self.fail_at(at, format!("a taper height must be ≥ 0, found {h}")));
+            return Err(self.fail_at(at, format!("{what} must be ≥ 0, found {h}")));
         }
+        Ok((g, h))
+    }
+
+    /// The scope's polygon in absolute units, counter-clockwise.
+    fn absolute_foot(&self, g: Geom) -> Vec<DVec2> {
         let s = self.cur.size;
         let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
         if geom::area2(&foot) < 0.0 {
             foot.reverse();
         }
-        let mesh = geom::pyramid_mesh(&foot, h);
+        foot
+    }
+
+    /// Emits a solid built on the scope's polygon (in the scope's frame,
+    /// absolute units); nothing for an empty one.
+    fn emit_on_polygon(&mut self, mesh: Mesh) -> Result<(), Stop> {
         if mesh.triangles.is_empty() {
             return Ok(());
         }
