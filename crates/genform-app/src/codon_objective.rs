@@ -653,6 +653,19 @@ impl Objective<Codons> for CodonObjective {
             out.extend(trace.subtrees().iter().map(|t| genform_evolve::CodonSpan { start: t.start, end: t.end }));
         }
     }
+
+    /// GE scenes: [`genform_ge::Mapper::ramped`] over the scene's grammar
+    /// and mapping options; the other decoders have no grammar to unmap.
+    fn sensible_genome(
+        &self,
+        index: usize,
+        plan: genform_evolve::SensiblePlan,
+        rng: &mut genform_core::Rng,
+        s: &mut CodonScratch,
+    ) -> Option<Codons> {
+        let mapper = s.mapper.as_mut()?;
+        mapper.ramped(index, plan.max_depth, plan.codon_range, plan.max_length, rng)
+    }
 }
 
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a

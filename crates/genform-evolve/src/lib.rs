@@ -61,11 +61,11 @@ pub use config::{
     SmcConfig, Weighting,
 };
 pub use ga::Ga;
-pub use ge::{AnyCodonOptimizer, CodonAlgorithm, CodonRandom, CodonRandomConfig, Codons, Ge, GeConfig, NovelKey};
+pub use ge::{AnyCodonOptimizer, CodonAlgorithm, CodonRandom, CodonRandomConfig, Codons, Ge, GeConfig, Init, NovelKey};
 pub use hybrid::{Horizon, Hybrid};
 pub use map_elites::{DescriptorAxis, Elite, MapElites, MapElitesConfig};
 pub use mcmc::Mh;
-pub use objective::{CodonSpan, FnObjective, Objective};
+pub use objective::{CodonSpan, FnObjective, Objective, SensiblePlan};
 pub use operators::{LengthBounds, MutationKind, MutationMix};
 pub use optimizer::{Genotype, Individual, Optimizer};
 pub use random::RandomSearch;

@@ -81,6 +81,35 @@ pub trait Objective<G = Genome>: Sync {
         let _ = (genome, scratch);
         out.clear();
     }
+
+    /// Initial genome `index` of a sensible (ramped half-and-half)
+    /// initialisation, drawn from `rng`: a GE mapper's random derivation
+    /// tree under a depth limit ramped up to `plan.max_depth`, unmapped
+    /// into codons, plus a random tail; `None` when the objective cannot
+    /// write one (the default), and then grammatical evolution draws
+    /// random codons. Only the objective knows the grammar. It must be
+    /// deterministic in `index` and the state of `rng`.
+    fn sensible_genome(
+        &self,
+        index: usize,
+        plan: SensiblePlan,
+        rng: &mut genform_core::Rng,
+        scratch: &mut Self::Scratch,
+    ) -> Option<G> {
+        let _ = (index, plan, rng, scratch);
+        None
+    }
+}
+
+/// The limits of one sensible initial genome ([`Objective::sensible_genome`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SensiblePlan {
+    /// Deepest derivation-tree limit of the ramp (root = 1).
+    pub max_depth: u32,
+    /// Codons lie in `0..codon_range`.
+    pub codon_range: u32,
+    /// Most codons, tail included.
+    pub max_length: usize,
 }
 
 /// The codons one derivation subtree reads ([`Objective::subtrees`]).

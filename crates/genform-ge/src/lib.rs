@@ -40,6 +40,7 @@
 
 mod bnf;
 mod check;
+mod generate;
 mod mapper;
 mod options;
 mod outcome;
@@ -47,6 +48,7 @@ mod parse;
 mod program;
 
 pub use bnf::{Alternative, Bnf, Item, Rule, RuleId, TerminalId};
+pub use generate::{Growth, Sensible};
 pub use mapper::Mapper;
 pub use options::{Genr8Options, MapError, MapOptions, RepairOptions};
 pub use outcome::{Failure, Mapping, Outcome, Step, StepKind, Subtree};

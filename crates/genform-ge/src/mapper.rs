@@ -16,14 +16,14 @@ const NONE: u32 = u32::MAX;
 
 /// Settings resolved to plain numbers for the hot loop.
 #[derive(Clone, Copy, Debug)]
-struct Cfg {
+pub(crate) struct Cfg {
     max_wraps: u32,
     /// `u32::MAX` when unlimited.
-    max_tree_depth: u32,
+    pub(crate) max_tree_depth: u32,
     spaced: bool,
     repeat_constant: u32,
     /// `u32::MAX` when off.
-    limit_depth: u32,
+    pub(crate) limit_depth: u32,
     initial_max_id: u32,
     repair: Option<RepairCfg>,
 }
@@ -80,7 +80,7 @@ fn mark(v: &mut Vec<bool>, id: u32) {
 
 /// Mapping state reused across genomes.
 #[derive(Debug, Default)]
-struct State {
+pub(crate) struct State {
     stack: Vec<Frame>,
     out: String,
     /// Line end already written (no space before the next terminal).
@@ -108,8 +108,8 @@ struct State {
 /// ```
 #[derive(Debug)]
 pub struct Mapper {
-    prog: Program,
-    cfg: Cfg,
+    pub(crate) prog: Program,
+    pub(crate) cfg: Cfg,
     options: MapOptions,
     s: State,
     valid: bool,
@@ -183,6 +183,11 @@ impl Mapper {
     }
 
     fn run<const TRACE: bool>(&mut self, genome: &[u32]) -> Outcome {
+        self.run_with::<TRACE, _>(&mut Fixed(genome))
+    }
+
+    /// Maps with codons from `genes` (a genome, or a generator writing one).
+    pub(crate) fn run_with<const TRACE: bool, G: Genes>(&mut self, genes: &mut G) -> Outcome {
         let s = &mut self.s;
         s.stack.clear();
         s.out.clear();
@@ -204,19 +209,62 @@ impl Mapper {
             r.fixed = NONE;
         }
         s.stack.push(Frame { sym: Sym::Nt(0), depth: 1, count: 0, inst: NONE });
-        let mut result = run::<TRACE>(&self.prog, &self.cfg, s, genome);
+        let mut result = run::<TRACE, G>(&self.prog, &self.cfg, s, genes);
         if result.is_ok() && self.cfg.repair.is_some() {
-            result = repair::<TRACE>(&self.prog, &self.cfg, s, genome);
+            result = repair::<TRACE, G>(&self.prog, &self.cfg, s, genes);
         }
         self.valid = result.is_ok();
         Outcome { fail: result.err(), used_codons: s.used, wraps: s.wraps }
     }
 }
 
+/// What the mapper is about to decide with the next codon: the codon is
+/// taken modulo `n`, and the [`Genes`] source may use the rest (a
+/// generator picks the choice it wants and writes a codon that gives it).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Ask {
+    /// A non-terminal at `depth`; `limited`: only its terminal-only
+    /// productions are open (Genr8's depth rule).
+    Rule { rule: u32, depth: u32, limited: bool },
+    /// A `{ }` group whose items lie at `depth`, `count` times emitted so
+    /// far: a choice above `count` emits it once more.
+    Repeat { group: u32, depth: u32, count: u32 },
+    /// A `[ ]` group whose items lie at `depth`: choice 1 emits it.
+    Option { group: u32, depth: u32 },
+    /// An edge ID.
+    Edge,
+}
+
+/// Where the mapper's codons come from: a fixed genome (mapping) or a
+/// generator that writes the codons as they are asked for.
+pub(crate) trait Genes {
+    /// The next codon and its genome position, for a choice among `n`.
+    fn next(&mut self, s: &mut State, max_wraps: u32, n: u32, ask: Ask) -> Result<(usize, u32), Failure>;
+}
+
+/// A genome read left to right, with wrapping.
+struct Fixed<'a>(&'a [u32]);
+
+impl Genes for Fixed<'_> {
+    #[inline(always)]
+    fn next(&mut self, s: &mut State, max_wraps: u32, _: u32, _: Ask) -> Result<(usize, u32), Failure> {
+        s.read(self.0, max_wraps)
+    }
+}
+
 impl State {
+    /// Counts a codon that a generator writes at the end of its genome
+    /// (never wrapping); returns its position.
+    pub(crate) fn append(&mut self) -> usize {
+        let pos = self.pos;
+        self.pos += 1;
+        self.used += 1;
+        pos
+    }
+
     /// Reads the next codon, wrapping as allowed; returns its position too.
     #[inline(always)]
-    fn read(&mut self, genome: &[u32], max_wraps: u32) -> Result<(usize, u32), Failure> {
+    pub(crate) fn read(&mut self, genome: &[u32], max_wraps: u32) -> Result<(usize, u32), Failure> {
         if self.pos >= genome.len() {
             if genome.is_empty() {
                 return Err(Failure::EmptyGenome);
@@ -270,15 +318,15 @@ impl State {
     }
 
     /// Reads an edge ID under Genr8's rule.
-    fn fresh_id<const TRACE: bool>(
+    fn fresh_id<const TRACE: bool, G: Genes>(
         &mut self,
-        genome: &[u32],
+        genes: &mut G,
         cfg: &Cfg,
         name: &str,
         depth: u32,
     ) -> Result<u32, Failure> {
-        let (pos, codon) = self.read(genome, cfg.max_wraps)?;
         let n = self.max_id.saturating_add(1);
+        let (pos, codon) = genes.next(self, cfg.max_wraps, n, Ask::Edge)?;
         let id = codon % n;
         if id == self.max_id {
             self.max_id = self.max_id.saturating_add(1);
@@ -296,7 +344,7 @@ impl State {
 }
 
 /// Expands until the stack is empty.
-fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32]) -> Result<(), Failure> {
+fn run<const TRACE: bool, G: Genes>(p: &Program, cfg: &Cfg, s: &mut State, genes: &mut G) -> Result<(), Failure> {
     while let Some(f) = s.stack.pop() {
         match f.sym {
             Sym::Term(t) => {
@@ -319,14 +367,14 @@ fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32])
                         }
                     }
                     TermKind::Edge => {
-                        let id = s.fresh_id::<TRACE>(genome, cfg, &p.terms[t as usize], f.depth)?;
+                        let id = s.fresh_id::<TRACE, G>(genes, cfg, &p.terms[t as usize], f.depth)?;
                         s.emit_edge(cfg, id);
                     }
                     TermKind::Bound(k) => {
                         let slot = f.inst as usize;
                         let bound = s.bindings.get(slot).map_or(NONE, |b| b[k as usize]);
                         let id = if bound == NONE {
-                            let id = s.fresh_id::<TRACE>(genome, cfg, &p.terms[t as usize], f.depth)?;
+                            let id = s.fresh_id::<TRACE, G>(genes, cfg, &p.terms[t as usize], f.depth)?;
                             if let Some(b) = s.bindings.get_mut(slot) {
                                 b[k as usize] = id;
                             }
@@ -365,9 +413,11 @@ fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32])
                         end_mark = Some(Sym::RuleEnd);
                     }
                 }
-                let (pos, codon) = s.read(genome, cfg.max_wraps)?;
                 let rule = &p.rules[r as usize];
-                let (local, n, kind) = if f.depth >= cfg.limit_depth && rule.limited_n > 0 {
+                let limited = f.depth >= cfg.limit_depth && rule.limited_n > 0;
+                let n = if limited { rule.limited_n } else { rule.n };
+                let (pos, codon) = genes.next(s, cfg.max_wraps, n, Ask::Rule { rule: r, depth: f.depth, limited })?;
+                let (local, n, kind) = if limited {
                     let k = codon % rule.limited_n;
                     (p.limited[(rule.limited_first + k) as usize], rule.limited_n, StepKind::Limited)
                 } else {
@@ -397,8 +447,9 @@ fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32])
                 s.push_range(&p.syms[prod.start as usize..prod.end as usize], f.depth + 1, inst);
             }
             Sym::Repeat(g) => {
-                let (pos, codon) = s.read(genome, cfg.max_wraps)?;
                 let n = f.count.saturating_add(cfg.repeat_constant);
+                let ask = Ask::Repeat { group: g, depth: f.depth, count: f.count };
+                let (pos, codon) = genes.next(s, cfg.max_wraps, n, ask)?;
                 let choice = codon % n;
                 if TRACE {
                     let nt = p.names[p.group_owner[g as usize] as usize].clone();
@@ -411,7 +462,7 @@ fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32])
                 }
             }
             Sym::Option(g) => {
-                let (pos, codon) = s.read(genome, cfg.max_wraps)?;
+                let (pos, codon) = genes.next(s, cfg.max_wraps, 2, Ask::Option { group: g, depth: f.depth })?;
                 let choice = codon % 2;
                 if TRACE {
                     let nt = p.names[p.group_owner[g as usize] as usize].clone();
@@ -437,7 +488,7 @@ fn run<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32])
 }
 
 /// Genr8's repair post-pass (see [`crate::RepairOptions`]).
-fn repair<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u32]) -> Result<(), Failure> {
+fn repair<const TRACE: bool, G: Genes>(p: &Program, cfg: &Cfg, s: &mut State, genes: &mut G) -> Result<(), Failure> {
     let Some(rc) = cfg.repair else { return Ok(()) };
     // Write the added rules into `extra`, then splice them in.
     std::mem::swap(&mut s.out, &mut s.extra);
@@ -463,7 +514,7 @@ fn repair<const TRACE: bool>(p: &Program, cfg: &Cfg, s: &mut State, genome: &[u3
                 s.stack.push(Frame { sym: Sym::Term(end), depth, count: 0, inst: NONE });
             }
             s.stack.push(Frame { sym: Sym::Nt(rc.rule), depth, count: 0, inst: NONE });
-            run::<TRACE>(p, cfg, s, genome)?;
+            run::<TRACE, G>(p, cfg, s, genes)?;
             // A rule whose expansion never reached the predecessor still
             // counts as repaired, so the loop always advances.
             mark(&mut s.repair.has_rule, id as u32);

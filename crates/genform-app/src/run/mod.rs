@@ -544,6 +544,16 @@ impl<G, O: Objective<G>> Objective<G> for ByRef<'_, O> {
     fn subtrees(&self, genome: &G, scratch: &mut O::Scratch, out: &mut Vec<genform_evolve::CodonSpan>) {
         self.0.subtrees(genome, scratch, out)
     }
+
+    fn sensible_genome(
+        &self,
+        index: usize,
+        plan: genform_evolve::SensiblePlan,
+        rng: &mut genform_core::Rng,
+        scratch: &mut O::Scratch,
+    ) -> Option<G> {
+        self.0.sensible_genome(index, plan, rng, scratch)
+    }
 }
 
 /// The run loop: checkpoints, cancellation, steering changes before the

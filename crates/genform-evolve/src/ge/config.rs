@@ -91,6 +91,30 @@ pub struct GeConfig {
     /// mutation. Needs [`Objective::expressed`](crate::Objective::expressed);
     /// without it the whole genome counts. 0 turns it off (the default).
     pub local_search: f64,
+    /// How generation 0 (and a restart's fresh genomes) is drawn:
+    /// `"random"` codon strings of `initial_length`, or `"sensible"`:
+    /// PonyGE2's ramped half-and-half, genomes written from random
+    /// derivation trees under depth limits ramped up to `init_depth`, half
+    /// grown and half full, each with a random tail half as long as its
+    /// read codons, no two with one phenotype where the objective can tell
+    /// ([`Objective::sensible_genome`](crate::Objective::sensible_genome);
+    /// where it cannot, random codons). Default `"random"`.
+    pub init: Init,
+    /// Deepest derivation-tree limit of `init = "sensible"` (root = 1);
+    /// the ramp starts at the grammar's shallowest tree. Default 10, as
+    /// PonyGE2's `MAX_INIT_TREE_DEPTH`.
+    pub init_depth: u32,
+}
+
+/// How GE draws its initial genomes ([`GeConfig::init`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Init {
+    /// Uniform random codons, lengths from `initial_length`.
+    #[default]
+    Random,
+    /// Ramped half-and-half derivation trees, unmapped into codons.
+    Sensible,
 }
 
 /// What [`GeConfig::novel_children`] compares.
@@ -122,6 +146,8 @@ impl Default for GeConfig {
             subtree_mutation: 0.0,
             restart_after: 0,
             local_search: 0.0,
+            init: Init::Random,
+            init_depth: 10,
         }
     }
 }
@@ -138,7 +164,8 @@ impl GeConfig {
         probability("crossover_rate", self.crossover_rate)?;
         probability("mutation_rate", self.mutation_rate)?;
         probability("subtree_mutation", self.subtree_mutation)?;
-        probability("local_search", self.local_search)
+        probability("local_search", self.local_search)?;
+        require("init_depth", f64::from(self.init_depth), "at least 1", self.init_depth >= 1)
     }
 }
 
@@ -222,6 +249,10 @@ mod tests {
         let c = parse("novel_key = \"phenotype\"\nsubtree_mutation = 0.3").unwrap();
         assert_eq!((c.novel_key, c.subtree_mutation), (NovelKey::Phenotype, 0.3));
         assert!(parse("novel_key = \"genes\"").unwrap_err().contains("codons"));
+        assert_eq!((c.init, c.init_depth), (Init::Random, 10));
+        let c = parse("init = \"sensible\"\ninit_depth = 8").unwrap();
+        assert_eq!((c.init, c.init_depth), (Init::Sensible, 8));
+        assert!(parse("init = \"ramped\"").unwrap_err().contains("sensible"));
     }
 
     #[test]
@@ -238,6 +269,7 @@ mod tests {
             (GeConfig { crossover_rate: 1.2, ..base.clone() }, "crossover_rate must be in [0, 1], got 1.2"),
             (GeConfig { mutation_rate: f64::NAN, ..base.clone() }, "mutation_rate"),
             (GeConfig { subtree_mutation: -0.5, ..base.clone() }, "subtree_mutation must be in [0, 1]"),
+            (GeConfig { init_depth: 0, ..base.clone() }, "init_depth must be at least 1"),
         ];
         for (c, want) in cases {
             let e = c.validate().unwrap_err().to_string();

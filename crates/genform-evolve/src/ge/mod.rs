@@ -56,11 +56,11 @@ mod reproduce;
 mod tests;
 
 pub use algorithm::{AnyCodonOptimizer, CodonAlgorithm};
-pub use config::{CodonRandomConfig, GeConfig, NovelKey};
+pub use config::{CodonRandomConfig, GeConfig, Init, NovelKey};
 pub use random::CodonRandom;
 
 use crate::config::ConfigError;
-use crate::objective::Objective;
+use crate::objective::{Objective, SensiblePlan};
 use crate::optimizer::{Individual, Optimizer};
 use crate::population::{Population, breed};
 use crate::selection::Selector;
@@ -203,11 +203,46 @@ impl Ge {
         self.seen.clear();
         self.seen_codons = 0;
         (self.record, self.stalled, self.restarts) = (f64::NEG_INFINITY, 0, 0);
-        let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
-        let stats = self.state.initialize(objective, self.config.population, |i| {
-            operators::random_codons(length, range, &mut Rng::stream(seed, &[GE_INIT_STREAM, i as u64]))
-        });
+        let genomes = self.fresh(objective, self.config.population, |i| vec![GE_INIT_STREAM, i as u64]);
+        let stats = self.state.initialize(objective, self.config.population, |i| genomes[i].clone());
         self.observe(stats)
+    }
+
+    /// `count` fresh genomes as `init` draws them, genome `i` from stream
+    /// `(seed, ids(i)…)`. Random: [`random_codons`](operators::random_codons).
+    /// Sensible: the objective's [`Objective::sensible_genome`], drawn
+    /// again (up to [`NOVEL_TRIES`] times, from the same stream) while its
+    /// phenotype key repeats an earlier genome's, so the batch starts with
+    /// distinct phenotypes as PonyGE2's sensible initialisation does;
+    /// random codons from that stream where the objective writes none.
+    /// Sequential: the same at any thread count.
+    fn fresh<O: Objective<Codons>>(&self, objective: &O, count: usize, ids: impl Fn(usize) -> Vec<u64>) -> Vec<Codons> {
+        let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
+        if self.config.init == Init::Random {
+            return (0..count)
+                .map(|i| operators::random_codons(length, range, &mut Rng::stream(seed, &ids(i))))
+                .collect();
+        }
+        let plan =
+            SensiblePlan { max_depth: self.config.init_depth, codon_range: range, max_length: self.config.max_length };
+        let mut scratch = objective.scratch();
+        let mut keys = HashSet::new();
+        (0..count)
+            .map(|i| {
+                let mut rng = Rng::stream(seed, &ids(i));
+                let mut repeat = None;
+                for _ in 0..NOVEL_TRIES {
+                    let Some(genome) = objective.sensible_genome(i, plan, &mut rng, &mut scratch) else { break };
+                    match objective.phenotype_key(&genome, &mut scratch) {
+                        Some(key) if !keys.insert(key) => {
+                            repeat.get_or_insert(genome);
+                        }
+                        _ => return genome,
+                    }
+                }
+                repeat.unwrap_or_else(|| operators::random_codons(length, range, &mut rng))
+            })
+            .collect()
     }
 
     /// A restart: the `elitism` best stay, the rest of generation
@@ -215,16 +250,11 @@ impl Ge {
     /// but from stream `(seed, GE_RESTART_STREAM, generation, i)`.
     fn restart<O: Objective<Codons>>(&mut self, objective: &O, generation: usize) -> GenerationStats {
         let started = Instant::now();
-        let (length, range, seed) = (self.config.initial_length, self.config.codon_range, self.seed);
-        let children = (0..self.config.population - self.config.elitism)
-            .map(|i| crate::evaluate::Child {
-                genome: operators::random_codons(
-                    length,
-                    range,
-                    &mut Rng::stream(seed, &[GE_RESTART_STREAM, generation as u64, i as u64]),
-                ),
-                fitness: None,
-            })
+        let count = self.config.population - self.config.elitism;
+        let children = self
+            .fresh(objective, count, |i| vec![GE_RESTART_STREAM, generation as u64, i as u64])
+            .into_iter()
+            .map(|genome| crate::evaluate::Child { genome, fitness: None })
             .collect();
         self.restarts += 1;
         let stats = self.state.advance(objective, self.config.elitism, children, Default::default(), started);

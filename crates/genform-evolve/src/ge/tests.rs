@@ -482,3 +482,69 @@ fn local_search_children_are_the_best_with_a_few_read_codons_redrawn() {
     assert_eq!(runs[0].0, runs[1].0);
     assert_eq!(format!("{:?}", runs[0].1), format!("{:?}", runs[1].1));
 }
+
+/// A toy that writes its own initial genomes: genome `index` is 10 codons,
+/// the first drawn from 0..4 (the phenotype key), then `index` and the
+/// plan's depth, codon range and length cap; fitness is the first codon.
+struct Writes;
+
+impl Objective<Codons> for Writes {
+    type Scratch = ();
+    fn scratch(&self) {}
+    fn evaluate(&self, codons: &Codons, _: &mut ()) -> f64 {
+        codons.first().map_or(f64::NAN, |&c| f64::from(c))
+    }
+    fn expressed(&self, codons: &Codons, _: &mut ()) -> Option<usize> {
+        Some(codons.len().min(1))
+    }
+    fn phenotype_key(&self, codons: &Codons, _: &mut ()) -> Option<u64> {
+        codons.first().map(|&c| u64::from(c))
+    }
+    fn sensible_genome(&self, index: usize, plan: SensiblePlan, rng: &mut Rng, _: &mut ()) -> Option<Codons> {
+        let head = rng.below(4) as u32;
+        let mut g = vec![head, index as u32, plan.max_depth, plan.codon_range, plan.max_length as u32];
+        g.resize(10, 0);
+        Some(g)
+    }
+}
+
+#[test]
+fn sensible_init_takes_the_objectives_genomes_with_distinct_phenotypes_first() {
+    let config = GeConfig {
+        population: 6,
+        initial_length: [3, 5],
+        max_length: 40,
+        codon_range: 50,
+        init: Init::Sensible,
+        init_depth: 7,
+        ..GeConfig::default()
+    };
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut ge = Ge::new(config.clone(), 3).unwrap();
+            ge.step(&Writes);
+            let mut g: Vec<Codons> = ge.population().iter().map(|i| i.genome.clone()).collect();
+            g.sort_by_key(|c| c[1]);
+            g
+        })
+    };
+    let genomes = run(1);
+    assert_eq!(genomes, run(2));
+    for (i, g) in genomes.iter().enumerate() {
+        // Written by the objective for index i, with the plan's limits.
+        assert_eq!(g[1..5], [i as u32, 7, 50, 40], "{g:?}");
+    }
+    // Four phenotypes exist: the first four genomes take one each (a
+    // repeated key is drawn again), the last two must repeat one.
+    let heads: HashSet<u32> = genomes[..4].iter().map(|g| g[0]).collect();
+    assert_eq!(heads.len(), 4, "{genomes:?}");
+    // An objective that writes none: random codons, exactly as `init = "random"`.
+    let random = GeConfig { init: Init::Random, ..config.clone() };
+    let (mut a, mut b) = (Ge::new(config, 3).unwrap(), Ge::new(random, 3).unwrap());
+    a.step(&PrefixToy);
+    b.step(&PrefixToy);
+    let genomes = |ge: &Ge| ge.population().iter().map(|i| i.genome.clone()).collect::<Vec<_>>();
+    assert_eq!(genomes(&a), genomes(&b));
+    assert!(a.population().iter().all(|i| (3..=5).contains(&i.genome.len())));
+}
