@@ -369,7 +369,11 @@ impl<'a> Parser<'a> {
     /// `name(` raw text `)`: the text as one [`Node::Var`] argument.
     fn raw_call(&mut self, name: &str, span: Span, open: Span, raw: super::RawArgument<'a>) -> PResult<Ast> {
         let start = self.lex.trivia_end(open.end as usize);
-        let end = (raw.scan)(self.src, start).clamp(start, self.src.len());
+        let mut end = (raw.scan)(self.src, start).clamp(start, self.src.len());
+        // A host's scanner is trusted with positions, not with UTF-8.
+        while !self.src.is_char_boundary(end) {
+            end -= 1;
+        }
         if end == start {
             return Err(Diagnostic::error(Span::new(start, start), format!("expected a {} in `{name}(…)`", raw.noun))
                 .with_hint(raw.hint));
