@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use super::{FileAssets, Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
 use crate::grammar::Loaded;
-use crate::output::write_atomic;
+use crate::output::write_atomic_with;
 
 /// The L-system row of the table.
 pub struct LSystems;
@@ -119,9 +119,13 @@ impl LoadedGrammar for LsFile {
             s
         };
         if let Some(path) = &request.string_out {
-            let mut text = string.display(&system.alphabet, true);
-            text.push('\n');
-            write_atomic(path, text.as_bytes())?;
+            // Written in two pieces: appending the newline would copy the
+            // whole string (megabytes for a plant) into a larger buffer.
+            let text = string.display(&system.alphabet, true);
+            write_atomic_with(path, |w| {
+                w.write_all(text.as_bytes())?;
+                w.write_all(b"\n")
+            })?;
         }
         let drawn = if string_only(request) && request.genome_out.is_none() {
             " (not drawn: only --string-out was asked for)".to_string()
