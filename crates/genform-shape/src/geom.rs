@@ -106,10 +106,11 @@ pub(crate) fn clip_slab(p: &[DVec2], axis: usize, lo: f64, hi: f64) -> Vec<DVec2
     clip(&upper, -n, -lo)
 }
 
-/// A convex counter-clockwise polygon grown outwards by `d` (each edge
-/// moved out by `d`, neighbours' lines intersected). Collinear corners are
-/// dropped first.
-pub(crate) fn offset_convex(p: &[DVec2], d: f64) -> Vec<DVec2> {
+/// A counter-clockwise polygon grown outwards by `d` (each edge moved out
+/// by `d`, neighbours' lines intersected: mitred corners). Corners on a
+/// straight run are dropped first. On a concave polygon a large `d` can
+/// make the outline cross itself; callers check.
+pub(crate) fn offset_miter(p: &[DVec2], d: f64) -> Vec<DVec2> {
     if d == 0.0 {
         return p.to_vec();
     }
@@ -117,7 +118,7 @@ pub(crate) fn offset_convex(p: &[DVec2], d: f64) -> Vec<DVec2> {
     let q: Vec<DVec2> = (0..n)
         .filter(|&i| {
             let (a, b, c) = (p[(i + n - 1) % n], p[i], p[(i + 1) % n]);
-            (b - a).perp_dot(c - b) > 1e-12 * (b - a).length() * (c - b).length()
+            (b - a).perp_dot(c - b).abs() > 1e-12 * (b - a).length() * (c - b).length()
         })
         .map(|i| p[i])
         .collect();
@@ -296,6 +297,111 @@ impl Weld {
     }
 }
 
+/// The points of `pts` on segment `a`–`b` strictly between its ends (within
+/// `eps`), in order from `a`.
+fn points_between(pts: &[DVec2], a: usize, b: usize, eps: f64) -> Vec<usize> {
+    let (pa, pb) = (pts[a], pts[b]);
+    let d = pb - pa;
+    let l2 = d.length_squared();
+    if l2 == 0.0 {
+        return Vec::new();
+    }
+    let mut on: Vec<(f64, usize)> = (0..pts.len())
+        .filter(|&k| k != a && k != b)
+        .filter_map(|k| {
+            let s = (pts[k] - pa).dot(d) / l2;
+            let off = (pts[k] - pa).perp_dot(d).abs() / l2.sqrt();
+            (s > 0.0 && s < 1.0 && off <= eps).then_some((s, k))
+        })
+        .collect();
+    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+    on.into_iter().map(|(_, k)| k).collect()
+}
+
+/// A ring of welded point ids with every welded point that lies on one of
+/// its edges inserted, so that neighbouring faces share their corners.
+fn full_ring(pts: &[DVec2], ids: &[usize], eps: f64) -> Vec<usize> {
+    let mut r = Vec::with_capacity(ids.len());
+    for k in 0..ids.len() {
+        let (a, b) = (ids[k], ids[(k + 1) % ids.len()]);
+        if a == b {
+            continue;
+        }
+        r.push(a);
+        r.extend(points_between(pts, a, b, eps));
+    }
+    r.dedup();
+    while r.len() > 1 && r.first() == r.last() {
+        r.pop();
+    }
+    r
+}
+
+/// Ear clipping that keeps every corner, including corners on a straight
+/// run (a T-junction with a neighbouring face must stay a vertex for the
+/// mesh to stay closed): a corner is an ear when it turns left and no other
+/// corner lies in or on its triangle. Triangles index `p` and wind
+/// counter-clockwise. A ring with no ear left is finished as a fan.
+fn ear_clip_all(p: &[DVec2], eps: f64) -> Vec<[usize; 3]> {
+    let mut ring: Vec<usize> = (0..p.len()).collect();
+    let mut tris = Vec::with_capacity(p.len().saturating_sub(2));
+    let inside = |x: DVec2, a: DVec2, b: DVec2, c: DVec2| {
+        let tol = -eps * (b - a).length().max((c - b).length());
+        (b - a).perp_dot(x - a) >= tol && (c - b).perp_dot(x - b) >= tol && (a - c).perp_dot(x - c) >= tol
+    };
+    while ring.len() > 3 {
+        let m = ring.len();
+        let ear = (0..m).find(|&i| {
+            let (a, b, c) = (ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]);
+            let (pa, pb, pc) = (p[a], p[b], p[c]);
+            (pb - pa).perp_dot(pc - pb) > eps * (pb - pa).length().max((pc - pb).length())
+                && !ring.iter().any(|&k| k != a && k != b && k != c && inside(p[k], pa, pb, pc))
+        });
+        let Some(i) = ear else { break };
+        tris.push([ring[(i + m - 1) % m], ring[i], ring[(i + 1) % m]]);
+        ring.remove(i);
+    }
+    for k in 1..ring.len().saturating_sub(1) {
+        tris.push([ring[0], ring[k], ring[k + 1]]);
+    }
+    tris
+}
+
+/// The hip roof over a simple (possibly concave) counter-clockwise
+/// footprint from its straight skeleton: each edge's face rises at slope
+/// `t`, the footprint closes the solid from below.
+fn skeleton_roof(f: &[DVec2], t: f64) -> Result<Mesh, String> {
+    let sk = crate::skeleton::skeleton(f, None)?;
+    let (lo, hi) = bbox(f).unwrap_or_default();
+    let eps = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
+    let mut weld = Weld { pts: Vec::new(), eps: 8.0 * eps };
+    let corners: Vec<usize> = sk.corners.iter().map(|q| weld.id(*q)).collect();
+    let faces: Vec<Vec<usize>> = sk.faces.iter().map(|fc| fc.iter().map(|q| weld.id(*q)).collect()).collect();
+    let pts = weld.pts.clone();
+    // Height: the distance from a face's edge line, the same on every face
+    // a point is on.
+    let k = sk.corners.len();
+    let mut h = vec![0.0f64; pts.len()];
+    for (e, fc) in faces.iter().enumerate() {
+        let (a, b) = (sk.corners[e], sk.corners[(e + 1) % k]);
+        let dir = (b - a).normalize();
+        for &id in fc {
+            h[id] = (dir.perp_dot(pts[id] - a) * t).max(0.0);
+        }
+    }
+    let pos: Vec<DVec3> = pts.iter().zip(&h).map(|(p, z)| DVec3::new(p.x, p.y, *z)).collect();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    for fc in &faces {
+        let ring = full_ring(&pts, fc, 8.0 * eps);
+        let flat: Vec<DVec2> = ring.iter().map(|&i| pts[i]).collect();
+        tris.extend(ear_clip_all(&flat, eps).into_iter().map(|t| t.map(|i| ring[i] as u32)));
+    }
+    let ring = full_ring(&pts, &corners, 8.0 * eps);
+    let flat: Vec<DVec2> = ring.iter().map(|&i| pts[i]).collect();
+    tris.extend(ear_clip_all(&flat, eps).into_iter().map(|t| [t[2], t[1], t[0]].map(|i| ring[i] as u32)));
+    Ok(to_mesh("roof", &pos, tris))
+}
+
 /// The closed roof solid over a convex counter-clockwise footprint in the
 /// xy plane (heights along +z from the eaves at z = 0): the points under
 /// the lower envelope of the roof planes, after growing the footprint by
@@ -320,12 +426,21 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
         ));
     }
     if !is_convex(foot) {
-        return Err(format!(
-            "`{name}` needs a convex footprint: roofs on concave footprints need a straight skeleton, which genform \
-             does not build yet (split the footprint into convex parts)"
-        ));
+        if kind != RoofKind::Hip {
+            return Err(format!(
+                "`{name}` needs a convex footprint; on a concave one (an L or U) use `roof_hip`, or split the \
+                 footprint into convex parts"
+            ));
+        }
+        let f = offset_miter(foot, overhang);
+        if f.len() < 3 || !is_simple(&f) || area2(&f) <= 0.0 {
+            return Err(format!(
+                "`{name}`: an overhang of {overhang} makes this concave footprint's outline cross itself; use a smaller one"
+            ));
+        }
+        return skeleton_roof(&f, angle.to_radians().tan());
     }
-    let f = offset_convex(foot, overhang);
+    let f = offset_miter(foot, overhang);
     let planes = roof_planes(&f, kind, angle.to_radians().tan());
     let (lo, hi) = bbox(&f).unwrap_or_default();
     let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
@@ -359,22 +474,6 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
         }
     }
     let pts = weld.pts.clone();
-    // Points on segment a–b strictly between its ends, in order from a.
-    let between = |a: usize, b: usize| {
-        let (pa, pb) = (pts[a], pts[b]);
-        let d = pb - pa;
-        let l2 = d.length_squared();
-        let mut on: Vec<(f64, usize)> = (0..pts.len())
-            .filter(|&k| k != a && k != b)
-            .filter_map(|k| {
-                let s = (pts[k] - pa).dot(d) / l2;
-                let off = (pts[k] - pa).perp_dot(d).abs() / l2.sqrt();
-                (s > 0.0 && s < 1.0 && off <= eps).then_some((s, k))
-            })
-            .collect();
-        on.sort_by(|x, y| x.0.total_cmp(&y.0));
-        on.into_iter().map(|(_, k)| k)
-    };
     // Vertices: bottom (z = 0) per welded point, top where the roof is
     // above the eaves (else the bottom one).
     let mut pos: Vec<DVec3> = pts.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
@@ -397,15 +496,7 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
     };
     // The bottom ring: footprint corners with every point on its edges.
     let corners: Vec<usize> = f.iter().map(|q| weld.id(*q)).collect();
-    let mut ring = Vec::new();
-    for k in 0..corners.len() {
-        let (a, b) = (corners[k], corners[(k + 1) % corners.len()]);
-        if a == b {
-            continue;
-        }
-        ring.push(a);
-        ring.extend(between(a, b));
-    }
+    let ring = full_ring(&pts, &corners, eps);
     let cf = centroid(&f);
     fan(&mut pos, &ring, DVec3::new(cf.x, cf.y, 0.0), true, &mut tris);
     // Walls: between the bottom ring and the roof along each edge.
@@ -421,16 +512,7 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
     }
     // Roof faces, each with every point on its edges.
     for (i, ids) in &regions {
-        let mut r: Vec<usize> = Vec::new();
-        for k in 0..ids.len() {
-            let (a, b) = (ids[k], ids[(k + 1) % ids.len()]);
-            if a == b {
-                continue;
-            }
-            r.push(a);
-            r.extend(between(a, b));
-        }
-        r.dedup();
+        let r = full_ring(&pts, ids, eps);
         if r.len() < 3 {
             continue;
         }
@@ -535,7 +617,7 @@ mod tests {
 
     #[test]
     fn offset_grows_rectangles_exactly() {
-        let o = offset_convex(&rect(4.0, 2.0), 0.5);
+        let o = offset_miter(&rect(4.0, 2.0), 0.5);
         assert!((area2(&o) / 2.0 - 5.0 * 3.0).abs() < 1e-12);
     }
 
@@ -590,9 +672,92 @@ mod tests {
     }
 
     #[test]
+    fn skeleton_hip_roofs_on_concave_footprints() {
+        // Through the skeleton, a rectangle gives the textbook hip volume
+        // t·d²(3w − d)/12 and ridge height t·d/2.
+        let r = skeleton_roof(&rect(10.0, 4.0), 1.0).unwrap();
+        assert_roof(&r, 2.0, 16.0 * 26.0 / 12.0);
+        let p = |c: &[(f64, f64)]| c.iter().map(|&(x, y)| DVec2::new(x, y)).collect::<Vec<_>>();
+        let shapes = [
+            (l_shape(), 0.5),
+            (p(&[(0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (4.0, 4.0), (4.0, 10.0), (0.0, 10.0)]), 2.0),
+            (
+                p(&[
+                    (0.0, 0.0),
+                    (12.0, 0.0),
+                    (12.0, 10.0),
+                    (9.0, 10.0),
+                    (9.0, 4.0),
+                    (3.0, 4.0),
+                    (3.0, 10.0),
+                    (0.0, 10.0),
+                ]),
+                2.0,
+            ),
+            (p(&[(0.0, 0.0), (9.0, 1.0), (8.0, 7.0), (5.0, 3.0), (2.5, 8.0), (-1.0, 5.0)]), f64::NAN),
+        ];
+        for (foot, ridge) in shapes {
+            let t = 30f64.to_radians().tan();
+            let m = roof_mesh(&foot, RoofKind::Hip, 30.0, 0.0).unwrap();
+            assert!(is_closed(&m), "{foot:?}");
+            // The volume is each face's area times its height at the
+            // face's centroid (the faces are planar).
+            let sk = crate::skeleton::skeleton(&foot, None).unwrap();
+            let k = sk.corners.len();
+            let expect: f64 = sk
+                .faces
+                .iter()
+                .enumerate()
+                .map(|(e, f)| {
+                    let (a, b) = (sk.corners[e], sk.corners[(e + 1) % k]);
+                    area2(f) / 2.0 * t * (b - a).normalize().perp_dot(centroid(f) - a)
+                })
+                .sum();
+            assert!((volume(&m) - expect).abs() < 1e-6 * expect, "{} vs {expect}", volume(&m));
+            if ridge.is_finite() {
+                assert!((max_z(&m) as f64 - ridge * t).abs() < 1e-5);
+            }
+            // With an overhang the roof covers more and rises higher.
+            let o = roof_mesh(&foot, RoofKind::Hip, 30.0, 0.2).unwrap();
+            assert!(is_closed(&o) && volume(&o) > volume(&m));
+        }
+    }
+
+    proptest::proptest! {
+        /// Hip roofs on random star-shaped (mostly concave) footprints are
+        /// closed solids no higher than the footprint's inradius allows.
+        #[test]
+        fn star_hip_roofs_are_closed(radii in proptest::collection::vec(1.0f64..10.0, 3..20)) {
+            let k = radii.len();
+            let foot: Vec<DVec2> = radii
+                .iter()
+                .enumerate()
+                .map(|(i, r)| DVec2::from_angle(std::f64::consts::TAU * i as f64 / k as f64) * *r)
+                .collect();
+            let m = roof_mesh(&foot, RoofKind::Hip, 45.0, 0.0).unwrap();
+            proptest::prop_assert!(is_closed(&m));
+            proptest::prop_assert!(volume(&m) > 0.0);
+            proptest::prop_assert!(max_z(&m) <= 10.0);
+        }
+    }
+
+    #[test]
     fn hostile_roofs_are_errors_or_empty() {
         let l = l_shape();
-        assert!(roof_mesh(&l, RoofKind::Hip, 30.0, 0.0).unwrap_err().contains("straight skeleton"));
+        assert!(roof_mesh(&l, RoofKind::Gable, 30.0, 0.0).unwrap_err().contains("use `roof_hip`"));
+        // An overhang that folds the notch of an L over itself.
+        let notch = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(5.0, 0.0),
+            DVec2::new(5.0, 4.0),
+            DVec2::new(3.0, 4.0),
+            DVec2::new(3.0, 0.5),
+            DVec2::new(2.0, 0.5),
+            DVec2::new(2.0, 4.0),
+            DVec2::new(0.0, 4.0),
+        ];
+        assert!(roof_mesh(&notch, RoofKind::Hip, 30.0, 0.0).is_ok());
+        assert!(roof_mesh(&notch, RoofKind::Hip, 30.0, 1.0).unwrap_err().contains("smaller one"));
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 90.0, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, f64::NAN, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 30.0, -1.0).is_err());

@@ -34,6 +34,7 @@ mod program;
 mod sample;
 mod scope;
 mod scratch;
+mod skeleton;
 
 use genform_core::{
     Diagnostics, ExpressError, Generator, GeneratorGraph, Genome, Limits, Mesh, Rng, Sampled, Scene, SourceFile,
