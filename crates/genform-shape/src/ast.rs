@@ -109,6 +109,64 @@ pub(crate) struct Piece {
     pub body: Vec<Stmt>,
 }
 
+/// What a component split (`comp`, `offset`, `setback`, `shapeL/U/O`)
+/// divides its scope into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CompKind {
+    /// `comp(f)`: the faces of a mass.
+    Faces,
+    /// `comp(e)`: the edges of a polygon.
+    Edges,
+    /// `offset(d)`: the inset (or grown) polygon and the border between.
+    Offset,
+    /// `setback(d)`: strips along the selected edges and the remainder.
+    Setback,
+    /// `shapeL(front, left)`: an L along the front and left and the remainder.
+    ShapeL,
+    /// `shapeU(front, left, right)`.
+    ShapeU,
+    /// `shapeO(front, right, back, left)`: a ring of four bands and the courtyard.
+    ShapeO,
+}
+
+impl CompKind {
+    /// Every kind, indexed by `kind as usize`.
+    pub const ALL: [CompKind; 7] = [
+        CompKind::Faces,
+        CompKind::Edges,
+        CompKind::Offset,
+        CompKind::Setback,
+        CompKind::ShapeL,
+        CompKind::ShapeU,
+        CompKind::ShapeO,
+    ];
+
+    /// The operation as written, and the arguments it takes.
+    pub fn name(self) -> (&'static str, usize) {
+        match self {
+            CompKind::Faces => ("comp(f)", 0),
+            CompKind::Edges => ("comp(e)", 0),
+            CompKind::Offset => ("offset", 1),
+            CompKind::Setback => ("setback", 1),
+            CompKind::ShapeL => ("shapeL", 2),
+            CompKind::ShapeU => ("shapeU", 3),
+            CompKind::ShapeO => ("shapeO", 4),
+        }
+    }
+
+    /// The operation a statement name starts, other than `comp`.
+    pub fn of_name(name: &str) -> Option<CompKind> {
+        Some(match name {
+            "offset" => CompKind::Offset,
+            "setback" => CompKind::Setback,
+            "shapeL" => CompKind::ShapeL,
+            "shapeU" => CompKind::ShapeU,
+            "shapeO" => CompKind::ShapeO,
+            _ => return None,
+        })
+    }
+}
+
 /// One arm of `comp(f)`: `front: A` or `left, right: { ... }`.
 #[derive(Clone, Debug)]
 pub(crate) struct CompArm {
@@ -149,9 +207,13 @@ pub(crate) enum Stmt {
         tile: ExprSrc,
         body: Vec<Stmt>,
     },
-    /// `comp(f) { front: A | side: B | top: C }`: the faces of the mass.
+    /// `comp(f) { front: A | side: B | top: C }`: the faces of the mass;
+    /// likewise `comp(e)`, `offset(d)`, `setback(d)` and `shapeL/U/O(…)`
+    /// with their arguments.
     Comp {
         span: Span,
+        kind: CompKind,
+        args: Vec<ExprSrc>,
         arms: Vec<CompArm>,
     },
     /// `[ ... ]`: the scope is saved before and restored after.

@@ -16,6 +16,7 @@
 
 mod build;
 mod occlusion;
+mod pieces;
 
 use crate::ShapeGrammar;
 use crate::fast_expr::Fast;
@@ -400,7 +401,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             Op::Taper { height, span } => self.taper(rule, height, span)?,
             Op::Shape(_) => self.shape(rule)?,
             Op::Roof { kind, args, span } => self.roof(rule, kind, args, span)?,
-            Op::CompBegin { first, n, span } => self.comp_begin(rule, first, n, span)?,
+            Op::CompBegin { kind, args, first, n, span } => self.comp_begin(rule, kind, args, first, n, span)?,
             Op::CompArm { arm, end } => self.comp_arm(arm, end),
             Op::CompNext { arm, body } => self.comp_next(arm, body),
             Op::CompEnd => self.comp_end(),

@@ -7,7 +7,7 @@
 
 use crate::ast::*;
 use crate::lexer::{Lexer, Tok, Token};
-use crate::program::face_selector;
+use crate::program::selector;
 use genform_core::expr::parse_prefix;
 use genform_core::{Diagnostic, Span};
 
@@ -505,6 +505,11 @@ impl<'a> Parser<'a> {
             "comp" => self.comp(),
             _ => {
                 let (target, args) = self.call("as a statement")?;
+                // `offset(d) { … }`: a component split, told from a call by
+                // its arms, so these names stay free for rules and values.
+                if let Some(kind) = CompKind::of_name(&target.name).filter(|_| self.is(&Tok::LBrace)) {
+                    return self.comp_call(kind, target, args);
+                }
                 self.expect(Tok::Semi, "after the statement")?;
                 Ok(Stmt::Call { target, args })
             }
@@ -601,29 +606,38 @@ impl<'a> Parser<'a> {
         Ok(Stmt::Split { axis, pieces })
     }
 
-    /// `comp(f) { front: A | side | top: { ... } | ... }`.
+    /// `comp(f) { front: A | side | top: { ... } | ... }` and `comp(e) { … }`.
     fn comp(&mut self) -> PResult<Stmt> {
         let span = self.bump().span;
         self.expect(Tok::LParen, "after `comp`")?;
-        match &self.tok.kind {
-            Tok::Ident(s) if s == "f" => {
-                self.bump();
-            }
+        let kind = match &self.tok.kind {
+            Tok::Ident(s) if s == "f" => CompKind::Faces,
+            Tok::Ident(s) if s == "e" => CompKind::Edges,
             _ => {
                 let d = Diagnostic::error(
                     self.tok.span,
-                    format!("expected `f` (faces) in `comp`, found {}", self.tok.kind.describe()),
+                    format!("expected `f` (faces) or `e` (edges) in `comp`, found {}", self.tok.kind.describe()),
                 )
-                .with_hint("only `comp(f)` is built: the faces of a mass; edges and vertices are not");
+                .with_hint(
+                    "`comp(f)` takes the faces of a mass, `comp(e)` the edges of a polygon; vertices are not built",
+                );
                 return Err(self.error(d));
             }
-        }
-        self.expect(Tok::RParen, "after `comp(f`")?;
-        self.expect(Tok::LBrace, "to start the arms of `comp`")?;
+        };
+        self.bump();
+        self.expect(Tok::RParen, &format!("after `{}`", &kind.name().0[..kind.name().0.len() - 1]))?;
+        self.comp_block(span, kind, Vec::new())
+    }
+
+    /// The arms of a component split from its `{`, after its name and
+    /// arguments.
+    fn comp_block(&mut self, span: Span, kind: CompKind, args: Vec<ExprSrc>) -> PResult<Stmt> {
+        let name = kind.name().0;
+        self.expect(Tok::LBrace, &format!("to start the arms of `{name}`"))?;
         let mut arms = Vec::new();
-        if self.comp_arms(&mut arms).is_err() {
+        if self.comp_arms(kind, &mut arms).is_err() {
             // The error is recorded: skip the rest of the arms, up to and
-            // including the `}` that closes them, and go on after `comp`.
+            // including the `}` that closes them, and go on after them.
             let mut depth = 0usize;
             loop {
                 match self.tok.kind {
@@ -638,24 +652,41 @@ impl<'a> Parser<'a> {
                 }
                 self.bump();
             }
-            return Ok(Stmt::Comp { span, arms });
+            return Ok(Stmt::Comp { span, kind, args, arms });
         }
-        self.expect(Tok::RBrace, "to close `comp` (arms are separated by `|`)")?;
-        Ok(Stmt::Comp { span, arms })
+        self.expect(Tok::RBrace, &format!("to close `{name}` (arms are separated by `|`)"))?;
+        Ok(Stmt::Comp { span, kind, args, arms })
     }
 
-    /// The arms of `comp(f) { … }`, up to (not including) the closing `}`.
-    fn comp_arms(&mut self, arms: &mut Vec<CompArm>) -> PResult<()> {
+    /// `offset(d) { … }` and the other splits written like a call: the
+    /// arguments must be numbers.
+    fn comp_call(&mut self, kind: CompKind, target: SymRef, args: Option<Vec<Arg>>) -> PResult<Stmt> {
+        let mut exprs = Vec::new();
+        for a in args.unwrap_or_default() {
+            match a {
+                Arg::Expr(e) => exprs.push(e),
+                Arg::Str(_, span) => {
+                    let d = Diagnostic::error(span, format!("`{}` takes numbers, not a string", target.name));
+                    return Err(self.error(d));
+                }
+            }
+        }
+        self.comp_block(target.span, kind, exprs)
+    }
+
+    /// The arms of a component split, up to (not including) the closing `}`.
+    fn comp_arms(&mut self, kind: CompKind, arms: &mut Vec<CompArm>) -> PResult<()> {
+        let name = kind.name().0;
+        let what = if kind == CompKind::Faces { "a face selector" } else { "a selector" };
         loop {
             let mut mask = 0u8;
             loop {
-                let (sel, sspan) = self.ident("a face selector", "in `comp`")?;
-                match face_selector(&sel) {
-                    Some(m) => mask |= m,
-                    None => {
-                        let d = Diagnostic::error(sspan, format!("unknown face selector `{sel}`")).with_hint(
-                            "selectors are front, back, left, right, top, bottom, side, vertical, horizontal, all",
-                        );
+                let (sel, sspan) = self.ident(what, &format!("in `{name}`"))?;
+                match selector(kind, &sel) {
+                    Ok(m) => mask |= m,
+                    Err(known) => {
+                        let d = Diagnostic::error(sspan, format!("unknown selector `{sel}` in `{name}`"))
+                            .with_hint(format!("selectors of `{name}` are {known}"));
                         return Err(self.error(d));
                     }
                 }
@@ -665,11 +696,11 @@ impl<'a> Parser<'a> {
                     break;
                 }
             }
-            self.expect(Tok::Colon, "after the face selector of a `comp` arm (`front: A`)")?;
+            self.expect(Tok::Colon, &format!("after the selector of a `{name}` arm (`{sel}: A`)", sel = "front"))?;
             let body = if self.is(&Tok::LBrace) {
                 self.nested_block()?
             } else {
-                let (target, args) = self.call("as a comp arm")?;
+                let (target, args) = self.call(&format!("as a `{name}` arm"))?;
                 self.eat(&Tok::Semi);
                 vec![Stmt::Call { target, args }]
             };

@@ -4,6 +4,7 @@
 //! keeps all its state in explicit stacks and never recurses on the Rust
 //! stack, however deep a derivation goes.
 
+use crate::ast::CompKind;
 use crate::fast_expr::Fast;
 use genform_core::Span;
 use genform_core::expr::Program;
@@ -95,9 +96,57 @@ pub(crate) const FACE_RIGHT: u8 = 8;
 pub(crate) const FACE_TOP: u8 = 16;
 pub(crate) const FACE_BOTTOM: u8 = 32;
 
+/// The pieces other than faces and edges: `inside` of `offset`,
+/// `remainder` of `setback` and `shapeL/U/O`.
+pub(crate) const PIECE_REST: u8 = 64;
+/// The `shape` of `shapeL/U/O`.
+pub(crate) const PIECE_SHAPE: u8 = 128;
+/// Every wall or edge class.
+pub(crate) const SIDE: u8 = FACE_FRONT | FACE_BACK | FACE_LEFT | FACE_RIGHT;
+
+/// The classes a selector names in a component split of `kind`, and the
+/// selectors it knows (for the hint).
+pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
+    let edge = |name: &str| match name {
+        "front" => Some(FACE_FRONT),
+        "back" => Some(FACE_BACK),
+        "left" => Some(FACE_LEFT),
+        "right" => Some(FACE_RIGHT),
+        "side" | "all" => Some(SIDE),
+        _ => None,
+    };
+    let (found, known) = match kind {
+        CompKind::Faces => {
+            (face_selector(name), "front, back, left, right, top, bottom, side, vertical, horizontal, all")
+        }
+        CompKind::Edges => (edge(name), "front, back, left, right, side, all"),
+        CompKind::Offset => (
+            match name {
+                "inside" => Some(PIECE_REST),
+                "border" => Some(SIDE),
+                _ => edge(name).filter(|_| name != "all" && name != "side"),
+            },
+            "inside, border (or the border's front, back, left, right)",
+        ),
+        CompKind::Setback => (
+            if name == "remainder" { Some(PIECE_REST) } else { edge(name) },
+            "front, back, left, right, side, all, remainder",
+        ),
+        CompKind::ShapeL | CompKind::ShapeU | CompKind::ShapeO => (
+            match name {
+                "shape" => Some(PIECE_SHAPE),
+                "remainder" => Some(PIECE_REST),
+                _ => None,
+            },
+            "shape, remainder",
+        ),
+    };
+    found.ok_or(known)
+}
+
 /// The face classes a `comp(f)` selector names.
 pub(crate) fn face_selector(name: &str) -> Option<u8> {
-    let side = FACE_FRONT | FACE_BACK | FACE_LEFT | FACE_RIGHT;
+    let side = SIDE;
     Some(match name {
         "front" => FACE_FRONT,
         "back" => FACE_BACK,
@@ -190,9 +239,12 @@ pub(crate) enum Op {
         args: u32,
         span: u32,
     },
-    /// Computes the faces of the mass and the arm of each, from the arm
-    /// masks `comps[first..first + n]`.
+    /// Computes the pieces of a component split (`CompKind as u8`; its
+    /// arguments are the expressions from `args`) and the arm of each,
+    /// from the arm masks `comps[first..first + n]`.
     CompBegin {
+        kind: u8,
+        args: u32,
         first: u32,
         n: u32,
         span: u32,

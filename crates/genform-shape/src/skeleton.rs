@@ -33,6 +33,11 @@ impl Vert {
     }
 }
 
+/// The next event: its time, and for a split the wavefront polygon, the
+/// index of the reflex vertex and of the edge it hits (`None` for edges
+/// that shrink to nothing).
+type Event = Option<(f64, Option<(usize, usize, usize)>)>;
+
 /// The skeleton of a polygon, or its wavefront at a given time.
 pub(crate) struct Skeleton {
     /// The polygon after repeated and collinear corners were dropped
@@ -102,8 +107,7 @@ impl Run {
 
     /// The earliest event at or after `t`: (time, Some((lav, v index,
     /// edge index)) for a split, None for an edge event).
-    fn next_event(&self, t: f64) -> Option<(f64, Option<(usize, usize, usize)>)> {
-        type Event = Option<(f64, Option<(usize, usize, usize)>)>;
+    fn next_event(&self, t: f64) -> Event {
         let mut best: Event = None;
         fn take(best: &mut Event, te: f64, what: Option<(usize, usize, usize)>) {
             if te.is_finite() && best.is_none_or(|(b, _)| te < b) {
@@ -234,7 +238,7 @@ impl Run {
 
 /// Drops repeated corners and corners on a straight run; orients the
 /// polygon counter-clockwise.
-fn clean(p: &[DVec2], eps: f64) -> Vec<DVec2> {
+pub(crate) fn clean(p: &[DVec2], eps: f64) -> Vec<DVec2> {
     let mut q: Vec<DVec2> = Vec::with_capacity(p.len());
     for &x in p {
         if q.last().is_none_or(|l: &DVec2| l.distance(x) > eps) {

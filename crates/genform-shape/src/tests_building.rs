@@ -269,3 +269,126 @@ fn building_parameters_are_genes() {
     }
     assert!(heights.len() > 1 && heights.iter().all(|h| [60, 90, 120, 150].contains(h)), "{heights:?}");
 }
+
+/// The areas of the polygons tagged `tag`, in emission order.
+fn tagged_areas(src: &str, tag: &str) -> Vec<f32> {
+    let s = scene(src);
+    let id = s.tags.iter().position(|t| t == tag).map(|i| i as u32);
+    s.polygons.iter().filter(|p| Some(p.tag) == id).map(|p| area(&p.points)).collect()
+}
+
+fn sum(v: &[f32]) -> f32 {
+    v.iter().sum()
+}
+
+#[test]
+fn offset_insets_and_borders_partition_the_polygon() {
+    let src = "A { lot(10, 6); offset(-1) { inside: { tag(\"in\"); shape; } | border: { tag(\"b\"); shape; } } }";
+    let inside = tagged_areas(src, "in");
+    let border = tagged_areas(src, "b");
+    assert_eq!(inside.len(), 1);
+    assert!((inside[0] - 32.0).abs() < 1e-4, "{inside:?}");
+    assert_eq!(border.len(), 4);
+    assert!((sum(&border) - 28.0).abs() < 1e-4, "{border:?}");
+    // Only the front border (the street side, +z): a trapezoid 10 → 8 wide.
+    let front = tagged_areas("A { lot(10, 6); offset(-1) { front: { tag(\"f\"); shape; } } }", "f");
+    assert_eq!(front.len(), 1);
+    assert!((front[0] - 9.0).abs() < 1e-4);
+    // An L of arms 2 wide: an inset by 1 consumes it; by 0.5 it is an L of
+    // arms 1 wide, 5 and 4 long beyond the corner square.
+    let l = "lot(0, 0, 6, 0, 6, 2, 2, 2, 2, 6, 0, 6)";
+    assert!(tagged_areas(&format!("A {{ {l}; offset(-1) {{ inside: {{ tag(\"in\"); shape; }} }} }}"), "in").is_empty());
+    let half = tagged_areas(&format!("A {{ {l}; offset(-0.5) {{ inside: {{ tag(\"in\"); shape; }} }} }}"), "in");
+    assert!((sum(&half) - (5.0 + 4.0)).abs() < 1e-4, "{half:?}");
+    // A dumbbell's neck closes: two pieces.
+    let db = "lot(0, 0, 6, 0, 6, 2, 10, 2, 10, 0, 16, 0, 16, 6, 10, 6, 10, 4, 6, 4, 6, 6, 0, 6)";
+    let two = tagged_areas(&format!("A {{ {db}; offset(-1.5) {{ inside: {{ tag(\"in\"); shape; }} }} }}"), "in");
+    assert_eq!(two.len(), 2);
+    assert!((sum(&two) - 18.0).abs() < 1e-4);
+    // Growing: the original inside, a mitred ring outside.
+    let grow = "A { lot(10, 6); offset(1) { inside: { tag(\"in\"); shape; } | border: { tag(\"b\"); shape; } } }";
+    assert!((sum(&tagged_areas(grow, "in")) - 60.0).abs() < 1e-4);
+    assert!((sum(&tagged_areas(grow, "b")) - (12.0 * 8.0 - 60.0)).abs() < 1e-4);
+}
+
+#[test]
+fn setbacks_strips_and_remainder() {
+    let src = "A { lot(10, 6); setback(2) { front: { tag(\"s\"); shape; } | remainder: { tag(\"r\"); shape; } } }";
+    assert_eq!(tagged_areas(src, "s"), [20.0]);
+    assert_eq!(tagged_areas(src, "r"), [40.0]);
+    // The strip lies on the street side (+z).
+    let s = scene(src);
+    let z: f32 = s.polygons[0].points.iter().map(|p| p.z).sum::<f32>() / s.polygons[0].points.len() as f32;
+    assert!(z > 1.9 && z < 2.1, "{z}");
+    // Two strips meeting at a corner are cut along its bisector.
+    let two =
+        "A { lot(10, 6); setback(2) { front, left: { tag(\"s\"); shape; } | remainder: { tag(\"r\"); shape; } } }";
+    let strips = tagged_areas(two, "s");
+    assert_eq!(strips.len(), 2);
+    assert!((sum(&strips) - (60.0 - 8.0 * 4.0)).abs() < 1e-4, "{strips:?}");
+    assert!((strips[0] - (20.0 - 2.0)).abs() < 1e-4, "{strips:?}");
+    assert!((sum(&tagged_areas(two, "r")) - 32.0).abs() < 1e-4);
+    // A setback deeper than the lot leaves no remainder.
+    assert!(
+        tagged_areas("A { lot(10, 6); setback(7) { all: shape | remainder: { tag(\"r\"); shape; } } }", "r").is_empty()
+    );
+}
+
+#[test]
+fn l_u_and_o_shapes() {
+    let shape = |op: &str| {
+        let src = format!(
+            "A {{ lot(10, 6); {op} {{ shape: {{ tag(\"s\"); shape; }} | remainder: {{ tag(\"r\"); shape; }} }} }}"
+        );
+        (tagged_areas(&src, "s"), tagged_areas(&src, "r"))
+    };
+    let (s, r) = shape("shapeL(2, 3)");
+    assert_eq!((s.len(), r.len()), (1, 1));
+    assert!((s[0] - (20.0 + 12.0)).abs() < 1e-4 && (r[0] - 28.0).abs() < 1e-4, "{s:?} {r:?}");
+    let (s, r) = shape("shapeU(2, 3, 1)");
+    assert!((s[0] - 36.0).abs() < 1e-4 && (r[0] - 24.0).abs() < 1e-4, "{s:?} {r:?}");
+    let (s, r) = shape("shapeO(1, 1, 1, 1)");
+    assert_eq!(s.len(), 4);
+    assert!((sum(&s) - 28.0).abs() < 1e-4 && (r[0] - 32.0).abs() < 1e-4, "{s:?} {r:?}");
+    // Widths past the lot: the whole lot is the shape.
+    let (s, r) = shape("shapeL(9, 1)");
+    assert!(r.is_empty() && (s[0] - 60.0).abs() < 1e-4);
+    // Mass them: an L-shaped block with a hip roof stays closed.
+    let s = scene("A { lot(10, 6); shapeL(2, 3) { shape: { extrude(3); shape; comp(f) { top: roof_hip(30) } } } }");
+    assert_eq!(s.meshes.len(), 2);
+}
+
+#[test]
+fn comp_e_places_a_scope_on_every_edge() {
+    let s = scene("A { lot(10, 6); comp(e) { front: { size(1, 1, 1); box; } | side: { size(0.5, 0.5, 0.5); box; } } }");
+    assert_eq!(s.instances.len(), 4);
+    let front = s.instances[0].transform.translation;
+    assert!(close(Vec3::from(front), Vec3::new(0.0, 0.0, 3.0)), "{front}");
+    // An L has six edges.
+    let l = scene("A { lot(0, 0, 6, 0, 6, 2, 2, 2, 2, 6, 0, 6); comp(e) { all: { size(1, 1, 1); box; } } }");
+    assert_eq!(l.instances.len(), 6);
+}
+
+#[test]
+fn hostile_component_splits_fail_clearly() {
+    let cases = [
+        ("A { offset(-1) { inside: shape } }", "needs a polygon scope"),
+        ("A { lot(2, 2); setback(-1) { front: shape } }", "must be ≥ 0"),
+        ("A { lot(2, 2); shapeL(-1, 1) { shape: shape } }", "must be ≥ 0"),
+        ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); shapeU(1, 1, 1) { shape: shape } }", "rectangular"),
+        // A notch 1 wide closes when grown by 1.
+        ("A { lot(0, 0, 5, 0, 5, 4, 3, 4, 3, 1, 2, 1, 2, 4, 0, 4); offset(1) { border: shape } }", "cross itself"),
+    ];
+    for (src, want) in cases {
+        let e = try_scene(src).unwrap_err().to_string();
+        assert!(e.contains(want) && e.contains("t.sg:1:"), "{src}: {e}");
+    }
+    // Grown past a concave corner the ring stays whole: a T's stem.
+    let t = "A { lot(0, 0, 6, 0, 6, 1, 3.5, 1, 3.5, 5, 2.5, 5, 2.5, 1, 0, 1); offset(1) { border: { tag(\"b\"); shape; } } }";
+    let ring = tagged_areas(t, "b");
+    assert_eq!(ring.len(), 8);
+    // The grown outline: 8 × 3 base with a 3 × 4 stem, less the T itself.
+    assert!((sum(&ring) - (8.0 * 3.0 + 3.0 * 4.0 - (6.0 + 4.0))).abs() < 1e-4, "{ring:?}");
+    // An inset past the inradius leaves nothing, without error.
+    assert!(scene("A { lot(2, 2); offset(-5) { inside: shape } }").is_empty());
+}

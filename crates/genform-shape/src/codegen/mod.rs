@@ -669,11 +669,26 @@ impl<'a> SymbolCx<'a> {
                 self.stmts(body);
                 self.code.push(Op::RepeatNext(start));
             }
-            Stmt::Comp { span, arms } => {
+            Stmt::Comp { span, kind, args, arms } => {
+                let (name, want) = kind.name();
+                if args.len() != want {
+                    let form = match kind {
+                        CompKind::Offset => "offset(distance)",
+                        CompKind::Setback => "setback(distance)",
+                        CompKind::ShapeL => "shapeL(front, left)",
+                        CompKind::ShapeU => "shapeU(front, left, right)",
+                        CompKind::ShapeO => "shapeO(front, right, back, left)",
+                        CompKind::Faces | CompKind::Edges => name,
+                    };
+                    self.arity(name, *span, form, args.len());
+                }
+                // The arguments are consecutive expressions.
+                let exprs: Vec<u32> = args.iter().map(|a| self.expr(a)).collect();
+                let args = exprs.first().copied().unwrap_or(0);
                 let first = self.comps.len() as u32;
                 self.comps.extend(arms.iter().map(|a| a.mask));
                 let at = self.span_index(*span);
-                self.code.push(Op::CompBegin { first, n: arms.len() as u32, span: at });
+                self.code.push(Op::CompBegin { kind: *kind as u8, args, first, n: arms.len() as u32, span: at });
                 for (k, arm) in arms.iter().enumerate() {
                     let j = self.code.len();
                     self.code.push(Op::CompArm { arm: k as u32, end: 0 });

@@ -14,7 +14,7 @@ impl SymbolCx<'_> {
         }
     }
 
-    fn arity(&mut self, name: &str, span: Span, form: &str, found: usize) {
+    pub(super) fn arity(&mut self, name: &str, span: Span, form: &str, found: usize) {
         let d = Diagnostic::error(span, format!("wrong number of arguments for `{name}`: found {found}"))
             .with_hint(format!("write `{form}`"));
         self.errors.push(d);

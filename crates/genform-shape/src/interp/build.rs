@@ -10,7 +10,9 @@
 //! in the xz plane (unit points `(x, z)`, counter-clockwise seen from +y)
 //! from y = −0.5 to +0.5.
 
+use super::pieces::{Piece, PieceGeom};
 use super::*;
+use crate::ast::CompKind;
 use crate::geom::{self, RoofKind};
 use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP};
 use crate::scope::NO_GEOM;
@@ -33,13 +35,14 @@ pub(super) enum GeomKind {
 /// nothing.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Geom {
-    kind: GeomKind,
+    pub(super) kind: GeomKind,
     start: u32,
-    len: u32,
+    pub(super) len: u32,
 }
 
 /// The unit square, counter-clockwise in a polygon's xy plane.
-const SQUARE: [DVec2; 4] = [DVec2::new(-0.5, -0.5), DVec2::new(0.5, -0.5), DVec2::new(0.5, 0.5), DVec2::new(-0.5, 0.5)];
+pub(super) const SQUARE: [DVec2; 4] =
+    [DVec2::new(-0.5, -0.5), DVec2::new(0.5, -0.5), DVec2::new(0.5, 0.5), DVec2::new(-0.5, 0.5)];
 /// The unit square as a footprint (x, z), counter-clockwise seen from +y.
 const FOOT_SQUARE: [DVec2; 4] =
     [DVec2::new(-0.5, 0.5), DVec2::new(0.5, 0.5), DVec2::new(0.5, -0.5), DVec2::new(-0.5, -0.5)];
@@ -52,11 +55,11 @@ fn is_unit_square(p: &[DVec2]) -> bool {
 }
 
 impl<'g, M: Mode> Interp<'g, M> {
-    fn geom_of(&self, id: u32) -> Option<Geom> {
+    pub(super) fn geom_of(&self, id: u32) -> Option<Geom> {
         (id != NO_GEOM).then(|| self.st.geoms[id as usize])
     }
 
-    fn points(&self, g: Geom) -> &[DVec2] {
+    pub(super) fn points(&self, g: Geom) -> &[DVec2] {
         &self.st.pts[g.start as usize..(g.start + g.len) as usize]
     }
 
@@ -72,7 +75,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     }
 
     #[cold]
-    fn fail_at(&self, span: genform_core::Span, msg: String) -> Stop {
+    pub(super) fn fail_at(&self, span: genform_core::Span, msg: String) -> Stop {
         let sym = &self.g.graph.symbols[self.top.sym as usize].name;
         let loc = self.g.file.location(span.start);
         ExpressError::Eval(format!("{loc}: rule `{sym}`: {msg}")).into()
@@ -253,7 +256,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     }
 
     /// The scope's polygon in absolute units, counter-clockwise.
-    fn absolute_foot(&self, g: Geom) -> Vec<DVec2> {
+    pub(super) fn absolute_foot(&self, g: Geom) -> Vec<DVec2> {
         let s = self.cur.size;
         let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
         if geom::area2(&foot) < 0.0 {
@@ -302,9 +305,54 @@ impl<'g, M: Mode> Interp<'g, M> {
         Ok(())
     }
 
-    /// `comp(f)`: lists the faces of the mass (a box scope counts as the
-    /// mass of its box) with the arm each goes to, and opens the loop.
-    pub(super) fn comp_begin(&mut self, rule: &'g RuleCode, first: u32, n: u32, span: u32) -> Result<(), Stop> {
+    /// A component split (`comp(f)`, `comp(e)`, `offset`, `setback`,
+    /// `shapeL/U/O`): lists its pieces with the arm each goes to (the first
+    /// arm whose selectors take the piece's class) and opens the loop.
+    pub(super) fn comp_begin(
+        &mut self,
+        rule: &'g RuleCode,
+        kind: u8,
+        args: u32,
+        first: u32,
+        n: u32,
+        span: u32,
+    ) -> Result<(), Stop> {
+        let masks = &rule.comps[first as usize..(first + n) as usize];
+        let kind = CompKind::ALL[kind as usize % CompKind::ALL.len()];
+        let pieces = match kind {
+            CompKind::Faces => self.faces(rule, span)?,
+            _ => {
+                let taken = masks.iter().fold(0u8, |a, m| a | m);
+                self.pieces(rule, kind, args, taken, span)?
+            }
+        };
+        let arm_of = |class: u8| masks.iter().position(|m| m & class != 0).map(|a| a as u32);
+        let start = self.st.faces.len();
+        let square = if pieces.iter().any(|f| matches!(f.2, PieceGeom::Square)) {
+            self.add_geom(GeomKind::Polygon, &SQUARE)?
+        } else {
+            NO_GEOM
+        };
+        for (class, mut scope, pts) in pieces {
+            let Some(arm) = arm_of(class) else { continue };
+            scope.geom = match pts {
+                PieceGeom::Polygon(p) => self.add_geom(GeomKind::Polygon, &p)?,
+                PieceGeom::Square => square,
+                PieceGeom::Line => NO_GEOM,
+            };
+            self.st.faces.push((arm, scope));
+        }
+        let base = self.top.env;
+        let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
+        let nf = (self.st.faces.len() - start) as u32;
+        self.st.loops.push(Loop::Comp { faces: start, n: nf, pos: 0, k: 0, index, count });
+        Ok(())
+    }
+
+    /// `comp(f)`: the faces of the mass (a box scope counts as the mass of
+    /// its box), each with its class and scope; a wall's polygon is the
+    /// unit square (`None`), a cap's its footprint.
+    fn faces(&mut self, rule: &'g RuleCode, span: u32) -> Result<Vec<Piece>, Stop> {
         let foot: Vec<DVec2> = match self.geom_of(self.cur.geom) {
             None => FOOT_SQUARE.to_vec(),
             Some(g) if g.kind == GeomKind::Mass => self.points(g).to_vec(),
@@ -315,14 +363,11 @@ impl<'g, M: Mode> Interp<'g, M> {
                 ));
             }
         };
-        let masks = &rule.comps[first as usize..(first + n) as usize];
-        let arm_of = |class: u8| masks.iter().position(|m| m & class != 0).map(|a| a as u32);
         let s = self.cur.size;
         let frame = self.cur.frame;
         let tag = self.cur.tag;
-        let start = self.st.faces.len();
         let abs: Vec<DVec2> = foot.iter().map(|q| DVec2::new(q.x * s.x, q.y * s.z)).collect();
-        let mut faces: Vec<(u32, ScopeState, Option<Vec<DVec2>>)> = Vec::new();
+        let mut faces = Vec::new();
         if abs.len() >= 3 && s.y != 0.0 {
             for i in 0..abs.len() {
                 let (a, b) = (abs[i], abs[(i + 1) % abs.len()]);
@@ -339,12 +384,11 @@ impl<'g, M: Mode> Interp<'g, M> {
                 } else {
                     FACE_LEFT
                 };
-                let Some(arm) = arm_of(class) else { continue };
                 let m = DMat3::from_cols(DVec3::new(d.x, 0.0, d.y), DVec3::Y, DVec3::new(nrm.x, 0.0, nrm.y));
                 let mid = (a + b) * 0.5;
                 let f = frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, 0.0, mid.y));
                 let scope = ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tag, geom: NO_GEOM };
-                faces.push((arm, scope, None));
+                faces.push((class, scope, PieceGeom::Square));
             }
         }
         if abs.len() >= 3 {
@@ -353,7 +397,6 @@ impl<'g, M: Mode> Interp<'g, M> {
                 (FACE_TOP, 0.5 * s.y, DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y)),
                 (FACE_BOTTOM, -0.5 * s.y, DMat3::from_cols(DVec3::X, DVec3::Z, DVec3::NEG_Y)),
             ] {
-                let Some(arm) = arm_of(class) else { continue };
                 let mut p: Vec<DVec2> = if class == FACE_TOP {
                     abs.iter().map(|q| DVec2::new(q.x, -q.y)).collect()
                 } else {
@@ -371,23 +414,10 @@ impl<'g, M: Mode> Interp<'g, M> {
                 let centre = axes * DVec3::new(c.x, c.y, 0.0) + DVec3::new(0.0, y, 0.0);
                 let f = frame * DAffine3::from_mat3_translation(axes, centre);
                 let scope = ScopeState { frame: f, size: DVec3::new(size.x, size.y, 0.0), tag, geom: NO_GEOM };
-                faces.push((arm, scope, Some(p)));
+                faces.push((class, scope, PieceGeom::Polygon(p)));
             }
         }
-        let square =
-            if faces.iter().any(|f| f.2.is_none()) { self.add_geom(GeomKind::Polygon, &SQUARE)? } else { NO_GEOM };
-        for (arm, mut scope, pts) in faces {
-            scope.geom = match pts {
-                Some(p) => self.add_geom(GeomKind::Polygon, &p)?,
-                None => square,
-            };
-            self.st.faces.push((arm, scope));
-        }
-        let base = self.top.env;
-        let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
-        let nf = (self.st.faces.len() - start) as u32;
-        self.st.loops.push(Loop::Comp { faces: start, n: nf, pos: 0, k: 0, index, count });
-        Ok(())
+        Ok(faces)
     }
 
     /// The next face of `arm` at or after `from`.

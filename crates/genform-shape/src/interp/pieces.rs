@@ -1,0 +1,284 @@
+//! The component splits of a polygon scope other than `comp(f)`:
+//! `comp(e)` (its edges), `offset(d)` (inset or grown polygon and the border
+//! between), `setback(d)` (strips along selected edges and the remainder)
+//! and `shapeL/U/O` (CGA's L, U and O footprints on a rectangular polygon).
+//!
+//! Every piece is a new scope in the polygon's plane. Pieces along an edge
+//! (border, setback strips, edges) turn their scope so that x runs along the
+//! edge and y inwards; the others keep the polygon's axes. An edge's class
+//! is its outward normal in the polygon's plane: −y `front` (a lot's street
+//! side, world +z), +y `back`, +x `right`, −x `left`.
+
+use super::build::GeomKind;
+use super::*;
+use crate::ast::CompKind;
+use crate::geom::{self, area2, bbox, clip};
+use crate::program::{FACE_BACK, FACE_FRONT, FACE_LEFT, FACE_RIGHT, PIECE_REST, PIECE_SHAPE, SIDE};
+use crate::scope::NO_GEOM;
+use crate::skeleton;
+use glam::{DAffine3, DMat3, DVec2};
+
+/// A piece's geometry: the unit square (a wall of `comp(f)`), a polygon in
+/// unit coordinates, or none (an edge: a scope of no height or depth).
+pub(super) enum PieceGeom {
+    Square,
+    Polygon(Vec<DVec2>),
+    Line,
+}
+
+/// A piece of a component split: its class (selector bits), scope and
+/// geometry.
+pub(super) type Piece = (u8, ScopeState, PieceGeom);
+
+/// The class of an edge running along `d` (counter-clockwise polygon).
+fn edge_class(d: DVec2) -> u8 {
+    let out = DVec2::new(d.y, -d.x);
+    if out.y.abs() >= out.x.abs() {
+        if out.y < 0.0 { FACE_FRONT } else { FACE_BACK }
+    } else if out.x > 0.0 {
+        FACE_RIGHT
+    } else {
+        FACE_LEFT
+    }
+}
+
+/// A rectangle `[lo, hi]` counter-clockwise.
+fn rect(lo: DVec2, hi: DVec2) -> Vec<DVec2> {
+    vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]
+}
+
+impl<'g, M: Mode> Interp<'g, M> {
+    /// A scope in the plane of the current polygon scope holding `abs`
+    /// (absolute points relative to the scope's centre), its x along the
+    /// unit direction `x`; `None` for a piece with no area.
+    fn piece(&self, class: u8, abs: &[DVec2], x: DVec2) -> Option<Piece> {
+        if abs.len() < 3 || area2(abs).abs() <= 1e-12 * bbox(abs).map_or(0.0, |(lo, hi)| (hi - lo).length_squared()) {
+            return None;
+        }
+        let y = x.perp();
+        let local: Vec<DVec2> = abs.iter().map(|p| DVec2::new(p.dot(x), p.dot(y))).collect();
+        let (lo, hi) = bbox(&local)?;
+        let (c, size) = ((lo + hi) * 0.5, hi - lo);
+        if size.x <= 0.0 || size.y <= 0.0 {
+            return None;
+        }
+        let unit = local.iter().map(|q| (*q - c) / size).collect();
+        let m = DMat3::from_cols(DVec3::new(x.x, x.y, 0.0), DVec3::new(y.x, y.y, 0.0), DVec3::Z);
+        let centre = x * c.x + y * c.y;
+        let frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(centre.x, centre.y, 0.0));
+        let scope = ScopeState { frame, size: DVec3::new(size.x, size.y, 0.0), tag: self.cur.tag, geom: NO_GEOM };
+        Some((class, scope, PieceGeom::Polygon(unit)))
+    }
+
+    /// The pieces of `comp(e)`, `offset`, `setback` and `shapeL/U/O` on the
+    /// current polygon scope; `taken` is every class some arm selects.
+    pub(super) fn pieces(
+        &mut self,
+        rule: &'g RuleCode,
+        kind: CompKind,
+        args: u32,
+        taken: u8,
+        span: u32,
+    ) -> Result<Vec<Piece>, Stop> {
+        let at = rule.spans[span as usize];
+        let name = kind.name().0;
+        let mut v = Vec::with_capacity(kind.name().1);
+        for k in 0..kind.name().1 as u32 {
+            v.push(self.num(rule, args + k, "a distance or width")?);
+        }
+        let g = match self.geom_of(self.cur.geom) {
+            Some(g) if g.kind == GeomKind::Polygon => g,
+            _ => {
+                return Err(self.fail_at(
+                    at,
+                    format!("`{name}` needs a polygon scope: a `lot`, or a face from `comp(f)` (e.g. `comp(f) {{ top: … }}`)"),
+                ));
+            }
+        };
+        if g.len < 3 {
+            return Ok(Vec::new());
+        }
+        let foot = self.absolute_foot(g);
+        let (lo, hi) = bbox(&foot).unwrap_or_default();
+        let eps = 1e-9 * (hi - lo).length();
+        let corners = skeleton::clean(&foot, eps);
+        let k = corners.len();
+        if k < 3 {
+            return Ok(Vec::new());
+        }
+        let dirs: Vec<DVec2> = (0..k).map(|i| (corners[(i + 1) % k] - corners[i]).normalize()).collect();
+        let mut out = Vec::new();
+        match kind {
+            CompKind::Faces => unreachable!("comp(f) has its own pieces"),
+            CompKind::Edges => {
+                for i in 0..k {
+                    let (a, b, d) = (corners[i], corners[(i + 1) % k], dirs[i]);
+                    let mid = (a + b) * 0.5;
+                    let y = d.perp();
+                    let m = DMat3::from_cols(DVec3::new(d.x, d.y, 0.0), DVec3::new(y.x, y.y, 0.0), DVec3::Z);
+                    let frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, mid.y, 0.0));
+                    let size = DVec3::new(a.distance(b), 0.0, 0.0);
+                    out.push((
+                        edge_class(d),
+                        ScopeState { frame, size, tag: self.cur.tag, geom: NO_GEOM },
+                        PieceGeom::Line,
+                    ));
+                }
+            }
+            CompKind::Offset => {
+                let d = v[0];
+                if d < 0.0 {
+                    let fail = |m: String| self.fail_at(at, format!("`offset`: {m}"));
+                    let inset = skeleton::skeleton(&corners, Some(-d)).map_err(fail)?;
+                    for f in &inset.fronts {
+                        out.extend(self.piece(PIECE_REST, f, DVec2::X));
+                    }
+                    if taken & SIDE != 0 {
+                        let sk = skeleton::skeleton(&corners, None)
+                            .map_err(|m| self.fail_at(at, format!("`offset`: {m}")))?;
+                        for (i, face) in sk.faces.iter().enumerate() {
+                            let (a, dir) =
+                                (sk.corners[i], (sk.corners[(i + 1) % sk.corners.len()] - sk.corners[i]).normalize());
+                            let n = dir.perp();
+                            let band = clip(face, n, n.dot(a) - d);
+                            out.extend(self.piece(edge_class(dir), &band, dir));
+                        }
+                    }
+                } else {
+                    out.extend(self.piece(PIECE_REST, &corners, DVec2::X));
+                    if d > 0.0 && taken & SIDE != 0 {
+                        let grown = geom::offset_miter(&corners, d);
+                        if grown.len() != k || !geom::is_simple(&grown) {
+                            return Err(self.fail_at(
+                                at,
+                                format!(
+                                    "`offset({d})` makes this polygon's outline cross itself; use a smaller distance"
+                                ),
+                            ));
+                        }
+                        for i in 0..k {
+                            let j = (i + 1) % k;
+                            let band = [corners[i], grown[i], grown[j], corners[j]];
+                            // Past a concave corner's reach the bands fold over.
+                            if area2(&band) <= 0.0 || !geom::is_simple(&band) {
+                                return Err(self.fail_at(
+                                    at,
+                                    format!(
+                                        "`offset({d})`: the border folds over at this polygon's concave corners; use a \
+                                         smaller distance, or select only `inside`"
+                                    ),
+                                ));
+                            }
+                            out.extend(self.piece(edge_class(dirs[i]), &band, dirs[i]));
+                        }
+                    }
+                }
+            }
+            CompKind::Setback => {
+                let d = v[0];
+                if d < 0.0 {
+                    return Err(self.fail_at(at, format!("`setback`: the distance must be ≥ 0, found {d}")));
+                }
+                // The selected edges, one per line (collinear edges share a strip).
+                let line = |i: usize| (dirs[i].perp(), dirs[i].perp().dot(corners[i]));
+                let mut sel: Vec<usize> = Vec::new();
+                for (i, dir) in dirs.iter().enumerate() {
+                    let (n, c) = line(i);
+                    let same = |j: &usize| {
+                        let (m, e) = line(*j);
+                        m.distance(n) <= 1e-9 && (e - c).abs() <= eps
+                    };
+                    if edge_class(*dir) & taken != 0 && !sel.iter().any(same) {
+                        sel.push(i);
+                    }
+                }
+                for (si, &i) in sel.iter().enumerate() {
+                    let (n, c) = line(i);
+                    // Inside the band, and nearer this edge's line than any
+                    // other selected one's (the corner between two strips is
+                    // cut along the bisector; ties go to the earlier edge).
+                    let mut strip = clip(&corners, n, c + d);
+                    for (sj, &j) in sel.iter().enumerate() {
+                        if sj == si || strip.is_empty() {
+                            continue;
+                        }
+                        let (m, e) = line(j);
+                        let bias = if sj < si { -eps } else { eps };
+                        strip = clip(&strip, n - m, c - e + bias);
+                    }
+                    out.extend(self.piece(edge_class(dirs[i]), &strip, dirs[i]));
+                }
+                let mut rest = corners.clone();
+                for &i in &sel {
+                    let (n, c) = line(i);
+                    rest = clip(&rest, -n, -(c + d));
+                }
+                out.extend(self.piece(PIECE_REST, &rest, DVec2::X));
+            }
+            CompKind::ShapeL | CompKind::ShapeU | CompKind::ShapeO => {
+                if let Some(w) = v.iter().find(|w| **w < 0.0) {
+                    return Err(self.fail_at(at, format!("`{name}`: the widths must be ≥ 0, found {w}")));
+                }
+                let box_area = (hi - lo).x * (hi - lo).y;
+                if (area2(&foot) / 2.0 - box_area).abs() > 1e-9 * box_area {
+                    return Err(self.fail_at(
+                        at,
+                        format!(
+                            "`{name}` needs a rectangular polygon (a `lot(w, d)` or a wall); this one does not fill its box \
+                             (use `setback` on other outlines)"
+                        ),
+                    ));
+                }
+                let (w, dp) = (hi.x - lo.x, hi.y - lo.y);
+                // Inner corner of the remainder, each width clamped to the rectangle.
+                let front = v[0].min(dp);
+                let y0 = lo.y + front;
+                let (x0, x1, y1) = match kind {
+                    CompKind::ShapeL => (lo.x + v[1].min(w), hi.x, hi.y),
+                    CompKind::ShapeU => (lo.x + v[1].min(w), (hi.x - v[2]).max(lo.x + v[1].min(w)), hi.y),
+                    _ => ((lo.x + v[3]).min(hi.x), (hi.x - v[1]).max((lo.x + v[3]).min(hi.x)), (hi.y - v[2]).max(y0)),
+                };
+                let rest_empty = x1 - x0 <= eps || y1 - y0 <= eps;
+                let shape: Vec<Vec<DVec2>> = if rest_empty {
+                    vec![rect(lo, hi)]
+                } else {
+                    match kind {
+                        CompKind::ShapeL => vec![vec![
+                            lo,
+                            DVec2::new(hi.x, lo.y),
+                            DVec2::new(hi.x, y0),
+                            DVec2::new(x0, y0),
+                            DVec2::new(x0, hi.y),
+                            DVec2::new(lo.x, hi.y),
+                        ]],
+                        CompKind::ShapeU => vec![vec![
+                            lo,
+                            DVec2::new(hi.x, lo.y),
+                            hi,
+                            DVec2::new(x1, hi.y),
+                            DVec2::new(x1, y0),
+                            DVec2::new(x0, y0),
+                            DVec2::new(x0, hi.y),
+                            DVec2::new(lo.x, hi.y),
+                        ]],
+                        // A ring is no simple polygon: four bands, front and
+                        // back across the whole width.
+                        _ => vec![
+                            rect(lo, DVec2::new(hi.x, y0)),
+                            rect(DVec2::new(x1, y0), DVec2::new(hi.x, y1)),
+                            rect(DVec2::new(lo.x, y1), hi),
+                            rect(DVec2::new(lo.x, y0), DVec2::new(x0, y1)),
+                        ],
+                    }
+                };
+                for p in &shape {
+                    out.extend(self.piece(PIECE_SHAPE, &skeleton::clean(p, eps), DVec2::X));
+                }
+                if !rest_empty {
+                    out.extend(self.piece(PIECE_REST, &rect(DVec2::new(x0, y0), DVec2::new(x1, y1)), DVec2::X));
+                }
+            }
+        }
+        Ok(out)
+    }
+}
