@@ -24,6 +24,19 @@ fn the_row_house_samples_with_no_flags_into_a_glb_and_an_obj() {
 }
 
 #[test]
+fn the_l_house_and_the_office_block_sample_with_no_flags_reproducibly() {
+    let tmp = tempfile::tempdir().unwrap();
+    for name in ["l_house", "office_block"] {
+        let g = root().join(format!("examples/shape/{name}.sg"));
+        ok(tmp.path(), &["sample", s(&g), "--out", "a.glb"]);
+        ok(tmp.path(), &["sample", s(&g), "--out", "b.glb"]);
+        let a = std::fs::read(tmp.path().join("a.glb")).unwrap();
+        assert!(a.starts_with(b"glTF") && a.len() > 1000, "{name}: {} bytes", a.len());
+        assert_eq!(a, std::fs::read(tmp.path().join("b.glb")).unwrap(), "{name}: same seed, same bytes");
+    }
+}
+
+#[test]
 fn the_building_envelope_scene_evolves_reproducibly() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = small_scene(

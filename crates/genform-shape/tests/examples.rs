@@ -18,6 +18,8 @@ const EXAMPLES: &[&str] = &[
     "row_house",
     "setback_tower",
     "l_wings",
+    "l_house",
+    "office_block",
 ];
 
 /// Loads assets from `examples/shape/`, as the CLI does next to the grammar.
@@ -212,6 +214,52 @@ fn ritchie_spaceship_has_at_least_two_segments_and_symmetric_wings() {
         xs.retain(|x| *x != 0);
         let pos = xs.iter().filter(|x| **x > 0).count();
         assert_eq!(pos * 2, xs.len(), "seed {seed}");
+    }
+}
+
+/// Whether a mesh is closed and consistently oriented: every directed edge
+/// once, and its reverse once.
+fn is_closed(m: &Mesh) -> bool {
+    let mut edges = HashMap::<(u32, u32), i32>::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            *edges.entry((t[k], t[(k + 1) % 3])).or_default() += 1;
+        }
+    }
+    edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+}
+
+#[test]
+fn the_l_house_has_one_closed_hip_roof_over_its_l() {
+    let g = load("l_house");
+    for seed in 0..200 {
+        let (_, scene, _) = sample(&g, seed);
+        let roofs: Vec<&Mesh> = scene.meshes.iter().map(|m| &**m).filter(|m| m.name == "roof").collect();
+        assert_eq!(roofs.len(), 1, "seed {seed}");
+        assert!(is_closed(roofs[0]), "seed {seed}: the roof is not closed");
+        // The L's hip roof has at least one face per footprint edge (six).
+        assert!(roofs[0].triangles.len() >= 6 + 4, "seed {seed}");
+        // The L mass and the garden.
+        assert!(scene.meshes.iter().any(|m| m.name == "mass" && is_closed(m)), "seed {seed}");
+        assert_eq!(scene.polygons.len(), 1, "seed {seed}: the garden");
+    }
+}
+
+#[test]
+fn the_office_block_has_plaza_courtyard_terrace_and_parapet() {
+    let g = load("office_block");
+    for seed in 0..200 {
+        let (_, scene, _) = sample(&g, seed);
+        // Coloured tags are named `tag#rrggbb`.
+        let tag = |t: &str| scene.tags.iter().position(|n| n.split('#').next() == Some(t)).map(|i| i as u32);
+        let polys = |t: &str| scene.polygons.iter().filter(|p| Some(p.tag) == tag(t)).count();
+        assert_eq!(polys("plaza"), 1, "seed {seed}");
+        assert_eq!(polys("lawn"), 1, "seed {seed}");
+        assert_eq!(polys("paving"), 4, "seed {seed}: one border band per courtyard edge");
+        assert_eq!(polys("terrace"), 1, "seed {seed}");
+        // The parapet: one extruded band per edge of the U (eight).
+        let parapets = scene.instances.iter().filter(|i| Some(i.tag) == tag("parapet")).count();
+        assert_eq!(parapets, 8, "seed {seed}");
     }
 }
 
