@@ -37,22 +37,25 @@ fn the_l_house_and_the_office_block_sample_with_no_flags_reproducibly() {
 }
 
 #[test]
-fn the_building_envelope_scene_evolves_reproducibly() {
-    let tmp = tempfile::tempdir().unwrap();
-    let scene = small_scene(
-        tmp.path(),
-        "building_envelope.toml",
-        &[("population = 60", "population = 16\nelitism = 3"), ("generations = 30", "generations = 4")],
-    );
-    let sc = s(&scene);
-    ok(tmp.path(), &["evolve", sc, "--seed", "5", "--threads", "1", "--out", "one", "-q"]);
-    ok(tmp.path(), &["evolve", sc, "--seed", "5", "--threads", "2", "--out", "two", "-q"]);
-    let read = |d: &str, f: &str| std::fs::read_to_string(tmp.path().join(d).join(f)).unwrap();
-    assert_eq!(fitness_columns(&read("one", "stats.csv")), fitness_columns(&read("two", "stats.csv")));
-    assert_eq!(read("one", "best-genome.json"), read("two", "best-genome.json"));
-    let run = json(&tmp.path().join("one/run.json"));
-    assert!(run["best_fitness"].as_f64().unwrap() > 0.0, "{run}");
-    assert!(std::fs::metadata(tmp.path().join("one/best.glb")).unwrap().len() > 0);
+fn the_building_scenes_evolve_reproducibly() {
+    // The voxel envelope and the façade silhouette.
+    for (name, least) in [("building_envelope.toml", 0.0), ("building_facade.toml", 0.9)] {
+        let tmp = tempfile::tempdir().unwrap();
+        let scene = small_scene(
+            tmp.path(),
+            name,
+            &[("population = 60", "population = 16\nelitism = 3"), ("generations = 30", "generations = 4")],
+        );
+        let sc = s(&scene);
+        ok(tmp.path(), &["evolve", sc, "--seed", "5", "--threads", "1", "--out", "one", "-q"]);
+        ok(tmp.path(), &["evolve", sc, "--seed", "5", "--threads", "2", "--out", "two", "-q"]);
+        let read = |d: &str, f: &str| std::fs::read_to_string(tmp.path().join(d).join(f)).unwrap();
+        assert_eq!(fitness_columns(&read("one", "stats.csv")), fitness_columns(&read("two", "stats.csv")), "{name}");
+        assert_eq!(read("one", "best-genome.json"), read("two", "best-genome.json"), "{name}");
+        let run = json(&tmp.path().join("one/run.json"));
+        assert!(run["best_fitness"].as_f64().unwrap() > least, "{name}: {run}");
+        assert!(std::fs::metadata(tmp.path().join("one/best.glb")).unwrap().len() > 0);
+    }
 }
 
 #[test]
