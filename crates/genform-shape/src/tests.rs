@@ -190,6 +190,35 @@ fn meshes_are_scene_assets() {
 }
 
 #[test]
+fn insert_fits_an_asset_to_the_scope() {
+    struct Off;
+    impl AssetResolver for Off {
+        fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
+            // A tetrahedron off the origin: bounds (2, 1, −1) to (6, 3, 0).
+            Mesh::from_obj(path, "v 2 1 -1\nv 6 1 -1\nv 2 3 -1\nv 2 1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+        }
+    }
+    let src = "mesh m = \"m.obj\"; A { translate(10, 0, 0); size(1, 2, 3); insert(m); insert(m); mesh(m); }";
+    let (g, _) = compile(&SourceFile::new("i.sg", src), &Off).unwrap();
+    let (_, s) = run(&g, 1);
+    // One fitted copy for both inserts, beside the asset as declared.
+    assert_eq!(s.instances.len(), 3);
+    assert_eq!(s.instances[0].primitive, s.instances[1].primitive);
+    assert_ne!(s.instances[0].primitive, s.instances[2].primitive);
+    let Primitive::Mesh(k) = s.instances[0].primitive else { panic!() };
+    let (lo, hi) = s.meshes[k as usize]
+        .positions
+        .iter()
+        .map(|p| s.instances[0].transform.transform_point3(*p))
+        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    // The scope's box exactly: centre (10, 0, 0), size (1, 2, 3).
+    assert!(close(lo, Vec3::new(9.5, -1.0, -1.5)) && close(hi, Vec3::new(10.5, 1.0, 1.5)), "{lo} {hi}");
+    // An unknown asset is an error naming it.
+    let bad = compile(&SourceFile::new("i.sg", "A { insert(tree); }"), &Off).unwrap_err();
+    assert!(bad.short().contains("unknown mesh `tree`"), "{}", bad.short());
+}
+
+#[test]
 fn inherited_arguments_and_conditions() {
     let s = scene(
         "S { A(2, 0); A(3, 1); }

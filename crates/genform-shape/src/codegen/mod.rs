@@ -31,6 +31,7 @@ pub(crate) const OPS: &[&str] = &[
     "frustum",
     "taper_box",
     "mesh",
+    "insert",
     "lot",
     "extrude",
     "taper",
@@ -49,6 +50,30 @@ const EXPR_CONSTANTS: &[&str] = &["pi", "PI", "tau", "e", "true", "false"];
 const DISTRIBUTIONS: &[&str] = &["uniform", "normal", "int", "choice"];
 /// Most links one slot may declare.
 const MAX_SLOT_COUNT: f64 = 65_535.0;
+
+impl Globals {
+    /// The index of asset `i` fitted to the unit cube (CGA's `i()`): its
+    /// bounding box centred and stretched to [−0.5, 0.5] on every axis it
+    /// extends along (a flat asset stays flat, centred), so the scope's
+    /// size is the inserted asset's size. Made once per asset, kept beside
+    /// the declared ones under a name no declaration can take.
+    pub fn fitted_mesh(&mut self, i: usize) -> usize {
+        let key = format!("{} (fitted)", self.meshes[i].0);
+        if let Some(j) = self.meshes.iter().position(|(n, _)| *n == key) {
+            return j;
+        }
+        let mut fit = (*self.meshes[i].1).clone();
+        if let Some((lo, hi)) = fit.bounds() {
+            let (c, e) = ((lo + hi) * 0.5, hi - lo);
+            let scale = glam::Vec3::select(e.cmpgt(glam::Vec3::ZERO), e.recip(), glam::Vec3::ONE);
+            for p in &mut fit.positions {
+                *p = (*p - c) * scale;
+            }
+        }
+        self.meshes.push((key, Arc::new(fit)));
+        self.meshes.len() - 1
+    }
+}
 
 /// A source rule as the compiler sees it.
 pub(crate) struct RuleInfo {

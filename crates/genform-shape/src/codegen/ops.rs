@@ -232,13 +232,14 @@ impl SymbolCx<'_> {
                 let at = self.span_index(span);
                 self.code.push(Op::Roof { kind, args: e[0], span: at });
             }
-            "mesh" => {
+            "mesh" | "insert" => {
                 let Some(m) = Self::bare(args).map(str::to_string) else {
-                    self.arity(name, span, "mesh(name)", args.len());
+                    self.arity(name, span, &format!("{name}(name)"), args.len());
                     return;
                 };
                 match self.g.meshes.iter().position(|(n, _)| *n == m) {
                     Some(i) => {
+                        let i = if name == "insert" { self.g.fitted_mesh(i) } else { i };
                         self.emits = true;
                         self.code.push(Op::Emit(Prim::Mesh(i as u32)));
                     }
