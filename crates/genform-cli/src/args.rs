@@ -246,9 +246,10 @@ pub struct SampleArgs {
     #[arg(long, value_name = "K")]
     pub smooth: Option<u32>,
     /// Shape grammars (.sg): derive once per lot of this GeoJSON file
-    /// (Polygon and MultiPolygon features, metres), lot k with seed
-    /// SEED + k, instead of the `footprints` the grammar declares.
-    #[arg(long, value_name = "LOTS.geojson")]
+    /// (Polygon and MultiPolygon features, metres) or OBJ file (faces facing
+    /// up), lot k with seed SEED + k, instead of the `footprints` the
+    /// grammar declares.
+    #[arg(long, value_name = "LOTS.geojson|LOTS.obj")]
     pub footprints: Option<PathBuf>,
     #[command(flatten)]
     pub limits: LimitArgs,

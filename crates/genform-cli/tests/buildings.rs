@@ -108,6 +108,14 @@ fn the_city_block_derives_once_per_footprint_with_its_own_seed() {
         .collect();
     let (lo, hi) = xs.iter().fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
     assert!(lo > -0.5 && lo < 0.5 && hi > 29.5 && hi < 30.5, "the lots stand where the file puts them: x {lo}..{hi}");
+    // The same two lots as the up-facing faces of an OBJ file (x, z).
+    let obj_lots = "v 0 0 0\nv 10 0 0\nv 10 0 -8\nv 0 0 -8\nv 20 0 0\nv 30 0 0\nv 30 0 -4\nv 24 0 -4\nv 24 0 -12\nv 20 0 -12\n\
+                    f 1 2 3 4\nf 5 6 7 8 9 10\nf 4 3 2 1\n";
+    std::fs::write(tmp.path().join("lots.obj"), obj_lots).unwrap();
+    let from_obj = ok(tmp.path(), &["sample", s(&block), "--footprints", "lots.obj", "--out", "from_obj.obj"]);
+    assert!(from_obj.stderr().contains("2 footprints (seeds 0–1)"), "{}", from_obj.show());
+    let same = std::fs::read_to_string(tmp.path().join("from_obj.obj")).unwrap().replace("from_obj.mtl", "two.mtl");
+    assert!(obj == same, "the OBJ's lots give the model the GeoJSON's give");
     // Errors name the file and the lot.
     std::fs::write(
         tmp.path().join("bad.geojson"),

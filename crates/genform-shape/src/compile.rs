@@ -100,7 +100,7 @@ pub(crate) fn compile(
                 match assets.load_footprints(&path) {
                     Ok(polys) if polys.is_empty() => errors.push(
                         Diagnostic::error(pspan, format!("\"{path}\" holds no footprint"))
-                            .with_hint("a GeoJSON file of Polygon or MultiPolygon features"),
+                            .with_hint("a GeoJSON file of Polygon or MultiPolygon features, or an OBJ file of faces facing up (+y)"),
                     ),
                     Ok(polys) => {
                         for (k, corners) in polys.iter().enumerate() {

@@ -369,7 +369,7 @@ impl genform_shape::AssetResolver for FileAssets {
     }
 
     fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
-        crate::footprints::read_geojson(&self.base.join(path)).map_err(|e| format!("{e:#}"))
+        crate::footprints::read_footprints(&self.base.join(path)).map_err(|e| format!("{e:#}"))
     }
 }
 

@@ -40,9 +40,12 @@ impl Formalism for ShapeGrammars {
 fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Vec<ShapeGrammar>> {
     match &request.footprints {
         Some(path) => {
-            let lots = crate::footprints::read_geojson(path)?;
+            let lots = crate::footprints::read_footprints(path)?;
             if lots.is_empty() {
-                anyhow::bail!("{} holds no footprint (Polygon or MultiPolygon)", path.display());
+                anyhow::bail!(
+                    "{} holds no footprint (a GeoJSON Polygon or MultiPolygon, or an OBJ face facing up)",
+                    path.display()
+                );
             }
             let on = |(k, c): (usize, &Vec<[f64; 2]>)| {
                 g.on_footprint(c).map_err(|why| anyhow::anyhow!("{}: footprint {} {why}", path.display(), k + 1))
