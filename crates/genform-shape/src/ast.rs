@@ -280,5 +280,8 @@ pub(crate) enum Item {
     Mesh(String, Span, String, Span),
     /// `footprints "path";`: the path and its span.
     Footprints(String, Span),
+    /// `context "path";`: a mesh of what stands around, for occlusion
+    /// queries.
+    Context(String, Span),
     Rule(Rule),
 }

@@ -45,6 +45,7 @@ pub(crate) fn compile(
     let mut rules: Vec<Rule> = Vec::new();
     let mut footprints = Vec::new();
     let mut footprints_at = None;
+    let mut context: Option<(Mesh, Span)> = None;
     for item in items {
         match item {
             Item::Grammar(n, span) => {
@@ -114,6 +115,19 @@ pub(crate) fn compile(
                     Err(msg) => errors.push(
                         Diagnostic::error(pspan, format!("cannot load footprints from \"{path}\": {msg}"))
                             .with_hint("footprint paths are relative to the grammar file"),
+                    ),
+                }
+            }
+            Item::Context(path, pspan) => {
+                if context.is_some() {
+                    errors.push(Diagnostic::error(pspan, "`context` is given twice"));
+                    continue;
+                }
+                match assets.load_mesh(&path) {
+                    Ok(m) => context = Some((m, pspan)),
+                    Err(msg) => errors.push(
+                        Diagnostic::error(pspan, format!("cannot load the context mesh \"{path}\": {msg}"))
+                            .with_hint("context paths are relative to the grammar file"),
                     ),
                 }
             }
@@ -197,6 +211,14 @@ pub(crate) fn compile(
         },
     };
 
+    // The context's parts are occluders tagged `context`.
+    let context: Arc<[crate::interp::occlusion::Placed]> = match context {
+        Some((m, _)) => {
+            let tag = g.intern_tag("context");
+            crate::interp::occlusion::Placed::context(&m, tag).into()
+        }
+        None => Arc::new([]),
+    };
     g.check_query_tags(&mut errors);
     let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
     let name = name.or(stem).unwrap_or_else(|| "grammar".into());
@@ -251,6 +273,7 @@ pub(crate) fn compile(
         check,
         occlusion,
         footprints,
+        context,
         start_lot: None,
         limits_at,
         color_tags,

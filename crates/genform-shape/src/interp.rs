@@ -15,7 +15,7 @@
 //! values stay small and are built out of line.
 
 mod build;
-mod occlusion;
+pub(crate) mod occlusion;
 mod pieces;
 
 use crate::ShapeGrammar;
@@ -218,6 +218,10 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// `stacks` (cleared first).
     fn new(g: &'g ShapeGrammar, limits: &Limits, mode: M, mut stacks: Stacks) -> Self {
         stacks.clear();
+        // What stands around (`context "…";`) is placed before anything.
+        if g.occlusion {
+            stacks.placed.extend_from_slice(&g.context);
+        }
         let (top, rule) = enter(g, mode.genome(), &mut stacks, GenePos(0), 0, 0);
         let cur = ScopeState { tag: rule.tag, ..ScopeState::UNIT };
         let units = (limits.max_primitives as u64).saturating_add(limits.max_genes as u64);

@@ -82,6 +82,8 @@ pub struct ShapeGrammar {
     occlusion: bool,
     /// The lots of `footprints "…";`.
     footprints: Vec<Arc<[glam::DVec2]>>,
+    /// The occluders of `context "…";`.
+    context: Arc<[interp::occlusion::Placed]>,
     /// The lot runs start on ([`ShapeGrammar::on_footprint`]).
     start_lot: Option<Arc<[glam::DVec2]>>,
     /// Where the `limits` item sets genes, depth and primitives.

@@ -15,7 +15,7 @@ use genform_core::{Diagnostic, Span};
 pub(crate) const MAX_NESTING: usize = 256;
 
 /// Words with a fixed meaning at the start of a top-level item.
-const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh", "footprints"];
+const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh", "footprints", "context"];
 
 /// Marker for "an error was recorded; recover".
 struct Fail;
@@ -195,7 +195,7 @@ impl<'a> Parser<'a> {
                     format!("expected a rule or a header item, found {}", self.tok.kind.describe()),
                 )
                 .with_hint(
-                    "a file holds `grammar`, `axiom`, `limits`, `const`, `mesh` and `footprints` items and rules `Name { ... }`",
+                    "a file holds `grammar`, `axiom`, `limits`, `const`, `mesh`, `footprints` and `context` items and rules `Name { ... }`",
                 ),
             ));
         };
@@ -248,6 +248,12 @@ impl<'a> Parser<'a> {
                 let (path, pspan) = self.quoted("a quoted file path", "after `footprints`")?;
                 self.expect(Tok::Semi, "after the footprint file")?;
                 Ok(Item::Footprints(path, pspan))
+            }
+            "context" => {
+                self.bump();
+                let (path, pspan) = self.quoted("a quoted file path", "after `context`")?;
+                self.expect(Tok::Semi, "after the context mesh file")?;
+                Ok(Item::Context(path, pspan))
             }
             _ => self.rule().map(Item::Rule),
         }

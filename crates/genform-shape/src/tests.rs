@@ -219,6 +219,34 @@ fn insert_fits_an_asset_to_the_scope() {
 }
 
 #[test]
+fn a_context_mesh_occludes() {
+    struct City;
+    impl AssetResolver for City {
+        fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
+            // Two separate triangles' worth of "buildings": a unit cube's
+            // corners around (5, 0, 0) and a flat quad far away.
+            let mut obj = String::new();
+            for (x, y, z) in [(4.5, -0.5, -0.5), (5.5, -0.5, -0.5), (5.5, 0.5, 0.5), (4.5, 0.5, 0.5)] {
+                obj += &format!("v {x} {y} {z}\n");
+            }
+            obj += "f 1 2 3\nf 1 3 4\nv 50 0 0\nv 51 0 0\nv 51 0 1\nf 5 6 7\n";
+            Mesh::from_obj(path, &obj)
+        }
+    }
+    let src = "context \"city.obj\"; A { [ translate(5, 0, 0); B; ] [ translate(-5, 0, 0); B; ] }
+               B { if (!overlaps(context)) { box; } }";
+    let (g, _) = compile(&SourceFile::new("c.sg", src), &City).unwrap();
+    let (_, s) = run(&g, 1);
+    assert_eq!(s.instances.len(), 1, "the box inside the context's building is left out");
+    assert!(close(centre(&s, 0), Vec3::new(-5.0, 0.0, 0.0)));
+    // Without a context, `context` names nothing.
+    let e = compile(&SourceFile::new("c.sg", "A { if (overlaps(context)) { box; } }"), &City).unwrap_err();
+    assert!(e.short().contains("no rule or tag is called `context`"), "{}", e.short());
+    let e = compile(&SourceFile::new("c.sg", "context \"a.obj\"; context \"b.obj\"; A { box; }"), &City).unwrap_err();
+    assert!(e.short().contains("`context` is given twice"), "{}", e.short());
+}
+
+#[test]
 fn inherited_arguments_and_conditions() {
     let s = scene(
         "S { A(2, 0); A(3, 1); }

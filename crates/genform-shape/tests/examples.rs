@@ -20,6 +20,7 @@ const EXAMPLES: &[&str] = &[
     "l_wings",
     "l_house",
     "office_block",
+    "infill",
 ];
 
 /// Loads assets from `examples/shape/`, as the CLI does next to the grammar.
@@ -261,6 +262,31 @@ fn the_office_block_has_plaza_courtyard_terrace_and_parapet() {
         let parapets = scene.instances.iter().filter(|i| Some(i.tag) == tag("parapet")).count();
         assert_eq!(parapets, 8, "seed {seed}");
     }
+}
+
+#[test]
+fn the_infill_house_has_no_window_facing_into_a_neighbour() {
+    let g = load("infill");
+    let mut side_windows = 0;
+    for seed in 0..100 {
+        let (_, scene, _) = sample(&g, seed);
+        let glass = scene.tags.iter().position(|t| t.starts_with("glass")).map(|i| i as u32);
+        for i in scene.instances.iter().filter(|i| Some(i.tag) == glass) {
+            let c = i.transform.translation;
+            // The neighbours stand at x ≤ −4 (7 high) and x ≥ 4 (10 high);
+            // a tile partly above a neighbour keeps its window (1.4 high),
+            // so each window reaches above the neighbour's roof.
+            if c.x < -3.9 {
+                assert!(c.y + 0.7 > 7.0, "seed {seed}: a window at {c} faces into the left neighbour");
+                side_windows += 1;
+            }
+            if c.x > 3.9 {
+                assert!(c.y + 0.7 > 10.0, "seed {seed}: a window at {c} faces into the right neighbour");
+                side_windows += 1;
+            }
+        }
+    }
+    assert!(side_windows > 100, "side walls above the neighbours get windows ({side_windows})");
 }
 
 #[test]

@@ -15,6 +15,7 @@
 
 use crate::program::{Query, QueryKind};
 use crate::scope::ScopeState;
+use genform_core::Mesh;
 use genform_core::genome::GenePos;
 use glam::DVec3;
 
@@ -40,6 +41,48 @@ impl Placed {
         let dirs = cols.map(|c| c.normalize_or_zero());
         let half = [0, 1, 2].map(|i| (scope.size[i] * cols[i].length()).abs() * 0.5);
         Placed { centre: scope.frame.translation, dirs, half, tag: scope.tag, gene }
+    }
+
+    /// The world-axis boxes of a context mesh (`context "…";`): one per
+    /// connected part (triangles sharing corners: each building of a city
+    /// model), tagged `tag` and placed by no gene, so every query sees them.
+    pub(crate) fn context(m: &Mesh, tag: u32) -> Vec<Placed> {
+        let n = m.positions.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for t in &m.triangles {
+            let a = root(&mut parent, t[0] as usize);
+            for &k in &t[1..] {
+                let b = root(&mut parent, k as usize);
+                parent[b] = a;
+            }
+        }
+        let mut bounds: Vec<Option<(DVec3, DVec3)>> = vec![None; n];
+        for t in &m.triangles {
+            for &k in t {
+                let r = root(&mut parent, k as usize);
+                let p = m.positions[k as usize].as_dvec3();
+                let b = bounds[r].get_or_insert((p, p));
+                *b = (b.0.min(p), b.1.max(p));
+            }
+        }
+        bounds
+            .into_iter()
+            .flatten()
+            .map(|(lo, hi)| Placed {
+                centre: (lo + hi) * 0.5,
+                dirs: [DVec3::X, DVec3::Y, DVec3::Z],
+                half: ((hi - lo) * 0.5).to_array(),
+                tag,
+                gene: GenePos(u32::MAX),
+            })
+            .collect()
     }
 
     /// The box's radius when projected on `axis`.
