@@ -392,3 +392,63 @@ fn hostile_component_splits_fail_clearly() {
     // An inset past the inradius leaves nothing, without error.
     assert!(scene("A { lot(2, 2); offset(-5) { inside: shape } }").is_empty());
 }
+
+proptest::proptest! {
+    /// Random star-shaped lots (mostly concave) under every polygon
+    /// operation with random distances: an error or finite geometry, never
+    /// a panic or NaN.
+    #[test]
+    fn polygon_operations_on_random_lots_stay_finite(
+        radii in proptest::collection::vec(0.5f64..12.0, 3..14),
+        d in -6.0f64..6.0,
+        w in proptest::collection::vec(-1.0f64..15.0, 4),
+        op in 0usize..6,
+    ) {
+        let k = radii.len();
+        let corners: Vec<String> = radii
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let a = std::f64::consts::TAU * i as f64 / k as f64;
+                format!("{:.4}, {:.4}", r * a.cos(), r * a.sin())
+            })
+            .collect();
+        let arms = "{ extrude(2); shape; comp(f) { top: roof_hip(40, 0.2) } }";
+        let body = match op {
+            0 => format!("offset({d}) {{ inside: {arms} | border: {{ extrude(1); shape; }} }}"),
+            1 => format!("setback({d}) {{ front, left: shape | remainder: {arms} }}"),
+            2 => format!("comp(e) {{ all: {{ size(sx, 0.3, 0.3); box; }} }} roof_hip(30, {});", d.abs()),
+            3 => format!("shapeL({}, {}) {{ shape: {arms} | remainder: shape }}", w[0], w[1]),
+            4 => format!("shapeU({}, {}, {}) {{ shape: {arms} | remainder: shape }}", w[0], w[1], w[2]),
+            _ => format!("shapeO({}, {}, {}, {}) {{ shape: shape | remainder: {arms} }}", w[0], w[1], w[2], w[3]),
+        };
+        // L, U and O shapes need a rectangle.
+        let lot = if op >= 3 { format!("{:.3}, {:.3}", radii[0] + 1.0, radii[1] + 1.0) } else { corners.join(", ") };
+        let src = format!("A {{ lot({lot}); {body} }}");
+        let file = SourceFile::new("t.sg", src.as_str());
+        let (g, _) = compile(&file, &NoAssets).map_err(|e| proptest::test_runner::TestCaseError::fail(e.short()))?;
+        let limits = g.limits();
+        let s = match g.sample(&mut Rng::from_seed(1), &limits) {
+            Ok(s) => s,
+            // A clear error (a negative width, a ring that folds over) is allowed.
+            Err(e) => {
+                let e = e.to_string();
+                proptest::prop_assert!(e.contains("t.sg:1:"), "{src}: {e}");
+                return Ok(());
+            }
+        };
+        let mut scene = Scene::new();
+        let r = g.express(&s.genome, &limits, &mut scene);
+        if r.is_ok() {
+            for p in &scene.polygons {
+                proptest::prop_assert!(p.points.iter().all(|q| q.is_finite()), "{src}");
+            }
+            for m in &scene.meshes {
+                proptest::prop_assert!(m.positions.iter().all(|q| q.is_finite()), "{src}");
+            }
+            for i in &scene.instances {
+                proptest::prop_assert!(i.transform.is_finite(), "{src}");
+            }
+        }
+    }
+}
