@@ -215,3 +215,16 @@ def test_drawings_are_flat_ribbons_in_mesh_and_every_file(tmp_path):
     # The Koch graph: its extreme points widened by half the 0.6 stroke.
     lo, hi = genform.load(SAMPLES[".gg.yaml"]).sample(seed=3).bounds()
     assert np.allclose(lo, (-4.354, -30.3, 0), atol=0.01) and np.allclose(hi, (94.354, 78.242, 0), atol=0.01)
+
+
+@pytest.mark.parametrize("name", ["l_house", "office_block", "infill"])
+def test_building_grammars_sample_closed_roofs_and_polygons(name):
+    # The polygon operations (shapeL/U, offset, setback, context) work
+    # through Python unchanged: a model with triangles, the same per seed.
+    from conftest import EXAMPLES
+
+    g = genform.load(EXAMPLES / "shape" / f"{name}.sg")
+    v, f = g.sample(seed=2).mesh()
+    assert len(f) > 20 and np.isfinite(v).all(), name
+    v2, f2 = g.sample(seed=2).mesh()
+    assert np.array_equal(v, v2) and np.array_equal(f, f2), name
