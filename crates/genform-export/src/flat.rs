@@ -36,6 +36,9 @@ pub(crate) fn render_rgb(
     // The drawing's width in the image, so the stroke floor is in pixels.
     let fitted = (width as f32).min(height as f32 * drawing.aspect());
     let opts = SvgOptions { width_px: fitted.round().max(1.0) as u32, min_stroke_px: MIN_STROKE_PX, background: None };
+    if scene.shapes2d.is_empty() && scene.guides.is_empty() {
+        return render_lines(scene, &drawing, &opts, width, height, background);
+    }
     // Sized in pixels even for a drawing that is otherwise in centimetres.
     let svg = drawing.write_sized(scene, &opts, false);
     let tree = usvg::Tree::from_str(&svg, &usvg::Options::default()).ok()?;
@@ -48,6 +51,87 @@ pub(crate) fn render_rgb(
     pixmap.fill(tiny_skia::Color::from_rgba8(r, g, b, 255));
     resvg::render(&tree, tiny_skia::Transform::from_row(k, 0.0, 0.0, k, dx, dy), &mut pixmap.as_mut());
     // Opaque background: premultiplied RGBA is plain RGB with alpha 255.
+    Some(pixmap.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect())
+}
+
+/// A drawing of only lines and polygons (an L-system's, a turtle's)
+/// stroked and filled straight into the pixmap: the picture the SVG path
+/// gives (same view, widths, caps, joins and colours) without writing the
+/// SVG text and parsing it into a tree, which for a million segments took
+/// seconds and most of a gigabyte. Each line is stroked on its own, so the
+/// memory is the image's and the longest line's.
+fn render_lines(
+    scene: &Scene,
+    drawing: &Drawing,
+    opts: &SvgOptions,
+    width: u32,
+    height: u32,
+    background: [u8; 3],
+) -> Option<Vec<u8>> {
+    use crate::palette::tag_color;
+    let (origin, size) = drawing.view();
+    // The SVG's own size, its view box fitted into it (xMidYMid meet), and
+    // that fitted into the image, as `render_rgb` places the SVG.
+    let (svg_w, svg_h) =
+        (opts.width_px.max(1) as f32, ((opts.width_px.max(1) as f32 / drawing.aspect()).round()).max(1.0));
+    let s = (svg_w / size.x).min(svg_h / size.y);
+    let off = glam::Vec2::new(0.5 * (svg_w - s * size.x), 0.5 * (svg_h - s * size.y));
+    let k = (width as f32 / svg_w).min(height as f32 / svg_h);
+    let (dx, dy) = (0.5 * (width as f32 - k * svg_w), 0.5 * (height as f32 - k * svg_h));
+    // Scene (x, y) → pixels, y flipped as in the SVG.
+    let transform = tiny_skia::Transform::from_row(
+        k * s,
+        0.0,
+        0.0,
+        -k * s,
+        k * (off.x - s * origin.x) + dx,
+        k * (off.y - s * origin.y) + dy,
+    );
+    if !(transform.is_finite() && k * s > 0.0) {
+        return None;
+    }
+    let mut pixmap = tiny_skia::Pixmap::new(width, height)?;
+    let [r, g, b] = background;
+    pixmap.fill(tiny_skia::Color::from_rgba8(r, g, b, 255));
+    let paint = |tag: u32| {
+        let [r, g, b] = scene.tags.get(tag as usize).map_or([128; 3], |t| tag_color(t));
+        let mut p = tiny_skia::Paint::default();
+        p.set_color_rgba8(r, g, b, 255);
+        p.anti_alias = true;
+        p
+    };
+    for poly in scene.polygons.iter().filter(|p| p.points.len() >= 3 && p.points.iter().all(|q| q.is_finite())) {
+        let mut pb = tiny_skia::PathBuilder::with_capacity(poly.points.len() + 1, poly.points.len());
+        pb.move_to(poly.points[0].x, poly.points[0].y);
+        poly.points[1..].iter().for_each(|q| pb.line_to(q.x, q.y));
+        pb.close();
+        if let Some(path) = pb.finish() {
+            pixmap.fill_path(&path, &paint(poly.tag), tiny_skia::FillRule::Winding, transform, None);
+        }
+    }
+    // The thinnest stroke, in scene units, as the SVG writes it.
+    let floor = opts.min_stroke_px.max(0.0) * size.x / svg_w;
+    for line in scene.polylines.iter().filter(|l| l.points.len() >= 2 && l.points.iter().all(|q| q.is_finite())) {
+        let mut pb = tiny_skia::PathBuilder::with_capacity(line.points.len(), line.points.len());
+        pb.move_to(line.points[0].x, line.points[0].y);
+        line.points[1..].iter().for_each(|q| pb.line_to(q.x, q.y));
+        let width = if line.width.is_finite() { line.width.max(floor) } else { floor };
+        let Some(path) = pb.finish() else {
+            // A line that stays on one point is a dot (its round caps).
+            let p = line.points[0];
+            if let Some(dot) = tiny_skia::PathBuilder::from_circle(p.x, p.y, 0.5 * width) {
+                pixmap.fill_path(&dot, &paint(line.tag), tiny_skia::FillRule::Winding, transform, None);
+            }
+            continue;
+        };
+        let stroke = tiny_skia::Stroke {
+            width,
+            line_cap: tiny_skia::LineCap::Round,
+            line_join: tiny_skia::LineJoin::Round,
+            ..tiny_skia::Stroke::default()
+        };
+        pixmap.stroke_path(&path, &paint(line.tag), &stroke, transform, None);
+    }
     Some(pixmap.data().chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect())
 }
 

@@ -122,6 +122,11 @@ impl Drawing {
         Drawing { fills, origin, size, decimals, physical }
     }
 
+    /// The view box in SVG coordinates (y down): top left corner and size.
+    pub(crate) fn view(&self) -> (Vec2, Vec2) {
+        (self.origin, self.size)
+    }
+
     /// The view box's width over its height.
     pub(crate) fn aspect(&self) -> f32 {
         self.size.x / self.size.y
