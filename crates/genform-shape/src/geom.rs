@@ -677,24 +677,12 @@ mod tests {
         // t·d²(3w − d)/12 and ridge height t·d/2.
         let r = skeleton_roof(&rect(10.0, 4.0), 1.0).unwrap();
         assert_roof(&r, 2.0, 16.0 * 26.0 / 12.0);
-        let p = |c: &[(f64, f64)]| c.iter().map(|&(x, y)| DVec2::new(x, y)).collect::<Vec<_>>();
+        use crate::skeleton::fixtures;
         let shapes = [
             (l_shape(), 0.5),
-            (p(&[(0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (4.0, 4.0), (4.0, 10.0), (0.0, 10.0)]), 2.0),
-            (
-                p(&[
-                    (0.0, 0.0),
-                    (12.0, 0.0),
-                    (12.0, 10.0),
-                    (9.0, 10.0),
-                    (9.0, 4.0),
-                    (3.0, 4.0),
-                    (3.0, 10.0),
-                    (0.0, 10.0),
-                ]),
-                2.0,
-            ),
-            (p(&[(0.0, 0.0), (9.0, 1.0), (8.0, 7.0), (5.0, 3.0), (2.5, 8.0), (-1.0, 5.0)]), f64::NAN),
+            (fixtures::l_arms_4(), 2.0),
+            (fixtures::u_legs_3(), 2.0),
+            (fixtures::notched(), f64::NAN),
         ];
         for (foot, ridge) in shapes {
             let t = 30f64.to_radians().tan();

@@ -371,6 +371,31 @@ fn chain(a: DVec2, b: DVec2, segs: &[(DVec2, DVec2)], eps: f64) -> Option<Vec<DV
     None
 }
 
+/// Concave footprints the skeleton's and the roofs' tests share.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use glam::DVec2;
+
+    fn poly(c: &[(f64, f64)]) -> Vec<DVec2> {
+        c.iter().map(|&(x, y)| DVec2::new(x, y)).collect()
+    }
+
+    /// An L of arms 4 wide, 10 long: its hip roof's ridge is 2 high.
+    pub(crate) fn l_arms_4() -> Vec<DVec2> {
+        poly(&[(0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (4.0, 4.0), (4.0, 10.0), (0.0, 10.0)])
+    }
+
+    /// A U of legs 3 wide on a base 4 deep: ridge 2 high.
+    pub(crate) fn u_legs_3() -> Vec<DVec2> {
+        poly(&[(0.0, 0.0), (12.0, 0.0), (12.0, 10.0), (9.0, 10.0), (9.0, 4.0), (3.0, 4.0), (3.0, 10.0), (0.0, 10.0)])
+    }
+
+    /// An irregular hexagon with a sharp notch.
+    pub(crate) fn notched() -> Vec<DVec2> {
+        poly(&[(0.0, 0.0), (9.0, 1.0), (8.0, 7.0), (5.0, 3.0), (2.5, 8.0), (-1.0, 5.0)])
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -438,25 +463,16 @@ mod tests {
     #[test]
     fn concave_footprints_l_u_and_irregular() {
         // L of arms 4 wide: ridge height 2 everywhere.
-        let l = poly(&[(0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (4.0, 4.0), (4.0, 10.0), (0.0, 10.0)]);
+        let l = fixtures::l_arms_4();
         assert!((check(&l) - 2.0).abs() < 1e-9);
         // L with arms of different widths (6 and 4).
         let l2 = poly(&[(0.0, 0.0), (12.0, 0.0), (12.0, 6.0), (4.0, 6.0), (4.0, 10.0), (0.0, 10.0)]);
         assert!((check(&l2) - 3.0).abs() < 1e-9);
         // U: legs 3 wide, base 4 deep.
-        let u = poly(&[
-            (0.0, 0.0),
-            (12.0, 0.0),
-            (12.0, 10.0),
-            (9.0, 10.0),
-            (9.0, 4.0),
-            (3.0, 4.0),
-            (3.0, 10.0),
-            (0.0, 10.0),
-        ]);
+        let u = fixtures::u_legs_3();
         assert!((check(&u) - 2.0).abs() < 1e-9);
         // An irregular concave polygon with a sharp notch.
-        let q = poly(&[(0.0, 0.0), (9.0, 1.0), (8.0, 7.0), (5.0, 3.0), (2.5, 8.0), (-1.0, 5.0)]);
+        let q = fixtures::notched();
         check(&q);
         // A plus sign: four reflex corners meeting in vertex events.
         let plus = poly(&[
