@@ -21,6 +21,7 @@ const EXAMPLES: &[&str] = &[
     "l_house",
     "office_block",
     "infill",
+    "polygon_operations",
 ];
 
 /// Loads assets from `examples/shape/`, as the CLI does next to the grammar.
