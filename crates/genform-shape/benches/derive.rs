@@ -6,11 +6,40 @@ use genform_core::genome::Link;
 use genform_core::{Generator, GeneratorGraph, Genome, Limits, Rng, Scene, SourceFile};
 use std::hint::black_box;
 
+fn example(name: &str) -> genform_shape::ShapeGrammar {
+    let path = format!("{}/../../examples/shape/{name}.sg", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).expect("the example");
+    let file = SourceFile::new(format!("{name}.sg"), text);
+    genform_shape::compile(&file, &genform_shape::NoAssets).map(|(g, _)| g).expect("the example compiles")
+}
+
 fn spaceship() -> genform_shape::ShapeGrammar {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/shape/spaceship.sg");
-    let text = std::fs::read_to_string(path).expect("spaceship example");
-    let file = SourceFile::new("spaceship.sg", text);
-    genform_shape::compile(&file, &genform_shape::NoAssets).map(|(g, _)| g).expect("spaceship compiles")
+    example("spaceship")
+}
+
+/// Whole derivations of the building examples (16 sampled genomes each):
+/// the L house's straight-skeleton hip roof, the office block's offsets,
+/// setback and U shape.
+fn buildings(c: &mut Criterion) {
+    let mut group = c.benchmark_group("buildings_express");
+    for name in ["l_house", "office_block", "polygon_operations"] {
+        let g = example(name);
+        let limits = g.limits();
+        let genomes: Vec<Genome> =
+            (0..16).map(|s| g.sample(&mut Rng::from_seed(s), &limits).expect("samples").genome).collect();
+        group.throughput(Throughput::Elements(genomes.len() as u64));
+        group.bench_function(name, |b| {
+            let mut scene = Scene::new();
+            b.iter(|| {
+                for genome in &genomes {
+                    scene.clear();
+                    g.express(black_box(genome), &limits, &mut scene).unwrap();
+                }
+                black_box(scene.meshes.len())
+            })
+        });
+    }
+    group.finish();
 }
 
 /// A genome of exactly `len` genes: the root plus repeated grows at
@@ -78,5 +107,5 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, buildings);
 criterion_main!(benches);
