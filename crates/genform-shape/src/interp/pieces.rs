@@ -48,6 +48,14 @@ fn rect(lo: DVec2, hi: DVec2) -> Vec<DVec2> {
 }
 
 impl<'g, M: Mode> Interp<'g, M> {
+    /// The current scope's frame turned in its xy plane so that x runs
+    /// along the unit direction `x`, moved to `at` (scope units).
+    fn frame_along(&self, x: DVec2, at: DVec2) -> DAffine3 {
+        let y = x.perp();
+        let m = DMat3::from_cols(DVec3::new(x.x, x.y, 0.0), DVec3::new(y.x, y.y, 0.0), DVec3::Z);
+        self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(at.x, at.y, 0.0))
+    }
+
     /// A scope in the plane of the current polygon scope holding `abs`
     /// (absolute points relative to the scope's centre), its x along the
     /// unit direction `x`; `None` for a piece with no area.
@@ -63,9 +71,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             return None;
         }
         let unit = local.iter().map(|q| (*q - c) / size).collect();
-        let m = DMat3::from_cols(DVec3::new(x.x, x.y, 0.0), DVec3::new(y.x, y.y, 0.0), DVec3::Z);
-        let centre = x * c.x + y * c.y;
-        let frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(centre.x, centre.y, 0.0));
+        let frame = self.frame_along(x, x * c.x + y * c.y);
         let scope = ScopeState { frame, size: DVec3::new(size.x, size.y, 0.0), tag: self.cur.tag, geom: NO_GEOM };
         Some((class, scope, PieceGeom::Polygon(unit)))
     }
@@ -113,10 +119,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             CompKind::Edges => {
                 for i in 0..k {
                     let (a, b, d) = (corners[i], corners[(i + 1) % k], dirs[i]);
-                    let mid = (a + b) * 0.5;
-                    let y = d.perp();
-                    let m = DMat3::from_cols(DVec3::new(d.x, d.y, 0.0), DVec3::new(y.x, y.y, 0.0), DVec3::Z);
-                    let frame = self.cur.frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, mid.y, 0.0));
+                    let frame = self.frame_along(d, (a + b) * 0.5);
                     let size = DVec3::new(a.distance(b), 0.0, 0.0);
                     out.push((
                         edge_class(d),
@@ -130,19 +133,20 @@ impl<'g, M: Mode> Interp<'g, M> {
                 if d < 0.0 {
                     let fail = |m: String| self.fail_at(at, format!("`offset`: {m}"));
                     let inset = skeleton::skeleton(&corners, Some(-d)).map_err(fail)?;
+                    // The border bands: each edge's skeleton face up to the inset.
+                    let faces = if taken & SIDE != 0 {
+                        skeleton::skeleton(&corners, None).map_err(fail)?.faces
+                    } else {
+                        Vec::new()
+                    };
                     for f in &inset.fronts {
                         out.extend(self.piece(PIECE_REST, f, DVec2::X));
                     }
-                    if taken & SIDE != 0 {
-                        let sk = skeleton::skeleton(&corners, None)
-                            .map_err(|m| self.fail_at(at, format!("`offset`: {m}")))?;
-                        for (i, face) in sk.faces.iter().enumerate() {
-                            let (a, dir) =
-                                (sk.corners[i], (sk.corners[(i + 1) % sk.corners.len()] - sk.corners[i]).normalize());
-                            let n = dir.perp();
-                            let band = clip(face, n, n.dot(a) - d);
-                            out.extend(self.piece(edge_class(dir), &band, dir));
-                        }
+                    // `corners` is already clean, so the skeleton's edges are its edges.
+                    for ((face, a), dir) in faces.iter().zip(&corners).zip(&dirs) {
+                        let n = dir.perp();
+                        let band = clip(face, n, n.dot(*a) - d);
+                        out.extend(self.piece(edge_class(*dir), &band, *dir));
                     }
                 } else {
                     out.extend(self.piece(PIECE_REST, &corners, DVec2::X));
