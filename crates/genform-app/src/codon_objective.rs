@@ -19,12 +19,12 @@
 //! `best.gr8` / `best.ls` re-grows into the same model with
 //! `genform sample` (seed 0).
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
 use genform_boxsplit::{BoxGrammar, DeriveOptions};
 use genform_core::scene::{Polygon, Shape2dKind};
 use genform_core::{CodonSource, Rng, Scene, SourceFile};
 use genform_evolve::{Codons, Objective};
-use genform_ge::{Bnf, MapOptions, Mapper};
+use genform_ge::{Bnf, CodonLayout, MapOptions, Mapper};
 use genform_graph::GraphGrammar;
 use genform_hemls::{Environment, GrowError, Hemls, Settings};
 use genform_score::{Counts, SurfaceScore, SurfaceScorer};
@@ -286,6 +286,20 @@ impl CodonObjective {
                 };
                 if let Some(w) = c.mapper.max_wraps {
                     options.max_wraps = w;
+                }
+                options.layout = c.mapper.layout.unwrap_or_default();
+                if options.layout == CodonLayout::PerChoice {
+                    // Both write or cut genomes as one left-to-right reading.
+                    if c.ge.init == genform_evolve::Init::Sensible {
+                        bail!(
+                            "[mapper] layout = \"per-choice\" cannot be combined with [ge] init = \"sensible\"; use init = \"random\" or layout = \"sequential\""
+                        );
+                    }
+                    if c.ge.subtree_mutation > 0.0 {
+                        bail!(
+                            "[mapper] layout = \"per-choice\" cannot be combined with [ge] subtree_mutation (subtrees are not contiguous codon spans there); set subtree_mutation = 0 or layout = \"sequential\""
+                        );
+                    }
                 }
                 if let Some(d) = c.mapper.max_depth {
                     match &mut options.genr8 {
@@ -628,7 +642,7 @@ impl Objective<Codons> for CodonObjective {
     fn expressed(&self, codons: &Codons, s: &mut CodonScratch) -> Option<usize> {
         let mapper = s.mapper.as_mut()?;
         let out = mapper.map(codons);
-        Some(if out.wraps > 0 { codons.len() } else { out.used_codons.min(codons.len()) })
+        Some(out.extent.min(codons.len()))
     }
 
     /// GE scenes: a hash of the phenotype text (mapping only), which with
@@ -776,6 +790,37 @@ mod tests {
         assert!(twins > 100 && by_key.len() > 100, "{twins} twins, {} keys", by_key.len());
         // Measured 145: the rest wrapped (positions repeat, no subtrees).
         assert!(with_spans > 100, "{with_spans} of 200 genomes with subtrees");
+    }
+
+    #[test]
+    fn per_choice_codons_past_the_read_prefix_never_change_the_rule_set() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/scenes/genr8_canopy.toml");
+        let mut loaded = crate::codon_scene::CodonSceneConfig::load(&path).unwrap();
+        loaded.config.mapper.layout = Some(CodonLayout::PerChoice);
+        let objective = CodonObjective::new(&loaded).unwrap();
+        let mut s = objective.scratch();
+        let mut rng = Rng::from_seed(9);
+        let (mut valid, mut short) = (0, 0);
+        for _ in 0..200 {
+            let mut codons: Codons = (0..rng.int_inclusive(50, 400)).map(|_| rng.below(1000) as u32).collect();
+            let read = objective.expressed(&codons, &mut s).unwrap();
+            let Some(key) = objective.phenotype_key(&codons, &mut s) else { continue };
+            valid += 1;
+            if read < codons.len() {
+                short += 1;
+                codons[read..].iter_mut().for_each(|c| *c = (*c + 1) % 1000);
+                assert_eq!(objective.phenotype_key(&codons, &mut s), Some(key), "a codon past {read} was read");
+            }
+        }
+        assert!(valid > 100 && short > 50, "{valid} valid, {short} read a proper prefix");
+        // What writes or cuts one left-to-right reading is refused.
+        loaded.config.ge.init = genform_evolve::Init::Sensible;
+        let e = CodonObjective::new(&loaded).err().unwrap().to_string();
+        assert!(e.contains("per-choice") && e.contains("sensible"), "{e}");
+        loaded.config.ge.init = genform_evolve::Init::Random;
+        loaded.config.ge.subtree_mutation = 0.5;
+        let e = CodonObjective::new(&loaded).err().unwrap().to_string();
+        assert!(e.contains("subtree_mutation"), "{e}");
     }
 
     #[test]

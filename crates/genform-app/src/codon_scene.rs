@@ -79,6 +79,11 @@ pub struct MapperConfig {
     /// spaced tokens). Default: on for `phenotype = "gr8"`, off for `"ls"`.
     #[serde(default)]
     pub genr8: Option<bool>,
+    /// GE only: which codon each decision reads, `"sequential"` (standard
+    /// GE, the default) or `"per-choice"` (one interleaved stream per
+    /// non-terminal, group and edge IDs; [`genform_ge::CodonLayout`]).
+    #[serde(default)]
+    pub layout: Option<genform_ge::CodonLayout>,
 }
 
 /// `[limits]` of a codon scene: what an individual may grow to before it

@@ -149,6 +149,11 @@ pub struct MapArgs {
     /// edge types without a rule, spaced tokens (for examples/ge/genr8*.bnf).
     #[arg(long)]
     pub genr8: bool,
+    /// Which codon each decision reads: `sequential` (standard GE) or
+    /// `per-choice` (one interleaved codon stream per non-terminal, group
+    /// and edge IDs, as a scene's `[mapper] layout`).
+    #[arg(long, value_name = "LAYOUT", value_parser = ["sequential", "per-choice"], default_value = "sequential")]
+    pub layout: String,
     /// Print the whole trace as JSON (fields `valid`, `fail`, `phenotype`,
     /// `used_codons`, `wraps`, `choices`, `steps`).
     #[arg(long)]

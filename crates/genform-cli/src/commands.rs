@@ -120,6 +120,9 @@ fn map(a: MapArgs) -> Result<()> {
     if let Some(w) = a.max_wraps {
         options.max_wraps = w;
     }
+    if a.layout == "per-choice" {
+        options.layout = genform_ge::CodonLayout::PerChoice;
+    }
     if let Some(d) = a.max_depth {
         match &mut options.genr8 {
             Some(g) => g.max_depth = Some(d),

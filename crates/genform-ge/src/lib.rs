@@ -50,7 +50,7 @@ mod program;
 pub use bnf::{Alternative, Bnf, Item, Rule, RuleId, TerminalId};
 pub use generate::{Growth, Sensible};
 pub use mapper::Mapper;
-pub use options::{Genr8Options, MapError, MapOptions, RepairOptions};
+pub use options::{CodonLayout, Genr8Options, MapError, MapOptions, RepairOptions};
 pub use outcome::{Failure, Mapping, Outcome, Step, StepKind, Subtree};
 
 use genform_core::{Diagnostics, SourceFile};

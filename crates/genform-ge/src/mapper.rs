@@ -7,7 +7,7 @@
 //! phenotype buffer and the bookkeeping vectors are reused.
 
 use crate::bnf::Bnf;
-use crate::options::{MapError, MapOptions};
+use crate::options::{CodonLayout, MapError, MapOptions};
 use crate::outcome::{Failure, Mapping, Outcome, Step, StepKind};
 use crate::program::{Program, Sym, TermKind};
 use std::fmt::Write as _;
@@ -94,6 +94,10 @@ pub(crate) struct State {
     repair: RepairState,
     /// Repaired rules, written here and then spliced into `out`.
     extra: String,
+    /// Per kind of decision, the reads so far ([`CodonLayout::PerChoice`]).
+    stream_reads: Vec<u32>,
+    /// One past the furthest codon position read.
+    extent: usize,
 }
 
 /// Maps genomes over one grammar with fixed options.
@@ -183,7 +187,15 @@ impl Mapper {
     }
 
     fn run<const TRACE: bool>(&mut self, genome: &[u32]) -> Outcome {
-        self.run_with::<TRACE, _>(&mut Fixed(genome))
+        match self.options.layout {
+            CodonLayout::Sequential => self.run_with::<TRACE, _>(&mut Fixed(genome)),
+            CodonLayout::PerChoice => {
+                let (rules, groups) = (self.prog.rules.len() as u32, self.prog.groups.len() as u32);
+                self.s.stream_reads.clear();
+                self.s.stream_reads.resize((rules + groups + 1) as usize, 0);
+                self.run_with::<TRACE, _>(&mut PerChoice { genome, rules, groups })
+            }
+        }
     }
 
     /// Maps with codons from `genes` (a genome, or a generator writing one).
@@ -196,6 +208,7 @@ impl Mapper {
         s.pos = 0;
         s.wraps = 0;
         s.used = 0;
+        s.extent = 0;
         s.max_id = self.cfg.initial_max_id;
         s.steps.clear();
         if self.cfg.repair.is_some() {
@@ -214,7 +227,7 @@ impl Mapper {
             result = repair::<TRACE, G>(&self.prog, &self.cfg, s, genes);
         }
         self.valid = result.is_ok();
-        Outcome { fail: result.err(), used_codons: s.used, wraps: s.wraps }
+        Outcome { fail: result.err(), used_codons: s.used, wraps: s.wraps, extent: s.extent }
     }
 }
 
@@ -252,6 +265,42 @@ impl Genes for Fixed<'_> {
     }
 }
 
+/// A genome read as one interleaved stream per kind of decision
+/// ([`CodonLayout::PerChoice`]): kinds are the rules, then the groups, then
+/// edge IDs.
+struct PerChoice<'a> {
+    genome: &'a [u32],
+    rules: u32,
+    groups: u32,
+}
+
+impl Genes for PerChoice<'_> {
+    fn next(&mut self, s: &mut State, max_wraps: u32, _: u32, ask: Ask) -> Result<(usize, u32), Failure> {
+        let len = self.genome.len() as u64;
+        if len == 0 {
+            return Err(Failure::EmptyGenome);
+        }
+        let kind = match ask {
+            Ask::Rule { rule, .. } => rule,
+            Ask::Repeat { group, .. } | Ask::Option { group, .. } => self.rules + group,
+            Ask::Edge => self.rules + self.groups,
+        };
+        let kinds = u64::from(self.rules + self.groups + 1);
+        let reads = &mut s.stream_reads[kind as usize];
+        let p = u64::from(*reads) * kinds + u64::from(kind);
+        let wraps = p / len;
+        if wraps > u64::from(max_wraps) {
+            return Err(Failure::WrapLimit);
+        }
+        *reads += 1;
+        let pos = (p % len) as usize;
+        s.wraps = s.wraps.max(wraps as u32);
+        s.used += 1;
+        s.extent = if wraps > 0 { len as usize } else { s.extent.max(pos + 1) };
+        Ok((pos, self.genome[pos]))
+    }
+}
+
 impl State {
     /// Counts a codon that a generator writes at the end of its genome
     /// (never wrapping); returns its position.
@@ -259,6 +308,7 @@ impl State {
         let pos = self.pos;
         self.pos += 1;
         self.used += 1;
+        self.extent = self.pos;
         pos
     }
 
@@ -274,10 +324,12 @@ impl State {
             }
             self.wraps += 1;
             self.pos = 0;
+            self.extent = genome.len();
         }
         let pos = self.pos;
         self.pos += 1;
         self.used += 1;
+        self.extent = self.extent.max(self.pos);
         Ok((pos, genome[pos]))
     }
 

@@ -21,12 +21,37 @@ pub struct MapOptions {
     /// always use Genr8's gene rules (with [`Genr8Options::default`]'s
     /// repetition constant when this is `None`).
     pub genr8: Option<Genr8Options>,
+    /// Which codon each decision reads: the next in the genome
+    /// ([`CodonLayout::Sequential`], standard GE) or the next of its own
+    /// interleaved stream ([`CodonLayout::PerChoice`]).
+    #[serde(default)]
+    pub layout: CodonLayout,
+}
+
+/// Where the mapper finds the codon for its next decision.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CodonLayout {
+    /// Standard GE: decisions read the genome left to right, wrapping to
+    /// its start.
+    #[default]
+    Sequential,
+    /// One interleaved stream per kind of decision, in the manner of
+    /// structured GE (Lourenço et al. 2016): with `K` kinds (each
+    /// non-terminal, each `{ }` and `[ ]` group, and edge IDs), the `i`-th
+    /// decision of kind `k` reads codon `p mod len` with `p = i·K + k`,
+    /// and `p ≥ (max_wraps + 1)·len` makes the individual invalid. A codon
+    /// then keeps its meaning when an earlier decision of another kind
+    /// changes, which standard GE's ripple effect does not allow; the read
+    /// codons are still a prefix (up to the furthest `p`), so effective
+    /// operators and prefix memories work unchanged.
+    PerChoice,
 }
 
 impl Default for MapOptions {
     /// Standard GE: no wrapping, no depth limit, terminals concatenated.
     fn default() -> Self {
-        MapOptions { max_wraps: 0, max_tree_depth: None, spaced: false, genr8: None }
+        MapOptions { max_wraps: 0, max_tree_depth: None, spaced: false, genr8: None, layout: CodonLayout::Sequential }
     }
 }
 
@@ -46,6 +71,7 @@ impl MapOptions {
             max_tree_depth: None,
             spaced: true,
             genr8: Some(Genr8Options { repair: Some(RepairOptions::default()), ..Genr8Options::default() }),
+            layout: CodonLayout::Sequential,
         }
     }
 }

@@ -47,6 +47,10 @@ pub struct Outcome {
     pub used_codons: usize,
     /// Times reading went back to codon 0 (and then read one).
     pub wraps: u32,
+    /// One past the furthest codon read: the codons that decide the
+    /// phenotype are `genome[..extent]` (the whole genome once reading
+    /// wrapped).
+    pub extent: usize,
 }
 
 impl Outcome {

@@ -64,6 +64,39 @@ fn every_nonterminal_reads_a_codon_and_wraps_count_only_when_needed() {
 }
 
 #[test]
+fn per_choice_layout_reads_one_interleaved_stream_per_kind_of_decision() {
+    // Kinds: <s> 0, <a> 1, <b> 2, edge IDs 3; so K = 4 and the i-th
+    // decision of kind k reads codon i·4 + k.
+    let b = bnf("<s> ::= <a> <b> <a>\n<a> ::= \"x\" | \"y\"\n<b> ::= \"p\" | \"q\"");
+    let per_choice = |wraps| MapOptions { layout: CodonLayout::PerChoice, ..MapOptions::standard(wraps, None) };
+    let genome = [0, 1, 1, 9, 9, 0];
+    let mut m = Mapper::new(&b, per_choice(0)).unwrap();
+    let out = m.map(&genome);
+    assert_eq!((m.phenotype(), out.used_codons, out.extent, out.wraps), (Some("yqx"), 4, 6, 0));
+    // Standard GE reads the same codons left to right.
+    let mut seq = Mapper::new(&b, MapOptions::standard(0, None)).unwrap();
+    let out = seq.map(&genome);
+    assert_eq!((seq.phenotype(), out.extent), (Some("yqy"), 4));
+    // A new choice for <b> leaves both choices of <a> as they were...
+    assert_eq!(m.map(&[0, 1, 0, 9, 9, 0]).fail, None);
+    assert_eq!(m.phenotype(), Some("ypx"));
+    // ...where in standard GE a new choice for the first <a> would shift
+    // every later read; here the second <a> still reads codon 5.
+    m.map(&[0, 0, 1, 9, 9, 1]);
+    assert_eq!(m.phenotype(), Some("xqy"));
+    // The second <a> lies past a 4-codon genome: invalid without wrapping,
+    // codon 5 mod 4 = 1 with one wrap.
+    assert_eq!(m.map(&[0, 1, 1, 9]).fail, Some(Failure::WrapLimit));
+    let mut wrapping = Mapper::new(&b, per_choice(1)).unwrap();
+    let out = wrapping.map(&[0, 1, 1, 9]);
+    assert_eq!((wrapping.phenotype(), out.wraps, out.extent), (Some("yqy"), 1, 4));
+    assert_eq!(wrapping.map(&[]).fail, Some(Failure::EmptyGenome));
+    // Traces name the positions read.
+    let trace = Mapper::new(&b, per_choice(0)).unwrap().trace(&genome);
+    assert_eq!(trace.steps.iter().map(|s| s.pos).collect::<Vec<_>>(), [0, 1, 2, 5]);
+}
+
+#[test]
 fn depth_limit_counts_the_root_as_one_and_terminal_leaves() {
     let b = bnf("<s> ::= \"(\" <s> \")\" | \"x\"");
     let ok = map(&b, &[0, 1], &MapOptions::standard(0, Some(3))).unwrap();
