@@ -77,9 +77,20 @@ impl TargetPicture {
     /// targets; `None` fits the view to the model and the target) or the
     /// image target's camera, as RGB `(pixels, width, height)`.
     pub fn render(&self, scene: &Scene, camera: Option<Camera>) -> (Vec<u8>, u32, u32) {
-        let (width, height) = self.size();
+        self.render_at(scene, camera, self.size(), self.image.as_ref())
+    }
+
+    /// [`TargetPicture::render`] at `size`, with `image` (the image target
+    /// scaled to `size`) behind the model.
+    fn render_at(
+        &self,
+        scene: &Scene,
+        camera: Option<Camera>,
+        (width, height): (u32, u32),
+        image: Option<&TargetImage>,
+    ) -> (Vec<u8>, u32, u32) {
         let mut opts = RenderOptions { width, height, camera, ..RenderOptions::default() };
-        let backdrop = match &self.image {
+        let backdrop = match image {
             Some(img) => {
                 opts.camera = Some(img.camera);
                 Backdrop { image: Some(&img.rgb), mirrored: true, ..Backdrop::default() }
@@ -110,19 +121,27 @@ impl TargetPicture {
 
     /// `evolution.png`: an animated PNG of `frames` (generation, best model
     /// so far), all through one camera, each captioned with its generation
-    /// and fitness; `None` without frames.
+    /// and fitness; `None` without frames. Frames are drawn at the size they
+    /// are shown (the picture size halved until at most [`FRAME_WIDTH`]
+    /// wide), side by side on the current pool.
     pub fn evolution_apng(&self, frames: &[(usize, f64, Scene)]) -> Option<Vec<u8>> {
+        use rayon::prelude::*;
         let scenes: Vec<&Scene> = frames.iter().map(|(_, _, s)| s).collect();
         let camera = self.shared_camera(&scenes);
-        let mut size = (0, 0);
+        let (mut size, mut image) = (self.size(), None::<TargetImage>);
+        while size.0 > FRAME_WIDTH && size.1 >= 2 {
+            image = self.image.as_ref().map(|full| {
+                let img = image.as_ref().unwrap_or(full);
+                let (rgb, width, height) = halve(&img.rgb, img.width, img.height);
+                TargetImage { camera: img.camera, width, height, rgb }
+            });
+            size = (size.0 / 2, size.1 / 2);
+        }
+        let image = image.as_ref().or(self.image.as_ref());
         let pictures: Vec<Vec<u8>> = frames
-            .iter()
+            .par_iter()
             .map(|(generation, fitness, scene)| {
-                let (mut rgb, mut w, mut h) = self.render(scene, camera);
-                while w > FRAME_WIDTH && h >= 2 {
-                    (rgb, w, h) = halve(&rgb, w, h);
-                }
-                size = (w, h);
+                let (mut rgb, w, _) = self.render_at(scene, camera, size, image);
                 let caption = format!("gen {generation}  {fitness:.4}");
                 genform_export::plot::caption_rgb(&mut rgb, w, 6, 6, &caption);
                 rgb

@@ -371,7 +371,7 @@ pub fn encode_apng_rgb(frames: &[Vec<u8>], width: u32, height: u32, frame_ms: u1
     let mut enc = png::Encoder::new(&mut out, width, height);
     enc.set_color(png::ColorType::Rgb);
     enc.set_depth(png::BitDepth::Eight);
-    enc.set_compression(png::Compression::Balanced);
+    enc.set_compression(png::Compression::Fast);
     enc.set_animated(frames.len() as u32, 0).ok()?;
     enc.set_sep_def_img(true).ok()?;
     let mut writer = enc.write_header().ok()?;
