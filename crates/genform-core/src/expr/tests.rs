@@ -261,3 +261,45 @@ fn did_you_mean_counts_a_swap_as_one_typo() {
     assert_eq!(super::edit_distance("ab", "ba"), 1);
     assert_eq!(super::edit_distance("", "ab"), 2);
 }
+
+/// The full alignment table, as `did_you_mean` computed it before the
+/// bounded search (the oracle of the property below).
+fn full_table_distance(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut rows = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    (0..=a.len()).for_each(|i| rows[i][0] = i);
+    (0..=b.len()).for_each(|j| rows[0][j] = j);
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut d = (rows[i - 1][j - 1] + cost).min(rows[i - 1][j] + 1).min(rows[i][j - 1] + 1);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                d = d.min(rows[i - 2][j - 2] + 1);
+            }
+            rows[i][j] = d;
+        }
+    }
+    rows[a.len()][b.len()]
+}
+
+proptest::proptest! {
+    /// The bounded search finds what comparing every candidate in full found.
+    #[test]
+    fn did_you_mean_picks_what_the_full_table_picks(
+        name in "[abc_]{0,9}",
+        candidates in proptest::collection::vec("[abc_]{0,9}", 0..8),
+    ) {
+        let mut best: Option<(usize, &str)> = None;
+        for c in &candidates {
+            let d = full_table_distance(&name, c);
+            let limit = (name.chars().count().max(c.chars().count()) / 3).max(1);
+            if d <= limit && best.is_none_or(|(bd, _)| d < bd) {
+                best = Some((d, c));
+            }
+        }
+        proptest::prop_assert_eq!(super::did_you_mean(&name, candidates.iter().map(String::as_str)), best.map(|(_, c)| c));
+        for c in &candidates {
+            proptest::prop_assert_eq!(super::edit_distance(&name, c), full_table_distance(&name, c));
+        }
+    }
+}
