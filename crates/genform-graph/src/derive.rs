@@ -345,6 +345,7 @@ impl GraphGrammar {
             applications[pi] += 1;
             steps += 1;
         };
+        scratch.release(&mut g);
         Ok(Derivation { graph: g, steps, stats: Stats { applications, search_work: work, stop } })
     }
 

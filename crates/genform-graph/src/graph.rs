@@ -92,8 +92,9 @@ pub(crate) struct Edge {
 pub(crate) struct AttrSets {
     sets: Vec<AttrSet>,
     free: Vec<u32>,
-    /// Content hash → first set of that hash (the rest chain via `next`).
-    by_hash: HashMap<u64, u32>,
+    /// Content hash → first set of that hash (the rest chain via `next`);
+    /// the key is already a hash, so the map only mixes it once more.
+    by_hash: HashMap<u64, u32, std::hash::BuildHasherDefault<Fx>>,
 }
 
 #[derive(Clone, Debug)]
@@ -122,7 +123,8 @@ fn same_attrs(a: &[(u32, Value)], b: &[(u32, Value)]) -> bool {
 /// A multiply-rotate hash (as rustc's FxHash): attribute lists are hashed
 /// once per new element, where SipHash cost about 15 % of a Koch step.
 /// Only in-process lookups use it, so its quality needs no more.
-struct Fx(u64);
+#[derive(Default)]
+pub(crate) struct Fx(u64);
 
 impl std::hash::Hasher for Fx {
     fn write(&mut self, bytes: &[u8]) {
@@ -161,7 +163,7 @@ impl AttrSets {
     fn new() -> AttrSets {
         // Set 0 is the empty list, never counted nor freed.
         let empty = AttrSet { attrs: Box::default(), refs: 0, hash: 0, next: NONE };
-        AttrSets { sets: vec![empty], free: Vec::new(), by_hash: HashMap::new() }
+        AttrSets { sets: vec![empty], free: Vec::new(), by_hash: HashMap::default() }
     }
 
     /// One more than the largest set id.
@@ -203,6 +205,13 @@ impl AttrSets {
         };
         self.by_hash.insert(hash, id);
         id
+    }
+
+    /// One more user of the live set `id` (an id [`AttrSets::intern`] gave).
+    pub(crate) fn retain(&mut self, id: u32) {
+        if id != 0 {
+            self.sets[id as usize].refs += 1;
+        }
     }
 
     /// One user less of set `id`; the last one frees it.
@@ -435,7 +444,32 @@ impl<'g> EdgeRef<'g> {
 pub(crate) struct NewCommon<'a> {
     pub(crate) label: u32,
     pub(crate) generation: u32,
-    pub(crate) attrs: &'a mut Vec<(u32, Value)>,
+    pub(crate) attrs: NewAttrs<'a>,
+}
+
+/// The attributes of a new element.
+pub(crate) enum NewAttrs<'a> {
+    /// A list sorted by attribute id (emptied on use).
+    List(&'a mut Vec<(u32, Value)>),
+    /// A live set of the graph's (it gains a user).
+    Interned(u32),
+}
+
+impl AttrSets {
+    /// The id of `new` for one more user.
+    fn take(&mut self, new: NewAttrs) -> u32 {
+        match new {
+            NewAttrs::List(list) => {
+                let id = self.intern(list);
+                list.clear();
+                id
+            }
+            NewAttrs::Interned(id) => {
+                self.retain(id);
+                id
+            }
+        }
+    }
 }
 
 impl Graph {
@@ -556,8 +590,7 @@ impl Graph {
                 self.vertices.len() as u32 - 1
             }
         };
-        let attrs = self.attr_sets.intern(new.attrs);
-        new.attrs.clear();
+        let attrs = self.attr_sets.take(new.attrs);
         let v = &mut self.vertices[id as usize];
         v.c.label = new.label;
         v.c.generation = new.generation;
@@ -584,8 +617,7 @@ impl Graph {
         self.adj.push(&mut self.vertices[from as usize].adj, id);
         let pt = self.vertices[to as usize].adj.len;
         self.adj.push(&mut self.vertices[to as usize].adj, id);
-        let attrs = self.attr_sets.intern(new.attrs);
-        new.attrs.clear();
+        let attrs = self.attr_sets.take(new.attrs);
         let e = &mut self.edges[id as usize];
         e.c.label = new.label;
         e.c.generation = new.generation;
@@ -764,7 +796,7 @@ mod tests {
     use super::*;
 
     fn new(label: u32, generation: u32, attrs: &mut Vec<(u32, Value)>) -> NewCommon<'_> {
-        NewCommon { label, generation, attrs }
+        NewCommon { label, generation, attrs: NewAttrs::List(attrs) }
     }
 
     fn graph(track: bool) -> Graph {

@@ -7,7 +7,11 @@
 //! match's largest generation + 1.
 
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
-use crate::graph::{Graph, NewCommon, Value};
+use crate::graph::{Fx, Graph, NewAttrs, NewCommon, Value};
+use std::collections::HashMap;
+
+/// Address of a daughter element's attribute list → the graph's set.
+type ConstantSets = HashMap<usize, u32, std::hash::BuildHasherDefault<Fx>>;
 use crate::placement::Similarity;
 use genform_core::rng::Draws;
 
@@ -24,6 +28,21 @@ pub(crate) struct Scratch {
     new_ids: Vec<u32>,
     text: String,
     attrs: Vec<(u32, Value)>,
+    /// The graph's set of each daughter element's attribute list that is
+    /// all constants, by the list's address in the grammar (which outlives
+    /// the derivation); the entry holds one user of the set, so its id
+    /// stays valid. Koch's new edges all carry one such list: looking it
+    /// up once saves cloning, sorting and hashing it at every step.
+    constant: ConstantSets,
+}
+
+impl Scratch {
+    /// Gives back the users the cache of constant lists holds.
+    pub(crate) fn release(&mut self, g: &mut Graph) {
+        for (_, id) in self.constant.drain() {
+            g.attr_sets.release(id);
+        }
+    }
 }
 
 #[derive(Default)]
@@ -31,6 +50,27 @@ struct Pending {
     label: Option<u32>,
     pos: [f64; 2],
     attrs: Vec<(u32, Value)>,
+    /// Set instead of `attrs` when the list is all constants.
+    interned: Option<u32>,
+}
+
+/// The graph's set for `specs` when it is a non-empty list of constants
+/// (interned on first use and cached), else `None`.
+fn constant_set(g: &mut Graph, specs: &[(u32, AttrSpec)], cache: &mut ConstantSets) -> Option<u32> {
+    if specs.is_empty() || !specs.iter().all(|(_, s)| matches!(s, AttrSpec::Value(_))) {
+        return None;
+    }
+    Some(*cache.entry(specs.as_ptr() as usize).or_insert_with(|| {
+        let mut list: Vec<(u32, Value)> = specs
+            .iter()
+            .map(|(a, s)| match s {
+                AttrSpec::Value(v) => (*a, v.clone()),
+                AttrSpec::Template(_) => unreachable!("only constants"),
+            })
+            .collect();
+        list.sort_by_key(|(a, _)| *a);
+        g.attr_sets.intern(&list)
+    }))
 }
 
 /// Applies option `opt` of production `p` at the match (`mv`, `me`: host
@@ -88,7 +128,9 @@ pub(crate) fn apply(
                     Coord::Formula(prog) => prog.eval_draws(env, ch),
                 };
             }
-            attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+            if out.interned.is_none() {
+                attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+            }
         };
     resize(&mut s.kept_v, opt.kept_vertices.len());
     for (d, out) in opt.kept_vertices.iter().zip(&mut s.kept_v) {
@@ -102,10 +144,12 @@ pub(crate) fn apply(
     }
     resize(&mut s.new_v, opt.new_vertices.len());
     for (d, out) in opt.new_vertices.iter().zip(&mut s.new_v) {
+        out.interned = constant_set(g, &d.attrs, &mut s.constant);
         eval_vertex(g, d, None, out, choices, &mut s.text);
     }
     resize(&mut s.new_e, opt.new_edges.len());
     for (d, out) in opt.new_edges.iter().zip(&mut s.new_e) {
+        out.interned = constant_set(g, &d.attrs, &mut s.constant);
         edge_values(g, d, env, choices, out, &mut s.text);
     }
     // A NaN or infinite position would silently vanish from the drawing.
@@ -148,8 +192,8 @@ pub(crate) fn apply(
     }
     s.new_ids.clear();
     for new in &mut s.new_v[..opt.new_vertices.len()] {
-        new.attrs.sort_by_key(|(a, _)| *a);
-        let id = g.add_vertex(new.pos, NewCommon { label: new.label.unwrap_or(0), generation, attrs: &mut new.attrs });
+        let (pos, label) = (new.pos, new.label.unwrap_or(0));
+        let id = g.add_vertex(pos, NewCommon { label, generation, attrs: new_attrs(new) });
         s.new_ids.push(id);
     }
     for (d, new) in opt.new_edges.iter().zip(&mut s.new_e) {
@@ -157,11 +201,22 @@ pub(crate) fn apply(
             End::Mother(i) => mv[i],
             End::New(i) => s.new_ids[i],
         };
-        new.attrs.sort_by_key(|(a, _)| *a);
-        let common = NewCommon { label: new.label.unwrap_or(0), generation, attrs: &mut new.attrs };
+        let label = new.label.unwrap_or(0);
+        let common = NewCommon { label, generation, attrs: new_attrs(new) };
         g.add_edge(end(d.from), end(d.to), d.directed.unwrap_or(false), common);
     }
     Ok(())
+}
+
+/// A new element's attributes: its cached constant set or its sorted list.
+fn new_attrs(new: &mut Pending) -> NewAttrs<'_> {
+    match new.interned {
+        Some(id) => NewAttrs::Interned(id),
+        None => {
+            new.attrs.sort_by_key(|(a, _)| *a);
+            NewAttrs::List(&mut new.attrs)
+        }
+    }
 }
 
 fn resize(v: &mut Vec<Pending>, n: usize) {
@@ -193,5 +248,7 @@ fn attrs(specs: &[(u32, AttrSpec)], env: &[f64], ch: &mut impl Draws, out: &mut 
 
 fn edge_values(g: &mut Graph, d: &DEdge, env: &[f64], ch: &mut impl Draws, out: &mut Pending, buf: &mut String) {
     out.label = label(g, d.label.as_ref(), env, ch, buf);
-    attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+    if out.interned.is_none() {
+        attrs(&d.attrs, env, ch, &mut out.attrs, buf);
+    }
 }

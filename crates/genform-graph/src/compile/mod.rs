@@ -6,7 +6,7 @@ mod scope;
 mod syntax;
 
 use crate::grammar::{GraphGrammar, Group};
-use crate::graph::{Graph, NewCommon, Value};
+use crate::graph::{Graph, NewAttrs, NewCommon, Value};
 use crate::names::Interner;
 use crate::yaml;
 use genform_core::diag::{Diagnostic, Diagnostics, SourceFile, Span};
@@ -99,10 +99,12 @@ fn build_host(parts: HostParts, labels: Interner, attrs: Interner, track: bool) 
     let ids: Vec<u32> = parts
         .vertices
         .into_iter()
-        .map(|(pos, label, mut attrs)| g.add_vertex(pos, NewCommon { label, generation: 0, attrs: &mut attrs }))
+        .map(|(pos, label, mut attrs)| {
+            g.add_vertex(pos, NewCommon { label, generation: 0, attrs: NewAttrs::List(&mut attrs) })
+        })
         .collect();
     for (a, b, directed, label, mut attrs) in parts.edges {
-        g.add_edge(ids[a], ids[b], directed, NewCommon { label, generation: 0, attrs: &mut attrs });
+        g.add_edge(ids[a], ids[b], directed, NewCommon { label, generation: 0, attrs: NewAttrs::List(&mut attrs) });
     }
     g
 }
