@@ -69,3 +69,23 @@ fn bad_grammars_and_genomes_are_refused_with_a_position() {
     let run = genform(dir.path(), &["map", s(&bnf), "--genome", "0", "--max-wraps", "50"]).ok();
     assert!(run.stdout().contains("invalid (wrap_limit)"), "{}", run.stdout());
 }
+
+#[test]
+fn per_choice_layout_gives_each_nonterminal_its_own_codons() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("g.bnf"), "<s> ::= <a> <b> <a>\n<a> ::= \"x\" | \"y\"\n<b> ::= \"p\" | \"q\"\n")
+        .unwrap();
+    let map = |layout: &str| {
+        let run = genform(dir.path(), &["map", "g.bnf", "--genome", "0,1,1,9,9,0", "--layout", layout, "--json"]).ok();
+        serde_json::from_str::<Value>(run.stdout().trim()).unwrap()
+    };
+    // Sequential: codons 0..3 in order; per choice: <s>, <a>, <b> read
+    // codons 0, 1, 2 and the second <a> reads 1 + K = 5 (K = 4 kinds).
+    let (seq, per) = (map("sequential"), map("per-choice"));
+    assert_eq!(seq["phenotype"], "yqy");
+    assert_eq!(per["phenotype"], "yqx");
+    let pos = |v: &Value| v["steps"].as_array().unwrap().iter().map(|s| s["pos"].as_u64().unwrap()).collect::<Vec<_>>();
+    assert_eq!((pos(&seq), pos(&per)), (vec![0, 1, 2, 3], vec![0, 1, 2, 5]));
+    let run = genform(dir.path(), &["map", "g.bnf", "--genome", "1", "--layout", "zigzag"]).fails();
+    assert!(run.stderr().contains("per-choice"), "{}", run.stderr());
+}
