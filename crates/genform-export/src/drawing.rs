@@ -3,9 +3,11 @@
 //! formats (OBJ, GLB, PLY, STL) and `Model.mesh()` have faces to hold
 //! where the SVG has only strokes and fills.
 //!
-//! Strokes become ribbons: one quad per segment, as wide as the stroke,
-//! with a small disc at every bend (the SVG's round joins) and at the ends
-//! of round-capped strokes; a stroke of one point becomes a disc. Filled
+//! Strokes become ribbons: one quad per straight run, as wide as the
+//! stroke, with a round wedge on the outer side of every bend (the SVG's
+//! round joins) and a half disc at the ends of round-capped strokes; a
+//! stroke of one point becomes a disc. A polyline that continues the one
+//! before it (same tag and width, starting at its end) joins its ribbon. Filled
 //! shapes become one polygon per closed sub-path (holes are filled: the
 //! fill rule is not kept). Graph-grammar shapes go through the SVG writer
 //! and usvg, so circles, rectangles and path data (Bézier curves and arcs
@@ -26,7 +28,8 @@ use usvg::tiny_skia_path::PathSegment;
 /// extent: 0.5 %, a thin but visible line at any scale.
 pub const HAIRLINE_SHARE: f32 = 0.005;
 
-/// Corners of the discs at bends, round caps and lone points.
+/// Corners of a whole disc (lone points); joins and caps use as many per
+/// turn.
 const DISC_SIDES: usize = 8;
 
 /// How far each colour layer sits above the one drawn before it, as a
@@ -60,8 +63,21 @@ pub fn drawing_geometry(scene: &Scene) -> Cow<'_, Scene> {
     out.shapes2d.clear();
     let mut parts: Vec<(TagId, Part)> = Vec::new();
     for l in &scene.polylines {
-        let points = l.points.iter().map(|p| p.truncate()).collect();
         let width = (l.width.is_finite() && l.width > 0.0).then_some(l.width);
+        // A polyline that starts where the one before it ended, in the same
+        // tag and width, continues it: a turtle starts a new polyline after
+        // every `]` and turn of state, and two round caps on one point are
+        // the round join the continued stroke draws there. One ribbon
+        // instead of many keeps the caps to the real ends.
+        if let Some((tag, Part::Stroke { points, width: w, .. })) = parts.last_mut()
+            && *tag == l.tag
+            && *w == width
+            && l.points.first().map(|p| p.truncate()) == points.last().copied()
+        {
+            points.extend(l.points.iter().skip(1).map(|p| p.truncate()));
+            continue;
+        }
+        let points = l.points.iter().map(|p| p.truncate()).collect();
         parts.push((l.tag, Part::Stroke { points, closed: false, width, cap: Cap::Round }));
     }
     for shape in &scene.shapes2d {
@@ -306,13 +322,14 @@ impl Builder<'_> {
         self.push((0..DISC_SIDES).map(corner), z, tag);
     }
 
-    /// A ribbon `2·h` wide along `points`: a quad per segment, discs at the
-    /// bends and (round caps) at the ends.
+    /// A ribbon `2·h` wide along `points`: a quad per straight run, round
+    /// joins at the bends and (round caps) half discs at the ends.
     fn stroke(&mut self, points: &[Vec2], closed: bool, h: f32, cap: Cap, z: f32, tag: TagId) {
         let mut pts = dedup(points);
         if closed && pts.len() > 1 && pts.first() == pts.last() {
             pts.pop();
         }
+        straighten(&mut pts);
         let n = pts.len();
         if n == 0 {
             return;
@@ -340,21 +357,63 @@ impl Builder<'_> {
             let side = d.perp() * h;
             self.push([a - side, b - side, b + side, a + side].into_iter(), z, tag);
         }
-        // Bends: where the direction turns, a disc closes the wedge the two
-        // quads leave open (a round join).
+        // Bends: where the direction turns, a round join closes the wedge
+        // the two quads leave open on the outer side.
         let bends = if closed { 0..n } else { 1..n - 1 };
         for i in bends {
             let (prev, next) = (pts[(i + n - 1) % n], pts[(i + 1) % n]);
             let (u, v) = ((pts[i] - prev).normalize(), (next - pts[i]).normalize());
-            if u.perp_dot(v).abs() > 1e-4 || u.dot(v) < 0.0 {
-                self.disc(pts[i], h, z, tag);
+            if turns(u, v) {
+                // The signed turn; an exact reversal turns left by π.
+                let turn = u.perp_dot(v).atan2(u.dot(v));
+                let outer = if turn >= 0.0 { -u.perp() } else { u.perp() };
+                self.arc(pts[i], outer, turn, h, true, z, tag);
             }
         }
         if !closed && cap == Cap::Round {
-            self.disc(pts[0], h, z, tag);
-            self.disc(pts[n - 1], h, z, tag);
+            // Half discs: the other half lies inside the end quads.
+            let (first, last) = ((pts[1] - pts[0]).normalize(), (pts[n - 1] - pts[n - 2]).normalize());
+            self.arc(pts[0], first.perp(), std::f32::consts::PI, h, false, z, tag);
+            self.arc(pts[n - 1], -last.perp(), std::f32::consts::PI, h, false, z, tag);
         }
     }
+
+    /// A round piece of radius `r` about `c`: the arc from the unit vector
+    /// `from` turned by `sweep` radians, in steps of at most a disc side
+    /// ([`DISC_SIDES`]), closed through `c` (`fan`) or by its chord.
+    #[allow(clippy::too_many_arguments)]
+    fn arc(&mut self, c: Vec2, from: Vec2, sweep: f32, r: f32, fan: bool, z: f32, tag: TagId) {
+        let steps = (sweep.abs() / (std::f32::consts::TAU / DISC_SIDES as f32)).ceil().max(1.0) as usize;
+        let corner = |k: usize| c + r * Vec2::from_angle(sweep * k as f32 / steps as f32).rotate(from);
+        self.push(fan.then_some(c).into_iter().chain((0..=steps).map(corner)), z, tag);
+    }
+}
+
+/// Whether the path turns at a point it reaches along `u` and leaves along
+/// `v` (unit vectors): where a round join needs its disc.
+fn turns(u: Vec2, v: Vec2) -> bool {
+    u.perp_dot(v).abs() > 1e-4 || u.dot(v) < 0.0
+}
+
+/// Drops the interior points where the path goes straight on (no bend), so
+/// a straight run is one quad however many segments drew it: a turtle's
+/// `F → FF` draws each branch as 2ⁿ segments in a line. The first and last
+/// point stay (a closed path's seam too).
+fn straighten(pts: &mut Vec<Vec2>) {
+    if pts.len() < 3 {
+        return;
+    }
+    let mut kept = 1;
+    for i in 1..pts.len() - 1 {
+        let (prev, here, next) = (pts[kept - 1], pts[i], pts[i + 1]);
+        if turns((here - prev).normalize(), (next - here).normalize()) {
+            pts[kept] = here;
+            kept += 1;
+        }
+    }
+    let last = pts[pts.len() - 1];
+    pts[kept] = last;
+    pts.truncate(kept + 1);
 }
 
 /// `points` without consecutive repeats.
@@ -390,14 +449,16 @@ mod tests {
         s.polylines.push(line(&[(0.0, 0.0), (10.0, 0.0)], 0.5, tag));
         let g = drawing_geometry(&s);
         assert!(g.polylines.is_empty());
-        // One quad 10 × 0.5 and two round caps of radius 0.25 (octagons).
+        // One quad 10 × 0.5 and two round caps of radius 0.25: half
+        // octagons outside the quad, so nothing is covered twice.
         assert_eq!(g.polygons.len(), 3);
         let quad = &g.polygons[0];
         assert_eq!(quad.points.len(), 4);
         let (lo, hi) = quad.points.iter().fold((Vec3::MAX, Vec3::MIN), |(l, h), &p| (l.min(p), h.max(p)));
         assert_eq!((lo, hi), (Vec3::new(0.0, -0.25, 0.0), Vec3::new(10.0, 0.25, 0.0)));
         let octagon = 2.0 * 2.0f32.sqrt() * 0.25 * 0.25;
-        assert!((area(&g) - (5.0 + 2.0 * octagon)).abs() < 1e-4, "{}", area(&g));
+        assert!((area(&g) - (5.0 + octagon)).abs() < 1e-4, "{}", area(&g));
+        assert!(g.polygons[1..].iter().all(|p| p.points.len() == 5), "half octagons");
         // Every triangle faces +z.
         g.for_each_triangle(Tessellation::default(), |t, _| assert!((t[1] - t[0]).cross(t[2] - t[0]).z > 0.0));
     }
@@ -411,10 +472,34 @@ mod tests {
         let g = drawing_geometry(&s);
         // 2 quads, 1 bend, 2 caps, 1 dot.
         assert_eq!(g.polygons.len(), 6);
+        // The bend turns left by 90°: a fan of two steps on its outer
+        // (right) side, a quarter of the disc.
+        let wedge = &g.polygons[2].points;
+        assert_eq!(wedge.len(), 4, "{wedge:?}");
         let half = 0.5 * HAIRLINE_SHARE * 100.0;
         let ys: Vec<f32> = g.polygons[0].points.iter().map(|p| p.y).collect();
         assert!(ys.iter().all(|y| (y.abs() - half).abs() < 1e-6), "{ys:?}");
         assert!(g.polygons.iter().all(|p| p.points.iter().all(|q| q.z == 0.0)), "one colour: no lift");
+    }
+
+    #[test]
+    fn straight_runs_and_continued_polylines_make_one_ribbon() {
+        let mut s = Scene::new();
+        let (ink, red) = (s.tag("ink"), s.tag("red"));
+        // A turtle's `FFF` then a new polyline from its end (after `]` or a
+        // turn): one quad for the straight run, one for the turn, a disc at
+        // the bend and caps only at the two real ends.
+        s.polylines.push(line(&[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0)], 0.1, ink));
+        s.polylines.push(line(&[(3.0, 0.0), (3.0, 1.0)], 0.1, ink));
+        assert_eq!(drawing_geometry(&s).polygons.len(), 2 + 1 + 2);
+        // Another width, another tag or a gap starts a ribbon of its own.
+        for next in [line(&[(3.0, 1.0), (4.0, 1.0)], 0.2, ink), line(&[(3.0, 1.0), (4.0, 1.0)], 0.1, red)] {
+            let mut t = s.clone();
+            t.polylines.push(next);
+            assert_eq!(drawing_geometry(&t).polygons.len(), 5 + 3);
+        }
+        s.polylines.push(line(&[(3.0, 1.5), (4.0, 1.5)], 0.1, ink));
+        assert_eq!(drawing_geometry(&s).polygons.len(), 5 + 3);
     }
 
     #[test]
