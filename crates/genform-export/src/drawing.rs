@@ -65,10 +65,10 @@ pub fn drawing_geometry(scene: &Scene) -> Cow<'_, Scene> {
     for l in &scene.polylines {
         let width = (l.width.is_finite() && l.width > 0.0).then_some(l.width);
         // A polyline that starts where the one before it ended, in the same
-        // tag and width, continues it: a turtle starts a new polyline after
-        // every `]` and turn of state, and two round caps on one point are
-        // the round join the continued stroke draws there. One ribbon
-        // instead of many keeps the caps to the real ends.
+        // tag and width, continues it: a turtle often starts a new polyline
+        // where the last one ended (around brackets, for one), and two round
+        // caps on one point are the round join the continued stroke draws
+        // there. One ribbon instead of many keeps the caps to the real ends.
         if let Some((tag, Part::Stroke { points, width: w, .. })) = parts.last_mut()
             && *tag == l.tag
             && *w == width

@@ -292,7 +292,7 @@ impl Genes for PerChoice<'_> {
         if wraps > u64::from(max_wraps) {
             return Err(Failure::WrapLimit);
         }
-        *reads += 1;
+        *reads = reads.saturating_add(1);
         let pos = (p % len) as usize;
         s.wraps = s.wraps.max(wraps as u32);
         s.used += 1;
