@@ -128,16 +128,12 @@ impl TargetPicture {
         use rayon::prelude::*;
         let scenes: Vec<&Scene> = frames.iter().map(|(_, _, s)| s).collect();
         let camera = self.shared_camera(&scenes);
-        let (mut size, mut image) = (self.size(), None::<TargetImage>);
+        let (mut size, mut scaled) = (self.size(), None);
         while size.0 > FRAME_WIDTH && size.1 >= 2 {
-            image = self.image.as_ref().map(|full| {
-                let img = image.as_ref().unwrap_or(full);
-                let (rgb, width, height) = halve(&img.rgb, img.width, img.height);
-                TargetImage { camera: img.camera, width, height, rgb }
-            });
+            scaled = scaled.as_ref().or(self.image.as_ref()).map(TargetImage::halved);
             size = (size.0 / 2, size.1 / 2);
         }
-        let image = image.as_ref().or(self.image.as_ref());
+        let image = scaled.as_ref().or(self.image.as_ref());
         let pictures: Vec<Vec<u8>> = frames
             .par_iter()
             .map(|(generation, fitness, scene)| {
@@ -148,6 +144,14 @@ impl TargetPicture {
             })
             .collect();
         genform_export::plot::encode_apng_rgb(&pictures, size.0, size.1, 250, 2000)
+    }
+}
+
+impl TargetImage {
+    /// The picture at half its size, seen through the same camera.
+    fn halved(&self) -> TargetImage {
+        let (rgb, width, height) = halve(&self.rgb, self.width, self.height);
+        TargetImage { camera: self.camera, width, height, rgb }
     }
 }
 

@@ -486,9 +486,9 @@ mod tests {
     fn straight_runs_and_continued_polylines_make_one_ribbon() {
         let mut s = Scene::new();
         let (ink, red) = (s.tag("ink"), s.tag("red"));
-        // A turtle's `FFF` then a new polyline from its end (after `]` or a
-        // turn): one quad for the straight run, one for the turn, a disc at
-        // the bend and caps only at the two real ends.
+        // A turtle's `FFF` then a new polyline from its end: one quad for
+        // the straight run, one for the turn, a wedge at the bend and caps
+        // only at the two real ends.
         s.polylines.push(line(&[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0)], 0.1, ink));
         s.polylines.push(line(&[(3.0, 0.0), (3.0, 1.0)], 0.1, ink));
         assert_eq!(drawing_geometry(&s).polygons.len(), 2 + 1 + 2);

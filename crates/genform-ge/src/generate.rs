@@ -210,6 +210,11 @@ impl Genes for Writer<'_> {
         self.codons.push(codon);
         Ok((s.append(), codon))
     }
+
+    /// Every codon is written at the end, none wraps.
+    fn extent(&self, s: &State) -> usize {
+        s.pos
+    }
 }
 
 impl Mapper {

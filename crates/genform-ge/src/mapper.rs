@@ -86,7 +86,7 @@ pub(crate) struct State {
     /// Line end already written (no space before the next terminal).
     line_start: bool,
     bindings: Vec<[u32; 3]>,
-    pos: usize,
+    pub(crate) pos: usize,
     wraps: u32,
     used: usize,
     max_id: u32,
@@ -96,8 +96,6 @@ pub(crate) struct State {
     extra: String,
     /// Per kind of decision, the reads so far ([`CodonLayout::PerChoice`]).
     stream_reads: Vec<u32>,
-    /// One past the furthest codon position read.
-    extent: usize,
 }
 
 /// Maps genomes over one grammar with fixed options.
@@ -193,7 +191,7 @@ impl Mapper {
                 let (rules, groups) = (self.prog.rules.len() as u32, self.prog.groups.len() as u32);
                 self.s.stream_reads.clear();
                 self.s.stream_reads.resize((rules + groups + 1) as usize, 0);
-                self.run_with::<TRACE, _>(&mut PerChoice { genome, rules, groups })
+                self.run_with::<TRACE, _>(&mut PerChoice { genome, rules, groups, furthest: 0 })
             }
         }
     }
@@ -208,7 +206,6 @@ impl Mapper {
         s.pos = 0;
         s.wraps = 0;
         s.used = 0;
-        s.extent = 0;
         s.max_id = self.cfg.initial_max_id;
         s.steps.clear();
         if self.cfg.repair.is_some() {
@@ -227,7 +224,7 @@ impl Mapper {
             result = repair::<TRACE, G>(&self.prog, &self.cfg, s, genes);
         }
         self.valid = result.is_ok();
-        Outcome { fail: result.err(), used_codons: s.used, wraps: s.wraps, extent: s.extent }
+        Outcome { fail: result.err(), used_codons: s.used, wraps: s.wraps, extent: genes.extent(s) }
     }
 }
 
@@ -253,6 +250,10 @@ pub(crate) enum Ask {
 pub(crate) trait Genes {
     /// The next codon and its genome position, for a choice among `n`.
     fn next(&mut self, s: &mut State, max_wraps: u32, n: u32, ask: Ask) -> Result<(usize, u32), Failure>;
+
+    /// One past the furthest codon position read so far (the whole genome
+    /// once reading wrapped): [`Outcome::extent`].
+    fn extent(&self, s: &State) -> usize;
 }
 
 /// A genome read left to right, with wrapping.
@@ -263,6 +264,10 @@ impl Genes for Fixed<'_> {
     fn next(&mut self, s: &mut State, max_wraps: u32, _: u32, _: Ask) -> Result<(usize, u32), Failure> {
         s.read(self.0, max_wraps)
     }
+
+    fn extent(&self, s: &State) -> usize {
+        if s.wraps > 0 { self.0.len() } else { s.pos }
+    }
 }
 
 /// A genome read as one interleaved stream per kind of decision
@@ -272,6 +277,8 @@ struct PerChoice<'a> {
     genome: &'a [u32],
     rules: u32,
     groups: u32,
+    /// One past the furthest position read without wrapping.
+    furthest: usize,
 }
 
 impl Genes for PerChoice<'_> {
@@ -296,8 +303,12 @@ impl Genes for PerChoice<'_> {
         let pos = (p % len) as usize;
         s.wraps = s.wraps.max(wraps as u32);
         s.used += 1;
-        s.extent = if wraps > 0 { len as usize } else { s.extent.max(pos + 1) };
+        self.furthest = self.furthest.max(pos + 1);
         Ok((pos, self.genome[pos]))
+    }
+
+    fn extent(&self, s: &State) -> usize {
+        if s.wraps > 0 { self.genome.len() } else { self.furthest }
     }
 }
 
@@ -308,7 +319,6 @@ impl State {
         let pos = self.pos;
         self.pos += 1;
         self.used += 1;
-        self.extent = self.pos;
         pos
     }
 
@@ -324,12 +334,10 @@ impl State {
             }
             self.wraps += 1;
             self.pos = 0;
-            self.extent = genome.len();
         }
         let pos = self.pos;
         self.pos += 1;
         self.used += 1;
-        self.extent = self.extent.max(self.pos);
         Ok((pos, genome[pos]))
     }
 

@@ -10,8 +10,9 @@ use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, 
 use crate::graph::{Fx, Graph, NewAttrs, NewCommon, Value};
 use std::collections::HashMap;
 
-/// Address of a daughter element's attribute list → the graph's set.
-type ConstantSets = HashMap<usize, u32, std::hash::BuildHasherDefault<Fx>>;
+/// Address of a daughter element's attribute list → the graph's set when
+/// the list is all constants, `None` when it has a template.
+type ConstantSets = HashMap<usize, Option<u32>, std::hash::BuildHasherDefault<Fx>>;
 use crate::placement::Similarity;
 use genform_core::rng::Draws;
 
@@ -30,8 +31,8 @@ pub(crate) struct Scratch {
     attrs: Vec<(u32, Value)>,
     /// The graph's set of each daughter element's attribute list that is
     /// all constants, by the list's address in the grammar (which outlives
-    /// the derivation); the entry holds one user of the set, so its id
-    /// stays valid. Koch's new edges all carry one such list: looking it
+    /// the derivation), so each list is looked at once; the entry holds one
+    /// user of the set, so its id stays valid. Koch's new edges all carry one such list: looking it
     /// up once saves cloning, sorting and hashing it at every step.
     constant: ConstantSets,
 }
@@ -39,7 +40,7 @@ pub(crate) struct Scratch {
 impl Scratch {
     /// Gives back the users the cache of constant lists holds.
     pub(crate) fn release(&mut self, g: &mut Graph) {
-        for (_, id) in self.constant.drain() {
+        for id in self.constant.drain().filter_map(|(_, id)| id) {
             g.attr_sets.release(id);
         }
     }
@@ -57,20 +58,23 @@ struct Pending {
 /// The graph's set for `specs` when it is a non-empty list of constants
 /// (interned on first use and cached), else `None`.
 fn constant_set(g: &mut Graph, specs: &[(u32, AttrSpec)], cache: &mut ConstantSets) -> Option<u32> {
-    if specs.is_empty() || !specs.iter().all(|(_, s)| matches!(s, AttrSpec::Value(_))) {
+    // Empty lists all share one dangling address: never a cache key.
+    if specs.is_empty() {
         return None;
     }
-    Some(*cache.entry(specs.as_ptr() as usize).or_insert_with(|| {
-        let mut list: Vec<(u32, Value)> = specs
+    *cache.entry(specs.as_ptr() as usize).or_insert_with(|| {
+        let constants: Option<Vec<(u32, Value)>> = specs
             .iter()
             .map(|(a, s)| match s {
-                AttrSpec::Value(v) => (*a, v.clone()),
-                AttrSpec::Template(_) => unreachable!("only constants"),
+                AttrSpec::Value(v) => Some((*a, v.clone())),
+                AttrSpec::Template(_) => None,
             })
             .collect();
-        list.sort_by_key(|(a, _)| *a);
-        g.attr_sets.intern(&list)
-    }))
+        constants.map(|mut list| {
+            list.sort_by_key(|(a, _)| *a);
+            g.attr_sets.intern(&list)
+        })
+    })
 }
 
 /// Applies option `opt` of production `p` at the match (`mv`, `me`: host
