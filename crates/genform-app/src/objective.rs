@@ -261,7 +261,7 @@ fn extent(scene: &Scene) -> Option<[f32; 3]> {
         lo = lo.min(centre - reach);
         hi = hi.max(centre + reach);
     }
-    let points = scene.polylines.iter().flat_map(|l| &l.points).chain(scene.polygons.iter().flat_map(|p| &p.points));
+    let points = scene.polylines.points().iter().chain(scene.polygons.iter().flat_map(|p| &p.points));
     for p in points.chain(scene.surfaces.iter().flat_map(|s| &s.positions)) {
         lo = lo.min(*p);
         hi = hi.max(*p);

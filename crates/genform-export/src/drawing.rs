@@ -54,7 +54,7 @@ const CURVE_STEPS: usize = 16;
 /// out. Each change of tag lifts what follows by [`LAYER_SHARE`] of the
 /// extent, drawing order kept; a drawing in one colour stays at z = 0.
 pub fn drawing_geometry(scene: &Scene) -> Cow<'_, Scene> {
-    let finite = scene.polylines.iter().flat_map(|l| &l.points).all(|p| p.is_finite());
+    let finite = scene.polylines.points().iter().all(|p| p.is_finite());
     if !is_flat(scene) || !finite || (scene.polylines.is_empty() && scene.shapes2d.is_empty()) {
         return Cow::Borrowed(scene);
     }
@@ -432,8 +432,9 @@ mod tests {
     use super::*;
     use genform_core::scene::{Instance, Polyline, Primitive, Tessellation};
 
-    fn line(points: &[(f32, f32)], width: f32, tag: TagId) -> Polyline {
-        Polyline { points: points.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(), width, tag }
+    fn line(s: &mut Scene, points: &[(f32, f32)], width: f32, tag: TagId) {
+        let points: Vec<Vec3> = points.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        s.polylines.push(Polyline { points: &points, width, tag });
     }
 
     fn area(scene: &Scene) -> f32 {
@@ -446,7 +447,7 @@ mod tests {
     fn a_stroke_becomes_a_ribbon_of_its_width_facing_plus_z() {
         let mut s = Scene::new();
         let tag = s.tag("ink");
-        s.polylines.push(line(&[(0.0, 0.0), (10.0, 0.0)], 0.5, tag));
+        line(&mut s, &[(0.0, 0.0), (10.0, 0.0)], 0.5, tag);
         let g = drawing_geometry(&s);
         assert!(g.polylines.is_empty());
         // One quad 10 × 0.5 and two round caps of radius 0.25: half
@@ -467,8 +468,8 @@ mod tests {
     fn hairlines_get_a_share_of_the_extent_and_bends_a_disc() {
         let mut s = Scene::new();
         let tag = s.tag("ink");
-        s.polylines.push(line(&[(0.0, 0.0), (100.0, 0.0), (100.0, 50.0)], 0.0, tag));
-        s.polylines.push(line(&[(20.0, 20.0)], 0.0, tag));
+        line(&mut s, &[(0.0, 0.0), (100.0, 0.0), (100.0, 50.0)], 0.0, tag);
+        line(&mut s, &[(20.0, 20.0)], 0.0, tag);
         let g = drawing_geometry(&s);
         // 2 quads, 1 bend, 2 caps, 1 dot.
         assert_eq!(g.polygons.len(), 6);
@@ -489,16 +490,16 @@ mod tests {
         // A turtle's `FFF` then a new polyline from its end: one quad for
         // the straight run, one for the turn, a wedge at the bend and caps
         // only at the two real ends.
-        s.polylines.push(line(&[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0)], 0.1, ink));
-        s.polylines.push(line(&[(3.0, 0.0), (3.0, 1.0)], 0.1, ink));
+        line(&mut s, &[(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (3.0, 0.0)], 0.1, ink);
+        line(&mut s, &[(3.0, 0.0), (3.0, 1.0)], 0.1, ink);
         assert_eq!(drawing_geometry(&s).polygons.len(), 2 + 1 + 2);
         // Another width, another tag or a gap starts a ribbon of its own.
-        for next in [line(&[(3.0, 1.0), (4.0, 1.0)], 0.2, ink), line(&[(3.0, 1.0), (4.0, 1.0)], 0.1, red)] {
+        for (width, tag) in [(0.2, ink), (0.1, red)] {
             let mut t = s.clone();
-            t.polylines.push(next);
+            line(&mut t, &[(3.0, 1.0), (4.0, 1.0)], width, tag);
             assert_eq!(drawing_geometry(&t).polygons.len(), 5 + 3);
         }
-        s.polylines.push(line(&[(3.0, 1.5), (4.0, 1.5)], 0.1, ink));
+        line(&mut s, &[(3.0, 1.5), (4.0, 1.5)], 0.1, ink);
         assert_eq!(drawing_geometry(&s).polygons.len(), 5 + 3);
     }
 
@@ -506,9 +507,9 @@ mod tests {
     fn only_flat_drawings_are_turned() {
         let mut s = Scene::new();
         let tag = s.tag("ink");
-        s.polylines.push(line(&[(0.0, 0.0), (1.0, 0.0)], 0.1, tag));
+        line(&mut s, &[(0.0, 0.0), (1.0, 0.0)], 0.1, tag);
         let mut raised = s.clone();
-        raised.polylines[0].points[1].z = 1.0;
+        raised.polylines.points_mut(0)[1].z = 1.0;
         assert!(matches!(drawing_geometry(&raised), Cow::Borrowed(_)));
         let mut solid = s.clone();
         solid.instances.push(Instance { transform: Default::default(), primitive: Primitive::Box, tag });

@@ -17,7 +17,7 @@ pub(crate) fn is_flat(scene: &Scene) -> bool {
         && scene.instances.is_empty()
         && scene.blocks.is_empty()
         && scene.surfaces.is_empty()
-        && scene.polylines.iter().flat_map(|l| &l.points).all(|p| p.z == 0.0)
+        && scene.polylines.points().iter().all(|p| p.z == 0.0)
         && scene.polygons.iter().flat_map(|p| &p.points).all(|p| p.z == 0.0)
 }
 
@@ -157,7 +157,7 @@ mod tests {
         let tag = s.tag("ink#204080");
         let pts = [(0.0, 1.0), (0.0, 0.0), (4.0, 0.0)];
         s.polylines.push(Polyline {
-            points: pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(),
+            points: &pts.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect::<Vec<_>>(),
             width: 0.0,
             tag,
         });
@@ -225,7 +225,7 @@ mod tests {
         assert!(is_flat(&s));
         assert!(!is_flat(&Scene::new()));
         let mut raised = s.clone();
-        raised.polylines[0].points[1].z = 0.5;
+        raised.polylines.points_mut(0)[1].z = 0.5;
         assert!(!is_flat(&raised));
         let mut surface = s.clone();
         surface.surfaces.push(genform_core::Surface::new(0));

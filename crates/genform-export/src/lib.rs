@@ -598,7 +598,7 @@ pub(crate) mod test_scenes {
             tag: b,
         });
         s.polylines.push(Polyline {
-            points: vec![Vec3::new(0.0, 6.0, 0.0), Vec3::new(2.0, 7.0, 0.0), Vec3::new(4.0, 6.0, 1.0)],
+            points: &[Vec3::new(0.0, 6.0, 0.0), Vec3::new(2.0, 7.0, 0.0), Vec3::new(4.0, 6.0, 1.0)],
             width: 0.1,
             tag: c,
         });

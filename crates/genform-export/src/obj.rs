@@ -177,7 +177,7 @@ fn write(scene: &Scene, tess: Tessellation, granularity: Granularity, mtl: Optio
     for (k, l) in scene.polylines.iter().enumerate().filter(|(_, l)| l.points.len() >= 2) {
         let _ = writeln!(out, "o {}_polyline{k}", tag_name(scene, l.tag));
         mats.tag(&mut out, scene, l.tag);
-        run(&mut out, &mut next, 'l', &l.points);
+        run(&mut out, &mut next, 'l', l.points);
     }
     for m in crate::minecraft::block_meshes(scene) {
         let _ = writeln!(out, "o {}", m.mesh.name);

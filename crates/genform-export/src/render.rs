@@ -458,7 +458,7 @@ fn finite_points(scene: &Scene, shapes: &Shapes, mut f: impl FnMut(Vec3)) {
         }
     }
     scene.polygons.iter().filter(|p| p.points.len() >= 3).flat_map(|p| p.points.iter().copied()).for_each(&mut add);
-    scene.polylines.iter().flat_map(|l| l.points.iter().copied()).for_each(&mut add);
+    scene.polylines.points().iter().copied().for_each(&mut add);
     scene.surfaces.iter().flat_map(|s| s.positions.iter().copied()).for_each(add);
 }
 
@@ -949,7 +949,7 @@ mod tests {
         let mut s = Scene::new();
         let tag = s.tag("stroke");
         s.polylines.push(genform_core::scene::Polyline {
-            points: vec![Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)],
+            points: &[Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)],
             width: 0.0,
             tag,
         });
@@ -969,7 +969,7 @@ mod tests {
             let mut s = test_scenes::boxes(1);
             let tag = s.tag("wire#ff0000");
             s.polylines.push(genform_core::scene::Polyline {
-                points: vec![Vec3::new(-3.0, 0.0, z), Vec3::new(0.0, 0.0, z + 0.1), Vec3::new(3.0, 0.0, z)],
+                points: &[Vec3::new(-3.0, 0.0, z), Vec3::new(0.0, 0.0, z + 0.1), Vec3::new(3.0, 0.0, z)],
                 width: 0.0,
                 tag,
             });

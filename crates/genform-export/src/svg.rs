@@ -93,7 +93,7 @@ impl Drawing {
         for poly in scene.polygons.iter().filter(|p| drawable(&p.points, 3)) {
             poly.points.iter().for_each(|p| bounds.add(p.truncate(), 0.0));
         }
-        for line in scene.polylines.iter().filter(|l| drawable(&l.points, 2)) {
+        for line in scene.polylines.iter().filter(|l| drawable(l.points, 2)) {
             let half = if line.width.is_finite() { 0.5 * line.width.max(0.0) } else { 0.0 };
             line.points.iter().for_each(|p| bounds.add(p.truncate(), half));
         }
@@ -247,7 +247,7 @@ impl Drawing {
         // Strokes: consecutive polylines with the same tag and written width
         // share one path.
         let mut open: Option<(TagId, String)> = None;
-        for line in scene.polylines.iter().filter(|l| drawable(&l.points, 2)) {
+        for line in scene.polylines.iter().filter(|l| drawable(l.points, 2)) {
             let width = if line.width.is_finite() { line.width.max(floor) } else { floor };
             let width = w.format(width, self.decimals + 2);
             if open.as_ref().is_none_or(|(tag, wd)| *tag != line.tag || *wd != width) {
@@ -811,8 +811,9 @@ mod tests {
     use genform_core::scene::{Instance, Polygon, Polyline, Shape2d, Shape2dKind};
     use glam::{Affine3A, Vec3};
 
-    fn line(points: &[(f32, f32)], width: f32, tag: TagId) -> Polyline {
-        Polyline { points: points.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect(), width, tag }
+    fn line(s: &mut Scene, points: &[(f32, f32)], width: f32, tag: TagId) {
+        let points: Vec<Vec3> = points.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        s.polylines.push(Polyline { points: &points, width, tag });
     }
 
     /// The value of the first `name="…"` attribute at or after `from`.
@@ -848,7 +849,7 @@ mod tests {
     fn view_box_fits_with_a_margin_and_y_points_up() {
         let mut s = Scene::new();
         let tag = s.tag("stem");
-        s.polylines.push(line(&[(0.0, 0.0), (2.0, 1.0)], 0.0, tag));
+        line(&mut s, &[(0.0, 0.0), (2.0, 1.0)], 0.0, tag);
         let svg = write_svg(&s, &SvgOptions::default());
         // Extent 2, margin 0.06; the top edge is at −(1 + 0.06).
         assert_eq!(attr(&svg, "viewBox"), "-0.06 -1.06 2.12 1.12");
@@ -866,7 +867,7 @@ mod tests {
     fn a_lone_point_gets_a_unit_view_and_a_dot() {
         let mut s = Scene::new();
         let tag = s.tag("dot");
-        s.polylines.push(line(&[(3.0, -2.0), (3.0, -2.0)], 0.0, tag));
+        line(&mut s, &[(3.0, -2.0), (3.0, -2.0)], 0.0, tag);
         let svg = write_svg(&s, &SvgOptions::default());
         assert_eq!(attr(&svg, "viewBox"), "2.5 1.5 1 1");
         assert_eq!(attr(&svg, "d"), "M3 2L3 2");
@@ -876,11 +877,11 @@ mod tests {
     fn strokes_keep_their_width_with_a_floor_and_group_by_tag_and_width() {
         let mut s = Scene::new();
         let (a, b) = (s.tag("a"), s.tag("b"));
-        s.polylines.push(line(&[(0.0, 0.0), (10.0, 0.0)], 0.0, a));
-        s.polylines.push(line(&[(0.0, 1.0), (10.0, 1.0)], 0.0, a));
-        s.polylines.push(line(&[(0.0, 2.0), (10.0, 2.0)], 0.5, a));
-        s.polylines.push(line(&[(0.0, 3.0), (10.0, 3.0)], 0.5, b));
-        s.polylines.push(line(&[(0.0, 4.0), (10.0, 4.0)], 0.5, b));
+        line(&mut s, &[(0.0, 0.0), (10.0, 0.0)], 0.0, a);
+        line(&mut s, &[(0.0, 1.0), (10.0, 1.0)], 0.0, a);
+        line(&mut s, &[(0.0, 2.0), (10.0, 2.0)], 0.5, a);
+        line(&mut s, &[(0.0, 3.0), (10.0, 3.0)], 0.5, b);
+        line(&mut s, &[(0.0, 4.0), (10.0, 4.0)], 0.5, b);
         let svg = write_svg(&s, &SvgOptions { width_px: 500, ..Default::default() });
         let paths: Vec<&str> = svg.lines().filter(|l| l.starts_with("<path")).collect();
         assert_eq!(paths.len(), 3, "{svg}");
@@ -1014,7 +1015,7 @@ mod tests {
         );
         resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default()).unwrap();
         // With anything else in the scene the drawing keeps pixel sizes.
-        s.polylines.push(line(&[(0.0, 0.0), (1.0, 1.0)], 0.0, ink));
+        line(&mut s, &[(0.0, 0.0), (1.0, 1.0)], 0.0, ink);
         assert_eq!(attr(&write_svg(&s, &SvgOptions::default()), "width"), "1000");
         // Non-finite shapes are left out.
         let mut bad = Scene::new();
@@ -1045,11 +1046,11 @@ mod tests {
         assert_eq!(export(&Scene::new(), Format::Svg, &opts), Err(ExportError::EmptyScene(Format::Svg)));
         let mut s = Scene::new();
         let tag = s.tag("a");
-        s.polylines.push(line(&[(0.0, 0.0)], 1.0, tag));
+        line(&mut s, &[(0.0, 0.0)], 1.0, tag);
         assert_eq!(export(&s, Format::Svg, &opts), Err(ExportError::EmptyScene(Format::Svg)));
-        s.polylines.push(line(&[(0.0, 0.0), (f32::NAN, 1.0)], 1.0, tag));
+        line(&mut s, &[(0.0, 0.0), (f32::NAN, 1.0)], 1.0, tag);
         assert!(matches!(export(&s, Format::Svg, &opts), Err(ExportError::NonFinite(_))));
-        s.polylines[1].points[1].x = 1.0;
+        s.polylines.points_mut(1)[1].x = 1.0;
         let bytes = export(&s, Format::Svg, &opts).unwrap();
         assert_eq!(String::from_utf8(bytes).unwrap(), write_svg(&s, &SvgOptions::default()));
         s.polygons.push(Polygon { points: vec![Vec3::ZERO, Vec3::X, Vec3::INFINITY], tag });

@@ -25,7 +25,7 @@ fn draw(s: &LSystem, m: &ModuleString) -> (DVec3, DVec3, DVec3) {
     let end = s.interpret(m, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for l in &scene.polylines {
-        for p in &l.points {
+        for p in l.points {
             lo = lo.min(p.as_dvec3());
             hi = hi.max(p.as_dvec3());
         }

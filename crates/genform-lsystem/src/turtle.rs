@@ -32,11 +32,11 @@ const DEFAULT_COLORS: [[u8; 3]; 5] =
     [[0x22, 0x22, 0x22], [0x2e, 0x7d, 0x32], [0xc6, 0x28, 0x28], [0xf9, 0xa8, 0x25], [0x6d, 0x4c, 0x41]];
 
 /// The largest colour index (keeps the tag table small).
-const MAX_COLOR: usize = 1 << 16;
+const MAX_COLOR: u32 = 1 << 16;
 
 /// A colour index from a parameter: negative or non-finite values give 0.
-fn color_index(c: f64) -> usize {
-    if c.is_finite() && c >= 0.0 { (c as usize).min(MAX_COLOR) } else { 0 }
+fn color_index(c: f64) -> u32 {
+    if c.is_finite() && c >= 0.0 { (c as u64).min(u64::from(MAX_COLOR)) as u32 } else { 0 }
 }
 
 /// Why a drawing stopped.
@@ -61,6 +61,9 @@ pub struct TurtleEnd {
     pub segments: usize,
 }
 
+/// The turtle's state, copied at every `[` and `]`: kept to 128 bytes,
+/// which the compiler copies inline (at 152 bytes each copy was a call to
+/// `memmove`, a third of drawing a bracketed plant).
 #[derive(Clone, Copy, Debug)]
 struct State {
     pos: DVec3,
@@ -68,15 +71,39 @@ struct State {
     l: DVec3,
     u: DVec3,
     width: f64,
-    /// Width the last segment of this branch ended with (for taper).
-    drawn: Option<f64>,
-    color: usize,
+    /// Width the last segment of this branch ended with (for taper);
+    /// [`NOT_DRAWN`] before the branch's first segment.
+    drawn: f64,
     /// L-Py's turtle scale (`@D`): multiplies move lengths, drawn widths
     /// and sphere radii.
     scale: f64,
+    /// At most [`MAX_COLOR`].
+    color: u32,
     /// The generalized cylinder this branch is tracing, by index into
-    /// `Turtle::cylinders`; `[` starts a branch without one.
-    cylinder: Option<usize>,
+    /// `Turtle::cylinders`; [`NO_CYLINDER`] for none (`[` starts a branch
+    /// without one).
+    cylinder: u32,
+}
+
+/// `State::drawn` of a branch that has drawn nothing: compares below every
+/// width.
+const NOT_DRAWN: f64 = f64::NEG_INFINITY;
+
+/// `State::cylinder` of a branch tracing none.
+const NO_CYLINDER: u32 = u32::MAX;
+
+impl State {
+    /// The cylinder this branch is tracing.
+    fn cylinder(&self) -> Option<usize> {
+        (self.cylinder != NO_CYLINDER).then_some(self.cylinder as usize)
+    }
+
+    /// The cylinder this branch is tracing, which it stops tracing.
+    fn take_cylinder(&mut self) -> Option<usize> {
+        let k = self.cylinder();
+        self.cylinder = NO_CYLINDER;
+        k
+    }
 }
 
 struct Turtle<'a> {
@@ -85,8 +112,10 @@ struct Turtle<'a> {
     state: State,
     stack: Vec<State>,
     polygons: Vec<Vec<Vec3>>,
-    /// The polyline being extended, by index into `scene.polylines`.
-    open_line: Option<usize>,
+    /// The tag and width of the scene's last polyline when it is the one
+    /// this branch is drawing (a segment of that style continuing it from
+    /// its last point extends it).
+    open_line: Option<(TagId, f32)>,
     tags: Vec<Option<TagId>>,
     /// Generalized cylinders being traced (`None` once emitted).
     cylinders: Vec<Option<Cylinder>>,
@@ -99,6 +128,9 @@ struct Turtle<'a> {
     /// Only the turtle state matters (filling query modules): nothing is
     /// drawn.
     dry: bool,
+    /// Each symbol's command (read once per module: a table of its own
+    /// keeps the dispatch to one byte load).
+    commands: Vec<Command>,
     /// Sine and cosine of the file's angle and of its negative: turns
     /// without a parameter are most modules of a plant, and `sin_cos` was
     /// an eighth of drawing one.
@@ -121,17 +153,27 @@ impl LSystem {
         // with, or the declared one for a string not derived.
         let state = if s.state.len() == self.initial_state.len() { &s.state } else { &self.initial_state };
         let mut sc = Scratch::with_state(state);
-        for (sym, params) in s.modules(&self.alphabet) {
-            if self.interpretation.is_empty() {
-                t.apply(sym, params);
-            } else {
-                self.expand(&self.interpretation, (sym, params), 0, rng, &mut sc, &mut |s, p| {
-                    t.apply(s, p);
-                    !t.over
-                });
+        if self.interpretation.is_empty() && s.params.is_empty() {
+            // A string without parameters (most plants): symbols alone.
+            for &sym in &s.syms {
+                t.apply(sym, &[]);
+                if t.over {
+                    return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+                }
             }
-            if t.over {
-                return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+        } else {
+            for (sym, params) in s.modules(&self.alphabet) {
+                if self.interpretation.is_empty() {
+                    t.apply(sym, params);
+                } else {
+                    self.expand(&self.interpretation, (sym, params), 0, rng, &mut sc, &mut |s, p| {
+                        t.apply(s, p);
+                        !t.over
+                    });
+                }
+                if t.over {
+                    return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+                }
             }
         }
         // Cylinders still open (no `@Ge`, or an unclosed `[`) end with the string.
@@ -159,10 +201,10 @@ impl<'a> Turtle<'a> {
                 l,
                 u,
                 width: st.width * st.width_unit,
-                drawn: None,
+                drawn: NOT_DRAWN,
                 color: 0,
                 scale: 1.0,
-                cylinder: None,
+                cylinder: NO_CYLINDER,
             },
             stack: Vec::new(),
             polygons: Vec::new(),
@@ -174,6 +216,7 @@ impl<'a> Turtle<'a> {
             limit,
             over: false,
             dry,
+            commands: sys.alphabet.symbols.iter().map(|s| s.command).collect(),
             turns: [st.angle.to_radians().sin_cos(), (-st.angle).to_radians().sin_cos()],
         }
     }
@@ -195,10 +238,17 @@ impl Turtle<'_> {
         self.scene.instances.len() + self.scene.polylines.len() + self.scene.polygons.len() + self.rings
     }
 
-    fn tag(&mut self, color: usize) -> TagId {
-        if let Some(Some(t)) = self.tags.get(color) {
-            return *t;
+    /// The tag of colour `color` (interned on first use).
+    #[inline]
+    fn tag(&mut self, color: u32) -> TagId {
+        match self.tags.get(color as usize) {
+            Some(Some(t)) => *t,
+            _ => self.new_tag(color as usize),
         }
+    }
+
+    #[cold]
+    fn new_tag(&mut self, color: usize) -> TagId {
         let table: &[[u8; 3]] =
             if self.sys.settings.colors.is_empty() { &DEFAULT_COLORS } else { &self.sys.settings.colors };
         // Indices past the table keep its last colour.
@@ -211,28 +261,48 @@ impl Turtle<'_> {
         id
     }
 
+    /// Carries out module `sym`. The commands most of a plant is made of
+    /// are dispatched here, inlined into the reading loop; every command
+    /// (these too) in [`Turtle::apply_any`], which stays out of line.
+    #[inline(always)]
     fn apply(&mut self, sym: Sym, params: &[f64]) {
+        let arg = params.first().copied();
+        match self.commands[sym as usize] {
+            Command::Draw => self.draw(arg),
+            Command::Left => self.turn(arg, 1.0),
+            Command::Right => self.turn(arg, -1.0),
+            Command::Push => self.push(),
+            Command::Pop => self.pop(),
+            // A plant's non-turtle symbols (`X`), unless a `~name`
+            // surface may hide among them.
+            Command::None if self.sys.surfaces.is_empty() => {}
+            _ => self.apply_any(sym, params),
+        }
+    }
+
+    /// Carries out module `sym`, whatever its command.
+    #[inline(never)]
+    fn apply_any(&mut self, sym: Sym, params: &[f64]) {
         let st = &self.sys.settings;
         let arg = params.first().copied();
         let turns = self.turns;
         let s = &mut self.state;
-        match self.sys.alphabet.command(sym) {
-            Command::Draw => {
-                let len = arg.unwrap_or(st.step) * s.scale;
-                self.segment(len);
-            }
+        match self.commands[sym as usize] {
+            Command::Draw => self.draw(arg),
+            Command::Left => self.turn(arg, 1.0),
+            Command::Right => self.turn(arg, -1.0),
+            Command::Push => self.push(),
+            Command::Pop => self.pop(),
             Command::Move => {
                 s.pos += s.h * arg.unwrap_or(st.step) * s.scale;
                 self.open_line = None;
                 self.vertex();
                 // A cylinder does not bridge a jump: the part before it is
                 // closed and a new one starts here.
-                if self.state.cylinder.is_some() {
+                if self.state.cylinder().is_some() {
                     self.start_cylinder();
                 }
             }
-            Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg, 1.0, &turns),
-            Command::Right => (s.h, s.l) = rotate(s.h, s.l, arg, -1.0, &turns),
             // Pitching down turns H towards −U.
             Command::Down => (s.h, s.u) = rotate(s.h, s.u, arg, -1.0, &turns),
             Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg, 1.0, &turns),
@@ -249,30 +319,14 @@ impl Turtle<'_> {
                     s.u = s.h.cross(s.l);
                 }
             }
-            Command::Push => {
-                self.stack.push(*s);
-                s.drawn = None;
-                s.cylinder = None;
-                self.open_line = None;
-            }
-            Command::Pop => {
-                if let Some(prev) = self.stack.pop() {
-                    // A cylinder started in the branch ends with it.
-                    if let Some(k) = s.cylinder {
-                        self.finish_cylinder(k);
-                    }
-                    self.state = prev;
-                }
-                self.open_line = None;
-            }
             Command::CylinderStart => self.start_cylinder(),
             Command::CylinderEnd => {
-                if let Some(k) = s.cylinder.take() {
+                if let Some(k) = s.take_cylinder() {
                     self.finish_cylinder(k);
                 }
             }
             Command::Width | Command::WidthUp => {
-                let up = self.sys.alphabet.command(sym) == Command::WidthUp;
+                let up = self.commands[sym as usize] == Command::WidthUp;
                 s.width = match arg {
                     Some(w) => (w * st.width_unit).max(0.0),
                     None if up && st.width_factor > 0.0 => s.width / st.width_factor,
@@ -281,7 +335,7 @@ impl Turtle<'_> {
                 };
             }
             Command::Color | Command::ColorDown => {
-                let down = self.sys.alphabet.command(sym) == Command::ColorDown;
+                let down = self.commands[sym as usize] == Command::ColorDown;
                 s.color = match arg {
                     Some(c) => color_index(c),
                     None if down => s.color.saturating_sub(1),
@@ -305,7 +359,7 @@ impl Turtle<'_> {
             }
             Command::SetScale | Command::MultScale | Command::DivScale => {
                 let f = arg.unwrap_or(1.0);
-                let next = match self.sys.alphabet.command(sym) {
+                let next = match self.commands[sym as usize] {
                     Command::SetScale => f,
                     Command::MultScale => s.scale * f,
                     _ => s.scale / f,
@@ -364,18 +418,57 @@ impl Turtle<'_> {
         }
     }
 
+    /// `F`: a segment of the parameter's length, or the file's step.
+    #[inline(always)]
+    fn draw(&mut self, arg: Option<f64>) {
+        let len = arg.unwrap_or(self.sys.settings.step) * self.state.scale;
+        self.segment(len);
+    }
+
+    /// `+` (`sign` 1) and `-` (−1): a turn about U.
+    #[inline(always)]
+    fn turn(&mut self, arg: Option<f64>, sign: f64) {
+        let s = &mut self.state;
+        (s.h, s.l) = rotate(s.h, s.l, arg, sign, &self.turns);
+    }
+
+    /// `[`: a branch starts with nothing drawn and no cylinder.
+    #[inline(always)]
+    fn push(&mut self) {
+        self.stack.push(self.state);
+        self.state.drawn = NOT_DRAWN;
+        self.state.cylinder = NO_CYLINDER;
+        self.open_line = None;
+    }
+
+    /// `]`: back to the state at the matching `[` (an unmatched `]` keeps
+    /// the state).
+    #[inline(always)]
+    fn pop(&mut self) {
+        if let Some(prev) = self.stack.pop() {
+            // A cylinder started in the branch ends with it.
+            if let Some(k) = self.state.cylinder() {
+                self.finish_cylinder(k);
+            }
+            self.state = prev;
+        }
+        self.open_line = None;
+    }
+
     /// Records the position as a vertex of the polygon being traced (the
     /// position at `{`, after each move inside it, and at `.`); repeated
     /// points are kept once.
+    #[inline]
     fn vertex(&mut self) {
-        let p = self.state.pos.as_vec3();
-        if let Some(poly) = self.polygons.last_mut()
-            && poly.last() != Some(&p)
-        {
-            poly.push(p);
+        if let Some(poly) = self.polygons.last_mut() {
+            let p = self.state.pos.as_vec3();
+            if poly.last() != Some(&p) {
+                poly.push(p);
+            }
         }
     }
 
+    #[inline(always)]
     fn segment(&mut self, len: f64) {
         let st = &self.sys.settings;
         let from = self.state.pos;
@@ -388,7 +481,7 @@ impl Turtle<'_> {
         self.over |= self.segments > self.limit;
         if self.dry {
             // Only the state moves.
-        } else if let (Some(k), View::Solid) = (self.state.cylinder, st.view) {
+        } else if let (Some(k), View::Solid) = (self.state.cylinder(), st.view) {
             if len != 0.0
                 && let Some(Some(c)) = self.cylinders.get_mut(k)
             {
@@ -397,7 +490,7 @@ impl Turtle<'_> {
             }
             self.open_line = None;
         } else if st.view == View::Solid && width > 0.0 && len != 0.0 {
-            let bottom = self.state.drawn.filter(|&d| d > width).unwrap_or(width);
+            let bottom = if self.state.drawn > width { self.state.drawn } else { width };
             // Unit frustum: axis along +y from y = −½ to ½, radius ½ at the
             // bottom; x → U, y → H, z → L keeps the transform a rotation.
             let s = &self.state;
@@ -411,22 +504,20 @@ impl Turtle<'_> {
         } else {
             let (p0, p1) = (from.as_vec3(), to.as_vec3());
             let w = width as f32;
-            let extend = self.open_line.filter(|&k| {
-                let l = &self.scene.polylines[k];
-                l.tag == tag && l.width == w && l.points.last() == Some(&p0)
-            });
-            match extend {
-                Some(k) => self.scene.polylines[k].points.push(p1),
-                None => {
-                    self.scene.polylines.push(Polyline { points: vec![p0, p1], width: w, tag });
-                    self.open_line = Some(self.scene.polylines.len() - 1);
-                }
+            let lines = &mut self.scene.polylines;
+            if self.open_line == Some((tag, w)) && lines.points().last() == Some(&p0) {
+                lines.extend_last(p1);
+            } else {
+                lines.push(Polyline { points: &[p0, p1], width: w, tag });
+                self.open_line = Some((tag, w));
             }
         }
         self.state.pos = to;
-        self.state.drawn = Some(width);
+        self.state.drawn = width;
         self.vertex();
-        self.tropism();
+        if st.tropism.is_some() {
+            self.tropism();
+        }
         self.over |= self.primitives() > self.limit;
     }
 
@@ -434,7 +525,7 @@ impl Turtle<'_> {
     /// open one first). Only the solid view sweeps cylinders; the flat view
     /// draws their segments as lines.
     fn start_cylinder(&mut self) {
-        if let Some(k) = self.state.cylinder.take() {
+        if let Some(k) = self.state.take_cylinder() {
             self.finish_cylinder(k);
         }
         if self.sys.settings.view != View::Solid || self.dry {
@@ -444,7 +535,7 @@ impl Turtle<'_> {
         let tag = self.tag(s.color);
         let radius = 0.5 * s.width * s.scale;
         self.cylinders.push(Some(Cylinder::start(s.pos, s.h, s.u, radius, tag)));
-        self.state.cylinder = Some(self.cylinders.len() - 1);
+        self.state.cylinder = (self.cylinders.len() - 1) as u32;
     }
 
     /// Emits cylinder `k` (if still open) as a mesh asset placed by an

@@ -61,7 +61,7 @@ fn examples_match_the_golden_figures() {
         if let Some(ymax) = g.ymax {
             let mut scene = Scene::new();
             s.interpret(&m, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
-            let top = scene.polylines.iter().flat_map(|l| &l.points).map(|p| p.y as f64).fold(f64::MIN, f64::max);
+            let top = scene.polylines.points().iter().map(|p| p.y as f64).fold(f64::MIN, f64::max);
             assert!((top - ymax).abs() < 2e-3, "{}: ymax {top} vs {ymax}", g.name);
         }
     }

@@ -60,7 +60,13 @@ impl GrammarCore {
         let g = self.generator()?;
         let scene = express(g.generator.as_ref(), &genome, &limits)?;
         let summary = format!("{}: {}", g.name, genome_summary(&scene, &genome));
-        Ok(Model { body: Body::Scene(scene), genome: Some(genome), grammar: Some(self.clone()), limits, summary })
+        Ok(Model {
+            body: Body::Scene(Box::new(scene)),
+            genome: Some(genome),
+            grammar: Some(self.clone()),
+            limits,
+            summary,
+        })
     }
 }
 
@@ -267,7 +273,7 @@ pub enum Body {
     /// From `Grammar.sample`.
     Sample(Box<dyn Sample>),
     /// From a genome.
-    Scene(Scene),
+    Scene(Box<Scene>),
 }
 
 /// One derived model.
@@ -297,7 +303,7 @@ impl Model {
 
     /// A model that is only its scene (a codon scene's best phenotype).
     pub fn of_scene(scene: Scene, summary: String) -> Model {
-        Model { body: Body::Scene(scene), genome: None, grammar: None, limits: Limits::default(), summary }
+        Model { body: Body::Scene(Box::new(scene)), genome: None, grammar: None, limits: Limits::default(), summary }
     }
 
     /// The genome's JSON text.

@@ -413,8 +413,7 @@ fn is_flat(scene: &Scene) -> bool {
     if !scene.shapes2d.is_empty() {
         return true;
     }
-    let mut points =
-        scene.polylines.iter().flat_map(|l| &l.points).chain(scene.polygons.iter().flat_map(|p| &p.points));
+    let mut points = scene.polylines.points().iter().chain(scene.polygons.iter().flat_map(|p| &p.points));
     let mut any = false;
     points.all(|p| {
         any = true;

@@ -132,7 +132,7 @@ impl LoadedGrammar for LsFile {
         } else {
             format!(
                 ", {} segments, {} polygons",
-                scene.polylines.iter().map(|l| l.points.len() - 1).sum::<usize>() + scene.instances.len(),
+                scene.polylines.segments() + scene.instances.len(),
                 scene.polygons.len()
             )
         };

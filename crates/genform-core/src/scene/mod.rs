@@ -11,18 +11,21 @@
 //! The parts live in submodules, all re-exported here:
 //! - `mesh`: [`Mesh`] and the [`TagId`]/[`MeshId`] ids;
 //! - `obj`: [`Mesh::from_obj`], reading Wavefront OBJ text;
+//! - `polylines`: [`Polylines`], every stroke's points in one array;
 //! - `triangulate`: [`triangulate_polygon`], ear clipping of planar polygons;
 //! - `tessellate`: [`Tessellation`], [`unit_mesh`] and
 //!   [`Scene::for_each_triangle`].
 
 pub(crate) mod mesh;
 mod obj;
+mod polylines;
 mod tessellate;
 #[cfg(test)]
 mod tests;
 mod triangulate;
 
 pub use mesh::{Mesh, MeshId, TagId};
+pub use polylines::{Polyline, Polylines};
 pub use tessellate::{Tessellation, unit_mesh};
 pub use triangulate::triangulate_polygon;
 
@@ -64,17 +67,6 @@ pub struct Instance {
     /// What is placed.
     pub primitive: Primitive,
     /// Semantic tag (by default the symbol that emitted it).
-    pub tag: TagId,
-}
-
-/// An open or closed line through points (turtle strokes).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Polyline {
-    /// The points, in order.
-    pub points: Vec<Vec3>,
-    /// Stroke width in scene units.
-    pub width: f32,
-    /// Semantic tag.
     pub tag: TagId,
 }
 
@@ -151,7 +143,7 @@ pub struct Scene {
     /// Interned tag names.
     pub tags: Vec<String>,
     /// Turtle strokes.
-    pub polylines: Vec<Polyline>,
+    pub polylines: Polylines,
     /// Turtle polygons.
     pub polygons: Vec<Polygon>,
     /// Block structures (box-split grammars): unit cubes on the integer

@@ -74,9 +74,7 @@ impl Scene {
     pub fn bounds(&self, tess: Tessellation) -> Option<(Vec3, Vec3)> {
         let mut pts = Vec::new();
         self.for_each_triangle(tess, |t, _| pts.extend_from_slice(&t));
-        for l in &self.polylines {
-            pts.extend_from_slice(&l.points);
-        }
+        pts.extend_from_slice(self.polylines.points());
         bounds_of(pts.into_iter())
     }
 }
