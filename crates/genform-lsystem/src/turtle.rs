@@ -18,7 +18,7 @@ mod query;
 use crate::alphabet::{Command, Sym};
 use crate::compile::LSystem;
 use crate::derive::Scratch;
-use crate::settings::View;
+use crate::settings::{Settings, View};
 use crate::string::ModuleString;
 use cylinder::Cylinder;
 use genform_core::Rng;
@@ -154,20 +154,15 @@ impl LSystem {
         let state = if s.state.len() == self.initial_state.len() { &s.state } else { &self.initial_state };
         let mut sc = Scratch::with_state(state);
         if self.interpretation.is_empty() && s.params.is_empty() {
-            // A string without parameters (most plants): symbols alone.
-            for &sym in &s.syms {
-                t.apply(sym, &[]);
-                if t.over {
-                    return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
-                }
-            }
+            t.draw_plain(&s.syms);
         } else {
+            let mut st = t.state;
             for (sym, params) in s.modules(&self.alphabet) {
                 if self.interpretation.is_empty() {
-                    t.apply(sym, params);
+                    t.apply(&mut st, sym, params);
                 } else {
                     self.expand(&self.interpretation, (sym, params), 0, rng, &mut sc, &mut |s, p| {
-                        t.apply(s, p);
+                        t.apply(&mut st, s, p);
                         !t.over
                     });
                 }
@@ -175,6 +170,7 @@ impl LSystem {
                     return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
                 }
             }
+            t.state = st;
         }
         // Cylinders still open (no `@Ge`, or an unclosed `[`) end with the string.
         for k in 0..t.cylinders.len() {
@@ -184,6 +180,24 @@ impl LSystem {
             return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
         }
         Ok(TurtleEnd { position: t.state.pos, segments: t.segments })
+    }
+}
+
+impl Turtle<'_> {
+    /// Draws a string without parameters (most plants), stopping when
+    /// over the limit. The state lives in a local that nothing outside
+    /// this loop sees, so that it stays in registers (see
+    /// [`Turtle::apply`]).
+    #[inline(never)]
+    fn draw_plain(&mut self, syms: &[Sym]) {
+        let mut st = self.state;
+        for &sym in syms {
+            self.apply(&mut st, sym, &[]);
+            if self.over {
+                break;
+            }
+        }
+        self.state = st;
     }
 }
 
@@ -220,6 +234,78 @@ impl<'a> Turtle<'a> {
             turns: [st.angle.to_radians().sin_cos(), (-st.angle).to_radians().sin_cos()],
         }
     }
+}
+
+/// Carries out `command` on `s` if it only changes the state (turns,
+/// width, colour, heading, scale); `false` for the others.
+#[inline(always)]
+fn change_state(s: &mut State, command: Command, params: &[f64], st: &Settings, turns: &[(f64, f64); 2]) -> bool {
+    let arg = params.first().copied();
+    match command {
+        Command::Left => (s.h, s.l) = rotate(s.h, s.l, arg, 1.0, turns),
+        Command::Right => (s.h, s.l) = rotate(s.h, s.l, arg, -1.0, turns),
+        // Pitching down turns H towards −U.
+        Command::Down => (s.h, s.u) = rotate(s.h, s.u, arg, -1.0, turns),
+        Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg, 1.0, turns),
+        Command::RollRight => (s.l, s.u) = rotate(s.l, s.u, arg, 1.0, turns),
+        Command::RollLeft => (s.l, s.u) = rotate(s.l, s.u, arg, -1.0, turns),
+        Command::TurnAround => {
+            s.h = -s.h;
+            s.l = -s.l;
+        }
+        Command::RollHorizontal => {
+            let l = DVec3::Y.cross(s.h);
+            if l.length_squared() > 1e-12 {
+                s.l = l.normalize();
+                s.u = s.h.cross(s.l);
+            }
+        }
+        Command::Width | Command::WidthUp => {
+            let up = command == Command::WidthUp;
+            s.width = match arg {
+                Some(w) => (w * st.width_unit).max(0.0),
+                None if up && st.width_factor > 0.0 => s.width / st.width_factor,
+                None if up => s.width,
+                None => s.width * st.width_factor,
+            };
+        }
+        Command::Color | Command::ColorDown => {
+            let down = command == Command::ColorDown;
+            s.color = match arg {
+                Some(c) => color_index(c),
+                None if down => s.color.saturating_sub(1),
+                None => (s.color + 1).min(MAX_COLOR),
+            };
+        }
+        Command::SetHead => {
+            // L-Py's defaults: H = +z, U = +x.
+            let p = |i: usize, d: f64| params.get(i).copied().unwrap_or(d);
+            let h = DVec3::new(p(0, 0.0), p(1, 0.0), p(2, 1.0));
+            let u = DVec3::new(p(3, 1.0), p(4, 0.0), p(5, 0.0));
+            // U is made perpendicular to H; a degenerate pair leaves
+            // the frame as it was.
+            let h = h.normalize_or_zero();
+            let u = (u - h * u.dot(h)).normalize_or_zero();
+            if h != DVec3::ZERO && u != DVec3::ZERO && h.is_finite() && u.is_finite() {
+                s.h = h;
+                s.u = u;
+                s.l = u.cross(h);
+            }
+        }
+        Command::SetScale | Command::MultScale | Command::DivScale => {
+            let f = arg.unwrap_or(1.0);
+            let next = match command {
+                Command::SetScale => f,
+                Command::MultScale => s.scale * f,
+                _ => s.scale / f,
+            };
+            if next.is_finite() && next > 0.0 {
+                s.scale = next;
+            }
+        }
+        _ => return false,
+    }
+    true
 }
 
 /// `a` turned towards `b` by `sign` × the parameter in degrees (the file's
@@ -261,129 +347,62 @@ impl Turtle<'_> {
         id
     }
 
-    /// Carries out module `sym`. The commands most of a plant is made of
-    /// are dispatched here, inlined into the reading loop; every command
-    /// (these too) in [`Turtle::apply_any`], which stays out of line.
+    /// Carries out module `sym` on the state `s` (the caller's copy of
+    /// `self.state`), inlined into the reading loop: drawing, moving,
+    /// branching, polygons and every command that only changes the state.
+    /// The caller keeps `s` in a local: in `self`, whose address escapes
+    /// into the out-of-line calls, every position and heading went through
+    /// memory between modules. The other commands go to
+    /// [`Turtle::apply_any`] with the state written back.
     #[inline(always)]
-    fn apply(&mut self, sym: Sym, params: &[f64]) {
-        let arg = params.first().copied();
-        match self.commands[sym as usize] {
-            Command::Draw => self.draw(arg),
-            Command::Left => self.turn(arg, 1.0),
-            Command::Right => self.turn(arg, -1.0),
-            Command::Push => self.push(),
-            Command::Pop => self.pop(),
+    fn apply(&mut self, s: &mut State, sym: Sym, params: &[f64]) {
+        let command = self.commands[sym as usize];
+        match command {
+            Command::Draw => self.draw(s, params.first().copied()),
+            Command::Move => {
+                s.pos += s.h * params.first().copied().unwrap_or(self.sys.settings.step) * s.scale;
+                self.open_line = None;
+                self.vertex(s.pos);
+                // A cylinder does not bridge a jump: the part before it is
+                // closed and a new one starts here.
+                if s.cylinder().is_some() {
+                    self.state = *s;
+                    self.start_cylinder();
+                    *s = self.state;
+                }
+            }
+            Command::Push => self.push(s),
+            Command::Pop => self.pop(s),
+            Command::PolygonStart => {
+                self.polygons.push(Vec::new());
+                self.vertex(s.pos);
+            }
+            Command::PolygonVertex => self.vertex(s.pos),
+            Command::PolygonEnd => self.end_polygon(s.color),
             // A plant's non-turtle symbols (`X`), unless a `~name`
             // surface may hide among them.
             Command::None if self.sys.surfaces.is_empty() => {}
-            _ => self.apply_any(sym, params),
+            _ => {
+                if !change_state(s, command, params, &self.sys.settings, &self.turns) {
+                    self.state = *s;
+                    self.apply_any(sym, params);
+                    *s = self.state;
+                }
+            }
         }
     }
 
-    /// Carries out module `sym`, whatever its command.
+    /// Carries out module `sym` on `self.state`: cylinders, spheres and
+    /// surfaces here, the others through [`Turtle::apply`].
     #[inline(never)]
     fn apply_any(&mut self, sym: Sym, params: &[f64]) {
-        let st = &self.sys.settings;
         let arg = params.first().copied();
-        let turns = self.turns;
         let s = &mut self.state;
         match self.commands[sym as usize] {
-            Command::Draw => self.draw(arg),
-            Command::Left => self.turn(arg, 1.0),
-            Command::Right => self.turn(arg, -1.0),
-            Command::Push => self.push(),
-            Command::Pop => self.pop(),
-            Command::Move => {
-                s.pos += s.h * arg.unwrap_or(st.step) * s.scale;
-                self.open_line = None;
-                self.vertex();
-                // A cylinder does not bridge a jump: the part before it is
-                // closed and a new one starts here.
-                if self.state.cylinder().is_some() {
-                    self.start_cylinder();
-                }
-            }
-            // Pitching down turns H towards −U.
-            Command::Down => (s.h, s.u) = rotate(s.h, s.u, arg, -1.0, &turns),
-            Command::Up => (s.h, s.u) = rotate(s.h, s.u, arg, 1.0, &turns),
-            Command::RollRight => (s.l, s.u) = rotate(s.l, s.u, arg, 1.0, &turns),
-            Command::RollLeft => (s.l, s.u) = rotate(s.l, s.u, arg, -1.0, &turns),
-            Command::TurnAround => {
-                s.h = -s.h;
-                s.l = -s.l;
-            }
-            Command::RollHorizontal => {
-                let l = DVec3::Y.cross(s.h);
-                if l.length_squared() > 1e-12 {
-                    s.l = l.normalize();
-                    s.u = s.h.cross(s.l);
-                }
-            }
             Command::CylinderStart => self.start_cylinder(),
             Command::CylinderEnd => {
                 if let Some(k) = s.take_cylinder() {
                     self.finish_cylinder(k);
-                }
-            }
-            Command::Width | Command::WidthUp => {
-                let up = self.commands[sym as usize] == Command::WidthUp;
-                s.width = match arg {
-                    Some(w) => (w * st.width_unit).max(0.0),
-                    None if up && st.width_factor > 0.0 => s.width / st.width_factor,
-                    None if up => s.width,
-                    None => s.width * st.width_factor,
-                };
-            }
-            Command::Color | Command::ColorDown => {
-                let down = self.commands[sym as usize] == Command::ColorDown;
-                s.color = match arg {
-                    Some(c) => color_index(c),
-                    None if down => s.color.saturating_sub(1),
-                    None => (s.color + 1).min(MAX_COLOR),
-                };
-            }
-            Command::SetHead => {
-                // L-Py's defaults: H = +z, U = +x.
-                let p = |i: usize, d: f64| params.get(i).copied().unwrap_or(d);
-                let h = DVec3::new(p(0, 0.0), p(1, 0.0), p(2, 1.0));
-                let u = DVec3::new(p(3, 1.0), p(4, 0.0), p(5, 0.0));
-                // U is made perpendicular to H; a degenerate pair leaves
-                // the frame as it was.
-                let h = h.normalize_or_zero();
-                let u = (u - h * u.dot(h)).normalize_or_zero();
-                if h != DVec3::ZERO && u != DVec3::ZERO && h.is_finite() && u.is_finite() {
-                    s.h = h;
-                    s.u = u;
-                    s.l = u.cross(h);
-                }
-            }
-            Command::SetScale | Command::MultScale | Command::DivScale => {
-                let f = arg.unwrap_or(1.0);
-                let next = match self.commands[sym as usize] {
-                    Command::SetScale => f,
-                    Command::MultScale => s.scale * f,
-                    _ => s.scale / f,
-                };
-                if next.is_finite() && next > 0.0 {
-                    s.scale = next;
-                }
-            }
-            Command::PolygonStart => {
-                self.polygons.push(Vec::new());
-                self.vertex();
-            }
-            Command::PolygonVertex => self.vertex(),
-            Command::PolygonEnd => {
-                if let Some(mut points) = self.polygons.pop().filter(|_| !self.dry) {
-                    if points.len() > 1 && points.first() == points.last() {
-                        points.pop();
-                    }
-                    if points.len() < 3 {
-                        return;
-                    }
-                    let tag = self.tag(self.state.color);
-                    self.scene.polygons.push(Polygon { points, tag });
-                    self.over |= self.primitives() > self.limit;
                 }
             }
             Command::Sphere => {
@@ -415,85 +434,101 @@ impl Turtle<'_> {
                 }
             }
             Command::Cut | Command::None => {}
+            // Drawing, branching and state changes: `apply` carries them
+            // out without coming here.
+            _ => {
+                let mut s = self.state;
+                self.apply(&mut s, sym, params);
+                self.state = s;
+            }
         }
     }
 
     /// `F`: a segment of the parameter's length, or the file's step.
     #[inline(always)]
-    fn draw(&mut self, arg: Option<f64>) {
-        let len = arg.unwrap_or(self.sys.settings.step) * self.state.scale;
-        self.segment(len);
-    }
-
-    /// `+` (`sign` 1) and `-` (−1): a turn about U.
-    #[inline(always)]
-    fn turn(&mut self, arg: Option<f64>, sign: f64) {
-        let s = &mut self.state;
-        (s.h, s.l) = rotate(s.h, s.l, arg, sign, &self.turns);
+    fn draw(&mut self, s: &mut State, arg: Option<f64>) {
+        let len = arg.unwrap_or(self.sys.settings.step) * s.scale;
+        self.segment(s, len);
     }
 
     /// `[`: a branch starts with nothing drawn and no cylinder.
     #[inline(always)]
-    fn push(&mut self) {
-        self.stack.push(self.state);
-        self.state.drawn = NOT_DRAWN;
-        self.state.cylinder = NO_CYLINDER;
+    fn push(&mut self, s: &mut State) {
+        self.stack.push(*s);
+        s.drawn = NOT_DRAWN;
+        s.cylinder = NO_CYLINDER;
         self.open_line = None;
     }
 
     /// `]`: back to the state at the matching `[` (an unmatched `]` keeps
     /// the state).
     #[inline(always)]
-    fn pop(&mut self) {
+    fn pop(&mut self, s: &mut State) {
         if let Some(prev) = self.stack.pop() {
             // A cylinder started in the branch ends with it.
-            if let Some(k) = self.state.cylinder() {
+            if let Some(k) = s.cylinder() {
                 self.finish_cylinder(k);
             }
-            self.state = prev;
+            *s = prev;
         }
         self.open_line = None;
     }
 
-    /// Records the position as a vertex of the polygon being traced (the
-    /// position at `{`, after each move inside it, and at `.`); repeated
-    /// points are kept once.
+    /// `}`: the polygon being traced, closed, in colour `color` (fewer
+    /// than three distinct points draw nothing).
+    fn end_polygon(&mut self, color: u32) {
+        if let Some(mut points) = self.polygons.pop().filter(|_| !self.dry) {
+            if points.len() > 1 && points.first() == points.last() {
+                points.pop();
+            }
+            if points.len() < 3 {
+                return;
+            }
+            let tag = self.tag(color);
+            self.scene.polygons.push(Polygon { points, tag });
+            self.over |= self.primitives() > self.limit;
+        }
+    }
+
+    /// Records `pos` as a vertex of the polygon being traced (the position
+    /// at `{`, after each move inside it, and at `.`); repeated points are
+    /// kept once.
     #[inline]
-    fn vertex(&mut self) {
+    fn vertex(&mut self, pos: DVec3) {
         if let Some(poly) = self.polygons.last_mut() {
-            let p = self.state.pos.as_vec3();
+            let p = pos.as_vec3();
             if poly.last() != Some(&p) {
                 poly.push(p);
             }
         }
     }
 
+    /// Moves state `s` by `len` along its heading, drawing a segment.
     #[inline(always)]
-    fn segment(&mut self, len: f64) {
+    fn segment(&mut self, s: &mut State, len: f64) {
         let st = &self.sys.settings;
-        let from = self.state.pos;
-        let to = from + self.state.h * len;
-        let width = self.state.width * self.state.scale;
-        let tag = self.tag(self.state.color);
+        let from = s.pos;
+        let to = from + s.h * len;
+        let width = s.width * s.scale;
+        let tag = self.tag(s.color);
         self.segments += 1;
         // Segments that extend one polyline add no primitive, yet each costs
         // memory and time: they count against the limit too.
         self.over |= self.segments > self.limit;
         if self.dry {
             // Only the state moves.
-        } else if let (Some(k), View::Solid) = (self.state.cylinder(), st.view) {
+        } else if let (Some(k), View::Solid) = (s.cylinder(), st.view) {
             if len != 0.0
                 && let Some(Some(c)) = self.cylinders.get_mut(k)
             {
-                c.add(to, self.state.h, 0.5 * width);
+                c.add(to, s.h, 0.5 * width);
                 self.rings += 1;
             }
             self.open_line = None;
         } else if st.view == View::Solid && width > 0.0 && len != 0.0 {
-            let bottom = if self.state.drawn > width { self.state.drawn } else { width };
+            let bottom = if s.drawn > width { s.drawn } else { width };
             // Unit frustum: axis along +y from y = −½ to ½, radius ½ at the
             // bottom; x → U, y → H, z → L keeps the transform a rotation.
-            let s = &self.state;
             let axis = s.h * len;
             let m = DMat3::from_cols(s.u * bottom, axis, s.l * bottom);
             let mid = (from + to) * 0.5;
@@ -512,11 +547,11 @@ impl Turtle<'_> {
                 self.open_line = Some((tag, w));
             }
         }
-        self.state.pos = to;
-        self.state.drawn = width;
-        self.vertex();
+        s.pos = to;
+        s.drawn = width;
+        self.vertex(to);
         if st.tropism.is_some() {
-            self.tropism();
+            tropism(st, s);
         }
         self.over |= self.primitives() > self.limit;
     }
@@ -552,25 +587,23 @@ impl Turtle<'_> {
         }
         self.over |= self.primitives() > self.limit;
     }
+}
 
-    /// Bends H towards T about H × T by e·|H × T| (ABOP p. 58).
-    fn tropism(&mut self) {
-        let st = &self.sys.settings;
-        let Some(t) = st.tropism else { return };
-        if st.elasticity == 0.0 {
-            return;
-        }
-        let s = &mut self.state;
-        let axis = s.h.cross(DVec3::from_array(t));
-        let n = axis.length();
-        if n < 1e-12 {
-            return;
-        }
-        let rot = DMat3::from_axis_angle(axis / n, st.elasticity * n);
-        s.h = (rot * s.h).normalize();
-        s.l = (rot * s.l).normalize();
-        s.u = s.h.cross(s.l);
+/// Bends H towards T about H × T by e·|H × T| (ABOP p. 58).
+fn tropism(st: &Settings, s: &mut State) {
+    let Some(t) = st.tropism else { return };
+    if st.elasticity == 0.0 {
+        return;
     }
+    let axis = s.h.cross(DVec3::from_array(t));
+    let n = axis.length();
+    if n < 1e-12 {
+        return;
+    }
+    let rot = DMat3::from_axis_angle(axis / n, st.elasticity * n);
+    s.h = (rot * s.h).normalize();
+    s.l = (rot * s.l).normalize();
+    s.u = s.h.cross(s.l);
 }
 
 #[cfg(test)]

@@ -73,14 +73,16 @@ impl LSystem {
                 }
             }
             let params = &s.params[off..off + n];
+            let mut st = t.state;
             if self.interpretation.is_empty() {
-                t.apply(sym, params);
+                t.apply(&mut st, sym, params);
             } else {
                 self.expand(&self.interpretation, (sym, params), 0, &mut rng, &mut sc, &mut |s, p| {
-                    t.apply(s, p);
+                    t.apply(&mut st, s, p);
                     true
                 });
             }
+            t.state = st;
             off += n;
         }
     }
