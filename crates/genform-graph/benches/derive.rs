@@ -35,6 +35,21 @@ fn examples(c: &mut Criterion) {
             b.iter(|| black_box(grammar.derive(&mut Rng::from_seed(1), steps, 1_000_000).unwrap()))
         });
     }
+    // The same derivations starting from the graph the last one returned
+    // (`derive_reusing`): what a loop deriving again and again pays,
+    // without the allocation and page faults of a fresh graph each time.
+    for steps in [2_000, 20_000] {
+        let grammar = load("koch");
+        g.throughput(Throughput::Elements(steps as u64));
+        let mut previous = None;
+        g.bench_function(format!("koch_{steps}_steps_reusing"), |b| {
+            b.iter(|| {
+                let d = grammar.derive_reusing(&mut Rng::from_seed(1), Some(steps), 1_000_000, previous.take());
+                let d = black_box(d.unwrap());
+                previous = Some(d.graph);
+            })
+        });
+    }
     g.finish();
 }
 

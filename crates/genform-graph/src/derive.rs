@@ -267,7 +267,32 @@ impl GraphGrammar {
         max_steps: Option<usize>,
         max_elements: usize,
     ) -> Result<Derivation, DeriveError> {
-        let mut g = self.host.clone();
+        self.derive_reusing(choices, max_steps, max_elements, None)
+    }
+
+    /// [`GraphGrammar::derive`], starting from the allocations of
+    /// `previous` (a graph an earlier derivation returned, of any grammar):
+    /// for loops that derive again and again, where a fresh graph would
+    /// be allocated and its pages faulted in every time. The result is the
+    /// same as `derive`'s.
+    ///
+    /// # Errors
+    ///
+    /// As [`GraphGrammar::derive`].
+    pub fn derive_reusing(
+        &self,
+        choices: &mut impl Draws,
+        max_steps: Option<usize>,
+        max_elements: usize,
+        previous: Option<Graph>,
+    ) -> Result<Derivation, DeriveError> {
+        let mut g = match previous {
+            Some(mut g) => {
+                g.reset_from(&self.host);
+                g
+            }
+            None => self.host.clone(),
+        };
         let mut envs = run_envs(self, choices);
         let nv = self.productions.iter().map(|p| p.mv.len()).max().unwrap_or(0);
         let ne = self.productions.iter().map(|p| p.me.len()).max().unwrap_or(0);

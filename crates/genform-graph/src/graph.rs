@@ -492,6 +492,43 @@ impl Graph {
         }
     }
 
+    /// Becomes a copy of `host`, keeping this graph's allocations: a
+    /// derivation started from a graph an earlier one returned does not
+    /// allocate, and first touch, its memory again.
+    pub(crate) fn reset_from(&mut self, host: &Graph) {
+        let Graph {
+            labels,
+            attr_names,
+            vertices,
+            edges,
+            adj,
+            attr_sets,
+            free_vertices,
+            free_edges,
+            vindex,
+            eindex,
+            generations,
+            track_generations,
+            next_birth,
+        } = self;
+        labels.clone_from(&host.labels);
+        attr_names.clone_from(&host.attr_names);
+        vertices.clone_from(&host.vertices);
+        edges.clone_from(&host.edges);
+        adj.data.clone_from(&host.adj.data);
+        adj.free.clone_from(&host.adj.free);
+        attr_sets.sets.clone_from(&host.attr_sets.sets);
+        attr_sets.free.clone_from(&host.attr_sets.free);
+        attr_sets.by_hash.clone_from(&host.attr_sets.by_hash);
+        free_vertices.clone_from(&host.free_vertices);
+        free_edges.clone_from(&host.free_edges);
+        vindex.reset_from(&host.vindex);
+        eindex.reset_from(&host.eindex);
+        generations.clone_from(&host.generations);
+        *track_generations = host.track_generations;
+        *next_birth = host.next_birth;
+    }
+
     /// Number of live vertices.
     pub fn vertex_count(&self) -> usize {
         self.vindex.all.len()

@@ -30,6 +30,43 @@ pub(crate) struct Index {
     pub(crate) by_label: Vec<Vec<u32>>,
     pub(crate) gen_all: BTreeMap<u32, Vec<u32>>,
     pub(crate) gen_label: Vec<BTreeMap<u32, Vec<u32>>>,
+    /// Emptied generation buckets, kept (cleared) for the next new one: a
+    /// new generation grows while an old one empties, and without the pool
+    /// the one's memory went back to the allocator while the other's was
+    /// allocated and first touched afresh.
+    spare: Vec<Vec<u32>>,
+}
+
+impl Index {
+    /// Becomes a copy of `other`, reusing this index's allocations.
+    pub(crate) fn reset_from(&mut self, other: &Index) {
+        self.all.clone_from(&other.all);
+        self.by_label.clone_from(&other.by_label);
+        let spare = &mut self.spare;
+        let mut refill = |mine: &mut BTreeMap<u32, Vec<u32>>, theirs: &BTreeMap<u32, Vec<u32>>| {
+            for (_, mut set) in std::mem::take(mine) {
+                set.clear();
+                spare.push(set);
+            }
+            for (&g, set) in theirs {
+                let mut copy = spare.pop().unwrap_or_default();
+                copy.extend_from_slice(set);
+                mine.insert(g, copy);
+            }
+        };
+        refill(&mut self.gen_all, &other.gen_all);
+        self.gen_label.resize_with(self.gen_label.len().max(other.gen_label.len()), BTreeMap::new);
+        for (l, mine) in self.gen_label.iter_mut().enumerate() {
+            refill(mine, other.gen_label.get(l).unwrap_or(&BTreeMap::new()));
+        }
+        self.gen_label.truncate(other.gen_label.len());
+    }
+}
+
+/// The bucket of generation `g`, made (from a spare allocation if any) when
+/// missing.
+fn bucket<'a>(buckets: &'a mut BTreeMap<u32, Vec<u32>>, g: u32, spare: &mut Vec<Vec<u32>>) -> &'a mut Vec<u32> {
+    buckets.entry(g).or_insert_with(|| spare.pop().unwrap_or_default())
 }
 
 /// Which of an element's index positions a set uses.
@@ -83,8 +120,9 @@ pub(crate) fn index_insert(
         if index.gen_label.len() <= label {
             index.gen_label.resize_with(label + 1, BTreeMap::new);
         }
-        set_insert(index.gen_all.entry(c.generation).or_default(), id, &mut c.slots, Which::GenAll);
-        set_insert(index.gen_label[label].entry(c.generation).or_default(), id, &mut c.slots, Which::GenLabel);
+        let g = c.generation;
+        set_insert(bucket(&mut index.gen_all, g, &mut index.spare), id, &mut c.slots, Which::GenAll);
+        set_insert(bucket(&mut index.gen_label[label], g, &mut index.spare), id, &mut c.slots, Which::GenLabel);
         *generations.entry(c.generation).or_default() += 1;
     }
 }
@@ -101,8 +139,8 @@ pub(crate) fn index_remove(
     set_remove(&mut index.by_label[label], &mut c.slots, Which::Label, |m, p| moved(Which::Label, m, p));
     if track {
         let g = c.generation;
-        remove_from_bucket(&mut index.gen_all, g, &mut c.slots, Which::GenAll, &mut moved);
-        remove_from_bucket(&mut index.gen_label[label], g, &mut c.slots, Which::GenLabel, &mut moved);
+        remove_from_bucket(&mut index.gen_all, g, &mut index.spare, &mut c.slots, Which::GenAll, &mut moved);
+        remove_from_bucket(&mut index.gen_label[label], g, &mut index.spare, &mut c.slots, Which::GenLabel, &mut moved);
         if let Some(n) = generations.get_mut(&g) {
             *n -= 1;
             if *n == 0 {
@@ -112,11 +150,12 @@ pub(crate) fn index_remove(
     }
 }
 
-/// Removes from a generation bucket, dropping the bucket when it empties so
-/// that range scans only meet live generations.
+/// Removes from a generation bucket, moving the bucket to `spare` when it
+/// empties so that range scans only meet live generations.
 fn remove_from_bucket(
     buckets: &mut BTreeMap<u32, Vec<u32>>,
     g: u32,
+    spare: &mut Vec<Vec<u32>>,
     slots: &mut Slots,
     w: Which,
     moved: &mut impl FnMut(Which, u32, u32),
@@ -124,7 +163,7 @@ fn remove_from_bucket(
     let set = buckets.get_mut(&g).expect("an element is in its generation bucket");
     set_remove(set, slots, w, |m, p| moved(w, m, p));
     if set.is_empty() {
-        buckets.remove(&g);
+        spare.extend(buckets.remove(&g));
     }
 }
 
@@ -139,7 +178,14 @@ pub(crate) fn relabel(
     let old = c.label as usize;
     set_remove(&mut index.by_label[old], &mut c.slots, Which::Label, |m, p| moved(Which::Label, m, p));
     if track {
-        remove_from_bucket(&mut index.gen_label[old], c.generation, &mut c.slots, Which::GenLabel, &mut moved);
+        remove_from_bucket(
+            &mut index.gen_label[old],
+            c.generation,
+            &mut index.spare,
+            &mut c.slots,
+            Which::GenLabel,
+            &mut moved,
+        );
     }
     c.label = label;
     let l = label as usize;
@@ -151,6 +197,6 @@ pub(crate) fn relabel(
         if index.gen_label.len() <= l {
             index.gen_label.resize_with(l + 1, BTreeMap::new);
         }
-        set_insert(index.gen_label[l].entry(c.generation).or_default(), id, &mut c.slots, Which::GenLabel);
+        set_insert(bucket(&mut index.gen_label[l], c.generation, &mut index.spare), id, &mut c.slots, Which::GenLabel);
     }
 }
