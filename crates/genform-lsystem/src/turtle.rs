@@ -523,6 +523,7 @@ impl Turtle<'_> {
             {
                 c.add(to, s.h, 0.5 * width);
                 self.rings += 1;
+                self.over |= self.primitives() > self.limit;
             }
             self.open_line = None;
         } else if st.view == View::Solid && width > 0.0 && len != 0.0 {
@@ -535,6 +536,7 @@ impl Turtle<'_> {
             let transform = Affine3A::from_mat3_translation(m.as_mat3(), mid.as_vec3());
             let top = (width / bottom) as f32;
             self.scene.instances.push(Instance { transform, primitive: Primitive::Frustum { top }, tag });
+            self.over |= self.primitives() > self.limit;
             self.open_line = None;
         } else {
             let (p0, p1) = (from.as_vec3(), to.as_vec3());
@@ -545,6 +547,7 @@ impl Turtle<'_> {
             } else {
                 lines.push(Polyline { points: &[p0, p1], width: w, tag });
                 self.open_line = Some((tag, w));
+                self.over |= self.primitives() > self.limit;
             }
         }
         s.pos = to;
@@ -553,7 +556,6 @@ impl Turtle<'_> {
         if st.tropism.is_some() {
             tropism(st, s);
         }
-        self.over |= self.primitives() > self.limit;
     }
 
     /// Starts a generalized cylinder at the turtle (closing the branch's
