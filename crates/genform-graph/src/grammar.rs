@@ -175,6 +175,10 @@ pub(crate) struct DVertex {
     pub(crate) pos_spans: [Option<genform_core::diag::Span>; 2],
     pub(crate) at: Option<[f64; 2]>,
     pub(crate) attrs: Vec<(u32, AttrSpec)>,
+    /// This element's number among all new daughter elements of the
+    /// grammar: where a derivation caches the set of its attribute list
+    /// when that is all constants.
+    pub(crate) list_key: u32,
 }
 
 /// An end of a daughter edge.
@@ -196,6 +200,8 @@ pub(crate) struct DEdge {
     pub(crate) directed: Option<bool>,
     pub(crate) label: Option<LabelSpec>,
     pub(crate) attrs: Vec<(u32, AttrSpec)>,
+    /// As [`DVertex::list_key`].
+    pub(crate) list_key: u32,
 }
 
 /// One right-hand side of a production.

@@ -124,7 +124,7 @@ fn same_attrs(a: &[(u32, Value)], b: &[(u32, Value)]) -> bool {
 /// once per new element, where SipHash cost about 15 % of a Koch step.
 /// Only in-process lookups use it, so its quality needs no more.
 #[derive(Default)]
-pub(crate) struct Fx(u64);
+struct Fx(u64);
 
 impl std::hash::Hasher for Fx {
     fn write(&mut self, bytes: &[u8]) {

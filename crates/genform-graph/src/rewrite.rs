@@ -7,12 +7,13 @@
 //! match's largest generation + 1.
 
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
-use crate::graph::{Fx, Graph, NewAttrs, NewCommon, Value};
-use std::collections::HashMap;
+use crate::graph::{Graph, NewAttrs, NewCommon, Value};
 
 /// Address of a daughter element's attribute list → the graph's set when
 /// the list is all constants, `None` when it has a template.
-type ConstantSets = HashMap<usize, Option<u32>, std::hash::BuildHasherDefault<Fx>>;
+/// Per new daughter element (by its `list_key`): `None` until its list is
+/// looked at, then the set of the list when it is all constants.
+type ConstantSets = Vec<Option<Option<u32>>>;
 use crate::placement::Similarity;
 use genform_core::rng::Draws;
 
@@ -30,17 +31,18 @@ pub(crate) struct Scratch {
     text: String,
     attrs: Vec<(u32, Value)>,
     /// The graph's set of each daughter element's attribute list that is
-    /// all constants, by the list's address in the grammar (which outlives
-    /// the derivation), so each list is looked at once; the entry holds one
-    /// user of the set, so its id stays valid. Koch's new edges all carry one such list: looking it
-    /// up once saves cloning, sorting and hashing it at every step.
+    /// all constants, by the element's `list_key`, so each list is looked at
+    /// once; the entry holds one user of the set, so its id stays valid.
+    /// Koch's new edges all carry one such list: looking it up once saves
+    /// cloning, sorting and hashing it at every step, and a dense key a
+    /// hash-map probe.
     constant: ConstantSets,
 }
 
 impl Scratch {
     /// Gives back the users the cache of constant lists holds.
     pub(crate) fn release(&mut self, g: &mut Graph) {
-        for id in self.constant.drain().filter_map(|(_, id)| id) {
+        for id in self.constant.drain(..).flatten().flatten() {
             g.attr_sets.release(id);
         }
     }
@@ -55,14 +57,18 @@ struct Pending {
     interned: Option<u32>,
 }
 
-/// The graph's set for `specs` when it is a non-empty list of constants
-/// (interned on first use and cached), else `None`.
-fn constant_set(g: &mut Graph, specs: &[(u32, AttrSpec)], cache: &mut ConstantSets) -> Option<u32> {
-    // Empty lists all share one dangling address: never a cache key.
+/// The graph's set for `specs` (the list of the new daughter element
+/// `key`) when it is a non-empty list of constants (interned on first use
+/// and cached), else `None`.
+fn constant_set(g: &mut Graph, specs: &[(u32, AttrSpec)], key: u32, cache: &mut ConstantSets) -> Option<u32> {
     if specs.is_empty() {
         return None;
     }
-    *cache.entry(specs.as_ptr() as usize).or_insert_with(|| {
+    let key = key as usize;
+    if cache.len() <= key {
+        cache.resize(key + 1, None);
+    }
+    *cache[key].get_or_insert_with(|| {
         let constants: Option<Vec<(u32, Value)>> = specs
             .iter()
             .map(|(a, s)| match s {
@@ -148,12 +154,12 @@ pub(crate) fn apply(
     }
     resize(&mut s.new_v, opt.new_vertices.len());
     for (d, out) in opt.new_vertices.iter().zip(&mut s.new_v) {
-        out.interned = constant_set(g, &d.attrs, &mut s.constant);
+        out.interned = constant_set(g, &d.attrs, d.list_key, &mut s.constant);
         eval_vertex(g, d, None, out, choices, &mut s.text);
     }
     resize(&mut s.new_e, opt.new_edges.len());
     for (d, out) in opt.new_edges.iter().zip(&mut s.new_e) {
-        out.interned = constant_set(g, &d.attrs, &mut s.constant);
+        out.interned = constant_set(g, &d.attrs, d.list_key, &mut s.constant);
         edge_values(g, d, env, choices, out, &mut s.text);
     }
     // A NaN or infinite position would silently vanish from the drawing.

@@ -117,10 +117,18 @@ impl<'a> Search<'a> {
                     None => Some(&index.gen_all),
                     Some(l) => index.gen_label.get(l as usize),
                 };
-                let parts: Vec<&[u32]> =
-                    buckets.map(|b| b.range(..=max).map(|(_, s)| s.as_slice()).collect()).unwrap_or_default();
-                let n = parts.iter().map(|p| p.len()).sum();
-                Cands::Many(parts, n)
+                let Some(buckets) = buckets else { return Cands::One(&[]) };
+                let mut sets = buckets.range(..=max).map(|(_, s)| s.as_slice());
+                // Most searches (oldest first) see one generation: no list.
+                match (sets.next(), sets.next()) {
+                    (None, _) => Cands::One(&[]),
+                    (Some(one), None) => Cands::One(one),
+                    (Some(a), Some(b)) => {
+                        let parts: Vec<&[u32]> = [a, b].into_iter().chain(sets).collect();
+                        let n = parts.iter().map(|p| p.len()).sum();
+                        Cands::Many(parts, n)
+                    }
+                }
             }
         }
     }

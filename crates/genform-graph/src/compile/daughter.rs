@@ -195,7 +195,7 @@ impl Cx {
             let at = v.at.map(|a| a.0);
             let label = v.label.as_ref().and_then(|l| self.label_spec(l, m.scope, &m.new_names));
             let attrs = self.attr_specs(v, m.scope, &m.new_names);
-            let dv = DVertex { mother: target, label, pos, pos_spans, at, attrs };
+            let dv = DVertex { mother: target, label, pos, pos_spans, at, attrs, list_key: 0 };
             match target {
                 Some(i) => {
                     ends.push((name, End::Mother(i)));
@@ -341,6 +341,7 @@ impl Cx {
                 directed: if target.is_some() { directed } else { Some(directed.unwrap_or(false)) },
                 label,
                 attrs,
+                list_key: 0,
             };
             if target.is_some() {
                 d.kept_edges.push(de);

@@ -63,6 +63,12 @@ pub fn compile(file: &SourceFile) -> Result<(GraphGrammar, Diagnostics), Diagnos
         return Err(diags);
     }
     let track = productions.iter().any(|(_, p)| p.oldest);
+    let new_elements = productions.iter_mut().flat_map(|(_, p)| &mut p.options).flat_map(|o| {
+        o.new_vertices.iter_mut().map(|v| &mut v.list_key).chain(o.new_edges.iter_mut().map(|e| &mut e.list_key))
+    });
+    for (k, key) in new_elements.enumerate() {
+        *key = k as u32;
+    }
     let host = build_host(host, cx.labels, cx.attrs, track);
     let name = match &syn.name {
         Some(n) => n.s.clone(),
