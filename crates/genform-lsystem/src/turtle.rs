@@ -85,6 +85,8 @@ struct State {
     cylinder: u32,
 }
 
+const _: () = assert!(std::mem::size_of::<State>() == 128, "see State");
+
 /// `State::drawn` of a branch that has drawn nothing: compares below every
 /// width.
 const NOT_DRAWN: f64 = f64::NEG_INFINITY;
@@ -155,6 +157,9 @@ impl LSystem {
         let mut sc = Scratch::with_state(state);
         if self.interpretation.is_empty() && s.params.is_empty() {
             t.draw_plain(&s.syms);
+            if t.over {
+                return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+            }
         } else {
             let mut st = t.state;
             for (sym, params) in s.modules(&self.alphabet) {
@@ -180,24 +185,6 @@ impl LSystem {
             return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
         }
         Ok(TurtleEnd { position: t.state.pos, segments: t.segments })
-    }
-}
-
-impl Turtle<'_> {
-    /// Draws a string without parameters (most plants), stopping when
-    /// over the limit. The state lives in a local that nothing outside
-    /// this loop sees, so that it stays in registers (see
-    /// [`Turtle::apply`]).
-    #[inline(never)]
-    fn draw_plain(&mut self, syms: &[Sym]) {
-        let mut st = self.state;
-        for &sym in syms {
-            self.apply(&mut st, sym, &[]);
-            if self.over {
-                break;
-            }
-        }
-        self.state = st;
     }
 }
 
@@ -345,6 +332,22 @@ impl Turtle<'_> {
         }
         self.tags[color] = Some(id);
         id
+    }
+
+    /// Draws a string without parameters (most plants), stopping when
+    /// over the limit. The state lives in a local that nothing outside
+    /// this loop sees, so that it stays in registers (see
+    /// [`Turtle::apply`]).
+    #[inline(never)]
+    fn draw_plain(&mut self, syms: &[Sym]) {
+        let mut st = self.state;
+        for &sym in syms {
+            self.apply(&mut st, sym, &[]);
+            if self.over {
+                break;
+            }
+        }
+        self.state = st;
     }
 
     /// Carries out module `sym` on the state `s` (the caller's copy of
