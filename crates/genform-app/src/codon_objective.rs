@@ -254,6 +254,9 @@ pub struct CodonScratch {
     mapper: Option<Mapper>,
     scene: Scene,
     scorers: Option<ScorerScratch>,
+    /// Graph grammars: the last derived graph, whose allocations the next
+    /// derivation reuses.
+    graph: Option<genform_graph::Graph>,
 }
 
 /// What decoding read and made, beyond the scene.
@@ -440,7 +443,7 @@ impl CodonObjective {
             }
             Decoder::Graph { grammar, steps, max_elements, range, wraps } => {
                 let mut source = CodonSource::new(codons, *range, *wraps);
-                let d = grammar.derive(&mut source, *steps, *max_elements);
+                let d = grammar.derive_reusing(&mut source, *steps, *max_elements, s.graph.take());
                 self.add_time(0, start, detail);
                 if source.exhausted() {
                     return Err(reject(Invalid::Exhausted, detail, || {
@@ -455,6 +458,7 @@ impl CodonObjective {
                     reject(reason, detail, || e.to_string())
                 })?;
                 s.scene = d.graph.to_scene();
+                s.graph = Some(d.graph);
                 drawing_as_polygons(&mut s.scene);
                 Ok(Decoded { codons_read: source.used(), wraps: source.wraps(), hemls: None })
             }
@@ -623,7 +627,7 @@ impl Objective<Codons> for CodonObjective {
             }
             _ => None,
         };
-        CodonScratch { mapper, scene: Scene::new(), scorers: None }
+        CodonScratch { mapper, scene: Scene::new(), scorers: None, graph: None }
     }
 
     fn evaluate(&self, codons: &Codons, s: &mut CodonScratch) -> f64 {
