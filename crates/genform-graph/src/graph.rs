@@ -492,6 +492,13 @@ impl Graph {
         }
     }
 
+    /// Room for `vertices` and `edges` more elements, when the address space
+    /// allows (the arrays grow as needed otherwise).
+    pub(crate) fn reserve(&mut self, vertices: usize, edges: usize) {
+        let _ = self.vertices.try_reserve(vertices);
+        let _ = self.edges.try_reserve(edges);
+    }
+
     /// Becomes a copy of `host`, keeping this graph's allocations: a
     /// derivation started from a graph an earlier one returned does not
     /// allocate, and first touch, its memory again.
