@@ -47,6 +47,7 @@
 //! `write_*` functions trust their input.
 
 mod drawing;
+mod fixed;
 mod flat;
 mod glb;
 mod granularity;

@@ -478,17 +478,11 @@ struct Writer {
 impl Writer {
     /// `v` with `decimals` decimals, trailing zeros trimmed, never `-0`.
     fn format(&self, v: f32, decimals: usize) -> String {
-        let mut s = format!("{:.*}", decimals, f64::from(v));
-        if s.contains('.') {
-            let t = s.trim_end_matches('0').trim_end_matches('.').len();
-            s.truncate(t);
-        }
-        if s == "-0" { "0".to_string() } else { s }
+        crate::fixed::fixed(v, decimals)
     }
 
     fn num(&mut self, v: f32) {
-        let s = self.format(v, self.decimals);
-        self.out.push_str(&s);
+        crate::fixed::push_fixed(&mut self.out, v, self.decimals);
     }
 
     /// `<line x1="…" y1="…" x2="…" y2="…` (attributes still open).
@@ -513,10 +507,13 @@ impl Writer {
     /// skipped, but a run keeps at least one segment (a dot, with round
     /// caps).
     fn run(&mut self, points: impl Iterator<Item = Vec2>) {
-        let mut last = String::new();
+        let (mut last, mut s) = (String::new(), String::new());
         let mut n = 0;
         for p in points {
-            let s = format!("{} {}", self.format(p.x, self.decimals), self.format(p.y, self.decimals));
+            s.clear();
+            crate::fixed::push_fixed(&mut s, p.x, self.decimals);
+            s.push(' ');
+            crate::fixed::push_fixed(&mut s, p.y, self.decimals);
             if s == last {
                 continue;
             }
@@ -526,7 +523,7 @@ impl Writer {
                 _ => ' ',
             });
             self.out.push_str(&s);
-            last = s;
+            std::mem::swap(&mut last, &mut s);
             n += 1;
         }
         if n == 1 {
