@@ -58,11 +58,23 @@ fn scaled(v: f32, decimals: usize) -> Option<u128> {
 fn push_point_digits(out: &mut String, r: u128, decimals: usize) {
     let mut digits = [0u8; 40];
     let mut n = 0;
-    let mut x = r;
-    while x > 0 || n <= decimals {
-        digits[n] = b'0' + (x % 10) as u8;
-        x /= 10;
-        n += 1;
+    // 128-bit division is a library call: drawings' numbers fit 64 bits.
+    match u64::try_from(r) {
+        Ok(mut x) => {
+            while x > 0 || n <= decimals {
+                digits[n] = b'0' + (x % 10) as u8;
+                x /= 10;
+                n += 1;
+            }
+        }
+        Err(_) => {
+            let mut x = r;
+            while x > 0 || n <= decimals {
+                digits[n] = b'0' + (x % 10) as u8;
+                x /= 10;
+                n += 1;
+            }
+        }
     }
     // digits[..n] hold the number from its last digit: digits[..decimals]
     // are the decimals. Trailing zeros of the decimals go.
