@@ -169,7 +169,16 @@ impl Graph {
                 order.push((c.birth, if vertex { id | VERTEX } else { id }));
             }
         }
-        if zs.len() < 2 {
+        if zs.len() < 2 && self.next_birth() <= 4 * order.len() as u64 + 1024 {
+            // Births are unique and most were not deleted: placing each
+            // element at its birth is the sort, in linear time.
+            let mut at = vec![u32::MAX; self.next_birth() as usize];
+            for &(birth, tagged) in &order {
+                at[birth as usize] = tagged;
+            }
+            order.clear();
+            order.extend(at.into_iter().filter(|&t| t != u32::MAX).map(|t| (0, t)));
+        } else if zs.len() < 2 {
             order.sort_unstable_by_key(|&(birth, _)| birth);
         } else {
             // Every list met above has its style already.

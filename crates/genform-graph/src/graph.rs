@@ -546,6 +546,11 @@ impl Graph {
         self.eindex.all.len()
     }
 
+    /// One more than the last birth given: births are `0..next_birth()`.
+    pub(crate) fn next_birth(&self) -> u64 {
+        self.next_birth
+    }
+
     /// Vertices plus edges, the paper's element count.
     pub fn element_count(&self) -> usize {
         self.vertex_count() + self.edge_count()

@@ -466,6 +466,35 @@ fn drawing_follows_the_svg_attributes() {
     assert!(svg.contains("<path transform=\"scale(1 -1)\" d=\"M 0 0 L 1 1\""), "{svg}");
 }
 
+#[test]
+fn drawing_order_is_creation_order_after_many_deletions() {
+    // Each step deletes the `tmp` vertex and makes a new one: 2,000 births
+    // for four live elements, past what the drawing places by birth
+    // directly (it sorts instead), and the same order either way.
+    let src = |steps: usize| {
+        format!(
+            "steps: {steps}
+host:
+  vertices: {{x: {{label: keep}}, t: {{label: tmp}}, y: {{label: keep, x: 1}}}}
+  edges: [[x, y]]
+productions:
+  - name: churn
+    mother:
+      vertices: {{T: {{label: tmp}}}}
+    daughter:
+      vertices: {{N: {{label: tmp, x: 2, y: 2}}}}
+"
+        )
+    };
+    for steps in [3, 2_000] {
+        let g = grammar(&src(steps));
+        let graph = g.derive(&mut Rng::from_seed(1), None, 100).unwrap().graph;
+        let scene = graph.to_scene();
+        let tags: Vec<&str> = scene.shapes2d.iter().map(|s| scene.tags[s.tag as usize].as_str()).collect();
+        assert_eq!(tags, ["keep", "keep", "edge", "tmp"], "{steps} steps");
+    }
+}
+
 mod props {
     use super::*;
     use proptest::prelude::*;
