@@ -9,8 +9,6 @@
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
 use crate::graph::{Graph, NewAttrs, NewCommon, Value};
 
-/// Address of a daughter element's attribute list → the graph's set when
-/// the list is all constants, `None` when it has a template.
 /// Per new daughter element (by its `list_key`): `None` until its list is
 /// looked at, then the set of the list when it is all constants.
 type ConstantSets = Vec<Option<Option<u32>>>;
