@@ -58,22 +58,24 @@ fn scaled(v: f32, decimals: usize) -> Option<u128> {
 fn push_point_digits(out: &mut String, r: u128, decimals: usize) {
     let mut digits = [0u8; 40];
     let mut n = 0;
-    // 128-bit division is a library call: drawings' numbers fit 64 bits.
-    match u64::try_from(r) {
-        Ok(mut x) => {
-            while x > 0 || n <= decimals {
-                digits[n] = b'0' + (x % 10) as u8;
-                x /= 10;
-                n += 1;
-            }
+    // Digits from 64-bit words (128-bit division is a library call):
+    // drawings' numbers fit one; a larger one is 19 low digits, then the
+    // rest (r < 2^127, so the rest is below 2^64, and decimals ≤ 19 lie in the
+    // low part).
+    let mut words = |mut x: u64, at_least: usize| {
+        let start = n;
+        while x > 0 || n - start < at_least {
+            digits[n] = b'0' + (x % 10) as u8;
+            x /= 10;
+            n += 1;
         }
+    };
+    const TEN_19: u128 = 10_000_000_000_000_000_000;
+    match u64::try_from(r) {
+        Ok(x) => words(x, decimals + 1),
         Err(_) => {
-            let mut x = r;
-            while x > 0 || n <= decimals {
-                digits[n] = b'0' + (x % 10) as u8;
-                x /= 10;
-                n += 1;
-            }
+            words((r % TEN_19) as u64, 19);
+            words((r / TEN_19) as u64, 1);
         }
     }
     // digits[..n] hold the number from its last digit: digits[..decimals]

@@ -2,7 +2,7 @@
 //! match and one daughter option per step, limits.
 
 use crate::choices::{InOrder, Pick, Random};
-use crate::grammar::{Daughter, GraphGrammar, Production};
+use crate::grammar::{GraphGrammar, Production};
 use crate::graph::Graph;
 use crate::rewrite::{Scratch, apply};
 use crate::search::{Exhausted, Search};
@@ -299,11 +299,8 @@ impl GraphGrammar {
         if let Some(steps) = max_steps.or(self.steps) {
             // Address space only: pages are touched as elements come, and
             // the arrays never grow by copying (1.1–1.2× on Koch).
-            let most = |new: fn(&Daughter) -> usize| {
-                let per_step = self.productions.iter().flat_map(|p| &p.options).map(new).max().unwrap_or(0);
-                per_step.saturating_mul(steps).min(max_elements)
-            };
-            g.reserve(most(|o| o.new_vertices.len()), most(|o| o.new_edges.len()));
+            let [v, e] = self.new_per_step.map(|n| n.saturating_mul(steps).min(max_elements));
+            g.reserve(v, e);
         }
         let mut envs = run_envs(self, choices);
         let nv = self.productions.iter().map(|p| p.mv.len()).max().unwrap_or(0);

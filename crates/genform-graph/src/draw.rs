@@ -177,7 +177,8 @@ impl Graph {
                 at[birth as usize] = tagged;
             }
             order.clear();
-            order.extend(at.into_iter().filter(|&t| t != u32::MAX).map(|t| (0, t)));
+            let placed = at.into_iter().enumerate().filter(|&(_, t)| t != u32::MAX);
+            order.extend(placed.map(|(birth, t)| (birth as u64, t)));
         } else if zs.len() < 2 {
             order.sort_unstable_by_key(|&(birth, _)| birth);
         } else {

@@ -20,6 +20,9 @@ pub struct GraphGrammar {
     pub(crate) productions: Vec<Production>,
     /// Global formulas evaluated once per run, in file order.
     pub(crate) globals: Vec<Program>,
+    /// The most vertices and edges one application adds (over every
+    /// option): what a derivation of n steps reserves room for.
+    pub(crate) new_per_step: [usize; 2],
     /// The file it was compiled from, to locate run-time errors.
     pub(crate) source: genform_core::SourceFile,
 }

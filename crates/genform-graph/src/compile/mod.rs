@@ -5,7 +5,7 @@ mod production;
 mod scope;
 mod syntax;
 
-use crate::grammar::{GraphGrammar, Group};
+use crate::grammar::{Daughter, GraphGrammar, Group};
 use crate::graph::{Graph, NewAttrs, NewCommon, Value};
 use crate::names::Interner;
 use crate::yaml;
@@ -69,6 +69,9 @@ pub fn compile(file: &SourceFile) -> Result<(GraphGrammar, Diagnostics), Diagnos
     for (k, key) in new_elements.enumerate() {
         *key = k as u32;
     }
+    let most =
+        |count: fn(&Daughter) -> usize| productions.iter().flat_map(|(_, p)| &p.options).map(count).max().unwrap_or(0);
+    let new_per_step = [most(|o| o.new_vertices.len()), most(|o| o.new_edges.len())];
     let host = build_host(host, cx.labels, cx.attrs, track);
     let name = match &syn.name {
         Some(n) => n.s.clone(),
@@ -83,6 +86,7 @@ pub fn compile(file: &SourceFile) -> Result<(GraphGrammar, Diagnostics), Diagnos
         steps: syn.steps.map(|(n, _)| n),
         time_limit: syn.time_limit.map_or(crate::derive::DEFAULT_TIME_LIMIT, std::time::Duration::from_secs_f64),
         groups,
+        new_per_step,
         productions: productions.into_iter().map(|(_, p)| p).collect(),
         globals: globals.1,
         source: file.clone(),
