@@ -270,9 +270,10 @@ impl Drawing {
         // Each tag's colour text once, not once per shape.
         let defaults: Vec<String> = scene.tags.iter().map(|t| hex(tag_color(t))).collect();
         let unknown = hex([0; 3]);
+        let mut tail = shapes2d::Tail::default();
         for shape in &scene.shapes2d {
             let default = defaults.get(shape.tag as usize).unwrap_or(&unknown);
-            shapes2d::write(&mut w, shape, default);
+            shapes2d::write(&mut w, &mut tail, shape, default);
             spill(&mut w.out);
         }
         guides::write_points(&mut w, scene, 3.0 * floor.max(self.size.x / width_px as f32));
@@ -290,7 +291,7 @@ pub(crate) fn shape_document(shape: &Shape2d, color: [u8; 3]) -> String {
     // No view box: usvg then applies no transform of its own, and keeps
     // elements outside the 1×1 viewport (only rendering clips).
     w.out.push_str("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1\" height=\"1\">\n");
-    shapes2d::write(&mut w, shape, &hex(color));
+    shapes2d::write(&mut w, &mut shapes2d::Tail::default(), shape, &hex(color));
     w.out.push_str("</svg>\n");
     w.out
 }
@@ -537,6 +538,7 @@ impl Writer {
 mod shapes2d {
     use super::{Shape2d, Shape2dKind, Vec2, Writer, flip};
     use std::fmt::Write;
+    use std::sync::Arc;
 
     /// The value of presentation attribute `name`.
     fn attr<'a>(shape: &'a Shape2d, name: &str) -> Option<&'a str> {
@@ -603,7 +605,7 @@ mod shapes2d {
 
     /// Writes one shape; `color` stands in when it has neither fill nor
     /// stroke.
-    pub(super) fn write(w: &mut Writer, shape: &Shape2d, color: &str) {
+    pub(super) fn write(w: &mut Writer, tail: &mut Tail, shape: &Shape2d, color: &str) {
         if !finite(shape) {
             return;
         }
@@ -650,22 +652,49 @@ mod shapes2d {
                 w.out.push('"');
             }
         }
+        let cached = tail.list.as_ref().is_some_and(|list| Arc::ptr_eq(list, &shape.attributes))
+            && tail.open_line == open_line
+            && tail.color == color;
+        if !cached {
+            tail.text.clear();
+            write_tail(&mut tail.text, shape, open_line, color);
+            tail.list = Some(shape.attributes.clone());
+            (tail.open_line, tail.color) = (open_line, color.to_string());
+        }
+        w.out.push_str(&tail.text);
+    }
+
+    /// The text after a shape's geometry, written once per attribute list:
+    /// most shapes of a drawing share a few lists.
+    #[derive(Default)]
+    pub(super) struct Tail {
+        /// The attribute list, whether the shape is an open line and the
+        /// stand-in colour that `text` was written for.
+        list: Option<Arc<[(String, String)]>>,
+        open_line: bool,
+        color: String,
+        text: String,
+    }
+
+    /// The default paint, the presentation attributes and the end of the
+    /// element.
+    fn write_tail(out: &mut String, shape: &Shape2d, open_line: bool, color: &str) {
         let has = |n: &str| attr(shape, n).is_some();
         if !has("fill") && !has("stroke") {
             if open_line {
-                let _ = write!(w.out, " fill=\"none\" stroke=\"{color}\"");
+                let _ = write!(out, " fill=\"none\" stroke=\"{color}\"");
             } else {
-                let _ = write!(w.out, " fill=\"{color}\"");
+                let _ = write!(out, " fill=\"{color}\"");
             }
         }
         for (n, v) in shape.attributes.iter() {
             if valid_name(n) {
-                let _ = write!(w.out, " {n}=\"");
-                push_escaped(&mut w.out, v);
-                w.out.push('"');
+                let _ = write!(out, " {n}=\"");
+                push_escaped(out, v);
+                out.push('"');
             }
         }
-        w.out.push_str("/>\n");
+        out.push_str("/>\n");
     }
 
     /// The points an SVG path visits, control points included (arcs add
@@ -928,6 +957,40 @@ mod tests {
 
     fn shape(kind: Shape2dKind, attributes: &[(&str, &str)], tag: TagId) -> Shape2d {
         Shape2d { kind, attributes: attributes.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(), tag }
+    }
+
+    #[test]
+    fn shapes_sharing_attribute_lists_are_written_as_each_alone() {
+        use glam::Vec2;
+        use std::sync::Arc;
+        type List = Arc<[(String, String)]>;
+        let list =
+            |pairs: &[(&str, &str)]| -> List { pairs.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect() };
+        let mut s = Scene::new();
+        let (ink, leaf) = (s.tag("ink"), s.tag("leaf#3a7d23"));
+        let lists = [list(&[("stroke", "#123"), ("stroke-width", "2")]), list(&[("fill", "a<b")]), list(&[])];
+        // Lists shared and alternating, one list under two tags (two
+        // stand-in colours), one list on open and on closed shapes.
+        for i in 0..24 {
+            let from = Vec2::new(i as f32, 0.0);
+            let kind = match i % 3 {
+                0 => Shape2dKind::Circle { center: from, radius: 1.0 },
+                _ => Shape2dKind::Line { from, to: from + Vec2::ONE },
+            };
+            let attributes = lists[[0, 1, 2, 2, 2][i % 5]].clone();
+            s.shapes2d.push(Shape2d { kind, attributes, tag: if i / 2 % 2 == 0 { ink } else { leaf } });
+        }
+        let svg = write_svg(&s, &SvgOptions::default());
+        let drawn: Vec<&str> = svg.lines().filter(|l| l.starts_with("<line") || l.starts_with("<circle")).collect();
+        assert_eq!(drawn.len(), s.shapes2d.len());
+        for (shape, written) in s.shapes2d.iter().zip(drawn) {
+            let alone = shape_document(shape, tag_color(&s.tags[shape.tag as usize]));
+            assert_eq!(alone.lines().nth(1), Some(written));
+        }
+        assert!(
+            svg.contains(" fill=\"none\" stroke=\"#3a7d23\"/>")
+                && svg.contains("<circle cx=\"0\" cy=\"0\" r=\"1\" stroke=\"#123\"")
+        );
     }
 
     #[test]

@@ -61,6 +61,12 @@ fn compile_and_draw(c: &mut Criterion) {
     let koch = load("koch").derive(&mut Rng::from_seed(1), Some(192), 1_000_000).unwrap().graph;
     c.bench_function("koch_192_to_scene", |b| b.iter(|| black_box(koch.to_scene())));
     c.bench_function("koch_192_to_yaml", |b| b.iter(|| black_box(koch.to_yaml())));
+    // A drawing far larger than the caches (1.2 M elements, 600 k drawn).
+    let big = load("koch").derive(&mut Rng::from_seed(1), Some(200_000), 2_000_000).unwrap().graph;
+    let mut g = c.benchmark_group("draw_large");
+    g.sample_size(10);
+    g.bench_function("koch_200000_to_scene", |b| b.iter(|| black_box(big.to_scene())));
+    g.finish();
 }
 
 criterion_group!(benches, examples, compile_and_draw);

@@ -3,7 +3,7 @@
 
 use crate::graph::{Graph, Value};
 use crate::template::format_number;
-use genform_core::scene::{Scene, Shape2d, Shape2dKind};
+use genform_core::scene::{Scene, Shape2d, Shape2dKind, TagId};
 use glam::Vec2;
 use std::sync::Arc;
 
@@ -29,8 +29,28 @@ enum Tag {
 /// SVG presentation attributes, shared by the shapes that carry them.
 type Attributes = Arc<[(String, String)]>;
 
-/// A shape, its SVG attributes and its tag name.
-type Drawn<'g> = (Shape2dKind, Attributes, &'g str);
+/// An element's shape, before its shared attribute list is attached.
+struct Drawn {
+    kind: Shape2dKind,
+    /// The element's attribute list id.
+    attrs: u32,
+    stroked: bool,
+    label: u32,
+    is_vertex: bool,
+}
+
+/// Elements drawn per chunk by [`Graph::to_scene`].
+const DRAW_CHUNK: usize = 256;
+
+/// The scene tags of label `label` (for vertices and for edges), grown to
+/// hold it.
+fn tags_entry(tags: &mut Vec<[Option<TagId>; 2]>, label: u32) -> &mut [Option<TagId>; 2] {
+    let i = label as usize;
+    if tags.len() <= i {
+        tags.resize(i + 1, [None; 2]);
+    }
+    &mut tags[i]
+}
 
 /// An element's attribute list read for drawing.
 struct Styled<'g> {
@@ -158,16 +178,23 @@ impl Graph {
         const VERTEX: u32 = 1 << 31;
         let mut order: Vec<(u64, u32)> = Vec::with_capacity(self.element_count());
         let mut zs = Vec::new();
-        for (ids, vertex) in [(&self.vindex.all, true), (&self.eindex.all, false)] {
-            for &id in ids {
-                assert!(id < VERTEX, "fewer than 2^31 slots");
-                let c = if vertex { &self.vertices[id as usize].c } else { &self.edges[id as usize].c };
-                let z = styles.get(self, c.attrs).z;
-                if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
-                    zs.push(z);
-                }
-                order.push((c.birth, if vertex { id | VERTEX } else { id }));
+        // Slots in memory order (the order is fixed below, births being
+        // unique): a walk through the index's lists would visit them at
+        // random, a cache miss an element on a large graph. Hidden elements
+        // are left out here, as they are from the drawing.
+        let vertices = self.vertices.iter().map(|v| &v.c).enumerate().map(|(id, c)| (id, c, VERTEX));
+        let edges = self.edges.iter().map(|e| &e.c).enumerate().map(|(id, c)| (id, c, 0));
+        for (id, c, kind) in vertices.chain(edges).filter(|(_, c, _)| c.alive()) {
+            let id = u32::try_from(id).ok().filter(|&id| id < VERTEX).expect("fewer than 2^31 slots");
+            let style = styles.get(self, c.attrs);
+            if matches!(style.tag, Tag::Hidden) {
+                continue;
             }
+            let z = style.z;
+            if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
+                zs.push(z);
+            }
+            order.push((c.birth, id | kind));
         }
         if zs.len() < 2 && self.next_birth() <= 4 * order.len() as u64 + 1024 {
             // Births are unique and most were not deleted: placing each
@@ -192,18 +219,48 @@ impl Graph {
             order.sort_by(|a, b| z(a.1).total_cmp(&z(b.1)).then(a.0.cmp(&b.0)));
         }
         scene.shapes2d.reserve(order.len());
-        for (_, tagged) in order {
-            let (is_vertex, id) = (tagged & VERTEX != 0, tagged & !VERTEX);
-            let shape = if is_vertex { self.vertex_shape(id, &mut styles) } else { self.edge_shape(id, &mut styles) };
-            if let Some((kind, attributes, label)) = shape {
-                let tag = scene.tag(label);
-                scene.shapes2d.push(Shape2d { kind, attributes, tag });
+        // Shapes are built a chunk at a time. First, in loops of their own
+        // (small enough to keep many reads in flight), the chunk's slots
+        // and their vertices, which are read at random; then the shapes;
+        // then their shared attribute lists. Taking a reference count is a
+        // locked instruction, which waits for every read before it: done
+        // per element, the reads' cache misses would queue one behind the
+        // other.
+        let mut tags: Vec<[Option<TagId>; 2]> = Vec::new();
+        let mut drawn = Vec::with_capacity(DRAW_CHUNK);
+        let (mut ends, mut ends_at) = (Vec::with_capacity(DRAW_CHUNK), Vec::with_capacity(DRAW_CHUNK));
+        for chunk in order.chunks(DRAW_CHUNK) {
+            ends.clear();
+            ends.extend(chunk.iter().map(|&(_, tagged)| match tagged & !VERTEX {
+                v if tagged & VERTEX != 0 => (v, v),
+                e => (self.edges[e as usize].from, self.edges[e as usize].to),
+            }));
+            ends_at.clear();
+            ends_at.extend(ends.iter().map(|&(a, b)| (self.vertices[a as usize].pos, self.vertices[b as usize].pos)));
+            drawn.extend(chunk.iter().zip(&ends_at).filter_map(|(&(_, tagged), &(a, b))| {
+                let (is_vertex, id) = (tagged & VERTEX != 0, tagged & !VERTEX);
+                if is_vertex { self.vertex_shape(id, &mut styles) } else { self.edge_shape(id, [a, b], &mut styles) }
+            }));
+            for d in drawn.drain(..) {
+                let tag = &mut tags_entry(&mut tags, d.label)[usize::from(d.is_vertex)];
+                let tag = *tag.get_or_insert_with(|| {
+                    let name = self.labels.name(d.label);
+                    scene.tag(if !name.is_empty() {
+                        name
+                    } else if d.is_vertex {
+                        "vertex"
+                    } else {
+                        "edge"
+                    })
+                });
+                let attributes = styles.attributes(self, d.attrs, d.stroked);
+                scene.shapes2d.push(Shape2d { kind: d.kind, attributes, tag });
             }
         }
         scene
     }
 
-    fn vertex_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn<'_>> {
+    fn vertex_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn> {
         let v = &self.vertices[id as usize];
         let s = Styled { g: self, attrs: self.attr_sets.get(v.c.attrs) };
         let p = v2(v.pos);
@@ -220,14 +277,14 @@ impl Graph {
             }
             Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
         };
-        let label = self.labels.name(v.c.label);
-        Some((kind, styles.attributes(self, v.c.attrs, stroked), if label.is_empty() { "vertex" } else { label }))
+        Some(Drawn { kind, attrs: v.c.attrs, stroked, label: v.c.label, is_vertex: true })
     }
 
-    fn edge_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn<'_>> {
+    /// Edge `id`'s shape; `ends`: the positions of its ends.
+    fn edge_shape(&self, id: u32, ends: [[f64; 2]; 2], styles: &mut Styles) -> Option<Drawn> {
         let e = &self.edges[id as usize];
         let s = Styled { g: self, attrs: self.attr_sets.get(e.c.attrs) };
-        let (a, b) = (v2(self.vertices[e.from as usize].pos), v2(self.vertices[e.to as usize].pos));
+        let (a, b) = (v2(ends[0]), v2(ends[1]));
         let bbox = || match (s.num("svg_width"), s.num("svg_height")) {
             (Some(w), Some(h)) => (a, Vec2::new(w as f32, h as f32)),
             _ => (a.min(b), (b - a).abs()),
@@ -249,7 +306,6 @@ impl Graph {
             }
             Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
         };
-        let label = self.labels.name(e.c.label);
-        Some((kind, styles.attributes(self, e.c.attrs, stroked), if label.is_empty() { "edge" } else { label }))
+        Some(Drawn { kind, attrs: e.c.attrs, stroked, label: e.c.label, is_vertex: false })
     }
 }
