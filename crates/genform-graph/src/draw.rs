@@ -39,6 +39,16 @@ struct Drawn {
     is_vertex: bool,
 }
 
+/// What drawing reads of an element's slot.
+#[derive(Clone, Copy)]
+struct Element {
+    attrs: u32,
+    label: u32,
+    /// An edge's vertices; a vertex itself, twice.
+    ends: [u32; 2],
+    is_vertex: bool,
+}
+
 /// Elements drawn per chunk by [`Graph::to_scene`].
 const DRAW_CHUNK: usize = 256;
 
@@ -228,19 +238,22 @@ impl Graph {
         // other.
         let mut tags: Vec<[Option<TagId>; 2]> = Vec::new();
         let mut drawn = Vec::with_capacity(DRAW_CHUNK);
-        let (mut ends, mut ends_at) = (Vec::with_capacity(DRAW_CHUNK), Vec::with_capacity(DRAW_CHUNK));
+        let (mut elements, mut ends) = (Vec::with_capacity(DRAW_CHUNK), Vec::with_capacity(DRAW_CHUNK));
         for chunk in order.chunks(DRAW_CHUNK) {
+            elements.clear();
+            elements.extend(chunk.iter().map(|&(_, tagged)| match tagged & !VERTEX {
+                v if tagged & VERTEX != 0 => {
+                    let c = &self.vertices[v as usize].c;
+                    Element { attrs: c.attrs, label: c.label, ends: [v, v], is_vertex: true }
+                }
+                e => {
+                    let e = &self.edges[e as usize];
+                    Element { attrs: e.c.attrs, label: e.c.label, ends: [e.from, e.to], is_vertex: false }
+                }
+            }));
             ends.clear();
-            ends.extend(chunk.iter().map(|&(_, tagged)| match tagged & !VERTEX {
-                v if tagged & VERTEX != 0 => (v, v),
-                e => (self.edges[e as usize].from, self.edges[e as usize].to),
-            }));
-            ends_at.clear();
-            ends_at.extend(ends.iter().map(|&(a, b)| (self.vertices[a as usize].pos, self.vertices[b as usize].pos)));
-            drawn.extend(chunk.iter().zip(&ends_at).filter_map(|(&(_, tagged), &(a, b))| {
-                let (is_vertex, id) = (tagged & VERTEX != 0, tagged & !VERTEX);
-                if is_vertex { self.vertex_shape(id, &mut styles) } else { self.edge_shape(id, [a, b], &mut styles) }
-            }));
+            ends.extend(elements.iter().map(|e| e.ends.map(|v| v2(self.vertices[v as usize].pos))));
+            drawn.extend(elements.iter().zip(&ends).filter_map(|(&e, &[a, b])| self.shape(e, a, b, &mut styles)));
             for d in drawn.drain(..) {
                 let tag = &mut tags_entry(&mut tags, d.label)[usize::from(d.is_vertex)];
                 let tag = *tag.get_or_insert_with(|| {
@@ -260,52 +273,39 @@ impl Graph {
         scene
     }
 
-    fn vertex_shape(&self, id: u32, styles: &mut Styles) -> Option<Drawn> {
-        let v = &self.vertices[id as usize];
-        let s = Styled { g: self, attrs: self.attr_sets.get(v.c.attrs) };
-        let p = v2(v.pos);
-        let size = || Vec2::new(s.num("svg_width").unwrap_or(1.0) as f32, s.num("svg_height").unwrap_or(1.0) as f32);
-        let (kind, stroked) = match styles.get(self, v.c.attrs).tag {
-            Tag::Hidden => return None,
-            Tag::Default | Tag::Circle | Tag::Line => (
-                Shape2dKind::Circle { center: p, radius: s.num("svg_r").unwrap_or(DEFAULT_VERTEX_RADIUS) as f32 },
-                false,
-            ),
-            Tag::Rect => (Shape2dKind::Rect { min: p, size: size() }, false),
-            Tag::Image => {
-                (Shape2dKind::Image { href: s.text("svg_href").unwrap_or_default(), min: p, size: size() }, false)
+    /// Element `e`'s shape; `a`, `b`: the positions of its ends (a
+    /// vertex's own twice).
+    fn shape(&self, e: Element, a: Vec2, b: Vec2, styles: &mut Styles) -> Option<Drawn> {
+        let s = Styled { g: self, attrs: self.attr_sets.get(e.attrs) };
+        let tag = styles.get(self, e.attrs).tag;
+        let (kind, stroked) = match (tag, e.is_vertex) {
+            (Tag::Hidden, _) => return None,
+            (Tag::Path, _) => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
+            (Tag::Rect | Tag::Image, _) => {
+                let (min, size) = match (s.num("svg_width"), s.num("svg_height")) {
+                    // A vertex's size defaults to 1 × 1, an edge's to the
+                    // box its ends span.
+                    (w, h) if e.is_vertex => (a, Vec2::new(w.unwrap_or(1.0) as f32, h.unwrap_or(1.0) as f32)),
+                    (Some(w), Some(h)) => (a, Vec2::new(w as f32, h as f32)),
+                    _ => (a.min(b), (b - a).abs()),
+                };
+                match tag {
+                    Tag::Image => {
+                        (Shape2dKind::Image { href: s.text("svg_href").unwrap_or_default(), min, size }, false)
+                    }
+                    _ => (Shape2dKind::Rect { min, size }, false),
+                }
             }
-            Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
-        };
-        Some(Drawn { kind, attrs: v.c.attrs, stroked, label: v.c.label, is_vertex: true })
-    }
-
-    /// Edge `id`'s shape; `ends`: the positions of its ends.
-    fn edge_shape(&self, id: u32, ends: [[f64; 2]; 2], styles: &mut Styles) -> Option<Drawn> {
-        let e = &self.edges[id as usize];
-        let s = Styled { g: self, attrs: self.attr_sets.get(e.c.attrs) };
-        let (a, b) = (v2(ends[0]), v2(ends[1]));
-        let bbox = || match (s.num("svg_width"), s.num("svg_height")) {
-            (Some(w), Some(h)) => (a, Vec2::new(w as f32, h as f32)),
-            _ => (a.min(b), (b - a).abs()),
-        };
-        let (kind, stroked) = match styles.get(self, e.c.attrs).tag {
-            Tag::Hidden => return None,
-            Tag::Default | Tag::Line => (Shape2dKind::Line { from: a, to: b }, true),
-            Tag::Circle => {
+            (Tag::Default | Tag::Circle | Tag::Line, true) => {
+                let radius = s.num("svg_r").unwrap_or(DEFAULT_VERTEX_RADIUS) as f32;
+                (Shape2dKind::Circle { center: a, radius }, false)
+            }
+            (Tag::Circle, false) => {
                 let r = s.num("svg_r").map_or(0.5 * a.distance(b), |r| r as f32);
                 (Shape2dKind::Circle { center: 0.5 * (a + b), radius: r }, false)
             }
-            Tag::Rect => {
-                let (min, size) = bbox();
-                (Shape2dKind::Rect { min, size }, false)
-            }
-            Tag::Image => {
-                let (min, size) = bbox();
-                (Shape2dKind::Image { href: s.text("svg_href").unwrap_or_default(), min, size }, false)
-            }
-            Tag::Path => (Shape2dKind::Path { d: s.text("svg_d").unwrap_or_default() }, true),
+            (Tag::Default | Tag::Line, false) => (Shape2dKind::Line { from: a, to: b }, true),
         };
-        Some(Drawn { kind, attrs: e.c.attrs, stroked, label: e.c.label, is_vertex: false })
+        Some(Drawn { kind, attrs: e.attrs, stroked, label: e.label, is_vertex: e.is_vertex })
     }
 }

@@ -443,21 +443,32 @@ fn drawing_follows_the_svg_attributes() {
     a: {x: 0, y: 0}
     b: {x: 4, y: 2, svg_tag: rect, svg_width: 2, svg_height: 1, svg_fill: red, svg_z: -1}
     c: {x: 1, y: 1, svg_tag: hidden}
+    d: {x: 2, y: 0, svg_tag: rect, svg_width: 3}
+    e: {x: 0, y: 3, svg_tag: image, svg_href: i.png}
   edges:
     - {from: a, to: b, svg_stroke_width: 0.5, svg_stroke_dasharray: \"1 1\"}
     - {from: a, to: c, svg_tag: path, svg_d: \"M 0 0 L 1 1\"}
+    - {from: b, to: a, svg_tag: rect}
+    - {from: a, to: d, svg_tag: circle}
 ",
     );
     use genform_core::scene::Shape2dKind;
+    use glam::Vec2;
     let scene = g.host().to_scene();
     let kinds: Vec<&Shape2dKind> = scene.shapes2d.iter().map(|s| &s.kind).collect();
-    assert_eq!(kinds.len(), 4, "the hidden vertex is left out");
+    assert_eq!(kinds.len(), 8, "the hidden vertex is left out");
     // svg_z −1 first, then creation order.
-    assert!(matches!(kinds[0], Shape2dKind::Rect { size, .. } if *size == glam::Vec2::new(2.0, 1.0)));
+    assert!(matches!(kinds[0], Shape2dKind::Rect { size, .. } if *size == Vec2::new(2.0, 1.0)));
     assert!(matches!(kinds[1], Shape2dKind::Circle { radius, .. } if *radius == 0.1));
-    assert!(matches!(kinds[2], Shape2dKind::Line { .. }));
-    assert!(matches!(kinds[3], Shape2dKind::Path { d } if d == "M 0 0 L 1 1"));
-    let line = &scene.shapes2d[2].attributes;
+    // A vertex's missing height is 1; an edge's box is the box its ends span.
+    assert_eq!(kinds[2], &Shape2dKind::Rect { min: Vec2::new(2.0, 0.0), size: Vec2::new(3.0, 1.0) });
+    let image = Shape2dKind::Image { href: "i.png".into(), min: Vec2::new(0.0, 3.0), size: Vec2::ONE };
+    assert_eq!(kinds[3], &image);
+    assert!(matches!(kinds[4], Shape2dKind::Line { .. }));
+    assert!(matches!(kinds[5], Shape2dKind::Path { d } if d == "M 0 0 L 1 1"));
+    assert_eq!(kinds[6], &Shape2dKind::Rect { min: Vec2::ZERO, size: Vec2::new(4.0, 2.0) });
+    assert_eq!(kinds[7], &Shape2dKind::Circle { center: Vec2::new(1.0, 0.0), radius: 1.0 });
+    let line = &scene.shapes2d[4].attributes;
     assert!(line.contains(&("stroke-width".into(), "0.5".into())));
     assert!(line.contains(&("stroke-dasharray".into(), "1 1".into())));
     assert!(scene.shapes2d[0].attributes.contains(&("fill".into(), "red".into())));
