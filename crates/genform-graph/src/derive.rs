@@ -213,7 +213,7 @@ fn find(
         // The oldest match: the lowest generation level at which one
         // exists, a match's level being its newest element's generation.
         let mut found = Ok(false);
-        for &level in g.generations.keys() {
+        for level in g.live_generations() {
             s.max_gen = Some(level);
             found = s.run(plan, pick, visit);
             if found != Ok(false) {

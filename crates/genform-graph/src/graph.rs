@@ -11,7 +11,7 @@
 pub(crate) use crate::index::Index;
 use crate::index::{NONE, Slots, index_insert, index_remove, relabel, slot_of};
 use crate::names::Interner;
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// An attribute value.
@@ -329,8 +329,6 @@ pub struct Graph {
     free_edges: Vec<u32>,
     pub(crate) vindex: Index,
     pub(crate) eindex: Index,
-    /// Live elements per generation (only with `track_generations`).
-    pub(crate) generations: BTreeMap<u32, u32>,
     pub(crate) track_generations: bool,
     next_birth: u64,
 }
@@ -486,7 +484,6 @@ impl Graph {
             free_edges: Vec::new(),
             vindex: Index::default(),
             eindex: Index::default(),
-            generations: BTreeMap::new(),
             track_generations,
             next_birth: 0,
         }
@@ -514,7 +511,6 @@ impl Graph {
             free_edges,
             vindex,
             eindex,
-            generations,
             track_generations,
             next_birth,
         } = self;
@@ -531,9 +527,24 @@ impl Graph {
         free_edges.clone_from(&host.free_edges);
         vindex.reset_from(&host.vindex);
         eindex.reset_from(&host.eindex);
-        generations.clone_from(&host.generations);
         *track_generations = host.track_generations;
         *next_birth = host.next_birth;
+    }
+
+    /// The generations with live elements, in order (with
+    /// `track_generations`).
+    pub(crate) fn live_generations(&self) -> impl Iterator<Item = u32> + '_ {
+        let mut v = self.vindex.gen_all.generations().peekable();
+        let mut e = self.eindex.gen_all.generations().peekable();
+        std::iter::from_fn(move || {
+            let next = match (v.peek(), e.peek()) {
+                (Some(&a), Some(&b)) => a.min(b),
+                (a, b) => *a.or(b)?,
+            };
+            v.next_if_eq(&next);
+            e.next_if_eq(&next);
+            Some(next)
+        })
     }
 
     /// Number of live vertices.
@@ -648,7 +659,7 @@ impl Graph {
         v.pos = pos;
         // A reused slot keeps its (empty) adjacency block.
         debug_assert_eq!(v.adj.len, 0);
-        index_insert(&mut self.vindex, &mut v.c, id, self.track_generations, &mut self.generations);
+        index_insert(&mut self.vindex, &mut v.c, id, self.track_generations);
         id
     }
 
@@ -676,7 +687,7 @@ impl Graph {
         e.to = to;
         e.directed = directed;
         e.adj_pos = [pf, pt];
-        index_insert(&mut self.eindex, &mut e.c, id, self.track_generations, &mut self.generations);
+        index_insert(&mut self.eindex, &mut e.c, id, self.track_generations);
         id
     }
 
@@ -697,7 +708,7 @@ impl Graph {
         let tg = self.track_generations;
         let edges = &mut self.edges;
         let mut c = std::mem::replace(&mut edges[id as usize].c, Common::new());
-        index_remove(&mut self.eindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
+        index_remove(&mut self.eindex, &mut c, tg, |w, moved, pos| {
             *slot_of(&mut edges[moved as usize].c.slots, w) = pos;
         });
         self.attr_sets.release(c.attrs);
@@ -732,7 +743,7 @@ impl Graph {
         let tg = self.track_generations;
         let vertices = &mut self.vertices;
         let mut c = std::mem::replace(&mut vertices[id as usize].c, Common::new());
-        index_remove(&mut self.vindex, &mut c, tg, &mut self.generations, |w, moved, pos| {
+        index_remove(&mut self.vindex, &mut c, tg, |w, moved, pos| {
             *slot_of(&mut vertices[moved as usize].c.slots, w) = pos;
         });
         self.attr_sets.release(c.attrs);
@@ -830,8 +841,8 @@ impl Graph {
                 assert_eq!(index.all[c.slots.all as usize], id);
                 assert_eq!(index.by_label[c.label as usize][c.slots.label as usize], id);
                 if self.track_generations {
-                    assert_eq!(index.gen_all[&c.generation][c.slots.gen_all as usize], id);
-                    assert_eq!(index.gen_label[c.label as usize][&c.generation][c.slots.gen_label as usize], id);
+                    assert_eq!(index.gen_all.get(c.generation)[c.slots.gen_all as usize], id);
+                    assert_eq!(index.gen_label[c.label as usize].get(c.generation)[c.slots.gen_label as usize], id);
                 }
             }
             let labelled: usize = index.by_label.iter().map(Vec::len).sum();
@@ -967,7 +978,15 @@ mod tests {
             }
             g.check();
         }
-        let counted: u32 = g.generations.values().sum();
-        assert_eq!(counted as usize, g.element_count());
+        let counted: usize = [&g.vindex, &g.eindex]
+            .iter()
+            .flat_map(|index| index.gen_all.generations().map(|g| index.gen_all.get(g).len()))
+            .sum();
+        assert_eq!(counted, g.element_count());
+        let live: Vec<u32> = g.live_generations().collect();
+        let mut expected: Vec<u32> = g.vindex.gen_all.generations().chain(g.eindex.gen_all.generations()).collect();
+        expected.sort_unstable();
+        expected.dedup();
+        assert_eq!(live, expected);
     }
 }

@@ -1,7 +1,8 @@
 //! Candidate indexes: swap-remove sets of element ids — all live elements,
 //! per label, and (for "oldest" matching) per label and generation. Each
 //! element stores its position in every set it belongs to, so inserting,
-//! removing and relabelling are O(1) (generation buckets: O(log buckets)).
+//! removing and relabelling are O(1) (generation sets: O(1) for the two
+//! generations met last, else O(log generations)).
 
 use crate::graph::Common;
 use std::collections::BTreeMap;
@@ -28,13 +29,8 @@ impl Slots {
 pub(crate) struct Index {
     pub(crate) all: Vec<u32>,
     pub(crate) by_label: Vec<Vec<u32>>,
-    pub(crate) gen_all: BTreeMap<u32, Vec<u32>>,
-    pub(crate) gen_label: Vec<BTreeMap<u32, Vec<u32>>>,
-    /// Emptied generation buckets, kept (cleared) for the next new one: a
-    /// new generation grows while an old one empties, and without the pool
-    /// the one's memory went back to the allocator while the other's was
-    /// allocated and first touched afresh.
-    spare: Vec<Vec<u32>>,
+    pub(crate) gen_all: GenSets,
+    pub(crate) gen_label: Vec<GenSets>,
 }
 
 impl Index {
@@ -42,31 +38,112 @@ impl Index {
     pub(crate) fn reset_from(&mut self, other: &Index) {
         self.all.clone_from(&other.all);
         self.by_label.clone_from(&other.by_label);
-        let spare = &mut self.spare;
-        let mut refill = |mine: &mut BTreeMap<u32, Vec<u32>>, theirs: &BTreeMap<u32, Vec<u32>>| {
-            for (_, mut set) in std::mem::take(mine) {
-                set.clear();
-                spare.push(set);
-            }
-            for (&g, set) in theirs {
-                let mut copy = spare.pop().unwrap_or_default();
-                copy.extend_from_slice(set);
-                mine.insert(g, copy);
-            }
-        };
-        refill(&mut self.gen_all, &other.gen_all);
-        self.gen_label.resize_with(self.gen_label.len().max(other.gen_label.len()), BTreeMap::new);
-        for (l, mine) in self.gen_label.iter_mut().enumerate() {
-            refill(mine, other.gen_label.get(l).unwrap_or(&BTreeMap::new()));
-        }
-        self.gen_label.truncate(other.gen_label.len());
+        self.gen_all.clone_from(&other.gen_all);
+        self.gen_label.clone_from(&other.gen_label);
     }
 }
 
-/// The bucket of generation `g`, made (from a spare allocation if any) when
-/// missing.
-fn bucket<'a>(buckets: &'a mut BTreeMap<u32, Vec<u32>>, g: u32, spare: &mut Vec<Vec<u32>>) -> &'a mut Vec<u32> {
-    buckets.entry(g).or_insert_with(|| spare.pop().unwrap_or_default())
+/// One swap-remove set per generation with live elements. A step adds to
+/// the newest generation and ("oldest" matching) takes from the oldest, so
+/// the two generations met last are remembered in front of the ordered
+/// map. Emptied sets are kept (cleared) for the next new generation: a new
+/// generation grows while an old one empties, and without them the one's
+/// memory went back to the allocator while the other's was allocated and
+/// first touched afresh.
+#[derive(Debug)]
+pub(crate) struct GenSets {
+    /// Generation → its set in `sets`.
+    map: BTreeMap<u32, u32>,
+    sets: Vec<Vec<u32>>,
+    /// Entries of `sets` no generation uses (empty).
+    free: Vec<u32>,
+    /// (generation, set) of the two generations met last; `NONE` for none.
+    recent: [(u32, u32); 2],
+}
+
+impl Default for GenSets {
+    fn default() -> GenSets {
+        GenSets { map: BTreeMap::new(), sets: Vec::new(), free: Vec::new(), recent: [(NONE, NONE); 2] }
+    }
+}
+
+impl Clone for GenSets {
+    fn clone(&self) -> GenSets {
+        let mut copy = GenSets::default();
+        copy.clone_from(self);
+        copy
+    }
+
+    /// Keeps this one's sets' allocations (a derivation reusing a graph).
+    fn clone_from(&mut self, other: &GenSets) {
+        self.map.clone_from(&other.map);
+        self.sets.clone_from(&other.sets);
+        self.free.clone_from(&other.free);
+        self.recent = other.recent;
+    }
+}
+
+impl GenSets {
+    /// The set of generation `g`, if it has live elements.
+    fn find(&mut self, g: u32) -> Option<u32> {
+        match self.recent {
+            [(r, set), _] if r == g && set != NONE => Some(set),
+            [first, (r, set)] if r == g && set != NONE => {
+                self.recent = [(r, set), first];
+                Some(set)
+            }
+            _ => {
+                let set = *self.map.get(&g)?;
+                self.recent = [(g, set), self.recent[0]];
+                Some(set)
+            }
+        }
+    }
+
+    /// Generation `g`'s elements.
+    #[cfg(test)]
+    pub(crate) fn get(&self, g: u32) -> &[u32] {
+        self.map.get(&g).map_or(&[], |&set| &self.sets[set as usize])
+    }
+
+    /// The generations with live elements, in order.
+    pub(crate) fn generations(&self) -> impl Iterator<Item = u32> + '_ {
+        self.map.keys().copied()
+    }
+
+    /// The sets of the generations up to `max`, in order.
+    pub(crate) fn up_to(&self, max: u32) -> impl Iterator<Item = &[u32]> + '_ {
+        self.map.range(..=max).map(|(_, &set)| self.sets[set as usize].as_slice())
+    }
+
+    fn insert(&mut self, g: u32, id: u32, slots: &mut Slots, w: Which) {
+        let set = match self.find(g) {
+            Some(set) => set,
+            None => {
+                let set = self.free.pop().unwrap_or_else(|| {
+                    self.sets.push(Vec::new());
+                    u32::try_from(self.sets.len() - 1).expect("fewer than 2^32 generations")
+                });
+                self.map.insert(g, set);
+                self.recent = [(g, set), self.recent[0]];
+                set
+            }
+        };
+        set_insert(&mut self.sets[set as usize], id, slots, w);
+    }
+
+    /// Removes an element of generation `g`, releasing the generation's
+    /// set when it empties so that range scans only meet live generations.
+    fn remove(&mut self, g: u32, slots: &mut Slots, w: Which, moved: &mut impl FnMut(Which, u32, u32)) {
+        let set = self.find(g).expect("an element is in its generation's set");
+        set_remove(&mut self.sets[set as usize], slots, w, |m, p| moved(w, m, p));
+        if self.sets[set as usize].is_empty() {
+            self.map.remove(&g);
+            self.free.push(set);
+            let [a, b] = self.recent.map(|r| if r.0 == g { (NONE, NONE) } else { r });
+            self.recent = if a.0 == NONE { [b, a] } else { [a, b] };
+        }
+    }
 }
 
 /// Which of an element's index positions a set uses.
@@ -103,13 +180,7 @@ fn set_remove(set: &mut Vec<u32>, slots: &mut Slots, w: Which, mut moved: impl F
     }
 }
 
-pub(crate) fn index_insert(
-    index: &mut Index,
-    c: &mut Common,
-    id: u32,
-    track: bool,
-    generations: &mut BTreeMap<u32, u32>,
-) {
+pub(crate) fn index_insert(index: &mut Index, c: &mut Common, id: u32, track: bool) {
     let label = c.label as usize;
     if index.by_label.len() <= label {
         index.by_label.resize_with(label + 1, Vec::new);
@@ -118,52 +189,22 @@ pub(crate) fn index_insert(
     set_insert(&mut index.by_label[label], id, &mut c.slots, Which::Label);
     if track {
         if index.gen_label.len() <= label {
-            index.gen_label.resize_with(label + 1, BTreeMap::new);
+            index.gen_label.resize_with(label + 1, GenSets::default);
         }
         let g = c.generation;
-        set_insert(bucket(&mut index.gen_all, g, &mut index.spare), id, &mut c.slots, Which::GenAll);
-        set_insert(bucket(&mut index.gen_label[label], g, &mut index.spare), id, &mut c.slots, Which::GenLabel);
-        *generations.entry(c.generation).or_default() += 1;
+        index.gen_all.insert(g, id, &mut c.slots, Which::GenAll);
+        index.gen_label[label].insert(g, id, &mut c.slots, Which::GenLabel);
     }
 }
 
-pub(crate) fn index_remove(
-    index: &mut Index,
-    c: &mut Common,
-    track: bool,
-    generations: &mut BTreeMap<u32, u32>,
-    mut moved: impl FnMut(Which, u32, u32),
-) {
+pub(crate) fn index_remove(index: &mut Index, c: &mut Common, track: bool, mut moved: impl FnMut(Which, u32, u32)) {
     let label = c.label as usize;
     set_remove(&mut index.all, &mut c.slots, Which::All, |m, p| moved(Which::All, m, p));
     set_remove(&mut index.by_label[label], &mut c.slots, Which::Label, |m, p| moved(Which::Label, m, p));
     if track {
         let g = c.generation;
-        remove_from_bucket(&mut index.gen_all, g, &mut index.spare, &mut c.slots, Which::GenAll, &mut moved);
-        remove_from_bucket(&mut index.gen_label[label], g, &mut index.spare, &mut c.slots, Which::GenLabel, &mut moved);
-        if let Some(n) = generations.get_mut(&g) {
-            *n -= 1;
-            if *n == 0 {
-                generations.remove(&g);
-            }
-        }
-    }
-}
-
-/// Removes from a generation bucket, moving the bucket to `spare` when it
-/// empties so that range scans only meet live generations.
-fn remove_from_bucket(
-    buckets: &mut BTreeMap<u32, Vec<u32>>,
-    g: u32,
-    spare: &mut Vec<Vec<u32>>,
-    slots: &mut Slots,
-    w: Which,
-    moved: &mut impl FnMut(Which, u32, u32),
-) {
-    let set = buckets.get_mut(&g).expect("an element is in its generation bucket");
-    set_remove(set, slots, w, |m, p| moved(w, m, p));
-    if set.is_empty() {
-        spare.extend(buckets.remove(&g));
+        index.gen_all.remove(g, &mut c.slots, Which::GenAll, &mut moved);
+        index.gen_label[label].remove(g, &mut c.slots, Which::GenLabel, &mut moved);
     }
 }
 
@@ -178,14 +219,7 @@ pub(crate) fn relabel(
     let old = c.label as usize;
     set_remove(&mut index.by_label[old], &mut c.slots, Which::Label, |m, p| moved(Which::Label, m, p));
     if track {
-        remove_from_bucket(
-            &mut index.gen_label[old],
-            c.generation,
-            &mut index.spare,
-            &mut c.slots,
-            Which::GenLabel,
-            &mut moved,
-        );
+        index.gen_label[old].remove(c.generation, &mut c.slots, Which::GenLabel, &mut moved);
     }
     c.label = label;
     let l = label as usize;
@@ -195,8 +229,8 @@ pub(crate) fn relabel(
     set_insert(&mut index.by_label[l], id, &mut c.slots, Which::Label);
     if track {
         if index.gen_label.len() <= l {
-            index.gen_label.resize_with(l + 1, BTreeMap::new);
+            index.gen_label.resize_with(l + 1, GenSets::default);
         }
-        set_insert(bucket(&mut index.gen_label[l], c.generation, &mut index.spare), id, &mut c.slots, Which::GenLabel);
+        index.gen_label[l].insert(c.generation, id, &mut c.slots, Which::GenLabel);
     }
 }

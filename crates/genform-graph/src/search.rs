@@ -118,7 +118,7 @@ impl<'a> Search<'a> {
                     Some(l) => index.gen_label.get(l as usize),
                 };
                 let Some(buckets) = buckets else { return Cands::One(&[]) };
-                let mut sets = buckets.range(..=max).map(|(_, s)| s.as_slice());
+                let mut sets = buckets.up_to(max);
                 // Most searches (oldest first) see one generation: no list.
                 match (sets.next(), sets.next()) {
                     (None, _) => Cands::One(&[]),

@@ -8,6 +8,10 @@ use crate::rng::{Draws, Rng, standard_normal, uniform_in};
 /// Largest evaluation stack a program may need.
 const STACK: usize = 64;
 
+/// The stack of most programs: zeroing all of [`STACK`] would cost more
+/// than evaluating a short formula.
+const SHORT_STACK: usize = 8;
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Op {
     Const(f64),
@@ -225,6 +229,8 @@ pub enum Trivial {
 pub struct Program {
     code: Vec<Op>,
     uses_rng: bool,
+    /// The most values pending during an evaluation.
+    depth: usize,
 }
 
 struct Compiler<'s> {
@@ -242,8 +248,9 @@ pub fn compile(ast: &Ast, scope: &dyn Scope) -> Result<Program, Vec<Diagnostic>>
     if !c.errors.is_empty() {
         return Err(c.errors);
     }
-    let prog = Program { code: c.code, uses_rng: c.uses_rng };
-    if prog.max_stack() > STACK {
+    let mut prog = Program { code: c.code, uses_rng: c.uses_rng, depth: 0 };
+    prog.depth = prog.max_stack();
+    if prog.depth > STACK {
         return Err(vec![
             Diagnostic::error(ast.span, "expression is too large to evaluate")
                 .with_hint(format!("split it with intermediate variables (at most {STACK} pending values)")),
@@ -537,8 +544,18 @@ impl Program {
             .sum()
     }
 
-    fn run<D: Draws + ?Sized>(&self, env: &[f64], mut rng: Option<&mut D>) -> f64 {
-        let mut stack = [0.0f64; STACK];
+    fn run<D: Draws + ?Sized>(&self, env: &[f64], rng: Option<&mut D>) -> f64 {
+        if self.depth <= SHORT_STACK {
+            self.run_on::<SHORT_STACK, D>(env, rng)
+        } else {
+            self.run_on::<STACK, D>(env, rng)
+        }
+    }
+
+    /// [`Program::run`] on a stack of `N` values (at least the program's
+    /// depth).
+    fn run_on<const N: usize, D: Draws + ?Sized>(&self, env: &[f64], mut rng: Option<&mut D>) -> f64 {
+        let mut stack = [0.0f64; N];
         let mut sp = 0usize;
         let mut pc = 0usize;
         while pc < self.code.len() {

@@ -303,3 +303,13 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn formulas_of_every_stack_depth_evaluate() {
+    // `x + (x + (… + x))` keeps one value pending per level: the short
+    // stack, its edge and the full one.
+    for depth in [1, 7, 8, 9, 20, 63] {
+        let src = (0..depth).fold("y".to_string(), |inner, _| format!("x + ({inner})"));
+        assert_eq!(eval(&src), 2.0 * depth as f64 + 3.0, "{depth}");
+    }
+}
