@@ -63,6 +63,10 @@ fn sample(a: SampleArgs) -> Result<()> {
             );
         }
     }
+    // The process ends here, and the kernel takes its memory back at once:
+    // freeing a model of a million elements piece by piece first took
+    // 4 % of a whole run.
+    std::mem::forget(sample);
     Ok(())
 }
 

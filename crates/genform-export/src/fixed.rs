@@ -8,15 +8,16 @@
 /// Appends `v` with `decimals` decimals (trailing zeros trimmed, `-0` as
 /// `0`) to `out`.
 pub(crate) fn push_fixed(out: &mut String, v: f32, decimals: usize) {
-    match scaled(v, decimals) {
-        Some(0) => out.push('0'),
-        Some(r) => {
-            if v < 0.0 {
-                out.push('-');
-            }
-            push_point_digits(out, r, decimals);
+    match scaled(v, decimals).map(u64::try_from) {
+        Some(Ok(0)) => out.push('0'),
+        Some(Ok(r)) => {
+            let mut buf = [0u8; 48];
+            let at = write_point_digits(&mut buf, r, decimals, v < 0.0);
+            out.push_str(std::str::from_utf8(&buf[at..]).expect("ASCII"));
         }
-        None => push_slow(out, v, decimals),
+        // Not finite, or |v| · 10^decimals of 20 digits or more: rare
+        // enough for the standard formatter.
+        _ => push_slow(out, v, decimals),
     }
 }
 
@@ -27,6 +28,17 @@ pub(crate) fn fixed(v: f32, decimals: usize) -> String {
     s
 }
 
+/// 10^0 … 10^19.
+const POW10: [u64; 20] = {
+    let mut p = [1u64; 20];
+    let mut i = 1;
+    while i < 20 {
+        p[i] = p[i - 1] * 10;
+        i += 1;
+    }
+    p
+};
+
 /// |v| · 10^decimals rounded half to even, computed exactly in integers;
 /// `None` where that does not fit (not finite, huge, or over 19 decimals).
 fn scaled(v: f32, decimals: usize) -> Option<u128> {
@@ -35,16 +47,22 @@ fn scaled(v: f32, decimals: usize) -> Option<u128> {
     }
     let bits = v.to_bits();
     let exp = ((bits >> 23) & 0xff) as i32;
-    let frac = u128::from(bits & 0x7f_ffff);
+    let frac = u64::from(bits & 0x7f_ffff);
     // |v| = m · 2^e exactly.
     let (m, e) = if exp == 0 { (frac, -149) } else { (frac | 0x80_0000, exp - 150) };
+    let k = e.unsigned_abs();
+    if e < 0 && k < 64 && decimals <= 12 {
+        // The drawing case, in 64 bits: m < 2^24 and 10^12 < 2^40.
+        let q = m * POW10[decimals];
+        let (r, rem, half) = (q >> k, q & ((1 << k) - 1), 1 << (k - 1));
+        return Some(u128::from(if rem > half || (rem == half && r & 1 == 1) { r + 1 } else { r }));
+    }
     // m < 2^24 and 10^19 < 2^64: q < 2^88.
-    let q = m * 10u128.pow(decimals as u32);
+    let q = u128::from(m) * u128::from(POW10[decimals]);
     if e >= 0 {
         // At most 2^127: q · 2^e must fit.
         return (e <= 39).then(|| q << e);
     }
-    let k = (-e) as u32;
     if k >= 100 {
         // q < 2^88 < 2^(k-1): below one half.
         return Some(0);
@@ -54,42 +72,35 @@ fn scaled(v: f32, decimals: usize) -> Option<u128> {
     Some(if rem > half || (rem == half && r & 1 == 1) { r + 1 } else { r })
 }
 
-/// `r` · 10^−`decimals` in decimal, trailing zeros (and a bare `.`) trimmed.
-fn push_point_digits(out: &mut String, r: u128, decimals: usize) {
-    let mut digits = [0u8; 40];
-    let mut n = 0;
-    // Digits from 64-bit words (128-bit division is a library call):
-    // drawings' numbers fit one; a larger one is 19 low digits, then the
-    // rest (r < 2^127, so the rest is below 2^64, and decimals ≤ 19 lie in the
-    // low part).
-    let mut words = |mut x: u64, at_least: usize| {
-        let start = n;
-        while x > 0 || n - start < at_least {
-            digits[n] = b'0' + (x % 10) as u8;
-            x /= 10;
-            n += 1;
-        }
-    };
-    const TEN_19: u128 = 10_000_000_000_000_000_000;
-    match u64::try_from(r) {
-        Ok(x) => words(x, decimals + 1),
-        Err(_) => {
-            words((r % TEN_19) as u64, 19);
-            words((r / TEN_19) as u64, 1);
-        }
+/// Writes `r` · 10^−`decimals` (trailing zeros and a bare `.` trimmed,
+/// after a `-` when `negative`) at the end of `buf`; returns where it
+/// starts. One `push_str` of the whole number, not one `push` a digit.
+fn write_point_digits(buf: &mut [u8; 48], mut r: u64, mut decimals: usize, negative: bool) -> usize {
+    while decimals > 0 && r.is_multiple_of(10) {
+        r /= 10;
+        decimals -= 1;
     }
-    // digits[..n] hold the number from its last digit: digits[..decimals]
-    // are the decimals. Trailing zeros of the decimals go.
-    let zeros = digits[..decimals].iter().take_while(|&&d| d == b'0').count();
-    for &d in digits[decimals..n].iter().rev() {
-        out.push(char::from(d));
-    }
-    if zeros < decimals {
-        out.push('.');
-        for &d in digits[zeros..decimals].iter().rev() {
-            out.push(char::from(d));
+    let mut at = buf.len();
+    // The decimals, the point, and at least one digit before it.
+    for i in 0..decimals + 1 {
+        if i == decimals && decimals > 0 {
+            at -= 1;
+            buf[at] = b'.';
         }
+        at -= 1;
+        buf[at] = b'0' + (r % 10) as u8;
+        r /= 10;
     }
+    while r > 0 {
+        at -= 1;
+        buf[at] = b'0' + (r % 10) as u8;
+        r /= 10;
+    }
+    if negative {
+        at -= 1;
+        buf[at] = b'-';
+    }
+    at
 }
 
 /// The standard formatter, for what [`scaled`] leaves out.

@@ -97,8 +97,15 @@ impl Drawing {
             let half = if line.width.is_finite() { 0.5 * line.width.max(0.0) } else { 0.0 };
             line.points.iter().for_each(|p| bounds.add(p.truncate(), half));
         }
+        // Shapes sharing an attribute list share its stroke width.
+        let mut last: Option<(&Shape2d, f32)> = None;
         for shape in &scene.shapes2d {
-            shapes2d::bounds(shape, &mut |p, r| bounds.add(p, r));
+            let half = match last {
+                Some((before, half)) if std::sync::Arc::ptr_eq(&before.attributes, &shape.attributes) => half,
+                _ => shapes2d::half_stroke(shape),
+            };
+            last = Some((shape, half));
+            shapes2d::bounds(shape, half, &mut |p, r| bounds.add(p, r));
         }
         for surface in &scene.surfaces {
             surface.positions.iter().filter(|p| p.is_finite()).for_each(|p| bounds.add(p.truncate(), 0.0));
@@ -546,7 +553,7 @@ mod shapes2d {
     }
 
     /// Half the stroke width, when the shape is stroked.
-    fn half_stroke(shape: &Shape2d) -> f32 {
+    pub(super) fn half_stroke(shape: &Shape2d) -> f32 {
         if attr(shape, "stroke").is_none_or(|s| s == "none") {
             return 0.0;
         }
@@ -565,12 +572,12 @@ mod shapes2d {
         }
     }
 
-    /// Calls `add(point, radius)` for points whose discs cover the shape.
-    pub(super) fn bounds(shape: &Shape2d, add: &mut dyn FnMut(Vec2, f32)) {
+    /// Calls `add(point, radius)` for points whose discs cover the shape;
+    /// `h`: its [`half_stroke`].
+    pub(super) fn bounds(shape: &Shape2d, h: f32, add: &mut dyn FnMut(Vec2, f32)) {
         if !finite(shape) {
             return;
         }
-        let h = half_stroke(shape);
         match &shape.kind {
             Shape2dKind::Line { from, to } => {
                 add(*from, h);

@@ -182,16 +182,19 @@ impl Graph {
     pub fn to_scene(&self) -> Scene {
         let mut scene = Scene::new();
         let mut styles = Styles((0..self.attr_sets.len()).map(|_| None).collect());
-        // (birth, id with the top bit set for vertices): 16 bytes an
-        // element, sorted by birth alone when every element has the same
-        // `svg_z` (births are unique), else by z first.
+        // Element ids (the top bit set for vertices) in drawing order: by
+        // `svg_z` when elements differ in it, then by birth (births are
+        // unique). When most births are alive, each id is placed at its
+        // birth, a sort in linear time; else (birth, id) pairs are sorted.
         const VERTEX: u32 = 1 << 31;
-        let mut order: Vec<(u64, u32)> = Vec::with_capacity(self.element_count());
+        let direct = self.next_birth() <= 4 * self.element_count() as u64 + 1024;
+        let mut at = vec![u32::MAX; if direct { self.next_birth() as usize } else { 0 }];
+        let mut pairs: Vec<(u64, u32)> = Vec::new();
         let mut zs = Vec::new();
-        // Slots in memory order (the order is fixed below, births being
-        // unique): a walk through the index's lists would visit them at
-        // random, a cache miss an element on a large graph. Hidden elements
-        // are left out here, as they are from the drawing.
+        // Slots in memory order (the order is fixed below): a walk through
+        // the index's lists would visit them at random, a cache miss an
+        // element on a large graph. Hidden elements are left out here, as
+        // they are from the drawing.
         let vertices = self.vertices.iter().map(|v| &v.c).enumerate().map(|(id, c)| (id, c, VERTEX));
         let edges = self.edges.iter().map(|e| &e.c).enumerate().map(|(id, c)| (id, c, 0));
         for (id, c, kind) in vertices.chain(edges).filter(|(_, c, _)| c.alive()) {
@@ -204,29 +207,29 @@ impl Graph {
             if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
                 zs.push(z);
             }
-            order.push((c.birth, id | kind));
-        }
-        if zs.len() < 2 && self.next_birth() <= 4 * order.len() as u64 + 1024 {
-            // Births are unique and most were not deleted: placing each
-            // element at its birth is the sort, in linear time.
-            let mut at = vec![u32::MAX; self.next_birth() as usize];
-            for &(birth, tagged) in &order {
-                at[birth as usize] = tagged;
+            if direct {
+                at[c.birth as usize] = id | kind;
+            } else {
+                pairs.push((c.birth, id | kind));
             }
-            order.clear();
-            let placed = at.into_iter().enumerate().filter(|&(_, t)| t != u32::MAX);
-            order.extend(placed.map(|(birth, t)| (birth as u64, t)));
-        } else if zs.len() < 2 {
-            order.sort_unstable_by_key(|&(birth, _)| birth);
+        }
+        let mut order = if direct {
+            at.retain(|&t| t != u32::MAX);
+            at
         } else {
-            // Every list met above has its style already.
+            pairs.sort_unstable_by_key(|&(birth, _)| birth);
+            pairs.into_iter().map(|(_, t)| t).collect()
+        };
+        if zs.len() >= 2 {
+            // Every list met above has its style already; the sort is
+            // stable, so births stay in order within a z.
             let styles = &styles;
             let z = |tagged: u32| {
                 let id = (tagged & !VERTEX) as usize;
                 let set = if tagged & VERTEX != 0 { self.vertices[id].c.attrs } else { self.edges[id].c.attrs };
                 styles.0[set as usize].as_ref().map_or(0.0, |s| s.z)
             };
-            order.sort_by(|a, b| z(a.1).total_cmp(&z(b.1)).then(a.0.cmp(&b.0)));
+            order.sort_by(|&a, &b| z(a).total_cmp(&z(b)));
         }
         scene.shapes2d.reserve(order.len());
         // Shapes are built a chunk at a time. First, in loops of their own
@@ -241,7 +244,7 @@ impl Graph {
         let (mut elements, mut ends) = (Vec::with_capacity(DRAW_CHUNK), Vec::with_capacity(DRAW_CHUNK));
         for chunk in order.chunks(DRAW_CHUNK) {
             elements.clear();
-            elements.extend(chunk.iter().map(|&(_, tagged)| match tagged & !VERTEX {
+            elements.extend(chunk.iter().map(|&tagged| match tagged & !VERTEX {
                 v if tagged & VERTEX != 0 => {
                     let c = &self.vertices[v as usize].c;
                     Element { attrs: c.attrs, label: c.label, ends: [v, v], is_vertex: true }
