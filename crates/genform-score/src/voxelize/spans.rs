@@ -152,8 +152,14 @@ fn box_axis_range(lat: &Lattice, solid: &Solid, c: usize, l: usize, range: (i64,
     let h = 0.5 + solid.delta;
     let guess = shape::slab(a, b, -h, h)?;
     settle(guess, range, |i| {
-        let mut q = at;
-        q[l] = lat.centre(l, i);
+        // Built in registers: a store into `at[l]` read back as a vector
+        // missed store forwarding, a stall per probe.
+        let x = lat.centre(l, i);
+        let q = match l {
+            0 => Vec3::new(x, at.y, at.z),
+            1 => Vec3::new(at.x, x, at.z),
+            _ => Vec3::new(at.x, at.y, x),
+        };
         let u = solid.unit_point(q)[c];
         (-0.5..0.5).contains(&u)
     })
