@@ -183,43 +183,25 @@ impl Graph {
         let mut scene = Scene::new();
         let mut styles = Styles((0..self.attr_sets.len()).map(|_| None).collect());
         // Element ids (the top bit set for vertices) in drawing order: by
-        // `svg_z` when elements differ in it, then by birth (births are
-        // unique). When most births are alive, each id is placed at its
-        // birth, a sort in linear time; else (birth, id) pairs are sorted.
+        // `svg_z` when elements differ in it, then by birth. Hidden
+        // elements are left out here, as they are from the drawing.
         const VERTEX: u32 = 1 << 31;
-        let direct = self.next_birth() <= 4 * self.element_count() as u64 + 1024;
-        let mut at = vec![u32::MAX; if direct { self.next_birth() as usize } else { 0 }];
-        let mut pairs: Vec<(u64, u32)> = Vec::new();
         let mut zs = Vec::new();
-        // Slots in memory order (the order is fixed below): a walk through
-        // the index's lists would visit them at random, a cache miss an
-        // element on a large graph. Hidden elements are left out here, as
-        // they are from the drawing.
         let vertices = self.vertices.iter().map(|v| &v.c).enumerate().map(|(id, c)| (id, c, VERTEX));
         let edges = self.edges.iter().map(|e| &e.c).enumerate().map(|(id, c)| (id, c, 0));
-        for (id, c, kind) in vertices.chain(edges).filter(|(_, c, _)| c.alive()) {
+        let drawn = vertices.chain(edges).filter(|(_, c, _)| c.alive()).filter_map(|(id, c, kind)| {
             let id = u32::try_from(id).ok().filter(|&id| id < VERTEX).expect("fewer than 2^31 slots");
             let style = styles.get(self, c.attrs);
             if matches!(style.tag, Tag::Hidden) {
-                continue;
+                return None;
             }
             let z = style.z;
             if zs.len() < 2 && !zs.iter().any(|&x: &f64| x.total_cmp(&z).is_eq()) {
                 zs.push(z);
             }
-            if direct {
-                at[c.birth as usize] = id | kind;
-            } else {
-                pairs.push((c.birth, id | kind));
-            }
-        }
-        let mut order = if direct {
-            at.retain(|&t| t != u32::MAX);
-            at
-        } else {
-            pairs.sort_unstable_by_key(|&(birth, _)| birth);
-            pairs.into_iter().map(|(_, t)| t).collect()
-        };
+            Some((c.birth, id | kind))
+        });
+        let mut order = crate::graph::by_birth(self.next_birth(), self.element_count(), drawn);
         if zs.len() >= 2 {
             // Every list met above has its style already; the sort is
             // stable, so births stay in order within a z.

@@ -21,8 +21,36 @@ fn push_number(out: &mut String, v: f64) {
     } else if v == 0.0 {
         out.push('0');
     } else {
-        let _ = write!(out, "{v}");
+        // Ryū finds the shortest digits several times faster than the
+        // standard formatter. With at most 15 significant digits the
+        // shortest text is unique (two such candidates lie further apart
+        // than an ulp), so both find it; with more, two can tie and the two
+        // break ties differently. Ryū also writes `1.0` for `1`, and
+        // exponents far from 1. Those cases keep the standard text.
+        let mut buf = ryu::Buffer::new();
+        let text = buf.format_finite(v);
+        let digits = text.trim_start_matches(['-', '0', '.']).bytes().filter(u8::is_ascii_digit).count();
+        if digits > 15 || text.contains('e') {
+            let _ = write!(out, "{v}");
+        } else {
+            out.push_str(text.strip_suffix(".0").unwrap_or(text));
+        }
     }
+}
+
+/// Appends `n` in decimal.
+fn push_u32(out: &mut String, mut n: u32) {
+    let mut digits = [0u8; 10];
+    let mut at = digits.len();
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.push_str(std::str::from_utf8(&digits[at..]).expect("ASCII"));
 }
 
 /// A double-quoted YAML string.
@@ -57,6 +85,55 @@ fn push_value(out: &mut String, v: &Value) {
         Value::Text(t) => push_quoted(out, t),
     }
 }
+
+/// Each label's and each attribute list's text, written once: the elements
+/// of a graph share a few.
+struct Texts<'g> {
+    g: &'g Graph,
+    labels: Vec<Option<String>>,
+    lists: Vec<Option<String>>,
+}
+
+impl Texts<'_> {
+    /// `, label: "…"`, or nothing for no label.
+    fn label(&mut self, id: u32) -> &str {
+        let g = self.g;
+        cached(&mut self.labels, id, || {
+            let mut out = String::new();
+            let name = g.labels.name(id);
+            if !name.is_empty() {
+                out.push_str(", label: ");
+                push_quoted(&mut out, name);
+            }
+            out
+        })
+    }
+
+    /// `, name: value` for each attribute of list `id`.
+    fn list(&mut self, id: u32) -> &str {
+        let g = self.g;
+        cached(&mut self.lists, id, || {
+            let mut out = String::new();
+            for (a, v) in g.attr_sets.get(id) {
+                let _ = write!(out, ", {}: ", key(g.attr_names.name(*a)));
+                push_value(&mut out, v);
+            }
+            out
+        })
+    }
+}
+
+/// Entry `id` of `texts`, made by `make` the first time.
+fn cached(texts: &mut Vec<Option<String>>, id: u32, make: impl FnOnce() -> String) -> &str {
+    let i = id as usize;
+    if texts.len() <= i {
+        texts.resize(i + 1, None);
+    }
+    texts[i].get_or_insert_with(make)
+}
+
+/// Edges read ahead per chunk by [`Graph::write_yaml`].
+const GATHER: usize = 256;
 
 /// Text buffered before it goes to the writer.
 const CHUNK: usize = 1 << 16;
@@ -100,24 +177,22 @@ impl Graph {
         };
         let _ = writeln!(out, "# {} vertices, {} edges", self.vertex_count(), self.edge_count());
         out.push_str("host:\n  vertices:");
+        let mut texts = Texts { g: self, labels: Vec::new(), lists: Vec::new() };
         let mut names = vec![u32::MAX; self.vertices.len()];
         let mut any = false;
         for (i, v) in self.vertices().enumerate() {
             any = true;
             names[v.id() as usize] = i as u32;
             let [x, y] = v.pos();
-            let _ = write!(out, "\n    v{i}: {{x: ");
+            out.push_str("\n    v");
+            push_u32(&mut out, i as u32);
+            out.push_str(": {x: ");
             push_number(&mut out, x);
             out.push_str(", y: ");
             push_number(&mut out, y);
-            if !v.label().is_empty() {
-                out.push_str(", label: ");
-                push_quoted(&mut out, v.label());
-            }
-            for (name, val) in v.attrs() {
-                let _ = write!(out, ", {}: ", key(name));
-                push_value(&mut out, val);
-            }
+            let c = &self.vertices[v.id() as usize].c;
+            out.push_str(texts.label(c.label));
+            out.push_str(texts.list(c.attrs));
             out.push('}');
             flush(&mut out, w, false)?;
         }
@@ -125,33 +200,91 @@ impl Graph {
             out.push_str(" {}");
         }
         out.push_str("\n  edges:");
-        let mut any = false;
-        for (i, e) in self.edges().enumerate() {
-            any = true;
-            let _ = write!(
-                out,
-                "\n    - {{name: e{i}, from: v{}, to: v{}",
-                names[e.from() as usize],
-                names[e.to() as usize]
-            );
-            if e.directed() {
-                out.push_str(", directed: true");
+        let edges: Vec<u32> = self.edges().map(|e| e.id()).collect();
+        // A chunk's edge records and their ends' names first, in loops of
+        // their own: edges in creation order are scattered over their slots,
+        // and small loops keep many of those reads in flight.
+        let mut read = Vec::with_capacity(GATHER);
+        for (c, chunk) in edges.chunks(GATHER).enumerate() {
+            read.clear();
+            read.extend(chunk.iter().map(|&id| {
+                let e = &self.edges[id as usize];
+                (e.from, e.to, e.directed, e.c.label, e.c.attrs)
+            }));
+            for r in &mut read {
+                (r.0, r.1) = (names[r.0 as usize], names[r.1 as usize]);
             }
-            if !e.label().is_empty() {
-                out.push_str(", label: ");
-                push_quoted(&mut out, e.label());
+            for (k, &(from, to, directed, label, attrs)) in read.iter().enumerate() {
+                out.push_str("\n    - {name: e");
+                push_u32(&mut out, (c * GATHER + k) as u32);
+                out.push_str(", from: v");
+                push_u32(&mut out, from);
+                out.push_str(", to: v");
+                push_u32(&mut out, to);
+                if directed {
+                    out.push_str(", directed: true");
+                }
+                out.push_str(texts.label(label));
+                out.push_str(texts.list(attrs));
+                out.push('}');
+                flush(&mut out, w, false)?;
             }
-            for (name, val) in e.attrs() {
-                let _ = write!(out, ", {}: ", key(name));
-                push_value(&mut out, val);
-            }
-            out.push('}');
-            flush(&mut out, w, false)?;
         }
+        let any = !edges.is_empty();
         if !any {
             out.push_str(" []");
         }
         out.push('\n');
         flush(&mut out, w, true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn integers_and_special_numbers() {
+        for n in [0, 7, 10, 99, 1000, 4_294_967_295u32] {
+            let mut s = String::new();
+            push_u32(&mut s, n);
+            assert_eq!(s, n.to_string());
+        }
+        for (v, want) in [(f64::NAN, ".nan"), (f64::INFINITY, ".inf"), (-f64::INFINITY, "-.inf"), (-0.0, "0")] {
+            assert_eq!(number(v), want);
+        }
+        for v in [1.0, -2.0, 0.1, 1e15, 1e16, 1e17, 1e-5, 1e-7, 123456789.125, f64::MAX, f64::MIN_POSITIVE, 5e-324] {
+            assert_eq!(number(v), format!("{v}"), "{v:e}");
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+        #[test]
+        fn any_number_is_written_as_the_standard_formatter_writes_it(bits in any::<u64>()) {
+            let v = f64::from_bits(bits);
+            prop_assume!(v.is_finite() && v != 0.0);
+            prop_assert_eq!(number(v), format!("{v}"));
+        }
+
+        #[test]
+        fn numbers_near_the_last_digits_are_written_as_the_standard_formatter_writes_them(
+            v in 1e12f64..1e17, k in 0u32..5
+        ) {
+            // Where 15 to 17 significant digits meet, and two shortest
+            // texts can tie (a quarter at 2^51, say).
+            let v = (v * 4f64.powi(k as i32)).round() / 4f64.powi(k as i32);
+            prop_assert_eq!(number(v), format!("{v}"));
+        }
+
+        #[test]
+        fn coordinates_are_written_as_the_standard_formatter_writes_them(v in -1e6f64..1e6, k in 0u32..8) {
+            // Values with few decimals, as placement formulas make them.
+            let v = (v * 10f64.powi(k as i32)).round() / 10f64.powi(k as i32);
+            prop_assume!(v != 0.0);
+            prop_assert_eq!(number(v), format!("{v}"));
+        }
     }
 }
