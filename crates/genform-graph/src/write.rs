@@ -21,21 +21,38 @@ fn push_number(out: &mut String, v: f64) {
     } else if v == 0.0 {
         out.push('0');
     } else {
-        // Ryū finds the shortest digits several times faster than the
-        // standard formatter. With at most 15 significant digits the
-        // shortest text is unique (two such candidates lie further apart
-        // than an ulp), so both find it; with more, two can tie and the two
-        // break ties differently. Ryū also writes `1.0` for `1`, and
-        // exponents far from 1. Those cases keep the standard text.
+        // Ryū finds the shortest text that reads back as `v`, several
+        // times faster than the standard formatter; where two such texts
+        // lie equally close to `v` the two break the tie differently. A
+        // tie puts `v` halfway between two texts of d decimals, so `v`
+        // has exactly d + 1 decimals, that is d + 1 binary fraction digits
+        // (2^−k has k decimals): only then, and where Ryū writes an
+        // exponent (far from 1), is the standard text written. Ryū also
+        // writes `1.0` for `1`.
         let mut buf = ryu::Buffer::new();
         let text = buf.format_finite(v);
-        let digits = text.trim_start_matches(['-', '0', '.']).bytes().filter(u8::is_ascii_digit).count();
-        if digits > 15 || text.contains('e') {
+        let decimals = match text.split_once('.') {
+            Some((_, "0")) | None => 0,
+            Some((_, fraction)) => fraction.len() as u32,
+        };
+        if text.contains('e') || fraction_bits(v) == decimals + 1 {
             let _ = write!(out, "{v}");
         } else {
             out.push_str(text.strip_suffix(".0").unwrap_or(text));
         }
     }
+}
+
+/// How many binary digits `v` (finite) has after the point.
+fn fraction_bits(v: f64) -> u32 {
+    let bits = v.to_bits();
+    let (exp, mantissa) = ((bits >> 52) & 0x7ff, bits & ((1 << 52) - 1));
+    let (m, e) = if exp == 0 { (mantissa, -1074) } else { (mantissa | 1 << 52, exp as i32 - 1075) };
+    if m == 0 {
+        return 0;
+    }
+    // v = m · 2^e with m made odd.
+    (-(e + m.trailing_zeros() as i32)).max(0) as u32
 }
 
 /// Appends `n` in decimal.
@@ -280,9 +297,10 @@ mod tests {
         }
 
         #[test]
-        fn coordinates_are_written_as_the_standard_formatter_writes_them(v in -1e6f64..1e6, k in 0u32..8) {
-            // Values with few decimals, as placement formulas make them.
-            let v = (v * 10f64.powi(k as i32)).round() / 10f64.powi(k as i32);
+        fn coordinates_are_written_as_the_standard_formatter_writes_them(v in -1e6f64..1e6, k in 0u32..9) {
+            // Values with few decimals, as a grammar's constants make them,
+            // and (k = 8) with every bit used, as placement formulas do.
+            let v = if k == 8 { v } else { (v * 10f64.powi(k as i32)).round() / 10f64.powi(k as i32) };
             prop_assume!(v != 0.0);
             prop_assert_eq!(number(v), format!("{v}"));
         }
