@@ -29,16 +29,6 @@ enum Tag {
 /// SVG presentation attributes, shared by the shapes that carry them.
 type Attributes = Arc<[(String, String)]>;
 
-/// An element's shape, before its shared attribute list is attached.
-struct Drawn {
-    kind: Shape2dKind,
-    /// The element's attribute list id.
-    attrs: u32,
-    stroked: bool,
-    label: u32,
-    is_vertex: bool,
-}
-
 /// What drawing reads of an element's slot.
 #[derive(Clone, Copy)]
 struct Element {
@@ -214,16 +204,16 @@ impl Graph {
             order.sort_by(|&a, &b| z(a).total_cmp(&z(b)));
         }
         scene.shapes2d.reserve(order.len());
-        // Shapes are built a chunk at a time. First, in loops of their own
+        // Shapes are built a chunk at a time: first, in loops of their own
         // (small enough to keep many reads in flight), the chunk's slots
-        // and their vertices, which are read at random; then the shapes;
-        // then their shared attribute lists. Taking a reference count is a
-        // locked instruction, which waits for every read before it: done
-        // per element, the reads' cache misses would queue one behind the
-        // other.
+        // and their vertices, which are read at random; then the shapes
+        // from what was read. Done element by element, the reads' cache
+        // misses queued one behind the other: taking a shape's reference
+        // count is a locked instruction, which waits for every read before
+        // it.
         let mut tags: Vec<[Option<TagId>; 2]> = Vec::new();
-        let mut drawn = Vec::with_capacity(DRAW_CHUNK);
-        let (mut elements, mut ends) = (Vec::with_capacity(DRAW_CHUNK), Vec::with_capacity(DRAW_CHUNK));
+        let room = DRAW_CHUNK.min(order.len());
+        let (mut elements, mut ends) = (Vec::with_capacity(room), Vec::with_capacity(room));
         for chunk in order.chunks(DRAW_CHUNK) {
             elements.clear();
             elements.extend(chunk.iter().map(|&tagged| match tagged & !VERTEX {
@@ -238,29 +228,29 @@ impl Graph {
             }));
             ends.clear();
             ends.extend(elements.iter().map(|e| e.ends.map(|v| v2(self.vertices[v as usize].pos))));
-            drawn.extend(elements.iter().zip(&ends).filter_map(|(&e, &[a, b])| self.shape(e, a, b, &mut styles)));
-            for d in drawn.drain(..) {
-                let tag = &mut tags_entry(&mut tags, d.label)[usize::from(d.is_vertex)];
+            for (&e, &[a, b]) in elements.iter().zip(&ends) {
+                let Some((kind, stroked)) = self.shape(e, a, b, &mut styles) else { continue };
+                let tag = &mut tags_entry(&mut tags, e.label)[usize::from(e.is_vertex)];
                 let tag = *tag.get_or_insert_with(|| {
-                    let name = self.labels.name(d.label);
+                    let name = self.labels.name(e.label);
                     scene.tag(if !name.is_empty() {
                         name
-                    } else if d.is_vertex {
+                    } else if e.is_vertex {
                         "vertex"
                     } else {
                         "edge"
                     })
                 });
-                let attributes = styles.attributes(self, d.attrs, d.stroked);
-                scene.shapes2d.push(Shape2d { kind: d.kind, attributes, tag });
+                let attributes = styles.attributes(self, e.attrs, stroked);
+                scene.shapes2d.push(Shape2d { kind, attributes, tag });
             }
         }
         scene
     }
 
-    /// Element `e`'s shape; `a`, `b`: the positions of its ends (a
-    /// vertex's own twice).
-    fn shape(&self, e: Element, a: Vec2, b: Vec2, styles: &mut Styles) -> Option<Drawn> {
+    /// Element `e`'s shape and whether it is stroked; `a`, `b`: the
+    /// positions of its ends (a vertex's own twice).
+    fn shape(&self, e: Element, a: Vec2, b: Vec2, styles: &mut Styles) -> Option<(Shape2dKind, bool)> {
         let s = Styled { g: self, attrs: self.attr_sets.get(e.attrs) };
         let tag = styles.get(self, e.attrs).tag;
         let (kind, stroked) = match (tag, e.is_vertex) {
@@ -291,6 +281,6 @@ impl Graph {
             }
             (Tag::Default | Tag::Line, false) => (Shape2dKind::Line { from: a, to: b }, true),
         };
-        Some(Drawn { kind, attrs: e.attrs, stroked, label: e.label, is_vertex: e.is_vertex })
+        Some((kind, stroked))
     }
 }
