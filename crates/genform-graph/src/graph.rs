@@ -597,9 +597,13 @@ impl Graph {
 
     /// The live edges in creation order.
     pub fn edges(&self) -> impl Iterator<Item = EdgeRef<'_>> {
+        self.edge_ids().into_iter().map(move |id| EdgeRef { g: self, id })
+    }
+
+    /// The live edges' slot ids in creation order.
+    pub(crate) fn edge_ids(&self) -> Vec<u32> {
         let live = self.edges.iter().enumerate().filter(|(_, e)| e.c.alive());
-        let ids = by_birth(self.next_birth, self.edge_count(), live.map(|(id, e)| (e.c.birth, id as u32)));
-        ids.into_iter().map(move |id| EdgeRef { g: self, id })
+        by_birth(self.next_birth, self.edge_count(), live.map(|(id, e)| (e.c.birth, id as u32)))
     }
 
     /// The vertex in slot `id`, if it is live.

@@ -217,7 +217,7 @@ impl Graph {
             out.push_str(" {}");
         }
         out.push_str("\n  edges:");
-        let edges: Vec<u32> = self.edges().map(|e| e.id()).collect();
+        let edges = self.edge_ids();
         // A chunk's edge records and their ends' names first, in loops of
         // their own: edges in creation order are scattered over their slots,
         // and small loops keep many of those reads in flight.
