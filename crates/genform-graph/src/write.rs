@@ -31,11 +31,20 @@ fn push_number(out: &mut String, v: f64) {
         // writes `1.0` for `1`.
         let mut buf = ryu::Buffer::new();
         let text = buf.format_finite(v);
-        let decimals = match text.split_once('.') {
-            Some((_, "0")) | None => 0,
-            Some((_, fraction)) => fraction.len() as u32,
+        // One pass over the (at most 24) bytes for the point and an exponent.
+        let (mut point, mut exponent) = (None, false);
+        for (i, &b) in text.as_bytes().iter().enumerate() {
+            match b {
+                b'.' => point = Some(i),
+                b'e' => exponent = true,
+                _ => {}
+            }
+        }
+        let decimals = match point {
+            Some(i) if &text[i..] != ".0" => (text.len() - i - 1) as u32,
+            _ => 0,
         };
-        if text.contains('e') || fraction_bits(v) == decimals + 1 {
+        if exponent || fraction_bits(v) == decimals + 1 {
             let _ = write!(out, "{v}");
         } else {
             out.push_str(text.strip_suffix(".0").unwrap_or(text));
@@ -67,7 +76,8 @@ fn push_u32(out: &mut String, mut n: u32) {
             break;
         }
     }
-    out.push_str(std::str::from_utf8(&digits[at..]).expect("ASCII"));
+    // Pushed one by one: checking a few bytes for UTF-8 costs more.
+    digits[at..].iter().for_each(|&d| out.push(char::from(d)));
 }
 
 /// A double-quoted YAML string.
@@ -171,9 +181,13 @@ impl Graph {
     /// read back exactly; generations are not kept (a graph read back starts
     /// at generation 0).
     pub fn to_yaml(&self) -> String {
-        let mut out = Vec::new();
-        self.write_yaml(&mut out).expect("writing to memory cannot fail");
-        String::from_utf8(out).expect("the YAML text is UTF-8")
+        let mut text = String::new();
+        let mut append = |piece: &str| {
+            text.push_str(piece);
+            Ok(())
+        };
+        self.write_pieces(&mut append).expect("writing to memory cannot fail");
+        text
     }
 
     /// Writes [`Graph::to_yaml`]'s text to `w` piece by piece, never
@@ -184,10 +198,15 @@ impl Graph {
     ///
     /// The writer's.
     pub fn write_yaml(&self, w: &mut impl std::io::Write) -> std::io::Result<()> {
+        self.write_pieces(&mut |piece| w.write_all(piece.as_bytes()))
+    }
+
+    /// The YAML text, handed to `sink` in pieces of about [`CHUNK`] bytes.
+    fn write_pieces(&self, sink: &mut dyn FnMut(&str) -> std::io::Result<()>) -> std::io::Result<()> {
         let mut out = String::with_capacity(CHUNK + 1024);
-        let flush = |out: &mut String, w: &mut dyn std::io::Write, force: bool| {
+        let flush = |out: &mut String, sink: &mut dyn FnMut(&str) -> std::io::Result<()>, force: bool| {
             if force || out.len() >= CHUNK {
-                w.write_all(out.as_bytes())?;
+                sink(out)?;
                 out.clear();
             }
             std::io::Result::Ok(())
@@ -211,7 +230,7 @@ impl Graph {
             out.push_str(texts.label(c.label));
             out.push_str(texts.list(c.attrs));
             out.push('}');
-            flush(&mut out, w, false)?;
+            flush(&mut out, sink, false)?;
         }
         if !any {
             out.push_str(" {}");
@@ -244,7 +263,7 @@ impl Graph {
                 out.push_str(texts.label(label));
                 out.push_str(texts.list(attrs));
                 out.push('}');
-                flush(&mut out, w, false)?;
+                flush(&mut out, sink, false)?;
             }
         }
         let any = !edges.is_empty();
@@ -252,7 +271,7 @@ impl Graph {
             out.push_str(" []");
         }
         out.push('\n');
-        flush(&mut out, w, true)
+        flush(&mut out, sink, true)
     }
 }
 
