@@ -194,18 +194,7 @@ fn push_number(out: &mut String, v: f64, decimals: Option<usize>) {
         out.push('-');
     }
     let n = n.unsigned_abs();
-    let mut int = n / scale;
-    let mut buf = [0u8; 20];
-    let mut i = buf.len();
-    loop {
-        i -= 1;
-        buf[i] = b'0' + (int % 10) as u8;
-        int /= 10;
-        if int == 0 {
-            break;
-        }
-    }
-    out.extend(buf[i..].iter().map(|&b| b as char));
+    crate::write::push_decimal(out, n / scale);
     let mut frac = n % scale;
     let mut digits = [b'0'; 12];
     for i in (0..d).rev() {

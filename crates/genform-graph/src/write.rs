@@ -65,8 +65,13 @@ fn fraction_bits(v: f64) -> u32 {
 }
 
 /// Appends `n` in decimal.
-fn push_u32(out: &mut String, mut n: u32) {
-    let mut digits = [0u8; 10];
+fn push_u32(out: &mut String, n: u32) {
+    push_decimal(out, u64::from(n));
+}
+
+/// Appends `n` in decimal, without the formatter.
+pub(crate) fn push_decimal(out: &mut String, mut n: u64) {
+    let mut digits = [0u8; 20];
     let mut at = digits.len();
     loop {
         at -= 1;
