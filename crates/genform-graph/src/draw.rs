@@ -42,16 +42,6 @@ struct Element {
 /// Elements drawn per chunk by [`Graph::to_scene`].
 const DRAW_CHUNK: usize = 256;
 
-/// The scene tags of label `label` (for vertices and for edges), grown to
-/// hold it.
-fn tags_entry(tags: &mut Vec<[Option<TagId>; 2]>, label: u32) -> &mut [Option<TagId>; 2] {
-    let i = label as usize;
-    if tags.len() <= i {
-        tags.resize(i + 1, [None; 2]);
-    }
-    &mut tags[i]
-}
-
 /// An element's attribute list read for drawing.
 struct Styled<'g> {
     g: &'g Graph,
@@ -211,6 +201,7 @@ impl Graph {
         // misses queued one behind the other: taking a shape's reference
         // count is a locked instruction, which waits for every read before
         // it.
+        // Per label, its scene tag for vertices and for edges.
         let mut tags: Vec<[Option<TagId>; 2]> = Vec::new();
         let room = DRAW_CHUNK.min(order.len());
         let (mut elements, mut ends) = (Vec::with_capacity(room), Vec::with_capacity(room));
@@ -230,7 +221,7 @@ impl Graph {
             ends.extend(elements.iter().map(|e| e.ends.map(|v| v2(self.vertices[v as usize].pos))));
             for (&e, &[a, b]) in elements.iter().zip(&ends) {
                 let Some((kind, stroked)) = self.shape(e, a, b, &mut styles) else { continue };
-                let tag = &mut tags_entry(&mut tags, e.label)[usize::from(e.is_vertex)];
+                let tag = &mut crate::graph::grown(&mut tags, e.label as usize)[usize::from(e.is_vertex)];
                 let tag = *tag.get_or_insert_with(|| {
                     let name = self.labels.name(e.label);
                     scene.tag(if !name.is_empty() {

@@ -315,6 +315,15 @@ impl AdjPool {
     }
 }
 
+/// Entry `i` of `v`, which grows (with default entries) to hold it: the
+/// tables kept per label, per attribute list or per daughter element.
+pub(crate) fn grown<T: Default>(v: &mut Vec<T>, i: usize) -> &mut T {
+    if v.len() <= i {
+        v.resize_with(i + 1, T::default);
+    }
+    &mut v[i]
+}
+
 /// The ids of `(birth, id)` pairs in birth order; births are unique and
 /// below `next_birth`, and there are at most `most` pairs. Elements are
 /// visited in slot (memory) order: through the index's lists they came at

@@ -4,7 +4,7 @@
 //! removing and relabelling are O(1) (generation sets: O(1) for the two
 //! generations met last, else O(log generations)).
 
-use crate::graph::Common;
+use crate::graph::{Common, grown};
 use std::collections::BTreeMap;
 
 /// "No position": the marker of an element absent from an index set.
@@ -182,18 +182,12 @@ fn set_remove(set: &mut Vec<u32>, slots: &mut Slots, w: Which, mut moved: impl F
 
 pub(crate) fn index_insert(index: &mut Index, c: &mut Common, id: u32, track: bool) {
     let label = c.label as usize;
-    if index.by_label.len() <= label {
-        index.by_label.resize_with(label + 1, Vec::new);
-    }
     set_insert(&mut index.all, id, &mut c.slots, Which::All);
-    set_insert(&mut index.by_label[label], id, &mut c.slots, Which::Label);
+    set_insert(grown(&mut index.by_label, label), id, &mut c.slots, Which::Label);
     if track {
-        if index.gen_label.len() <= label {
-            index.gen_label.resize_with(label + 1, GenSets::default);
-        }
         let g = c.generation;
         index.gen_all.insert(g, id, &mut c.slots, Which::GenAll);
-        index.gen_label[label].insert(g, id, &mut c.slots, Which::GenLabel);
+        grown(&mut index.gen_label, label).insert(g, id, &mut c.slots, Which::GenLabel);
     }
 }
 
@@ -223,14 +217,8 @@ pub(crate) fn relabel(
     }
     c.label = label;
     let l = label as usize;
-    if index.by_label.len() <= l {
-        index.by_label.resize_with(l + 1, Vec::new);
-    }
-    set_insert(&mut index.by_label[l], id, &mut c.slots, Which::Label);
+    set_insert(grown(&mut index.by_label, l), id, &mut c.slots, Which::Label);
     if track {
-        if index.gen_label.len() <= l {
-            index.gen_label.resize_with(l + 1, GenSets::default);
-        }
-        index.gen_label[l].insert(c.generation, id, &mut c.slots, Which::GenLabel);
+        grown(&mut index.gen_label, l).insert(c.generation, id, &mut c.slots, Which::GenLabel);
     }
 }

@@ -7,13 +7,13 @@
 //! match's largest generation + 1.
 
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
-use crate::graph::{Graph, NewAttrs, NewCommon, Value};
+use crate::graph::{Graph, NewAttrs, NewCommon, Value, grown};
+use crate::placement::Similarity;
+use genform_core::rng::Draws;
 
 /// Per new daughter element (by its `list_key`): `None` until its list is
 /// looked at, then the set of the list when it is all constants.
 type ConstantSets = Vec<Option<Option<u32>>>;
-use crate::placement::Similarity;
-use genform_core::rng::Draws;
 
 /// Reused buffers of one derivation.
 #[derive(Default)]
@@ -62,11 +62,7 @@ fn constant_set(g: &mut Graph, specs: &[(u32, AttrSpec)], key: u32, cache: &mut 
     if specs.is_empty() {
         return None;
     }
-    let key = key as usize;
-    if cache.len() <= key {
-        cache.resize(key + 1, None);
-    }
-    *cache[key].get_or_insert_with(|| {
+    *grown(cache, key as usize).get_or_insert_with(|| {
         let constants: Option<Vec<(u32, Value)>> = specs
             .iter()
             .map(|(a, s)| match s {

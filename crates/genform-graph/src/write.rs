@@ -1,7 +1,7 @@
 //! `Graph` → YAML in the host format, so a result can be read back as the
 //! host of another grammar.
 
-use crate::graph::{Graph, Value};
+use crate::graph::{Graph, Value, grown};
 use std::fmt::Write;
 
 /// The shortest text that reads back as exactly `v` (YAML's `.nan`,
@@ -130,7 +130,7 @@ impl Texts<'_> {
     /// `, label: "…"`, or nothing for no label.
     fn label(&mut self, id: u32) -> &str {
         let g = self.g;
-        cached(&mut self.labels, id, || {
+        grown(&mut self.labels, id as usize).get_or_insert_with(|| {
             let mut out = String::new();
             let name = g.labels.name(id);
             if !name.is_empty() {
@@ -144,7 +144,7 @@ impl Texts<'_> {
     /// `, name: value` for each attribute of list `id`.
     fn list(&mut self, id: u32) -> &str {
         let g = self.g;
-        cached(&mut self.lists, id, || {
+        grown(&mut self.lists, id as usize).get_or_insert_with(|| {
             let mut out = String::new();
             for (a, v) in g.attr_sets.get(id) {
                 let _ = write!(out, ", {}: ", key(g.attr_names.name(*a)));
@@ -153,15 +153,6 @@ impl Texts<'_> {
             out
         })
     }
-}
-
-/// Entry `id` of `texts`, made by `make` the first time.
-fn cached(texts: &mut Vec<Option<String>>, id: u32, make: impl FnOnce() -> String) -> &str {
-    let i = id as usize;
-    if texts.len() <= i {
-        texts.resize(i + 1, None);
-    }
-    texts[i].get_or_insert_with(make)
 }
 
 /// Edges read ahead per chunk by [`Graph::write_yaml`].

@@ -395,8 +395,8 @@ impl Turtle<'_> {
         }
     }
 
-    /// Carries out module `sym` on `self.state`: cylinders, spheres and
-    /// surfaces here, the others through [`Turtle::apply`].
+    /// Carries out module `sym` on `self.state`: cylinders, spheres,
+    /// surfaces and cuts, the commands [`Turtle::apply`] sends here.
     #[inline(never)]
     fn apply_any(&mut self, sym: Sym, params: &[f64]) {
         let arg = params.first().copied();
@@ -438,12 +438,8 @@ impl Turtle<'_> {
             }
             Command::Cut | Command::None => {}
             // Drawing, branching and state changes: `apply` carries them
-            // out without coming here.
-            _ => {
-                let mut s = self.state;
-                self.apply(&mut s, sym, params);
-                self.state = s;
-            }
+            // out and never sends them here.
+            command => unreachable!("`apply` carries out {command:?}"),
         }
     }
 
