@@ -13,6 +13,7 @@
 //! a drawing meaning are ignored.
 
 mod cylinder;
+mod flat;
 mod query;
 
 use crate::alphabet::{Command, Sym};
@@ -150,13 +151,26 @@ impl LSystem {
         max_primitives: usize,
         scene: &mut Scene,
     ) -> Result<TurtleEnd, TurtleError> {
+        self.interpret_with(s, rng, max_primitives, scene, true)
+    }
+
+    /// [`LSystem::interpret`], with or without the flat turtle (see
+    /// [`flat`]; tests compare the two).
+    fn interpret_with(
+        &self,
+        s: &ModuleString,
+        rng: &mut Rng,
+        max_primitives: usize,
+        scene: &mut Scene,
+        flat: bool,
+    ) -> Result<TurtleEnd, TurtleError> {
         let mut t = Turtle::new(self, scene, max_primitives, false);
         // Interpretation rules read the global state the derivation ended
         // with, or the declared one for a string not derived.
         let state = if s.state.len() == self.initial_state.len() { &s.state } else { &self.initial_state };
         let mut sc = Scratch::with_state(state);
         if self.interpretation.is_empty() && s.params.is_empty() {
-            t.draw_plain(&s.syms);
+            t.draw_plain(&s.syms, flat);
             if t.over {
                 return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
             }
@@ -335,13 +349,17 @@ impl Turtle<'_> {
     }
 
     /// Draws a string without parameters (most plants), stopping when
-    /// over the limit. The state lives in a local that nothing outside
-    /// this loop sees, so that it stays in registers (see
-    /// [`Turtle::apply`]).
+    /// over the limit: the flat turtle (when `flat`) as far as it can, the
+    /// rest here. The state lives in a local that nothing outside this
+    /// loop sees, so that it stays in registers (see [`Turtle::apply`]).
     #[inline(never)]
-    fn draw_plain(&mut self, syms: &[Sym]) {
+    fn draw_plain(&mut self, syms: &[Sym], flat: bool) {
+        let done = if flat { self.draw_flat(syms) } else { 0 };
+        if self.over {
+            return;
+        }
         let mut st = self.state;
-        for &sym in syms {
+        for &sym in &syms[done..] {
             self.apply(&mut st, sym, &[]);
             if self.over {
                 break;
@@ -382,9 +400,9 @@ impl Turtle<'_> {
             }
             Command::PolygonVertex => self.vertex(s.pos),
             Command::PolygonEnd => self.end_polygon(s.color),
-            // A plant's non-turtle symbols (`X`), unless a `~name`
-            // surface may hide among them.
-            Command::None if self.sys.surfaces.is_empty() => {}
+            // A plant's non-turtle symbols (`X`); a `~name` surface keeps
+            // the command `None` too.
+            Command::None if self.sys.surface_of[sym as usize].is_none() => {}
             _ => {
                 if !change_state(s, command, params, &self.sys.settings, &self.turns) {
                     self.state = *s;
