@@ -176,7 +176,8 @@ mod tests {
         })
     }
 
-    /// `text` with its unmatched `]` dropped and its open `[` closed.
+    /// `text` with its unmatched `]` dropped and its open `[` closed,
+    /// after an `X` (an axiom is never empty).
     fn balanced(text: &str) -> String {
         let mut depth = 0usize;
         let mut out: String = text
@@ -195,7 +196,7 @@ mod tests {
             })
             .collect();
         out.extend(std::iter::repeat_n(']', depth));
-        out
+        format!("X {out}")
     }
 
     #[test]
