@@ -79,7 +79,11 @@ pub(crate) struct Edge {
     pub(crate) from: u32,
     pub(crate) to: u32,
     pub(crate) directed: bool,
-    /// Position in `from`'s and `to`'s adjacency lists.
+    /// Position in `from`'s and `to`'s adjacency lists, kept exact only in
+    /// lists that [`Adj::tracked`] says are (and always for a self-loop):
+    /// in a short list the edge is found by scanning when it is removed, so
+    /// that removing another edge need not touch this record, a cache miss
+    /// on a large graph.
     pub(crate) adj_pos: [u32; 2],
 }
 
@@ -250,6 +254,22 @@ pub(crate) struct Adj {
     start: u32,
     pub(crate) len: u32,
     cap: u32,
+    /// Self-loops at the vertex (each listed twice).
+    loops: u32,
+}
+
+/// Adjacency blocks of at most this many entries are scanned for an edge
+/// being removed (one or two cache lines) instead of keeping every listed
+/// edge's position in its record.
+const SCANNED: u32 = 16;
+
+impl Adj {
+    /// Whether the records of the edges in this list keep their positions
+    /// in it ([`Edge::adj_pos`]): in long lists, where scanning would cost
+    /// more than the records' upkeep.
+    fn tracked(self) -> bool {
+        self.cap > SCANNED
+    }
 }
 
 /// Every adjacency list in one array of power-of-two blocks (free blocks
@@ -701,10 +721,14 @@ impl Graph {
                 self.edges.len() as u32 - 1
             }
         };
+        let short = [from, to].map(|v| !self.vertices[v as usize].adj.tracked());
         let pf = self.vertices[from as usize].adj.len;
         self.adj.push(&mut self.vertices[from as usize].adj, id);
         let pt = self.vertices[to as usize].adj.len;
         self.adj.push(&mut self.vertices[to as usize].adj, id);
+        if from == to {
+            self.vertices[from as usize].adj.loops += 1;
+        }
         let attrs = self.attr_sets.take(new.attrs);
         let e = &mut self.edges[id as usize];
         e.c.label = new.label;
@@ -716,7 +740,37 @@ impl Graph {
         e.directed = directed;
         e.adj_pos = [pf, pt];
         index_insert(&mut self.eindex, &mut e.c, id, self.track_generations);
+        for (v, short) in [from, to].into_iter().zip(short) {
+            // This edge made the list long: its records start keeping
+            // their positions.
+            if short && self.vertices[v as usize].adj.tracked() {
+                self.record_positions(v);
+            }
+        }
         id
+    }
+
+    /// Writes every non-loop edge's position in `v`'s list into its record
+    /// (self-loops' are always kept).
+    fn record_positions(&mut self, v: u32) {
+        let adj = self.vertices[v as usize].adj;
+        for (i, &e) in self.adj.list(adj).iter().enumerate() {
+            let e = &mut self.edges[e as usize];
+            if e.from != e.to {
+                e.adj_pos[usize::from(e.from != v)] = i as u32;
+            }
+        }
+    }
+
+    /// The position of non-loop edge `id` in `v`'s list: `recorded` where
+    /// the list keeps positions, else found by scanning.
+    fn position(&self, v: u32, id: u32, recorded: u32) -> u32 {
+        let adj = self.vertices[v as usize].adj;
+        if adj.tracked() {
+            return recorded;
+        }
+        let list = self.adj.list(adj);
+        list.iter().position(|&e| e == id).expect("a live edge is in its vertices' lists") as u32
     }
 
     /// Deletes a live edge.
@@ -726,12 +780,18 @@ impl Graph {
             debug_assert!(e.c.alive());
             (e.from, e.to, e.adj_pos)
         };
-        // The `to` side first: for a self-loop it may sit after the `from`
-        // side in the same list, and removing the later position first
-        // keeps the earlier one valid.
-        let order = if from == to && pf > pt { [(from, pf), (to, pt)] } else { [(to, pt), (from, pf)] };
-        for (v, pos) in order {
-            self.adj_remove(v, pos);
+        if from == to {
+            // The later position first keeps the earlier one valid. The
+            // loop counts until both are gone: the other self-loops of the
+            // list keep their positions while it is edited.
+            for pos in [pf.max(pt), pf.min(pt)] {
+                self.adj_remove(from, pos);
+            }
+            self.vertices[from as usize].adj.loops -= 1;
+        } else {
+            let (pt, pf) = (self.position(to, id, pt), self.position(from, id, pf));
+            self.adj_remove(to, pt);
+            self.adj_remove(from, pf);
         }
         let tg = self.track_generations;
         let edges = &mut self.edges;
@@ -746,19 +806,20 @@ impl Graph {
     }
 
     /// Removes position `pos` from `v`'s adjacency list, updating the
-    /// position record of the edge moved into it.
+    /// position record of the edge moved into it where the list keeps
+    /// positions or may hold a self-loop.
     fn adj_remove(&mut self, v: u32, pos: u32) {
         let adj = &mut self.vertices[v as usize].adj;
         let last = adj.len - 1;
-        if let Some(moved) = self.adj.swap_remove(adj, pos) {
+        let keep = adj.tracked() || adj.loops > 0;
+        if let Some(moved) = self.adj.swap_remove(adj, pos)
+            && keep
+        {
             let e = &mut self.edges[moved as usize];
-            // The moved entry was at `last`: find which side of `moved`
-            // recorded it there.
-            if e.from == v && e.adj_pos[0] == last {
-                e.adj_pos[0] = pos;
-            } else {
-                e.adj_pos[1] = pos;
-            }
+            // The moved entry was at `last`: a self-loop's side is the one
+            // that recorded it there.
+            let side = if e.from == e.to { usize::from(e.adj_pos[0] != last) } else { usize::from(e.from != v) };
+            e.adj_pos[side] = pos;
         }
     }
 
@@ -839,7 +900,12 @@ impl Graph {
             let ed = &self.edges[e as usize];
             for (side, v) in [ed.from, ed.to].into_iter().enumerate() {
                 assert!(self.vertices[v as usize].c.alive(), "edge {e} dangles");
-                assert_eq!(self.adj.list(self.vertices[v as usize].adj)[ed.adj_pos[side] as usize], e);
+                let adj = self.vertices[v as usize].adj;
+                if adj.tracked() || ed.from == ed.to {
+                    assert_eq!(self.adj.list(adj)[ed.adj_pos[side] as usize], e);
+                } else {
+                    assert!(self.adj.list(adj).contains(&e), "edge {e} is in its list");
+                }
             }
         }
         for &v in &live_v {
@@ -966,6 +1032,66 @@ mod tests {
         g.check();
         assert_eq!(g.adj.data.len(), 2 + 4 + 8);
         assert_eq!(g.vertex(x).unwrap().degree(), 4);
+    }
+
+    /// Adjacency lists as plain vectors, edited as the graph's are meant to
+    /// be: a push per endpoint, and a swap-remove at the edge's exact
+    /// position (a self-loop's later occurrence first).
+    fn model_remove(lists: &mut [Vec<u32>], (from, to): (u32, u32), e: u32) {
+        for v in if from == to { vec![from, from] } else { vec![to, from] } {
+            let list = &mut lists[v as usize];
+            let at = list.iter().rposition(|&x| x == e).unwrap();
+            list.swap_remove(at);
+        }
+    }
+
+    #[test]
+    fn short_and_long_adjacency_lists_keep_the_order_of_exact_positions() {
+        let mut none = Vec::new();
+        let mut rng = genform_core::Rng::from_seed(5);
+        let mut g = graph(false);
+        // Few vertices and many edges: lists grow past the scanned size and
+        // shrink back, with self-loops and parallel edges among them.
+        let vs: Vec<u32> = (0..5).map(|_| g.add_vertex([0.0; 2], new(1, 0, &mut none))).collect();
+        let mut lists: Vec<Vec<u32>> = vec![Vec::new(); 5];
+        // Each edge's (from, to), by id.
+        let mut ends: Vec<(u32, u32)> = Vec::new();
+        let mut long = 0;
+        for step in 0..4000 {
+            let grow = if step % 1000 < 600 { 3 } else { 1 };
+            if rng.index(4) < grow {
+                let (a, b) = (vs[rng.index(5)], vs[if rng.bernoulli(0.15) { 0 } else { rng.index(5) }]);
+                let e = g.add_edge(a, b, true, new(1, 0, &mut none));
+                lists[a as usize].push(e);
+                lists[b as usize].push(e);
+                *grown(&mut ends, e as usize) = (a, b);
+            } else if g.edge_count() > 0 {
+                let e = g.eindex.all[rng.index(g.edge_count())];
+                let (a, b) = ends[e as usize];
+                if rng.bernoulli(0.2) {
+                    g.orient_edge(e, b, a, true);
+                    ends[e as usize] = (b, a);
+                } else {
+                    g.remove_edge(e);
+                    model_remove(&mut lists, (a, b), e);
+                }
+            }
+            g.check();
+            for &v in &vs {
+                assert_eq!(g.adj.list(g.vertices[v as usize].adj), lists[v as usize].as_slice(), "step {step}");
+            }
+            long += usize::from(vs.iter().any(|&v| g.vertices[v as usize].adj.tracked()));
+        }
+        assert!(long > 1000, "long lists were exercised ({long} steps)");
+        // Removing a vertex removes its edges, last listed first.
+        g.remove_vertex(vs[0]);
+        while let Some(&e) = lists[0].last() {
+            model_remove(&mut lists, ends[e as usize], e);
+        }
+        g.check();
+        for &v in &vs[1..] {
+            assert_eq!(g.adj.list(g.vertices[v as usize].adj), lists[v as usize].as_slice());
+        }
     }
 
     #[test]
