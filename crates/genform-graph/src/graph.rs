@@ -69,7 +69,8 @@ impl Common {
 pub(crate) struct Vertex {
     pub(crate) c: Common,
     pub(crate) pos: [f64; 2],
-    /// Incident edges (in [`AdjPool`]); a self-loop is listed twice.
+    /// Incident edges (inline, then in [`AdjPool`]); a self-loop is listed
+    /// twice.
     pub(crate) adj: Adj,
 }
 
@@ -248,34 +249,47 @@ impl AttrSets {
     }
 }
 
-/// A vertex's adjacency list: a block of [`AdjPool`].
+/// A vertex's adjacency list: up to [`INLINE`] entries in the vertex
+/// record itself (the vertex is read anyway, so a vertex of degree two,
+/// most vertices of a curve, costs no further cache miss), then a block of
+/// [`AdjPool`].
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Adj {
-    start: u32,
+    /// The entries while inline; then `items[0]` is the block's start.
+    items: [u32; INLINE as usize],
     pub(crate) len: u32,
-    cap: u32,
-    /// Self-loops at the vertex (each listed twice).
-    loops: u32,
+    /// Log2 of the block's size; 0 while inline.
+    block: u8,
+    /// Whether a self-loop was ever added (its positions are always kept,
+    /// see [`Edge::adj_pos`]); cleared when the vertex is removed.
+    looped: bool,
 }
 
-/// Adjacency blocks of at most this many entries are scanned for an edge
+/// Entries a list holds in its vertex record.
+const INLINE: u32 = 2;
+
+/// Adjacency lists of at most this many entries are scanned for an edge
 /// being removed (one or two cache lines) instead of keeping every listed
 /// edge's position in its record.
 const SCANNED: u32 = 16;
 
 impl Adj {
+    fn cap(self) -> u32 {
+        if self.block == 0 { INLINE } else { 1 << self.block }
+    }
+
     /// Whether the records of the edges in this list keep their positions
     /// in it ([`Edge::adj_pos`]): in long lists, where scanning would cost
     /// more than the records' upkeep.
     fn tracked(self) -> bool {
-        self.cap > SCANNED
+        self.cap() > SCANNED
     }
 }
 
-/// Every adjacency list in one array of power-of-two blocks (free blocks
-/// reused per size), instead of one heap allocation per vertex: most
-/// vertices have a few edges, and a separate `Vec` would cost 24 bytes plus
-/// an allocation each.
+/// The blocks of every adjacency list longer than [`INLINE`], in one array
+/// of power-of-two blocks (free blocks reused per size), instead of one
+/// heap allocation per vertex: a separate `Vec` would cost 24 bytes plus an
+/// allocation each.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct AdjPool {
     data: Vec<u32>,
@@ -285,53 +299,71 @@ pub(crate) struct AdjPool {
 
 impl AdjPool {
     /// The list `a`.
-    pub(crate) fn list(&self, a: Adj) -> &[u32] {
-        &self.data[a.start as usize..(a.start + a.len) as usize]
+    pub(crate) fn list<'a>(&'a self, a: &'a Adj) -> &'a [u32] {
+        if a.block == 0 {
+            &a.items[..a.len as usize]
+        } else {
+            let start = a.items[0] as usize;
+            &self.data[start..start + a.len as usize]
+        }
+    }
+
+    /// The list `a`, to edit.
+    fn list_mut<'a>(&'a mut self, a: &'a mut Adj) -> &'a mut [u32] {
+        let len = a.len as usize;
+        if a.block == 0 {
+            &mut a.items[..len]
+        } else {
+            let start = a.items[0] as usize;
+            &mut self.data[start..start + len]
+        }
     }
 
     fn push(&mut self, a: &mut Adj, id: u32) {
-        if a.len == a.cap {
+        if a.len == a.cap() {
             self.grow(a);
         }
-        self.data[(a.start + a.len) as usize] = id;
         a.len += 1;
+        *self.list_mut(a).last_mut().expect("just grown") = id;
     }
 
     fn grow(&mut self, a: &mut Adj) {
-        let cap = if a.cap == 0 { 2 } else { a.cap * 2 };
-        let class = cap.trailing_zeros() as usize;
-        let reused = self.free.get_mut(class).and_then(Vec::pop);
+        let class = a.block.max(1) + 1;
+        let cap = 1usize << class;
+        let reused = self.free.get_mut(usize::from(class)).and_then(Vec::pop);
         let start = match reused {
             Some(s) => s,
             None => {
                 let s = self.data.len();
-                self.data.resize(s + cap as usize, NONE);
+                self.data.resize(s + cap, NONE);
                 u32::try_from(s).expect("fewer than 2^32 adjacency entries")
             }
         };
-        self.data.copy_within(a.start as usize..(a.start + a.len) as usize, start as usize);
-        if a.cap > 0 {
-            let old = a.cap.trailing_zeros() as usize;
-            if self.free.len() <= old {
-                self.free.resize_with(old + 1, Vec::new);
+        let len = a.len as usize;
+        if a.block == 0 {
+            self.data[start as usize..start as usize + len].copy_from_slice(&a.items[..len]);
+        } else {
+            let old = a.items[0];
+            self.data.copy_within(old as usize..old as usize + len, start as usize);
+            let class = usize::from(a.block);
+            if self.free.len() <= class {
+                self.free.resize_with(class + 1, Vec::new);
             }
-            self.free[old].push(a.start);
+            self.free[class].push(old);
         }
-        a.start = start;
-        a.cap = cap;
+        a.items[0] = start;
+        a.block = class;
     }
 
     /// Removes position `pos` as `Vec::swap_remove` does; returns the entry
     /// moved into it, if any.
     fn swap_remove(&mut self, a: &mut Adj, pos: u32) -> Option<u32> {
+        let list = self.list_mut(a);
+        let last = list.len() - 1;
+        let moved = list[last];
+        list[pos as usize] = moved;
         a.len -= 1;
-        let last = self.data[(a.start + a.len) as usize];
-        if pos < a.len {
-            self.data[(a.start + pos) as usize] = last;
-            Some(last)
-        } else {
-            None
-        }
+        (pos < a.len).then_some(moved)
     }
 }
 
@@ -727,7 +759,7 @@ impl Graph {
         let pt = self.vertices[to as usize].adj.len;
         self.adj.push(&mut self.vertices[to as usize].adj, id);
         if from == to {
-            self.vertices[from as usize].adj.loops += 1;
+            self.vertices[from as usize].adj.looped = true;
         }
         let attrs = self.attr_sets.take(new.attrs);
         let e = &mut self.edges[id as usize];
@@ -754,7 +786,7 @@ impl Graph {
     /// (self-loops' are always kept).
     fn record_positions(&mut self, v: u32) {
         let adj = self.vertices[v as usize].adj;
-        for (i, &e) in self.adj.list(adj).iter().enumerate() {
+        for (i, &e) in self.adj.list(&adj).iter().enumerate() {
             let e = &mut self.edges[e as usize];
             if e.from != e.to {
                 e.adj_pos[usize::from(e.from != v)] = i as u32;
@@ -769,7 +801,7 @@ impl Graph {
         if adj.tracked() {
             return recorded;
         }
-        let list = self.adj.list(adj);
+        let list = self.adj.list(&adj);
         list.iter().position(|&e| e == id).expect("a live edge is in its vertices' lists") as u32
     }
 
@@ -781,13 +813,10 @@ impl Graph {
             (e.from, e.to, e.adj_pos)
         };
         if from == to {
-            // The later position first keeps the earlier one valid. The
-            // loop counts until both are gone: the other self-loops of the
-            // list keep their positions while it is edited.
+            // The later position first keeps the earlier one valid.
             for pos in [pf.max(pt), pf.min(pt)] {
                 self.adj_remove(from, pos);
             }
-            self.vertices[from as usize].adj.loops -= 1;
         } else {
             let (pt, pf) = (self.position(to, id, pt), self.position(from, id, pf));
             self.adj_remove(to, pt);
@@ -811,7 +840,7 @@ impl Graph {
     fn adj_remove(&mut self, v: u32, pos: u32) {
         let adj = &mut self.vertices[v as usize].adj;
         let last = adj.len - 1;
-        let keep = adj.tracked() || adj.loops > 0;
+        let keep = adj.tracked() || adj.looped;
         if let Some(moved) = self.adj.swap_remove(adj, pos)
             && keep
         {
@@ -826,9 +855,10 @@ impl Graph {
     /// Deletes a live vertex and every edge still attached to it
     /// (single-pushout: no dangling edges).
     pub(crate) fn remove_vertex(&mut self, id: u32) {
-        while let Some(&e) = self.adj.list(self.vertices[id as usize].adj).last() {
+        while let Some(&e) = self.adj.list(&self.vertices[id as usize].adj).last() {
             self.remove_edge(e);
         }
+        self.vertices[id as usize].adj.looped = false;
         let tg = self.track_generations;
         let vertices = &mut self.vertices;
         let mut c = std::mem::replace(&mut vertices[id as usize].c, Common::new());
@@ -902,14 +932,14 @@ impl Graph {
                 assert!(self.vertices[v as usize].c.alive(), "edge {e} dangles");
                 let adj = self.vertices[v as usize].adj;
                 if adj.tracked() || ed.from == ed.to {
-                    assert_eq!(self.adj.list(adj)[ed.adj_pos[side] as usize], e);
+                    assert_eq!(self.adj.list(&adj)[ed.adj_pos[side] as usize], e);
                 } else {
-                    assert!(self.adj.list(adj).contains(&e), "edge {e} is in its list");
+                    assert!(self.adj.list(&adj).contains(&e), "edge {e} is in its list");
                 }
             }
         }
         for &v in &live_v {
-            for &e in self.adj.list(self.vertices[v as usize].adj) {
+            for &e in self.adj.list(&self.vertices[v as usize].adj) {
                 assert!(self.edges[e as usize].c.alive());
             }
             let n = self.vertices[v as usize].adj.len as usize;
@@ -1016,22 +1046,37 @@ mod tests {
     fn adjacency_blocks_grow_and_are_reused() {
         let mut none = Vec::new();
         let mut g = graph(false);
-        // Four self-loops: 8 entries, the hub's list grows 2 → 4 → 8.
+        // A vertex of degree two keeps its list in its record.
+        let (a, b) = (g.add_vertex([0.0; 2], new(1, 0, &mut none)), g.add_vertex([0.0; 2], new(1, 0, &mut none)));
+        g.add_edge(a, b, true, new(1, 0, &mut none));
+        g.add_edge(b, a, true, new(1, 0, &mut none));
+        assert!(g.adj.data.is_empty());
+        // Four self-loops: 8 entries, the hub's list grows 2 (inline) → 4 → 8.
         let hub = g.add_vertex([0.0; 2], new(1, 0, &mut none));
         let loops: Vec<u32> = (0..4).map(|_| g.add_edge(hub, hub, false, new(1, 0, &mut none))).collect();
         g.check();
         assert_eq!(g.vertex(hub).unwrap().degree(), 8);
-        assert_eq!(g.adj.data.len(), 2 + 4 + 8);
+        assert_eq!(g.adj.data.len(), 4 + 8);
         g.remove_edge(loops[1]);
         g.check();
-        // Its outgrown blocks (2 and 4 entries) went to the free lists: a
-        // new vertex with 4 entries takes them instead of growing the pool.
+        // Its outgrown block of 4 went to the free lists: a new vertex with
+        // 4 entries takes it instead of growing the pool.
         let x = g.add_vertex([0.0; 2], new(1, 0, &mut none));
         g.add_edge(x, x, false, new(1, 0, &mut none));
         g.add_edge(x, x, false, new(1, 0, &mut none));
         g.check();
-        assert_eq!(g.adj.data.len(), 2 + 4 + 8);
+        assert_eq!(g.adj.data.len(), 4 + 8);
         assert_eq!(g.vertex(x).unwrap().degree(), 4);
+        // A removed vertex's slot is reused with its (empty) block.
+        g.remove_vertex(hub);
+        let y = g.add_vertex([0.0; 2], new(1, 0, &mut none));
+        assert_eq!(y, hub);
+        (0..5).for_each(|_| drop(g.add_edge(y, a, false, new(1, 0, &mut none))));
+        g.check();
+        // y kept the hub's block of 8; a's list left its record for a new
+        // block of 4, then a new one of 8.
+        assert_eq!(g.vertices[y as usize].adj.block, 3);
+        assert_eq!(g.adj.data.len(), 4 + 8 + 4 + 8);
     }
 
     /// Adjacency lists as plain vectors, edited as the graph's are meant to
@@ -1078,7 +1123,7 @@ mod tests {
             }
             g.check();
             for &v in &vs {
-                assert_eq!(g.adj.list(g.vertices[v as usize].adj), lists[v as usize].as_slice(), "step {step}");
+                assert_eq!(g.adj.list(&g.vertices[v as usize].adj), lists[v as usize].as_slice(), "step {step}");
             }
             long += usize::from(vs.iter().any(|&v| g.vertices[v as usize].adj.tracked()));
         }
@@ -1090,7 +1135,7 @@ mod tests {
         }
         g.check();
         for &v in &vs[1..] {
-            assert_eq!(g.adj.list(g.vertices[v as usize].adj), lists[v as usize].as_slice());
+            assert_eq!(g.adj.list(&g.vertices[v as usize].adj), lists[v as usize].as_slice());
         }
     }
 

@@ -201,7 +201,7 @@ impl<'a> Search<'a> {
             Op::Extend { edge, from, to, to_bound } => {
                 let m = &p.me[edge];
                 let hv = self.mv[from];
-                let adj = g.adj.list(g.vertices[hv as usize].adj);
+                let adj = g.adj.list(&g.vertices[hv as usize].adj);
                 let mut order = Order::new(adj.len(), pick);
                 while let Some(i) = order.next(pick) {
                     self.tick()?;
