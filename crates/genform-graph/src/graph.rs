@@ -1071,7 +1071,9 @@ mod tests {
         g.remove_vertex(hub);
         let y = g.add_vertex([0.0; 2], new(1, 0, &mut none));
         assert_eq!(y, hub);
-        (0..5).for_each(|_| drop(g.add_edge(y, a, false, new(1, 0, &mut none))));
+        for _ in 0..5 {
+            g.add_edge(y, a, false, new(1, 0, &mut none));
+        }
         g.check();
         // y kept the hub's block of 8; a's list left its record for a new
         // block of 4, then a new one of 8.
