@@ -3,6 +3,9 @@
 use crate::alphabet::{Alphabet, Sym};
 use std::fmt::Write;
 
+/// The size of the pieces [`ModuleString::display_pieces`] hands over.
+const PIECE: usize = 1 << 16;
+
 /// A string of modules. Symbol `syms[i]` owns the next
 /// `alphabet.arity(syms[i])` values of `params`, in order, so the string is
 /// two contiguous arrays (no per-module allocation) and a parameter-free
@@ -54,25 +57,38 @@ impl ModuleString {
     /// The string as text: names, and parameters in parentheses when
     /// `with_params` (shortest round-trip formatting).
     pub fn display(&self, alphabet: &Alphabet, with_params: bool) -> String {
+        let mut out = String::new();
+        let _ = self.display_pieces(alphabet, with_params, |piece| {
+            out.push_str(piece);
+            Ok::<(), std::convert::Infallible>(())
+        });
+        out
+    }
+
+    /// [`ModuleString::display`] handed to `take` in pieces of about 64 KB,
+    /// in order: `--string-out` of a plant is megabytes, never held whole.
+    /// Stops at `take`'s first error.
+    pub fn display_pieces<E>(
+        &self,
+        alphabet: &Alphabet,
+        with_params: bool,
+        mut take: impl FnMut(&str) -> Result<(), E>,
+    ) -> Result<(), E> {
         let names = &alphabet.symbols;
-        if !with_params || self.params.is_empty() {
-            // Names only: one table lookup per module (`--string-out` of a
-            // plant is millions of one-letter names).
-            if names.iter().all(|n| n.name.len() == 1) {
-                let bytes: Vec<u8> = names.iter().map(|n| n.name.as_bytes()[0]).collect();
-                let out: Vec<u8> = self.syms.iter().map(|&s| bytes[s as usize]).collect();
-                return String::from_utf8(out).expect("one-byte names are ASCII");
+        if (!with_params || self.params.is_empty()) && names.iter().all(|n| n.name.len() == 1) {
+            // One-letter names: one table lookup per module.
+            let bytes: Vec<u8> = names.iter().map(|n| n.name.as_bytes()[0]).collect();
+            let mut buf = Vec::with_capacity(PIECE.min(self.syms.len()));
+            for chunk in self.syms.chunks(PIECE) {
+                buf.clear();
+                buf.extend(chunk.iter().map(|&s| bytes[s as usize]));
+                take(std::str::from_utf8(&buf).expect("one-byte names are ASCII"))?;
             }
-            let len = self.syms.iter().map(|&s| names[s as usize].name.len()).sum();
-            let mut out = String::with_capacity(len);
-            for &s in &self.syms {
-                out.push_str(&names[s as usize].name);
-            }
-            return out;
+            return Ok(());
         }
         let mut out = String::new();
         for (s, p) in self.modules(alphabet) {
-            out.push_str(&alphabet.symbols[s as usize].name);
+            out.push_str(&names[s as usize].name);
             if with_params && !p.is_empty() {
                 out.push('(');
                 for (i, v) in p.iter().enumerate() {
@@ -83,7 +99,11 @@ impl ModuleString {
                 }
                 out.push(')');
             }
+            if out.len() >= PIECE {
+                take(&out)?;
+                out.clear();
+            }
         }
-        out
+        if out.is_empty() { Ok(()) } else { take(&out) }
     }
 }

@@ -641,3 +641,31 @@ fn width_unit_multiplies_every_given_width() {
     assert_eq!(widths.len(), 4);
     assert!(compile_text("width_unit: 0\naxiom: F\n").is_err());
 }
+
+/// Long strings are handed over in bounded pieces that add up to the whole
+/// text, with one-letter names and with parameters; an error stops it.
+#[test]
+fn display_pieces_add_up_to_the_text() {
+    for (text, steps) in [
+        ("axiom: F\nproduction:\nF -> F+F--F+F\n", 8),
+        ("axiom: A(1)\nproduction:\nA(x) -> A(x + 0.5) B(x, 2) A(x * 3)\n", 14),
+    ] {
+        let (s, m) = derive(text, steps);
+        let whole = m.display(&s.alphabet, true);
+        let mut pieces = Vec::new();
+        m.display_pieces(&s.alphabet, true, |p| {
+            pieces.push(p.to_string());
+            Ok::<(), ()>(())
+        })
+        .unwrap();
+        assert!(pieces.len() > 2, "{} pieces of {} bytes", pieces.len(), whole.len());
+        assert!(pieces.iter().all(|p| !p.is_empty() && p.len() < (1 << 16) + 64));
+        assert_eq!(pieces.concat(), whole);
+        let mut taken = 0;
+        let stopped = m.display_pieces(&s.alphabet, true, |_| {
+            taken += 1;
+            if taken == 2 { Err("full") } else { Ok(()) }
+        });
+        assert_eq!((stopped, taken), (Err("full"), 2));
+    }
+}

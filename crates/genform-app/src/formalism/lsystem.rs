@@ -119,11 +119,8 @@ impl LoadedGrammar for LsFile {
             s
         };
         if let Some(path) = &request.string_out {
-            // Written in two pieces: appending the newline would copy the
-            // whole string (megabytes for a plant) into a larger buffer.
-            let text = string.display(&system.alphabet, true);
             write_atomic_with(path, |w| {
-                w.write_all(text.as_bytes())?;
+                string.display_pieces(&system.alphabet, true, |piece| w.write_all(piece.as_bytes()))?;
                 w.write_all(b"\n")
             })?;
         }
