@@ -644,3 +644,24 @@ fn a_non_finite_daughter_position_is_an_error_naming_production_and_step() {
     let d = grammar(&src(2)).derive(&mut Rng::from_seed(1), Some(5), 100).unwrap();
     assert_eq!(d.graph.element_count(), 2);
 }
+
+/// A graph whose last vertex was deleted is written with empty maps, and
+/// reads back; one without edges keeps its vertices.
+#[test]
+fn empty_graphs_are_written_with_empty_lists() {
+    let g = grammar(
+        "host:
+  vertices: {a: {x: 0, y: 0}}
+productions:
+  - name: gone
+    mother: {vertices: {A: {}}}
+    daughter: {}
+",
+    );
+    let d = g.derive(&mut Rng::from_seed(1), Some(1), 10).unwrap();
+    let yaml = d.graph.to_yaml();
+    assert!(yaml.ends_with("host:\n  vertices: {}\n  edges: []\n"), "{yaml}");
+    assert_eq!(grammar(&yaml).host().to_yaml(), yaml);
+    let host = g.host().to_yaml();
+    assert!(host.contains("vertices:\n    v0: {x: 0, y: 0}") && host.ends_with("edges: []\n"), "{host}");
+}

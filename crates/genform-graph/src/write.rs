@@ -211,9 +211,7 @@ impl Graph {
         out.push_str("host:\n  vertices:");
         let mut texts = Texts { g: self, labels: Vec::new(), lists: Vec::new() };
         let mut names = vec![u32::MAX; self.vertices.len()];
-        let mut any = false;
         for (i, v) in self.vertices().enumerate() {
-            any = true;
             names[v.id() as usize] = i as u32;
             let [x, y] = v.pos();
             out.push_str("\n    v");
@@ -228,7 +226,7 @@ impl Graph {
             out.push('}');
             flush(&mut out, sink, false)?;
         }
-        if !any {
+        if self.vertex_count() == 0 {
             out.push_str(" {}");
         }
         out.push_str("\n  edges:");
@@ -262,8 +260,7 @@ impl Graph {
                 flush(&mut out, sink, false)?;
             }
         }
-        let any = !edges.is_empty();
-        if !any {
+        if edges.is_empty() {
             out.push_str(" []");
         }
         out.push('\n');
