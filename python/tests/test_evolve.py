@@ -127,7 +127,7 @@ def test_small_populations_keep_a_fifth_as_elites_and_breed_the_rest():
 )
 def test_bad_numbers_raise_genform_errors(call):
     grammar = genform.load(SHIP_SCENE.parent / "../shape/spaceship.sg")
-    with pytest.raises(genform.GenformError, match="expected|`every_step`"):
+    with pytest.raises(genform.GenformError, match="expected|`every_step`|must be a whole number"):
         call(grammar)
 
 

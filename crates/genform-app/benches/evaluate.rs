@@ -4,16 +4,16 @@
 //! `tree_sketch`. Each scene is evaluated on a GA generation-0 population
 //! (its own population size and initial genome lengths) with 1 and 2
 //! threads; throughput is in evaluations. Derivation alone is measured too,
-//! so that the scoring share can be read off. The spaceship also runs the
-//! per-voxel reference voxelizer and a full GA run (population 150, 130
-//! generations).
+//! so that the scoring share can be read off. The spaceship also runs a
+//! full GA run (population 150, 130 generations). Everything goes through
+//! the library's scene handle ([`genform_app::OpenScene`]), as `evolve`
+//! does. (The per-voxel reference voxelizer is genform-score's `voxelize`
+//! bench.)
 
 use criterion::{
     BenchmarkGroup, Criterion, SamplingMode, Throughput, criterion_group, criterion_main, measurement::WallTime,
 };
-use genform_app::objective::{SceneObjective, Scorers};
-use genform_app::scene_config::SceneConfig;
-use genform_app::{grammar, targets};
+use genform_app::OpenScene;
 use genform_core::{Genome, Scene};
 use genform_evolve::{Ga, Objective};
 use rayon::prelude::*;
@@ -24,32 +24,39 @@ use std::sync::atomic::AtomicBool;
 const SCENES: [&str; 5] = ["spaceship_volume", "city_volume", "tree_avoid", "tree_volume", "tree_sketch"];
 
 struct Setup {
-    generator: Box<dyn genform_core::Generator>,
-    limits: genform_core::Limits,
-    scorers: Scorers,
-    config: SceneConfig,
+    open: OpenScene,
     population: Vec<Genome>,
+}
+
+impl Setup {
+    fn generator(&self) -> &dyn genform_core::Generator {
+        self.open.tree().unwrap().0.generator.as_ref()
+    }
+
+    fn limits(&self) -> genform_core::Limits {
+        self.open.tree().unwrap().1
+    }
 }
 
 fn setup(scene: &str) -> Setup {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../../examples/scenes/{scene}.toml"));
-    let config = SceneConfig::load(&path).unwrap().config;
-    let loaded = grammar::load(&config.grammar).unwrap();
-    let scorers = targets::build(&config).unwrap();
+    let open = OpenScene::open(genform_app::Scene::load(&path, &[]).unwrap(), Default::default()).unwrap();
+    let (loaded, limits) = open.tree().unwrap();
+    let ga = &open.scene.optimizers.ga;
     // A GA's generation-0 population: lengths as the experiment uses them.
     let graph = loaded.generator.graph();
-    let population = (0..config.ga.population as u64)
+    let population = (0..ga.population as u64)
         .map(|i| {
             let mut rng = genform_core::Rng::stream(1, &[i]);
-            genform_evolve::operators::initial(graph, &loaded.limits, config.ga.initial_length, &mut rng)
+            genform_evolve::operators::initial(graph, &limits, ga.initial_length, &mut rng)
         })
         .collect();
-    Setup { limits: loaded.limits, generator: loaded.generator, scorers, config, population }
+    Setup { open, population }
 }
 
 /// Evaluates the whole population on 1 and 2 threads, and derives it alone.
 fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
-    let objective = SceneObjective { generator: s.generator.as_ref(), limits: s.limits, scorers: &s.scorers };
+    let objective = s.open.objective().unwrap();
     g.throughput(Throughput::Elements(s.population.len() as u64));
     // Flat sampling with few samples keeps the slow scenes (seconds per
     // population) to a bounded run time.
@@ -60,7 +67,7 @@ fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
             b.iter(|| {
                 // Unrelated generation-0 genomes: nothing from the previous
                 // iteration may be replayed.
-                s.scorers.clear_caches();
+                s.open.scorer().clear_caches();
                 pool.install(|| {
                     s.population
                         .par_iter()
@@ -76,7 +83,7 @@ fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
             let mut n = 0;
             for genome in &s.population {
                 scene.clear();
-                if s.generator.express(genome, &s.limits, &mut scene).is_ok() {
+                if s.generator().express(genome, &s.limits(), &mut scene).is_ok() {
                     n += scene.instances.len();
                 }
             }
@@ -90,12 +97,12 @@ fn evaluate(g: &mut BenchmarkGroup<WallTime>, s: &Setup) {
 /// user's `evolve` gets, where children share most of their models with
 /// their parents.
 fn ga_run(g: &mut BenchmarkGroup<WallTime>, s: &Setup, generations: usize) {
-    let objective = SceneObjective { generator: s.generator.as_ref(), limits: s.limits, scorers: &s.scorers };
+    let objective = s.open.objective().unwrap();
     let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
     let run = || {
-        s.scorers.clear_caches();
+        s.open.scorer().clear_caches();
         pool.install(|| {
-            let mut ga = Ga::new(s.generator.graph(), &s.limits, s.config.ga.clone(), 1).unwrap();
+            let mut ga = Ga::new(s.generator().graph(), &s.limits(), s.open.scene.optimizers.ga.clone(), 1).unwrap();
             let cancel = AtomicBool::new(false);
             let stop = genform_evolve::Stop {
                 generations: Some(generations),
@@ -124,32 +131,17 @@ fn bench(c: &mut Criterion) {
             g.finish();
             continue;
         }
-        // The same derivations scored through the per-voxel reference voxelizer.
-        let volume = s.scorers.volume.as_ref().unwrap();
-        g.sample_size(10);
-        g.bench_function("evaluate/oracle/1-thread", |b| {
-            let mut scene = Scene::new();
-            b.iter(|| {
-                let mut total = 0.0;
-                for genome in &s.population {
-                    scene.clear();
-                    s.generator.express(genome, &s.limits, &mut scene).unwrap();
-                    let v = genform_score::voxelize::oracle::voxelize(volume.grid(), &scene);
-                    total += s.scorers.fitness.eval(&volume.counts_of(&v), genome.len());
-                }
-                total
-            })
-        });
         g.finish();
 
-        let objective = SceneObjective { generator: s.generator.as_ref(), limits: s.limits, scorers: &s.scorers };
+        let objective = s.open.objective().unwrap();
         let mut g = c.benchmark_group("spaceship_volume_ga");
         g.sample_size(10);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
         g.bench_function("full_run/150x130/2-thread", |b| {
             b.iter(|| {
                 pool.install(|| {
-                    let mut ga = Ga::new(s.generator.graph(), &s.limits, s.config.ga.clone(), 7).unwrap();
+                    let mut ga =
+                        Ga::new(s.generator().graph(), &s.limits(), s.open.scene.optimizers.ga.clone(), 7).unwrap();
                     let cancel = AtomicBool::new(false);
                     let stop = genform_evolve::Stop {
                         generations: Some(130),

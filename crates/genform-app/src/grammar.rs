@@ -1,87 +1,71 @@
-//! Grammars as generators: the door the genome verbs (`derive`, `evolve`,
-//! `score`, `compare`) and scene targets go through. Any formalism in
-//! [`crate::formalism::FORMALISMS`] loads here; those without a generator
-//! graph say why not.
+//! A grammar opened for a door that keeps it ([`GrammarHandle`]: the
+//! Python package's `Grammar`): compiled once for sampling and `info`, with
+//! its generator graph when its formalism has one.
 
 use anyhow::{Context, Result};
-use genform_core::{Generator, Genome, Limits, Scene};
-use std::path::Path;
+use genform_core::{Genome, Limits, Scene};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use crate::formalism;
+use crate::formalism::{self, FormalismRef, Loaded, LoadedGrammar, express, genome_summary};
 
-/// A compiled grammar that has a generator graph, whatever its formalism.
-pub struct Loaded {
-    /// The generator.
-    pub generator: Box<dyn Generator>,
-    /// Display name of the grammar.
-    pub name: String,
-    /// Limits declared by the grammar (or defaults), before CLI overrides.
-    pub limits: Limits,
+/// A compiled grammar of any formalism.
+pub struct GrammarHandle {
+    /// The file it was compiled from.
+    pub path: PathBuf,
+    /// Its row of the formalism table.
+    pub formalism: FormalismRef,
+    /// The grammar as the verbs see it.
+    pub loaded: Box<dyn LoadedGrammar>,
+    /// Its generator graph, if the formalism has one.
+    pub generator: Option<Arc<Loaded>>,
+    /// Why there is no generator graph (when there is none).
+    no_generator: String,
 }
 
-impl Loaded {
-    /// Reads a genome JSON file and checks that it fits this grammar.
-    pub fn read_genome(&self, path: &Path) -> Result<Genome> {
-        let text = crate::source_text::read_text(path, "genome")?;
-        Genome::from_json(&text, self.generator.graph())
-            .with_context(|| format!("{} does not fit grammar `{}`", path.display(), self.name))
-    }
-}
-
-/// Compiles the grammar at `path` (its formalism chosen by extension from
-/// the table) into a generator; warnings go to stderr, errors become the
-/// returned error with every diagnostic rendered. A formalism without a
-/// generator graph is an error that says why.
-pub fn load(path: &Path) -> Result<Loaded> {
-    formalism::open(path)?.into_generator()
-}
-
-/// Expresses `genome` into a fresh Scene.
-pub fn express(generator: &dyn Generator, genome: &Genome, limits: &Limits) -> Result<Scene> {
-    let mut scene = Scene::new();
-    generator.express(genome, limits, &mut scene).context("cannot build the model")?;
-    Ok(scene)
-}
-
-/// One line about a model expressed from a genome: genes, primitives,
-/// triangles.
-pub fn genome_summary(scene: &Scene, genome: &Genome) -> String {
-    format!(
-        "{} genes, {} primitives, {} triangles",
-        genome.len(),
-        scene.instances.len() + scene.polylines.len() + scene.polygons.len(),
-        scene.triangle_count(Default::default())
-    )
-}
-
-/// Limits given on the command line or in a scene config, each replacing
-/// the grammar's own when set.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct LimitOverrides {
-    /// Most genes.
-    pub max_genes: Option<usize>,
-    /// Deepest gene.
-    pub max_depth: Option<usize>,
-    /// Most primitives.
-    pub max_primitives: Option<usize>,
-}
-
-impl LimitOverrides {
-    /// `base` with the set overrides applied.
-    pub fn apply(&self, base: Limits) -> Limits {
-        Limits {
-            max_genes: self.max_genes.unwrap_or(base.max_genes),
-            max_depth: self.max_depth.unwrap_or(base.max_depth),
-            max_primitives: self.max_primitives.unwrap_or(base.max_primitives),
-        }
+impl GrammarHandle {
+    /// Compiles `path` with the formalism its extension names.
+    pub fn open(path: &Path) -> Result<GrammarHandle> {
+        let formalism = formalism::formalism_of(path)?;
+        let loaded = formalism.load(path)?;
+        // A second compile for the generator: `into_generator` consumes the grammar.
+        let (generator, no_generator) = match formalism.load(path)?.into_generator() {
+            Ok(g) => (Some(Arc::new(g)), String::new()),
+            Err(e) => (None, format!("{e:#}")),
+        };
+        Ok(GrammarHandle { path: path.to_path_buf(), formalism, loaded, generator, no_generator })
     }
 
-    /// `self` where set, `other` elsewhere.
-    pub fn or(self, other: LimitOverrides) -> LimitOverrides {
-        LimitOverrides {
-            max_genes: self.max_genes.or(other.max_genes),
-            max_depth: self.max_depth.or(other.max_depth),
-            max_primitives: self.max_primitives.or(other.max_primitives),
-        }
+    /// A handle on a scene's grammar whose generator is already compiled.
+    pub fn with_generator(path: &Path, generator: Arc<Loaded>) -> Result<GrammarHandle> {
+        let formalism = formalism::formalism_of(path)?;
+        let loaded = formalism.load(path)?;
+        Ok(GrammarHandle {
+            path: path.to_path_buf(),
+            formalism,
+            loaded,
+            generator: Some(generator),
+            no_generator: String::new(),
+        })
+    }
+
+    /// The generator, or the error saying why there is none.
+    pub fn generator(&self) -> Result<&Arc<Loaded>> {
+        self.generator.as_ref().ok_or_else(|| anyhow::anyhow!("{}", self.no_generator))
+    }
+
+    /// Parses a genome's JSON text against the generator graph.
+    pub fn parse_genome(&self, text: &str) -> Result<Genome> {
+        let g = self.generator()?;
+        Genome::from_json(text, g.generator.graph())
+            .with_context(|| format!("the genome does not fit grammar `{}`", g.name))
+    }
+
+    /// Expresses `genome` under `limits`: the model and one line about it.
+    pub fn derive(&self, genome: &Genome, limits: Limits) -> Result<(Scene, String)> {
+        let g = self.generator()?;
+        let scene = express(g.generator.as_ref(), genome, &limits)?;
+        let summary = format!("{}: {}", g.name, genome_summary(&scene, genome));
+        Ok((scene, summary))
     }
 }

@@ -15,7 +15,8 @@
 //! setting refused here would not have fitted anyway.
 
 use anyhow::{Result, bail};
-use std::path::Path;
+
+use crate::toml_doc::Doc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The budget set by a door (0: not set, use [`machine_default`]).
@@ -151,29 +152,19 @@ pub struct Size<'a> {
     pub what: String,
 }
 
-/// Refuses the first of `sizes` (settings of the scene `path` whose text
-/// is `text`) that needs more than the [`budget`], and any whose total
-/// does: the error names the file, the setting's `line:col`, the bytes it
-/// needs and how to raise the budget.
-pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()> {
+/// Refuses the first of `sizes` (settings of the scene `doc`) that needs
+/// more than the [`budget`], and any whose total does: the error names the
+/// setting's `file:line:col`, the bytes it needs and how to raise the
+/// budget.
+pub(crate) fn check_sizes(doc: &Doc, sizes: &[Size]) -> Result<()> {
     let budget = budget();
     let limit = u128::from(budget.bytes);
-    let owned;
-    let text = match text {
-        Some(t) => Some(t),
-        None => {
-            owned = std::fs::read_to_string(path).ok();
-            owned.as_deref()
-        }
-    };
     let over = sizes.iter().find(|s| s.bytes > limit).or_else(|| {
         // Each fits alone; the largest is named when together they do not.
         let total: u128 = sizes.iter().map(|s| s.bytes).sum();
         (total > limit).then(|| sizes.iter().max_by_key(|s| s.bytes)).flatten()
     });
     let Some(s) = over else { return Ok(()) };
-    let at =
-        text.and_then(|t| value_position(t, s.section, s.key)).map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default();
     let name = if s.section.is_empty() { s.key.to_string() } else { format!("[{}] {}", s.section, s.key) };
     let total: u128 = sizes.iter().map(|s| s.bytes).sum();
     let alone = if s.bytes > limit {
@@ -186,16 +177,19 @@ pub fn check_sizes(path: &Path, text: Option<&str>, sizes: &[Size]) -> Result<()
         gib if gib > 1 << 20 => " (no machine has that much memory)".to_string(),
         gib => format!(", or raise the budget with --max-memory {}G if the machine has the memory", gib.max(1)),
     };
-    bail!(
-        "{}{at}: {name} = {} needs about {}{alone} ({}), more than the memory budget of {} ({}); lower `{}`{raise}",
-        path.display(),
-        s.value,
-        human(s.bytes as f64),
-        s.what,
-        human(budget.bytes as f64),
-        budget.origin,
-        s.key,
-    )
+    let path: Vec<&str> = [s.section, s.key].into_iter().filter(|p| !p.is_empty()).collect();
+    Err(doc.refuse(
+        &path,
+        format!(
+            "{name} = {} needs about {}{alone} ({}), more than the memory budget of {} ({}); lower `{}`{raise}",
+            s.value,
+            human(s.bytes as f64),
+            s.what,
+            human(budget.bytes as f64),
+            budget.origin,
+            s.key,
+        ),
+    ))
 }
 
 /// Refuses command-line limits (`(flag, value, bytes per item, what)`)
@@ -251,22 +245,10 @@ pub fn limit_sizes(limits: &[(&'static str, Option<usize>, u64, &'static str)]) 
         .collect()
 }
 
-/// `(line, column)` of the value of `key` in `[section]` of the TOML
-/// `text` (a second, lenient read that keeps spans).
-pub fn value_position(text: &str, section: &str, key: &str) -> Option<(usize, usize)> {
-    let doc = toml_edit::Document::parse(text).ok()?;
-    let table = doc.as_table();
-    let item = if section.is_empty() { table.get(key)? } else { table.get(section)?.as_table_like()?.get(key)? };
-    let start = item.span()?.start;
-    let before = &text[..start.min(text.len())];
-    let line = before.matches('\n').count() + 1;
-    let col = before[before.rfind('\n').map_or(0, |i| i + 1)..].chars().count() + 1;
-    Some((line, col))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     #[test]
     fn sizes_parse_with_units() {
@@ -291,15 +273,6 @@ mod tests {
     }
 
     #[test]
-    fn positions_of_values() {
-        let text = "grammar = \"g.sg\"\n[ga]\nelitism = 3\npopulation   = 99\n[mh]\nchains = 7\n";
-        assert_eq!(value_position(text, "ga", "population"), Some((4, 16)));
-        assert_eq!(value_position(text, "mh", "chains"), Some((6, 10)));
-        assert_eq!(value_position(text, "", "grammar"), Some((1, 11)));
-        assert_eq!(value_position(text, "smc", "particles"), None);
-    }
-
-    #[test]
     fn refusals_name_setting_position_and_flag() {
         let text = "[ga]\npopulation = 99999999999999999\n";
         let huge = Size {
@@ -309,7 +282,8 @@ mod tests {
             bytes: estimate(99999999999999999, 1000),
             what: "genomes".into(),
         };
-        let msg = check_sizes(Path::new("s.toml"), Some(text), &[huge]).unwrap_err().to_string();
+        let doc = Doc::parse(Path::new("s.toml"), text).unwrap();
+        let msg = check_sizes(&doc, &[huge]).unwrap_err().to_string();
         assert!(msg.starts_with("s.toml:2:14: [ga] population = 99999999999999999 needs about"), "{msg}");
         assert!(
             msg.contains("more than the memory budget") && msg.ends_with("no machine has that much memory)"),
@@ -317,14 +291,14 @@ mod tests {
         );
         // Just over the budget: a machine could have that much.
         let big = Size { bytes: u128::from(budget().bytes) + 1, ..huge_like() };
-        let msg = check_sizes(Path::new("s.toml"), Some(text), &[big]).unwrap_err().to_string();
+        let msg = check_sizes(&doc, &[big]).unwrap_err().to_string();
         assert!(
             msg.contains(", or raise the budget with --max-memory ")
                 && msg.ends_with("G if the machine has the memory"),
             "{msg}"
         );
         let small = Size { bytes: 10_000, ..huge_like() };
-        check_sizes(Path::new("s.toml"), Some(text), &[small]).unwrap();
+        check_sizes(&doc, &[small]).unwrap();
     }
 
     fn huge_like() -> Size<'static> {

@@ -1,298 +1,240 @@
-//! The objective `genform evolve` optimizes: express a genome with the
-//! scene's generator, score the Scene against every target, combine the
-//! counts with the genome length into one fitness.
+//! A scene opened for evolution ([`OpenScene`]: its grammar compiled, its
+//! scorers built) and the objectives optimizers maximize: a genome
+//! expressed into a Scene — a derivation tree by the grammar's generator
+//! ([`TreeObjective`]), codons by the formalism row's decoder
+//! ([`CodonObjective`]) — scored by the scene's scorer.
 //!
-//! This glue is the only place that knows both a generator and the scorers;
-//! the optimizers see an [`Objective`] and genomes, the scorers see Scenes.
+//! This glue is the only place that knows both a model maker and the
+//! scorers; optimizers see an [`Objective`] and genomes, scorers see
+//! Scenes.
 
-use genform_core::{ExpressError, Generator, Genome, Limits, Primitive, Scene};
-use genform_evolve::Objective;
-use genform_score::{Counts, Fitness, ImageScorer, ImageScratch, VolumeScorer, VolumeScratch};
-use glam::Vec3;
+use anyhow::Result;
+use genform_core::{ExpressError, Generator, Genome, Limits, Scene};
+use genform_evolve::{Codons, Objective};
+use genform_score::{Descriptor, Score, Scorer, Scratch};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
 
-/// Every target of a scene, with the fitness constants.
-pub struct Scorers {
-    /// The voxel target, if any.
-    pub volume: Option<VolumeScorer>,
-    /// Image targets.
-    pub images: Vec<ImageScorer>,
-    /// How counts become a fitness.
-    pub fitness: Fitness,
+use crate::formalism::{CodonDecoder, DecodeScratch, InvalidCounts, LimitOverrides, Loaded, Phase, Rejection};
+use crate::optimizers::Searches;
+use crate::scene::Scene as SceneFile;
+use crate::scoring::BuiltScoring;
+
+/// What turns a scene's genomes into models.
+pub(crate) enum Model {
+    /// The grammar's generator, with the scene's limits.
+    Tree {
+        /// The compiled grammar.
+        loaded: Arc<Loaded>,
+        /// Its limits with the scene's `[limits]` and the door's overrides.
+        limits: Limits,
+    },
+    /// The formalism row's decoder.
+    Codons(Arc<dyn CodonDecoder>),
 }
 
-/// Per-thread working memory of [`Scorers`].
-pub struct ScorerScratch {
-    volume: Option<VolumeScratch>,
-    images: Vec<ImageScratch>,
+/// A scene ready to evolve: the file, its grammar compiled into a model
+/// maker, its scorers built.
+pub struct OpenScene {
+    /// The scene file, read.
+    pub scene: SceneFile,
+    pub(crate) model: Model,
+    pub(crate) scoring: BuiltScoring,
 }
 
-impl Scorers {
-    /// Fresh working memory for one thread.
-    pub fn scratch(&self) -> ScorerScratch {
-        ScorerScratch {
-            volume: self.volume.as_ref().map(VolumeScorer::scratch),
-            images: self.images.iter().map(ImageScorer::scratch).collect(),
+impl Model {
+    /// Compiles the scene's grammar into its model maker; `flags` are the
+    /// door's derivation limits over the scene's (derivation trees only).
+    pub(crate) fn open(scene: &SceneFile, flags: LimitOverrides) -> Result<Model> {
+        Ok(match scene.searches {
+            Searches::Trees => {
+                let loaded = crate::formalism::load_generator(&scene.grammar)?;
+                let limits = flags.or(scene.limits.overrides()).apply(loaded.limits);
+                Model::Tree { loaded: Arc::new(loaded), limits }
+            }
+            Searches::Codons => {
+                if flags != LimitOverrides::default() {
+                    anyhow::bail!(
+                        "--max-genes, --max-depth and --max-primitives limit derivation trees; a codon scene sets its \
+                         limits in its [limits] table (vertices, edges, faces, modules, primitives, elements)"
+                    );
+                }
+                let codon_range = scene.optimizers.ge.codon_range;
+                Model::Codons(Arc::from(scene.formalism.decoder(
+                    &scene.grammar,
+                    &scene.model,
+                    &scene.limits,
+                    codon_range,
+                )?))
+            }
+        })
+    }
+}
+
+impl OpenScene {
+    /// Compiles the scene's grammar and builds its scorers; `flags` are the
+    /// door's derivation limits over the scene's (derivation trees only).
+    pub fn open(scene: SceneFile, flags: LimitOverrides) -> Result<OpenScene> {
+        let model = Model::open(&scene, flags)?;
+        let scoring = scene.scoring.build(scene.lengths())?;
+        Ok(OpenScene { scene, model, scoring })
+    }
+
+    /// A tree scene at `path` opened for a door that scores genomes
+    /// itself (Python's `load_scene`); codon scenes are refused with the
+    /// way to run them.
+    pub fn open_tree(path: &std::path::Path) -> Result<OpenScene> {
+        let scene = SceneFile::load(path, &[])?;
+        if scene.searches != Searches::Trees {
+            anyhow::bail!(
+                "{} is a codon scene (grammatical evolution): run it with genform.evolve(path); load_scene's \
+                 scorers as callables and ask/tell work on tree scenes",
+                path.display()
+            );
+        }
+        OpenScene::open(scene, LimitOverrides::default())
+    }
+
+    /// The scorer.
+    pub fn scorer(&self) -> &dyn Scorer {
+        self.scoring.scorer.as_ref()
+    }
+
+    /// A tree scene's grammar as a handle (its generator shared, not
+    /// compiled again).
+    pub fn grammar(&self) -> Result<crate::grammar::GrammarHandle> {
+        let (loaded, _) = self.tree().ok_or_else(|| anyhow::anyhow!("a codon scene has no grammar handle"))?;
+        crate::grammar::GrammarHandle::with_generator(&self.scene.grammar, loaded.clone())
+    }
+
+    /// A tree scene's derivation limits.
+    pub fn limits(&self) -> Option<Limits> {
+        self.tree().map(|(_, l)| l)
+    }
+
+    /// The objective of a tree scene, as its runs evaluate it.
+    pub fn objective(&self) -> Option<TreeObjective<'_>> {
+        self.tree_objective(self.scorer())
+    }
+
+    /// A tree genome's fitness (`−∞` when it cannot be expressed).
+    pub fn fitness(&self, genome: &Genome) -> Result<f64> {
+        let o = self.tree_objective(self.scorer()).ok_or_else(|| anyhow::anyhow!("a codon scene scores codons"))?;
+        Ok(o.evaluate(genome, &mut o.scratch()))
+    }
+
+    /// A tree genome's score with its parts.
+    pub fn score(&self, genome: &Genome) -> Result<Score> {
+        let o = self.tree_objective(self.scorer()).ok_or_else(|| anyhow::anyhow!("a codon scene scores codons"))?;
+        o.score(genome, &mut o.scratch()).map_err(|e| anyhow::anyhow!("cannot build the model: {e}"))
+    }
+
+    /// Fitness and the two `[map_elites]` descriptors of each genome,
+    /// evaluated in parallel, in order.
+    pub fn score_genomes(&self, genomes: &[Genome]) -> Result<Vec<(f64, [f64; 2])>> {
+        use rayon::prelude::*;
+        let o = self.tree_objective(self.scorer()).ok_or_else(|| anyhow::anyhow!("a codon scene scores codons"))?;
+        Ok(genomes
+            .par_iter()
+            .map_init(
+                || o.scratch(),
+                |scratch, g| {
+                    let mut d = [f64::NAN; 2];
+                    let f = o.evaluate_described(g, scratch, &mut d);
+                    (f, d)
+                },
+            )
+            .collect())
+    }
+
+    /// The best fitness the scene's shortest genome can reach.
+    pub fn max_reachable(&self) -> f64 {
+        self.scorer().max_reachable(self.scene.optimizers.shortest(self.scene.searches))
+    }
+
+    /// The generator and limits of a tree scene.
+    pub fn tree(&self) -> Option<(&Arc<Loaded>, Limits)> {
+        match &self.model {
+            Model::Tree { loaded, limits } => Some((loaded, *limits)),
+            Model::Codons(_) => None,
         }
     }
 
-    /// Empties the caches the scorers keep across evaluations (results
-    /// never depend on them; measurements of unrelated models clear them).
-    pub fn clear_caches(&self) {
-        if let Some(v) = &self.volume {
-            v.clear_caches();
-        }
-        for i in &self.images {
-            i.clear_caches();
-        }
+    /// The tree objective of this scene, scored by `scorer`.
+    pub(crate) fn tree_objective<'a>(&'a self, scorer: &'a dyn Scorer) -> Option<TreeObjective<'a>> {
+        let (loaded, limits) = self.tree()?;
+        Some(TreeObjective {
+            generator: loaded.generator.as_ref(),
+            limits,
+            scorer,
+            descriptors: self.scene.optimizers.descriptors(),
+        })
     }
 
-    /// The summed counts of every target.
-    pub fn counts(&self, scene: &Scene, scratch: &mut ScorerScratch) -> Counts {
-        let mut c = Counts::default();
-        if let (Some(v), Some(s)) = (&self.volume, &mut scratch.volume) {
-            c += v.counts(scene, s);
+    /// The codon objective of this scene, scored by `scorer`.
+    pub(crate) fn codon_objective(&self, scorer: Box<dyn Scorer>) -> Option<CodonObjective> {
+        match &self.model {
+            Model::Codons(decoder) => Some(CodonObjective::new(decoder.clone(), scorer)),
+            Model::Tree { .. } => None,
         }
-        for (img, s) in self.images.iter().zip(&mut scratch.images) {
-            c += img.counts(scene, s);
-        }
-        c
     }
 }
 
-/// A generator scored by [`Scorers`]: the function optimizers maximize.
-pub struct SceneObjective<'a> {
+/// A generator scored by a scorer, with two descriptors for MAP-Elites:
+/// the function tree optimizers maximize.
+pub struct TreeObjective<'a> {
     /// Expresses genomes.
     pub generator: &'a dyn Generator,
     /// Derivation limits (a genome that exceeds them is invalid).
     pub limits: Limits,
     /// Scores the expressed Scene.
-    pub scorers: &'a Scorers,
-}
-
-/// Per-thread working memory of [`SceneObjective`]: a reusable Scene and
-/// the scorers' scratch.
-pub struct EvalScratch {
-    scene: Scene,
-    scorers: ScorerScratch,
-}
-
-impl SceneObjective<'_> {
-    /// Expresses `genome` and returns its counts, or why it cannot be
-    /// expressed.
-    pub fn counts(&self, genome: &Genome, scratch: &mut EvalScratch) -> Result<Counts, ExpressError> {
-        scratch.scene.clear();
-        self.generator.express(genome, &self.limits, &mut scratch.scene)?;
-        Ok(self.scorers.counts(&scratch.scene, &mut scratch.scorers))
-    }
-}
-
-impl Objective for SceneObjective<'_> {
-    type Scratch = EvalScratch;
-
-    fn scratch(&self) -> EvalScratch {
-        EvalScratch { scene: Scene::new(), scorers: self.scorers.scratch() }
-    }
-
-    fn evaluate(&self, genome: &Genome, scratch: &mut EvalScratch) -> f64 {
-        match self.counts(genome, scratch) {
-            Ok(c) => self.scorers.fitness.eval(&c, genome.len()),
-            Err(_) => f64::NEG_INFINITY,
-        }
-    }
-}
-
-/// A behaviour descriptor of a model: what MAP-Elites spreads its archive
-/// over and what the gallery tells individuals apart by. Sizes are along
-/// the scene's axes (+y is up in previews).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Descriptor {
-    /// Genes of the genome.
-    Length,
-    /// Bounding box: longest side over shortest side (≥ 1; the shortest
-    /// side counts as at least 1 % of the longest, so flat models give 100,
-    /// not infinity).
-    Aspect,
-    /// Bounding box along x.
-    Width,
-    /// Bounding box along y (up).
-    Height,
-    /// Bounding box along z.
-    Depth,
-    /// Instanced primitives, polylines and polygons of the scene.
-    Primitives,
-}
-
-impl Descriptor {
-    /// Every descriptor with its name in scene files.
-    pub const ALL: [(&'static str, Descriptor); 6] = [
-        ("length", Descriptor::Length),
-        ("aspect", Descriptor::Aspect),
-        ("width", Descriptor::Width),
-        ("height", Descriptor::Height),
-        ("depth", Descriptor::Depth),
-        ("primitives", Descriptor::Primitives),
-    ];
-
-    /// The descriptor called `name`.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, d)| *d)
-    }
-
-    /// The two descriptors `config` names (names are checked when a scene
-    /// loads, see [`check_descriptor_names`]; an unknown one reads as `length`).
-    pub fn pair(config: &genform_evolve::MapElitesConfig) -> [Descriptor; 2] {
-        config.descriptors.each_ref().map(|d| Descriptor::from_name(&d.name).unwrap_or(Descriptor::Length))
-    }
-
-    /// Its name in scene files.
-    pub fn name(self) -> &'static str {
-        Self::ALL.iter().find(|(_, d)| *d == self).map_or("", |(n, _)| n)
-    }
-
-    /// Its value for `genome` expressed as `scene`; NaN for a size of an
-    /// empty scene.
-    pub fn value(self, genome: &Genome, scene: &Scene) -> f64 {
-        let size = || extent(scene).unwrap_or([f32::NAN; 3]).map(f64::from);
-        match self {
-            Descriptor::Length => genome.len() as f64,
-            Descriptor::Aspect => {
-                let s = size();
-                let longest = s[0].max(s[1]).max(s[2]);
-                longest / s[0].min(s[1]).min(s[2]).max(0.01 * longest)
-            }
-            Descriptor::Width => size()[0],
-            Descriptor::Height => size()[1],
-            Descriptor::Depth => size()[2],
-            Descriptor::Primitives => (scene.instances.len() + scene.polylines.len() + scene.polygons.len()) as f64,
-        }
-    }
-
-    /// The range binned when a scene gives none: `length` the GA's length
-    /// bounds `[min_length, max_length]`; `aspect` [1, 6]; a size from 0
-    /// to the `[volume]` grid's side along its axis (`box_size`, else 10);
-    /// `primitives` [0, max_length].
-    pub fn default_range(self, lengths: [usize; 2], box_size: Option<[f64; 3]>) -> [f64; 2] {
-        let side = |axis: usize| [0.0, box_size.map_or(10.0, |b| b[axis])];
-        match self {
-            Descriptor::Length => [lengths[0] as f64, lengths[1] as f64],
-            Descriptor::Aspect => [1.0, 6.0],
-            Descriptor::Width => side(0),
-            Descriptor::Height => side(1),
-            Descriptor::Depth => side(2),
-            Descriptor::Primitives => [0.0, lengths[1] as f64],
-        }
-    }
-}
-
-/// Checks that `[map_elites]` names only known descriptors. An unknown
-/// name is reported at its `file:line:col` in `text` (the scene's text;
-/// read from `path` when `None`), with a did-you-mean hint.
-pub fn check_descriptor_names(
-    path: &std::path::Path,
-    text: Option<&str>,
-    config: &genform_evolve::MapElitesConfig,
-) -> anyhow::Result<()> {
-    let Some(bad) = config.descriptors.iter().map(|d| d.name.as_str()).find(|n| Descriptor::from_name(n).is_none())
-    else {
-        return Ok(());
-    };
-    let names = Descriptor::ALL.map(|(n, _)| n);
-    let hint =
-        genform_core::expr::did_you_mean(bad, names).map(|n| format!("did you mean `{n}`? ")).unwrap_or_default();
-    let at = match text {
-        Some(t) => name_position(t, bad),
-        None => std::fs::read_to_string(path).ok().and_then(|t| name_position(&t, bad)),
-    };
-    anyhow::bail!(
-        "{}{}: [map_elites] descriptor `{bad}` is unknown; {hint}the descriptors are {}",
-        path.display(),
-        at.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default(),
-        names.join(", ")
-    )
-}
-
-/// `(line, column)` of the `[map_elites]` descriptor name `bad` in the
-/// scene text: a second, lenient read that keeps the names' spans.
-fn name_position(text: &str, bad: &str) -> Option<(usize, usize)> {
-    #[derive(serde::Deserialize)]
-    struct Doc {
-        map_elites: Option<Section>,
-    }
-    #[derive(serde::Deserialize)]
-    struct Section {
-        #[serde(default)]
-        descriptors: Vec<Axis>,
-    }
-    #[derive(serde::Deserialize)]
-    struct Axis {
-        name: toml::Spanned<String>,
-    }
-    let doc: Doc = toml::from_str(text).ok()?;
-    let span = doc.map_elites?.descriptors.into_iter().find(|a| a.name.get_ref() == bad)?.name.span();
-    let before = &text[..span.start.min(text.len())];
-    Some((before.matches('\n').count() + 1, span.start - before.rfind('\n').map_or(0, |i| i + 1) + 1))
-}
-
-/// Sides of the axis-aligned bounding box of the scene's geometry, or
-/// `None` for an empty scene. Each instance counts with its primitive's
-/// local box (the unit cube for built-in primitives, the mesh's box for a
-/// mesh) carried to world space: exact for boxes, slightly generous for
-/// rotated curved ones, and a few operations per instance instead of
-/// tessellating — MAP-Elites measures every evaluated model.
-fn extent(scene: &Scene) -> Option<[f32; 3]> {
-    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-    for inst in &scene.instances {
-        let (a, b) = match inst.primitive {
-            Primitive::Mesh(id) => {
-                let mesh = &scene.meshes[id as usize];
-                let Some(&first) = mesh.positions.first() else { continue };
-                mesh.positions.iter().fold((first, first), |(a, b), p| (a.min(*p), b.max(*p)))
-            }
-            Primitive::Frustum { top } | Primitive::TaperedBox { top } => {
-                let r = 0.5 * top.max(1.0);
-                (Vec3::new(-r, -0.5, -r), Vec3::new(r, 0.5, r))
-            }
-            Primitive::Box | Primitive::Sphere => (Vec3::splat(-0.5), Vec3::splat(0.5)),
-        };
-        let m = inst.transform.matrix3;
-        let centre = inst.transform.transform_point3((a + b) * 0.5);
-        let half = (b - a) * 0.5;
-        let reach = Vec3::from(m.x_axis.abs() * half.x + m.y_axis.abs() * half.y + m.z_axis.abs() * half.z);
-        lo = lo.min(centre - reach);
-        hi = hi.max(centre + reach);
-    }
-    let points = scene.polylines.points().iter().chain(scene.polygons.iter().flat_map(|p| &p.points));
-    for p in points.chain(scene.surfaces.iter().flat_map(|s| &s.positions)) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    (lo.x <= hi.x).then(|| (hi - lo).to_array())
-}
-
-/// [`SceneObjective`] that also reports two [`Descriptor`]s, for MAP-Elites.
-pub struct DescribedObjective<'a> {
-    /// The fitness.
-    pub objective: SceneObjective<'a>,
+    pub scorer: &'a dyn Scorer,
     /// The descriptors, in archive-axis order.
     pub descriptors: [Descriptor; 2],
 }
 
-impl Objective for DescribedObjective<'_> {
+/// Per-thread working memory of [`TreeObjective`]: a reusable Scene and
+/// the scorer's scratch.
+pub struct EvalScratch {
+    scene: Scene,
+    scorer: Scratch,
+}
+
+impl TreeObjective<'_> {
+    /// Expresses `genome` into the scratch's scene.
+    fn express_into(&self, genome: &Genome, scratch: &mut EvalScratch) -> Result<(), ExpressError> {
+        scratch.scene.clear();
+        self.generator.express(genome, &self.limits, &mut scratch.scene)
+    }
+
+    /// Expresses `genome` and scores it with every part, or says why it
+    /// cannot be expressed.
+    pub fn score(&self, genome: &Genome, scratch: &mut EvalScratch) -> Result<Score, ExpressError> {
+        self.express_into(genome, scratch)?;
+        Ok(self.scorer.score(&scratch.scene, genome.len(), &mut scratch.scorer))
+    }
+}
+
+impl Objective for TreeObjective<'_> {
     type Scratch = EvalScratch;
 
     fn scratch(&self) -> EvalScratch {
-        self.objective.scratch()
+        EvalScratch { scene: Scene::new(), scorer: self.scorer.scratch() }
     }
 
     fn evaluate(&self, genome: &Genome, scratch: &mut EvalScratch) -> f64 {
-        self.objective.evaluate(genome, scratch)
+        match self.express_into(genome, scratch) {
+            Ok(()) => self.scorer.fitness(&scratch.scene, genome.len(), &mut scratch.scorer),
+            Err(_) => f64::NEG_INFINITY,
+        }
     }
 
     fn evaluate_described(&self, genome: &Genome, scratch: &mut EvalScratch, descriptors: &mut [f64; 2]) -> f64 {
-        match self.objective.counts(genome, scratch) {
-            Ok(c) => {
-                *descriptors = self.descriptors.map(|d| d.value(genome, &scratch.scene));
-                self.objective.scorers.fitness.eval(&c, genome.len())
+        match self.express_into(genome, scratch) {
+            Ok(()) => {
+                *descriptors = self.descriptors.map(|d| d.value(genome.len(), &scratch.scene));
+                self.scorer.fitness(&scratch.scene, genome.len(), &mut scratch.scorer)
             }
             Err(_) => {
                 *descriptors = [f64::NAN; 2];
@@ -302,35 +244,227 @@ impl Objective for DescribedObjective<'_> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use genform_core::Instance;
+/// Where evaluation time went, summed over evaluations and threads.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EvalSplit {
+    /// Evaluations timed.
+    pub evaluations: u64,
+    /// Seconds mapping codons (GE) or deriving with codon choices (box-split, graph).
+    pub mapping: f64,
+    /// Seconds parsing and growing (gr8) or compiling, deriving and drawing (ls).
+    pub build: f64,
+    /// Seconds scoring the model.
+    pub scoring: f64,
+}
 
-    fn boxes(corners: &[[f32; 3]]) -> Scene {
-        let mut scene = Scene::new();
-        for &c in corners {
-            let transform = glam::Affine3A::from_translation(c.into());
-            scene.instances.push(Instance { transform, primitive: Primitive::Box, tag: 0 });
+impl std::ops::Add for EvalSplit {
+    type Output = EvalSplit;
+
+    fn add(self, b: EvalSplit) -> EvalSplit {
+        EvalSplit {
+            evaluations: self.evaluations + b.evaluations,
+            mapping: self.mapping + b.mapping,
+            build: self.build + b.build,
+            scoring: self.scoring + b.scoring,
         }
-        scene
+    }
+}
+
+/// A scored model of a codon genome, with its parts.
+#[derive(Clone, Debug)]
+pub struct Expressed {
+    /// The model, with the environment's guides (for files and pictures).
+    pub scene: Scene,
+    /// GE: the mapped phenotype text.
+    pub phenotype: Option<String>,
+    /// The grammar file to write: `best.gr8` (the grown rewrite system in
+    /// canonical form) or `best.ls` (the phenotype); `None` for box-split
+    /// and graph grammars. `(extension, text)`.
+    pub grammar_file: Option<(&'static str, String)>,
+    /// The fitness and what it is made of.
+    pub score: Score,
+    /// Codon reads (re-reads after wrapping included).
+    pub codons_read: usize,
+    /// Times reading wrapped to the first codon.
+    pub wraps: u32,
+}
+
+/// The objective of a codon scene: codons → model (the formalism row's
+/// decoder) → fitness. An individual that cannot become a model scores
+/// `−∞` and its reason is counted.
+pub struct CodonObjective {
+    decoder: Arc<dyn CodonDecoder>,
+    scorer: Box<dyn Scorer>,
+    invalid: [AtomicU64; 9],
+    /// Nanoseconds: mapping, build, scoring; then the evaluation count.
+    timing: [AtomicU64; 4],
+}
+
+/// Per-thread working memory of [`CodonObjective`].
+pub struct CodonScratch {
+    decoder: DecodeScratch,
+    scene: Scene,
+    scorer: Option<Scratch>,
+}
+
+impl CodonObjective {
+    /// `decoder`'s models scored by `scorer`.
+    pub(crate) fn new(decoder: Arc<dyn CodonDecoder>, scorer: Box<dyn Scorer>) -> CodonObjective {
+        CodonObjective { decoder, scorer, invalid: Default::default(), timing: Default::default() }
     }
 
-    #[test]
-    fn descriptors_measure_the_bounding_box() {
-        // Two unit boxes 4 apart along z: a 1 × 1 × 5 box.
-        let scene = boxes(&[[0.0, 0.0, 0.0], [0.0, 0.0, 4.0]]);
-        let genome = Genome::default();
-        let v = |d: Descriptor| d.value(&genome, &scene);
-        assert_eq!((v(Descriptor::Width), v(Descriptor::Height), v(Descriptor::Depth)), (1.0, 1.0, 5.0));
-        assert_eq!(v(Descriptor::Aspect), 5.0);
-        assert_eq!(v(Descriptor::Primitives), 2.0);
-        assert_eq!(v(Descriptor::Length), 0.0);
-        assert!(Descriptor::Width.value(&genome, &Scene::new()).is_nan());
-        for (name, d) in Descriptor::ALL {
-            assert_eq!(Descriptor::from_name(name), Some(d));
-            assert_eq!(d.name(), name);
+    /// The same decoder with another scorer (a steered one); the counters
+    /// start again.
+    pub(crate) fn with_scorer(&self, scorer: Box<dyn Scorer>) -> CodonObjective {
+        CodonObjective::new(self.decoder.clone(), scorer)
+    }
+
+    /// The scorer.
+    pub fn scorer(&self) -> &dyn Scorer {
+        self.scorer.as_ref()
+    }
+
+    /// The invalid evaluations counted since the last call, by reason.
+    pub fn take_invalid(&self) -> InvalidCounts {
+        let mut out = InvalidCounts::default();
+        for (o, a) in out.0.iter_mut().zip(&self.invalid) {
+            *o = a.swap(0, Ordering::Relaxed);
         }
-        assert_eq!(Descriptor::from_name("lenght"), None);
+        out
+    }
+
+    /// Where evaluation time went so far.
+    pub fn eval_split(&self) -> EvalSplit {
+        let s = |i: usize| self.timing[i].load(Ordering::Relaxed) as f64 * 1e-9;
+        EvalSplit { evaluations: self.timing[3].load(Ordering::Relaxed), mapping: s(0), build: s(1), scoring: s(2) }
+    }
+
+    /// Resets the time split and the invalid counts (between runs of `compare`).
+    pub fn reset_counters(&self) {
+        for a in self.timing.iter().chain(&self.invalid) {
+            a.store(0, Ordering::Relaxed);
+        }
+    }
+
+    /// Decodes `codons` into `s.scene` (cleared first); `detail` fills the
+    /// rejection's message and the grammar file and keeps the time out of
+    /// the split (the detailed path is no evaluation).
+    fn decode(
+        &self,
+        codons: &[u32],
+        s: &mut CodonScratch,
+        detail: bool,
+    ) -> Result<crate::formalism::Decoded, Rejection> {
+        s.scene.clear();
+        let mut last = Instant::now();
+        let timing = &self.timing;
+        let mut lap = |phase: Phase| {
+            let now = Instant::now();
+            if !detail {
+                let i = if phase == Phase::Mapping { 0 } else { 1 };
+                timing[i].fetch_add((now - last).as_nanos() as u64, Ordering::Relaxed);
+            }
+            last = now;
+        };
+        self.decoder.decode(codons, &mut s.decoder, &mut s.scene, detail, &mut lap)
+    }
+
+    /// Scores the model in `s.scene`.
+    fn score(&self, s: &mut CodonScratch, codons: usize, untimed: bool) -> Score {
+        let start = Instant::now();
+        let scratch = s.scorer.get_or_insert_with(|| self.scorer.scratch());
+        let score = self.scorer.score(&s.scene, codons, scratch);
+        if !untimed {
+            self.timing[2].fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
+        }
+        score
+    }
+
+    /// The model `codons` make, scored, with its parts; or why it is invalid
+    /// (with the error in words).
+    pub fn express(&self, codons: &[u32]) -> Result<Expressed, Rejection> {
+        let mut s = self.scratch();
+        let decoded = self.decode(codons, &mut s, true)?;
+        let score = self.score(&mut s, codons.len(), true);
+        let phenotype = self.decoder.phenotype(&s.decoder).map(str::to_string);
+        let mut scene = std::mem::take(&mut s.scene);
+        self.decoder.dress(&mut scene);
+        Ok(Expressed {
+            scene,
+            phenotype,
+            grammar_file: decoded.grammar_file,
+            score,
+            codons_read: decoded.codons_read,
+            wraps: decoded.wraps,
+        })
+    }
+}
+
+impl Objective<Codons> for CodonObjective {
+    type Scratch = CodonScratch;
+
+    fn scratch(&self) -> CodonScratch {
+        CodonScratch { decoder: self.decoder.scratch(), scene: Scene::new(), scorer: None }
+    }
+
+    fn evaluate(&self, codons: &Codons, s: &mut CodonScratch) -> f64 {
+        self.timing[3].fetch_add(1, Ordering::Relaxed);
+        match self.decode(codons, s, false) {
+            Ok(_) => {
+                let start = Instant::now();
+                let scratch = s.scorer.get_or_insert_with(|| self.scorer.scratch());
+                let fitness = self.scorer.fitness(&s.scene, codons.len(), scratch);
+                self.timing[2].fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
+                fitness
+            }
+            Err(r) => {
+                self.invalid[r.reason.index()].fetch_add(1, Ordering::Relaxed);
+                f64::NEG_INFINITY
+            }
+        }
+    }
+
+    /// GE scenes: the codons the mapper reads (mapping only); the other
+    /// decoders read codons during derivation, so they do not say.
+    fn expressed(&self, codons: &Codons, s: &mut CodonScratch) -> Option<usize> {
+        let mapper = self.decoder.mapper(&mut s.decoder)?;
+        let out = mapper.map(codons);
+        Some(out.extent.min(codons.len()))
+    }
+
+    /// GE scenes: a hash of the phenotype text (mapping only), which with
+    /// the scene's fixed environment, steps and limits decides the model;
+    /// `None` when mapping fails or for the other decoders.
+    fn phenotype_key(&self, codons: &Codons, s: &mut CodonScratch) -> Option<u64> {
+        use std::hash::{Hash, Hasher};
+        let mapper = self.decoder.mapper(&mut s.decoder)?;
+        mapper.map(codons).fail.is_none().then_some(())?;
+        // SipHash with fixed keys: the same hash in every run and thread.
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        mapper.phenotype()?.hash(&mut h);
+        Some(h.finish())
+    }
+
+    /// GE scenes: the subtrees of the mapping's trace
+    /// ([`genform_ge::Mapping::subtrees`]).
+    fn subtrees(&self, codons: &Codons, s: &mut CodonScratch, out: &mut Vec<genform_evolve::CodonSpan>) {
+        out.clear();
+        if let Some(mapper) = self.decoder.mapper(&mut s.decoder) {
+            let trace = mapper.trace(codons);
+            out.extend(trace.subtrees().iter().map(|t| genform_evolve::CodonSpan { start: t.start, end: t.end }));
+        }
+    }
+
+    /// GE scenes: [`genform_ge::Mapper::ramped`] over the scene's grammar
+    /// and mapping options; the other decoders have no grammar to unmap.
+    fn sensible_genome(
+        &self,
+        index: usize,
+        plan: genform_evolve::SensiblePlan,
+        rng: &mut genform_core::Rng,
+        s: &mut CodonScratch,
+    ) -> Option<Codons> {
+        let mapper = self.decoder.mapper(&mut s.decoder)?;
+        mapper.ramped(index, plan.max_depth, plan.codon_range, plan.max_length, rng)
     }
 }

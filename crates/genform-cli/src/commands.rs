@@ -1,18 +1,17 @@
-//! The verbs: validated settings in, files out. `sample` and `info` reach
-//! every formalism through the table (`genform_app::formalism`); `derive`
-//! goes through `grammar::load`, which asks the same table for a generator.
+//! The verbs: validated settings in, files out, through the application
+//! library's requests (`sample` and `info` reach every formalism through
+//! its table).
 
 use anyhow::Result;
 use std::path::PathBuf;
 
-use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs, ServeArgs};
-use genform_app::formalism;
-use genform_app::output::{output_format, write_model};
+use crate::args::{Cli, Command, DeriveArgs, InfoArgs, MapArgs, SampleArgs};
+use genform_app::{output_format, write_model};
 
 /// Runs one command.
 pub fn run(cli: Cli) -> Result<()> {
     if let Some(bytes) = cli.max_memory {
-        genform_app::memory::set_budget(bytes);
+        genform_app::set_budget(bytes);
     }
     match cli.command {
         Command::Sample(a) => sample(a),
@@ -23,6 +22,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(a) => crate::evolve::compare(a),
         Command::Sweep(a) => crate::sweep::sweep(a),
         Command::Map(a) => map(a),
+        #[cfg(feature = "studio")]
         Command::Serve(a) => serve(a),
         Command::Completions(a) => {
             let mut command = crate::args::command();
@@ -34,25 +34,24 @@ pub fn run(cli: Cli) -> Result<()> {
 }
 
 fn sample(a: SampleArgs) -> Result<()> {
+    let request = a.request()?;
     let inputs: Vec<&std::path::Path> =
-        [Some(a.file.as_path()), a.env.as_deref(), a.footprints.as_deref()].into_iter().flatten().collect();
-    genform_app::output::refuse_overwriting_inputs(
+        [Some(a.file.as_path()), request.env.as_deref(), request.footprints.as_deref()].into_iter().flatten().collect();
+    genform_app::refuse_overwriting_inputs(
         &inputs,
         &[
-            ("--out", a.out.as_deref()),
-            ("--string-out", a.string_out.as_deref()),
-            ("--trace", a.trace.as_deref()),
-            ("--genome-out", a.genome_out.as_deref()),
+            ("--out", request.out.as_deref()),
+            ("--string-out", request.string_out.as_deref()),
+            ("--trace", request.trace.as_deref()),
+            ("--genome-out", request.genome_out.as_deref()),
         ],
     )?;
-    let formalism = formalism::for_path(&a.file)?;
-    let request = a.request();
-    formalism::check_request(formalism, &request)?;
+    let formalism = genform_app::formalism_of(&a.file)?;
+    formalism.check(&request)?;
     let sample = formalism.load(&a.file)?.sample(&request)?;
     match &request.out {
         Some(out) => {
-            let export = genform_export::ExportOptions { granularity: a.granularity, ..Default::default() };
-            let written = sample.write(out, &export)?;
+            let written = sample.write(out, &request.export())?;
             eprintln!("{} → {}", sample.summary(), shown(&written));
         }
         None => {
@@ -83,21 +82,22 @@ fn shown(written: &[PathBuf]) -> String {
 }
 
 fn derive(a: DeriveArgs) -> Result<()> {
-    genform_app::output::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
+    genform_app::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
     output_format(&a.out)?;
-    let request = genform_app::run::DeriveRequest {
+    let request = genform_app::DeriveRequest {
         file: a.file.clone(),
         genome: a.genome.clone(),
         limits: a.limits.overrides(),
         set: a.set.clone(),
     };
-    let derived = genform_app::run::derive(&request)?;
+    let derived = genform_app::derive(&request)?;
     let written = write_model(&derived.scene, &a.out)?;
     eprintln!("{} → {}", derived.summary, shown(&written));
     Ok(())
 }
 
-fn serve(a: ServeArgs) -> Result<()> {
+#[cfg(feature = "studio")]
+fn serve(a: crate::args::ServeArgs) -> Result<()> {
     if let Some(host) = &a.host {
         eprintln!(
             "warning: listening on {host}: anyone who can reach this address can read the examples and run \
@@ -114,48 +114,12 @@ fn serve(a: ServeArgs) -> Result<()> {
 }
 
 fn info(a: InfoArgs) -> Result<()> {
-    print!("{}", formalism::info(&a.file)?);
+    print!("{}", genform_app::info(&a.file)?);
     Ok(())
 }
 
 fn map(a: MapArgs) -> Result<()> {
-    let bnf = formalism::compile_file(&a.grammar, genform_ge::compile)?;
-    let mut options = if a.genr8 { genform_ge::MapOptions::genr8() } else { genform_ge::MapOptions::default() };
-    if let Some(w) = a.max_wraps {
-        options.max_wraps = w;
-    }
-    if a.layout == "per-choice" {
-        options.layout = genform_ge::CodonLayout::PerChoice;
-    }
-    if let Some(d) = a.max_depth {
-        match &mut options.genr8 {
-            Some(g) => g.max_depth = Some(d),
-            None => options.max_tree_depth = Some(d),
-        }
-    }
-    let m = genform_ge::map(&bnf, &a.genome, &options)
-        .map_err(|e| anyhow::anyhow!("cannot map with {}: {e}", a.grammar.display()))?;
-    let mut out = String::new();
-    if a.json {
-        out = serde_json::to_string(&m)? + "\n";
-    } else {
-        for s in &m.steps {
-            let step = describe_step(s);
-            out += &format!("codon {:>3} = {:>4}  {:<18} {} of {} → {step}\n", s.pos, s.codon, s.nt, s.choice, s.n);
-        }
-        out += &match (&m.phenotype, &m.fail) {
-            (Some(p), _) => format!("valid: {} codons read, {} wraps\n{p}\n", m.used_codons, m.wraps),
-            (None, fail) => {
-                let why = fail
-                    .as_ref()
-                    .and_then(|f| serde_json::to_value(f).ok())
-                    .and_then(|v| v.as_str().map(String::from))
-                    .unwrap_or_default();
-                format!("invalid ({why}): {} codons read, {} wraps\n", m.used_codons, m.wraps)
-            }
-        };
-    }
-    print_all(&out)
+    print_all(&genform_app::map(&a.request())?)
 }
 
 /// Writes `text` to stdout; a closed pipe (`| head`) is not an error.
@@ -164,18 +128,6 @@ fn print_all(text: &str) -> Result<()> {
     match std::io::stdout().lock().write_all(text.as_bytes()) {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
         _ => Ok(()),
-    }
-}
-
-/// What a step decided, in words.
-fn describe_step(s: &genform_ge::Step) -> String {
-    use genform_ge::StepKind;
-    match s.kind {
-        StepKind::Expand => format!("production {}", s.choice),
-        StepKind::Limited => format!("production {} (depth limit: terminal-only choices)", s.choice),
-        StepKind::Repeat => (if s.choice + 2 > s.n { "repeat" } else { "stop" }).to_string(),
-        StepKind::Option => (if s.choice == 1 { "include" } else { "leave out" }).to_string(),
-        StepKind::Edge => format!("Edge{}", s.choice),
     }
 }
 

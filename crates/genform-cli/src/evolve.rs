@@ -3,7 +3,7 @@
 //! say on stderr and stdout.
 
 use anyhow::Result;
-use genform_app::run::{self, Control, Start, Tick, Watch};
+use genform_app::{Control, Start, SteerSet, Tick, Watch};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::Arc;
@@ -16,12 +16,12 @@ use crate::args::{CompareArgs, EvolveArgs, ScoreArgs};
 /// `--steering` replays an earlier run's steering.
 pub fn evolve(a: EvolveArgs) -> Result<()> {
     let schedule = match &a.steering {
-        Some(path) => run::steering::read_log(path)?,
+        Some(path) => genform_app::read_steering_log(path)?,
         None => Vec::new(),
     };
     let mut watch = Progress::new(a.quiet);
     let control = Control { cancel: cancel_on_ctrl_c(), schedule, watch: Some(&mut watch) };
-    let outcome = run::evolve(&a.request(), control)?;
+    let outcome = genform_app::evolve(&a.request(), control)?;
     drop(watch);
     eprintln!("{}", outcome.summary());
     Ok(())
@@ -29,7 +29,7 @@ pub fn evolve(a: EvolveArgs) -> Result<()> {
 
 /// Runs `genform score`: one genome's fitness and its parts on stdout.
 pub fn score(a: ScoreArgs) -> Result<()> {
-    for line in run::score(&a.request())? {
+    for line in genform_app::score(&a.request())? {
         println!("{line}");
     }
     Ok(())
@@ -42,7 +42,7 @@ pub fn compare(a: CompareArgs) -> Result<()> {
     let mut watch = Progress::new(a.quiet);
     watch.bar.set_draw_target(ProgressDrawTarget::hidden());
     let control = Control { cancel: cancel_on_ctrl_c(), schedule: Vec::new(), watch: Some(&mut watch) };
-    let outcome = run::compare(&request, control)?;
+    let outcome = genform_app::compare(&request, control)?;
     print!("{}", outcome.summary);
     eprintln!(
         "{} runs of {} s each on {} → {}",
@@ -134,7 +134,7 @@ impl Watch for Progress {
         self.bar.set_style(style(template));
     }
 
-    fn generation(&mut self, tick: &Tick) -> Option<run::SteerSet> {
+    fn generation(&mut self, tick: &Tick) -> Option<SteerSet> {
         let rate = tick.stats.total_evaluations as f64 / tick.seconds.max(1e-9);
         let msg = format!("best {:.4} · {rate:.0} evals/s{}", tick.best.unwrap_or(f64::NAN), tick.tail);
         if self.by_generation {

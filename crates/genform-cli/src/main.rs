@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     use std::io::IsTerminal as _;
-    genform_app::notes::set_sink(Box::new(|text| eprintln!("{text}")), std::io::stderr().is_terminal());
+    genform_app::set_sink(Box::new(|text| eprintln!("{text}")), std::io::stderr().is_terminal());
     let cli = args::parse();
     match commands::run(cli) {
         // Interrupted twice: the results were saved all the same, and the
@@ -19,7 +19,7 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Diagnostics print with their own `Error:` headers; only the summary gets `error:`.
-            eprint!("{}", genform_app::source_text::report(&e));
+            eprint!("{}", genform_app::report(&e));
             ExitCode::FAILURE
         }
     }

@@ -1,8 +1,8 @@
 //! `genform sweep`: the command-line side of [`genform_app::sweep`]
 //! (arguments, Ctrl-C, progress lines, the summary on stdout).
 
-use anyhow::{Result, bail};
-use genform_app::sweep::{self, RunDone, SweepRequest};
+use anyhow::Result;
+use genform_app::{RunDone, SweepRequest};
 use std::sync::atomic::Ordering;
 
 use crate::args::SweepArgs;
@@ -10,10 +10,7 @@ use crate::args::SweepArgs;
 /// Runs `genform sweep`. Ctrl-C stops the runs under way; the finished
 /// ones are written.
 pub fn sweep(a: SweepArgs) -> Result<()> {
-    if genform_app::codon_scene::is_codon_scene(&a.scene) {
-        bail!("{} is a codon scene; genform sweep runs tree scenes (.sg, .ls grammars) for now", a.scene.display());
-    }
-    let axes = a.set.iter().map(|s| sweep::parse_set(s)).collect::<Result<Vec<_>>>()?;
+    let axes = a.set.iter().map(|s| genform_app::parse_set(s)).collect::<Result<Vec<_>>>()?;
     let req = SweepRequest {
         scene: a.scene.clone(),
         axes,
@@ -22,7 +19,7 @@ pub fn sweep(a: SweepArgs) -> Result<()> {
         generations: a.generations,
         budget: a.budget.clone(),
         evaluations: a.evaluations,
-        algorithm: genform_app::run::tree::tree_algorithm(a.algorithm.into(), &a.scene)?,
+        algorithm: a.algorithm.clone(),
         threads: a.threads,
         out: a.out.clone(),
     };
@@ -43,12 +40,12 @@ pub fn sweep(a: SweepArgs) -> Result<()> {
             );
         }
     };
-    let result = sweep::run(&req, &cancel, &progress)?;
+    let result = genform_app::sweep(&req, &cancel, &progress)?;
     let interrupted = cancel.load(Ordering::SeqCst);
     if interrupted {
         eprintln!("interrupted: writing the {} finished runs; unfinished ones are left out", result.runs.len());
     }
-    sweep::write(&result, &req.scene, &req.out)?;
+    genform_app::write_sweep(&result, &req.scene, &req.out)?;
     print!("{}", result.summary());
     eprintln!(
         "{} runs of {} combinations on {} → {}",

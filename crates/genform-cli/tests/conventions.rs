@@ -5,7 +5,6 @@
 mod common;
 
 use common::{example, genform, ok, root, s};
-use genform_app::formalism::FORMALISMS;
 
 #[test]
 fn completions_are_printed_for_bash_zsh_and_fish() {
@@ -26,7 +25,7 @@ fn sample_and_info_help_name_every_grammar_extension() {
     let tmp = tempfile::tempdir().unwrap();
     for verb in ["sample", "info"] {
         let help = ok(tmp.path(), &[verb, "--help"]).stdout();
-        for f in FORMALISMS {
+        for f in genform_app::formalisms() {
             for ext in f.extensions() {
                 assert!(help.contains(ext), "`{verb} --help` omits {ext}:\n{help}");
             }

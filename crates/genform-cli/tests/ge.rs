@@ -281,7 +281,8 @@ fn scene_mistakes_name_the_file_and_the_key() {
     let tmp = tempfile::tempdir().unwrap();
     let bad = small_scene(tmp.path(), "genr8_canopy.toml", &[("[ge]", "[ga]")]);
     let err = fails(tmp.path(), &["evolve", bad.to_str().unwrap()]);
-    assert!(err.contains("genr8_canopy.toml:") && err.contains("unknown field `ga`"), "{err}");
+    assert!(err.contains("genr8_canopy.toml:") && err.contains("[ga] sets optimizers of derivation trees"), "{err}");
+    assert!(err.contains("its optimizer settings go in [ge]"), "{err}");
     let bad = small_scene(
         tmp.path(),
         "genr8_canopy.toml",

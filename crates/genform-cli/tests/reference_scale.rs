@@ -4,10 +4,8 @@
 //! the default GA beats the reference's best (0.408, one run of 130
 //! generations) on the median of five seeds.
 
-use genform_app::objective::SceneObjective;
-use genform_app::scene_config::{LoadedScene, SceneConfig};
-use genform_app::{grammar, targets};
-use genform_evolve::{Algorithm, AnyOptimizer, Horizon, Optimizer, Stop, run};
+use genform_app::{Control, EvolveRequest};
+use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 mod common;
@@ -21,20 +19,13 @@ fn scene_path() -> std::path::PathBuf {
     root().join("examples/scenes/spaceship_reference_cpu.toml")
 }
 
-/// The best fitness of one default-GA run of `generations` generations.
-fn ga_best(scene: &LoadedScene, seed: u64, generations: usize) -> f64 {
-    let config = &scene.config;
-    let loaded = grammar::load(&config.grammar).unwrap();
-    let scorers = targets::build(config).unwrap();
-    let generator = loaded.generator.as_ref();
-    let objective = SceneObjective { generator, limits: loaded.limits, scorers: &scorers };
-    let horizon = Horizon { generations: Some(generations), evaluations: None, budget: None };
-    let mut opt =
-        AnyOptimizer::new(Algorithm::Ga, generator.graph(), &loaded.limits, &config.settings(), seed, horizon).unwrap();
-    let cancel = AtomicBool::new(false);
-    let stop = Stop { generations: Some(generations), budget: None, evaluations: None, cancel: &cancel };
-    run(&mut opt, &objective, &stop, |_, _| {}).unwrap();
-    opt.best().unwrap().fitness
+/// The best fitness of one default-GA run of `generations` generations
+/// (the run loop of `genform evolve`, writing nothing).
+fn ga_best(seed: u64, generations: usize) -> f64 {
+    let request =
+        EvolveRequest { scene: scene_path(), seed, generations: Some(generations), ..EvolveRequest::default() };
+    let outcome = genform_app::evolve(&request, Control::plain(Arc::new(AtomicBool::new(false)))).unwrap();
+    outcome.best_fitness.unwrap()
 }
 
 /// The acceptance of issue #23: the default GA's median best over seeds
@@ -43,9 +34,9 @@ fn ga_best(scene: &LoadedScene, seed: u64, generations: usize) -> f64 {
 /// docs/comparison.md.
 #[test]
 fn the_default_ga_beats_the_reference_on_its_own_scale() {
-    let scene = SceneConfig::load(&scene_path()).unwrap();
-    assert_eq!(scene.config.fitness().form, genform_score::Form::ReferenceCpu);
-    let mut best: Vec<f64> = (1..=5).map(|seed| ga_best(&scene, seed, 130)).collect();
+    let scene = genform_app::Scene::load(&scene_path(), &[]).unwrap();
+    assert_eq!(scene.scoring.fitness.form.as_deref(), Some("reference-cpu"));
+    let mut best: Vec<f64> = (1..=5).map(|seed| ga_best(seed, 130)).collect();
     eprintln!("best per seed: {best:?}");
     best.sort_by(f64::total_cmp);
     assert!(best[2] >= REFERENCE_BEST, "median best {} below the reference's {REFERENCE_BEST}: {best:?}", best[2]);

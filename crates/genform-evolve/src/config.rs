@@ -81,6 +81,27 @@ pub enum ConfigError {
     },
 }
 
+impl ConfigError {
+    /// The key of the refused setting in its scene table, dotted when it
+    /// is nested (`selection.first`, `mutation.drift`), so a scene can name
+    /// its position.
+    pub fn key(&self) -> &'static str {
+        match self {
+            ConfigError::Population(_) => "population",
+            ConfigError::Elitism { .. } => "elitism",
+            ConfigError::LengthBounds { min, max } if *min > 0 && *min < *max => "max_length",
+            ConfigError::LengthBounds { .. } => "min_length",
+            ConfigError::InitialLength { .. } | ConfigError::CodonLength { .. } => "initial_length",
+            ConfigError::MutationRate(_) => "mutation_rate",
+            ConfigError::MutationMix { .. } => "mutation",
+            ConfigError::CrossoverRetries => "crossover_retries",
+            ConfigError::Tournament("first") => "selection.first",
+            ConfigError::Tournament(_) => "selection.second",
+            ConfigError::Setting { name, .. } => name,
+        }
+    }
+}
+
 /// Fails with [`ConfigError::Setting`] unless `ok(value)`.
 pub(crate) fn require(name: &'static str, value: f64, requirement: &'static str, ok: bool) -> Result<(), ConfigError> {
     if ok { Ok(()) } else { Err(ConfigError::Setting { name, requirement, value }) }
@@ -456,9 +477,7 @@ impl MhConfig {
 
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if self.chains == 0 {
-            return Err(ConfigError::Population(0));
-        }
+        require("chains", self.chains as f64, "at least 1", self.chains >= 1)?;
         check_lengths(self.min_length, self.max_length, self.initial_length)?;
         probability("jump", self.jump)?;
         probability("drift", self.drift)?;
@@ -514,9 +533,7 @@ impl Default for SmcConfig {
 impl SmcConfig {
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        if self.particles == 0 {
-            return Err(ConfigError::Population(0));
-        }
+        require("particles", self.particles as f64, "at least 1", self.particles >= 1)?;
         if let Some(t) = self.temperature {
             require("temperature", t, "finite and > 0", t.is_finite() && t > 0.0)?;
         }

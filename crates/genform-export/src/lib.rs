@@ -77,7 +77,7 @@ pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
 pub use render::{Backdrop, Camera, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over};
 pub use stl::write_stl;
-pub use surfaces::{grown_to_y_up, surfaces_y_up};
+pub use surfaces::{grown_to_y_up, preview_y_up, surfaces_y_up};
 pub use svg::{SvgOptions, write_svg};
 
 /// The largest image side [`export`] accepts for [`Format::Png`].

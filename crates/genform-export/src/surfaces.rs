@@ -32,6 +32,27 @@ pub fn surfaces_y_up(scene: &Scene) -> Cow<'_, Scene> {
     Cow::Owned(turned)
 }
 
+/// `scene` as previews show grown surfaces: its surfaces and guides turned
+/// from their grown +z up to +y up ([`grown_to_y_up`]), so a picture shows
+/// the surface from above the way it grew.
+pub fn preview_y_up(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    for surface in &mut s.surfaces {
+        surface.positions.iter_mut().for_each(|p| *p = grown_to_y_up(*p));
+    }
+    for g in &mut s.guides {
+        match &mut g.kind {
+            genform_core::GuideKind::Point { at, .. } => *at = grown_to_y_up(*at),
+            genform_core::GuideKind::Mesh(m) => {
+                let mut mesh = (**m).clone();
+                mesh.positions.iter_mut().for_each(|p| *p = grown_to_y_up(*p));
+                *m = std::sync::Arc::new(mesh);
+            }
+        }
+    }
+    s
+}
+
 /// Whether every face corner and edge end of `s` names one of its vertices
 /// (what the previews check before drawing a surface, so a malformed one is
 /// left out instead of panicking).

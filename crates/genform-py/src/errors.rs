@@ -2,7 +2,7 @@
 //! error chain as its message and, for files that failed to compile, a
 //! `diagnostics` list of [`Diagnostic`]s (file, line, column, hints).
 
-use genform_app::source_text::SourceErrors;
+use genform_app::SourceErrors;
 use genform_core::Severity;
 use pyo3::exceptions::PyException;
 use pyo3::prelude::*;
@@ -141,15 +141,3 @@ macro_rules! whole {
     )*};
 }
 whole!(u8, u32, u64, usize);
-
-/// Keyword option `name` as a `T`; a value of the wrong kind raises
-/// [`GenformError`] naming the option.
-pub fn option<'py, T>(name: &str, value: &Bound<'py, PyAny>) -> PyResult<T>
-where
-    T: for<'a> FromPyObject<'a, 'py>,
-{
-    value.extract::<T>().map_err(|e| {
-        let e: PyErr = e.into();
-        error(format!("`{name}`: {}", e.value(value.py())))
-    })
-}

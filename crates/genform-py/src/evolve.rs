@@ -8,7 +8,7 @@
 //! callable and checks for Ctrl-C, which sets the run's cancel flag, so the
 //! run stops after the current generation.
 
-use genform_app::run::{self, AlgorithmChoice, Control, EvolveRequest, RunOutcome, Tick, Watch};
+use genform_app::{Control, EvolveRequest, RunOutcome, SteerSet, Tick, Watch};
 use genform_evolve::GenerationStats;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -80,7 +80,7 @@ enum Event {
 struct Relay(mpsc::Sender<Event>);
 
 impl Watch for Relay {
-    fn generation(&mut self, tick: &Tick) -> Option<run::SteerSet> {
+    fn generation(&mut self, tick: &Tick) -> Option<SteerSet> {
         let _ = self.0.send(Event::Generation(Box::new(tick.stats.clone()), tick.best, tick.seconds));
         None
     }
@@ -115,17 +115,14 @@ pub fn evolve(
     if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
         return Err(error("evolve() needs a scene (a .toml scene config or genform.Scene), not a grammar"));
     }
-    let algorithm = algorithm.map(AlgorithmChoice::from_name).transpose().or_raise()?;
-    let codon = genform_app::codon_scene::is_codon_scene(&path);
-    let set = match settings {
-        Some(kwargs) => {
-            let text: String = py.import("json")?.call_method1("dumps", (kwargs,))?.extract()?;
-            let updates: serde_json::Map<String, serde_json::Value> =
-                serde_json::from_str(&text).map_err(|e| error(format!("settings: {e}")))?;
-            let own = algorithm.unwrap_or(if codon { AlgorithmChoice::Ge } else { AlgorithmChoice::Ga }).section(codon);
-            genform_app::sweep::set::patch_from_json(own, &updates).or_raise()?
-        }
-        None => Vec::new(),
+    if let Some(name) = algorithm {
+        genform_app::check_algorithm(name).or_raise()?;
+    }
+    let keywords = crate::settings::keywords(settings)?;
+    let set = if keywords.is_empty() {
+        Vec::new()
+    } else {
+        genform_app::settings_patch(&path, algorithm, &keywords).or_raise()?
     };
     let request = EvolveRequest {
         scene: path,
@@ -135,7 +132,7 @@ pub fn evolve(
         evaluations: evaluations.map(|e| e.0),
         threads: threads.map(|t| t.0),
         out: out.filter(|o| !o.is_none()).map(path_arg).transpose()?,
-        algorithm,
+        algorithm: algorithm.map(str::to_string),
         set,
         ..EvolveRequest::default()
     };
@@ -151,7 +148,7 @@ pub fn evolve(
         s.spawn(move || {
             let mut relay = Relay(tx.clone());
             let control = Control { cancel: flag, schedule: Vec::new(), watch: Some(&mut relay) };
-            let _ = tx.send(Event::Done(Box::new(run::evolve(request, control))));
+            let _ = tx.send(Event::Done(Box::new(genform_app::evolve(request, control))));
         });
         loop {
             match py.detach(|| rx.lock().expect("not poisoned").recv_timeout(Duration::from_millis(50))) {
@@ -189,7 +186,7 @@ pub fn evolve(
         return Err(e);
     }
     let outcome = outcome.or_raise()?;
-    let stopped_by = if interrupted { "interrupted" } else { run::stop_reason_name(outcome.stopped_by) };
+    let stopped_by = if interrupted { "interrupted" } else { genform_app::stop_reason_name(outcome.stopped_by) };
     let best = best_model(py, &outcome)?;
     Ok(RunResult {
         best,
@@ -203,18 +200,17 @@ pub fn evolve(
     })
 }
 
-/// The run's best as a model: a tree scene's genome derived again (so the
-/// model has its genome), a codon scene's phenotype as built.
+/// The run's best as a model: a tree scene's genome with the run's own
+/// generator (so the model has its genome; nothing is compiled or
+/// voxelized again), a codon scene's phenotype as built.
 fn best_model(py: Python<'_>, outcome: &RunOutcome) -> PyResult<Option<Py<Model>>> {
     let Some(scene) = &outcome.best_scene else { return Ok(None) };
-    let core = match &outcome.best_genome {
-        Some(_) => Some(crate::scene::SceneCore::open(&outcome.scene).or_raise()?),
-        None => None,
-    };
-    let model = match (core, &outcome.best_genome) {
-        (Some(core), Some(genome)) => {
-            let (grammar, limits, genome) = (core.grammar.clone(), core.limits, genome.clone());
-            py.detach(|| grammar.derive(genome, limits)).or_raise()?
+    let model = match (&outcome.generator, &outcome.best_genome) {
+        (Some((path, loaded, limits)), Some(genome)) => {
+            let core =
+                Arc::new(py.detach(|| genform_app::GrammarHandle::with_generator(path, loaded.clone())).or_raise()?);
+            let genome = genome.clone();
+            py.detach(|| crate::grammar::derive(&core, genome, *limits)).or_raise()?
         }
         _ => Model::of_scene(scene.clone(), format!("{}: the best of the run", outcome.scene.display())),
     };

@@ -3,71 +3,25 @@
 //! exported, meshed into NumPy arrays.
 
 use anyhow::{Context, Result};
-use genform_app::formalism::{self, Formalism, LoadedGrammar, Sample, SampleRequest};
-use genform_app::grammar::{Loaded, express, genome_summary};
+use genform_app::{GrammarHandle, Sample, SampleRequest};
 use genform_core::scene::Tessellation;
 use genform_core::{Genome, Limits, Scene};
 use numpy::{PyArray1, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
-use crate::errors::{OrRaise, Whole, error, option};
+use crate::errors::{OrRaise, Whole, error};
 use crate::mesh;
 
 /// A compiled grammar, shared by the models drawn from it.
-pub struct GrammarCore {
-    /// The file it was compiled from.
-    pub path: PathBuf,
-    /// Its row of the formalism table.
-    pub formalism: &'static dyn Formalism,
-    /// The grammar as the CLI's verbs see it.
-    pub loaded: Box<dyn LoadedGrammar>,
-    /// Its generator graph, if the formalism has one.
-    pub generator: Option<Loaded>,
-    /// Why there is no generator graph (when there is none).
-    pub no_generator: String,
-}
+pub type GrammarCore = GrammarHandle;
 
-impl GrammarCore {
-    /// Compiles `path` with the formalism its extension names.
-    pub fn open(path: &Path) -> Result<Self> {
-        let formalism = formalism::for_path(path)?;
-        let loaded = formalism.load(path)?;
-        // A second compile for the generator: `into_generator` consumes the grammar.
-        let (generator, no_generator) = match formalism.load(path)?.into_generator() {
-            Ok(g) => (Some(g), String::new()),
-            Err(e) => (None, format!("{e:#}")),
-        };
-        Ok(GrammarCore { path: path.to_path_buf(), formalism, loaded, generator, no_generator })
-    }
-
-    /// The generator, or the error saying why there is none.
-    pub fn generator(&self) -> Result<&Loaded> {
-        self.generator.as_ref().ok_or_else(|| anyhow::anyhow!("{}", self.no_generator))
-    }
-
-    /// Parses a genome's JSON text against the generator graph.
-    pub fn parse_genome(&self, text: &str) -> Result<Genome> {
-        let g = self.generator()?;
-        Genome::from_json(text, g.generator.graph())
-            .with_context(|| format!("the genome does not fit grammar `{}`", g.name))
-    }
-
-    /// Expresses `genome` under `limits` into a model.
-    pub fn derive(self: &Arc<Self>, genome: Genome, limits: Limits) -> Result<Model> {
-        let g = self.generator()?;
-        let scene = express(g.generator.as_ref(), &genome, &limits)?;
-        let summary = format!("{}: {}", g.name, genome_summary(&scene, &genome));
-        Ok(Model {
-            body: Body::Scene(Box::new(scene)),
-            genome: Some(genome),
-            grammar: Some(self.clone()),
-            limits,
-            summary,
-        })
-    }
+/// Expresses `genome` under `limits` into a model of `core`.
+pub fn derive(core: &Arc<GrammarCore>, genome: Genome, limits: Limits) -> Result<Model> {
+    let (scene, summary) = core.derive(&genome, limits)?;
+    Ok(Model { body: Body::Scene(Box::new(scene)), genome: Some(genome), grammar: Some(core.clone()), limits, summary })
 }
 
 /// A compiled grammar of any formalism (`genform.load(path)`).
@@ -86,7 +40,7 @@ pub fn path_arg(obj: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
 /// Compiles a grammar file; the formalism follows the extension.
 pub fn load(path: &Bound<'_, PyAny>) -> PyResult<Grammar> {
     let path = path_arg(path)?;
-    Ok(Grammar { core: Arc::new(GrammarCore::open(&path).or_raise()?) })
+    Ok(Grammar { core: Arc::new(GrammarHandle::open(&path).or_raise()?) })
 }
 
 /// 8-bit sRGB as floats in [0, 1].
@@ -104,8 +58,8 @@ pub fn tag_color(name: &str) -> (f32, f32, f32) {
 #[pyfunction]
 /// The formalisms genform loads: `{"name", "extensions"}` per row.
 pub fn formalisms(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
-    formalism::FORMALISMS
-        .iter()
+    genform_app::formalisms()
+        .into_iter()
         .map(|f| {
             let d = PyDict::new(py);
             d.set_item("name", f.name())?;
@@ -116,48 +70,25 @@ pub fn formalisms(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 }
 
 /// `genform sample`'s options from keyword arguments (flag names without
-/// the dashes, `-` as `_`).
+/// the dashes, `-` as `_`), checked by the application's option table.
 fn request(seed: u64, options: Option<&Bound<'_, PyDict>>) -> PyResult<SampleRequest> {
     let mut r = SampleRequest { given: vec!["--seed".into()], ..SampleRequest::new(seed) };
     let Some(options) = options else { return Ok(r) };
+    let json = options.py().import("json")?;
     for (key, value) in options.iter() {
         let key: String = key.extract()?;
         if value.is_none() {
             continue;
         }
-        match key.as_str() {
-            "steps" => r.steps = Some(option::<Whole<u32>>("steps", &value)?.0),
-            "max_modules" => r.max_modules = Some(option::<Whole<usize>>("max_modules", &value)?.0),
-            "max_genes" => r.limits.max_genes = Some(option::<Whole<usize>>("max_genes", &value)?.0),
-            "max_depth" => r.limits.max_depth = Some(option::<Whole<usize>>("max_depth", &value)?.0),
-            "max_primitives" => r.limits.max_primitives = Some(option::<Whole<usize>>("max_primitives", &value)?.0),
-            "string_out" => r.string_out = Some(path_arg(&value)?),
-            "genome_out" => r.genome_out = Some(path_arg(&value)?),
-            "world" => r.world = Some(path_arg(&value)?),
-            "trace" => r.trace = Some(path_arg(&value)?),
-            "env" => r.env = Some(path_arg(&value)?),
-            "schem_version" => r.schem_version = option::<Whole<u8>>("schem_version", &value)?.0,
-            "data_version" => r.data_version = option("data_version", &value)?,
-            "every_step" => r.every_step = option("every_step", &value)?,
-            "smooth" => r.smooth = Some(option::<Whole<u32>>("smooth", &value)?.0),
-            "box" => {
-                r.box_corners = Some(match value.extract::<String>() {
-                    Ok(s) => s,
-                    Err(_) => {
-                        let corners: Vec<i64> = option("box", &value)?;
-                        corners.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(",")
-                    }
-                })
+        // Paths (str or os.PathLike) as text; everything else as JSON.
+        let value: serde_json::Value = match value.extract::<PathBuf>() {
+            Ok(p) if !value.is_instance_of::<pyo3::types::PyString>() => p.display().to_string().into(),
+            _ => {
+                let text: String = json.call_method1("dumps", (value,))?.extract()?;
+                serde_json::from_str(&text).map_err(|e| error(format!("option `{key}`: {e}")))?
             }
-            other => {
-                return Err(error(format!(
-                    "sample() got an unknown option `{other}`; options are `genform sample`'s flags without the \
-                     dashes: steps, max_modules, max_genes, max_depth, max_primitives, string_out, genome_out, box, \
-                     world, trace, env, schem_version, data_version, every_step, smooth"
-                )));
-            }
-        }
-        r.given.push(format!("--{}", key.replace('_', "-")));
+        };
+        r.set(&key, &value, &|s| Ok(PathBuf::from(s))).map_err(|e| error(format!("sample(): {e:#}")))?;
     }
     Ok(r)
 }
@@ -200,7 +131,7 @@ impl Grammar {
     #[pyo3(signature = (seed = Whole(0), **options))]
     fn sample(&self, py: Python<'_>, seed: Whole<u64>, options: Option<&Bound<'_, PyDict>>) -> PyResult<Model> {
         let mut req = request(seed.0, options)?;
-        formalism::check_request(self.core.formalism, &req).or_raise()?;
+        self.core.formalism.check(&req).or_raise()?;
         let core = self.core.clone();
         py.detach(move || sample(&core, &mut req)).or_raise()
     }
@@ -211,7 +142,7 @@ impl Grammar {
         let genome = self.core.parse_genome(&text).or_raise()?;
         let limits = self.core.generator().or_raise()?.limits;
         let core = self.core.clone();
-        py.detach(move || core.derive(genome, limits)).or_raise()
+        py.detach(move || derive(&core, genome, limits)).or_raise()
     }
 
     fn __repr__(&self) -> String {
@@ -234,7 +165,7 @@ pub fn genome_text(py: Python<'_>, genome: &Bound<'_, PyAny>) -> PyResult<String
 /// One sample; grammars whose formalism can save the genome
 /// (`--genome-out`) keep it, so the model can be derived again and evolved.
 fn sample(core: &Arc<GrammarCore>, req: &mut SampleRequest) -> Result<Model> {
-    let wants_genome = core.generator.is_some() && core.formalism.sample_options().contains(&"--genome-out");
+    let wants_genome = core.generator.is_some() && core.formalism.reads("genome-out");
     let dir = tempdir_if(wants_genome && req.genome_out.is_none())?;
     if let Some(d) = &dir {
         req.genome_out = Some(d.join("genome.json"));
@@ -400,12 +331,12 @@ impl Model {
             .detach(|| match &self.body {
                 Body::Sample(s) => {
                     let extra = self.grammar.as_ref().map_or(&[][..], |g| g.formalism.output_extensions());
-                    if !formalism::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
-                        return Err(genform_app::output::unknown_format(&path, extra));
+                    if !genform_app::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
+                        return Err(genform_app::unknown_format(&path, extra));
                     }
                     s.write(&path, &genform_export::ExportOptions::default())
                 }
-                Body::Scene(scene) => genform_app::output::write_model(scene, &path),
+                Body::Scene(scene) => genform_app::write_model(scene, &path),
             })
             .or_raise()?;
         Ok(written.iter().map(|p| p.display().to_string()).collect())
@@ -459,5 +390,5 @@ pub fn derive_with_limits(
     let genome = grammar.core.parse_genome(genome).or_raise()?;
     let limits = Limits { max_genes: limits.0, max_depth: limits.1, max_primitives: limits.2 };
     let core = grammar.core.clone();
-    py.detach(move || core.derive(genome, limits)).or_raise()
+    py.detach(move || derive(&core, genome, limits)).or_raise()
 }

@@ -1,8 +1,7 @@
 //! The `genform` Python package's native module (`genform._genform`): a
-//! thin layer over the application library `genform-app`: grammars load
-//! through its formalism table, scenes through `SceneFile`, runs through its
-//! run loop; this crate only converts between Rust and Python (and adapts
-//! step-based optimizers to ask/tell).
+//! thin layer over the application library `genform-app`: grammars,
+//! scenes, runs and ask/tell optimizers are its handles and requests; this
+//! crate only converts between Rust and Python.
 
 mod errors;
 mod evolve;
@@ -20,7 +19,7 @@ fn _genform(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("GenformError", m.py().get_type::<errors::GenformError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // Compile warnings and the like go to the process's stderr, as the CLI's do.
-    genform_app::notes::set_sink(Box::new(|text| eprintln!("{text}")), false);
+    genform_app::set_sink(Box::new(|text| eprintln!("{text}")), false);
     m.add_class::<errors::Diagnostic>()?;
     m.add_class::<grammar::Grammar>()?;
     m.add_class::<grammar::Model>()?;

@@ -1,8 +1,10 @@
 //! `genform.Optimizer`: ask/tell for a fitness computed in Python (or on
 //! Ray workers), over [`genform_evolve::ask_tell::AskTell`].
 
+use genform_app::AskTellRequest;
 use genform_core::Limits;
-use genform_evolve::{AnyOptimizer, Horizon, Optimizer as _};
+use genform_evolve::ask_tell::{AskTell, Score};
+use genform_evolve::{Horizon, Optimizer as _};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use rayon::prelude::*;
@@ -12,8 +14,6 @@ use std::time::Duration;
 use crate::errors::{OrRaise, Whole, error};
 use crate::grammar::{Grammar, GrammarCore, Model, path_arg};
 use crate::scene::{Scene, SceneCore};
-use crate::settings;
-use genform_evolve::ask_tell::{AskTell, Score};
 
 /// Ask/tell over any algorithm.
 #[pyclass(module = "genform")]
@@ -60,7 +60,7 @@ pub fn budget_arg(budget: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Duration
         return Duration::try_from_secs_f64(secs).map(Some).map_err(|_| error(format!("budget: {secs} seconds")));
     }
     let text: String = b.extract()?;
-    genform_app::scene_config::parse_duration(&text).map(Some).or_raise()
+    genform_app::parse_duration(&text).map(Some).or_raise()
 }
 
 #[pymethods]
@@ -78,21 +78,18 @@ impl Optimizer {
         budget: Option<&Bound<'_, PyAny>>,
         settings: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let alg = settings::algorithm(algorithm).or_raise()?;
         let target = Target::from_py(target)?;
         let (grammar, limits, scene) = match &target {
             Target::Grammar(g) => (g.clone(), g.generator().or_raise()?.limits, None),
             Target::Scene(s) => (s.grammar.clone(), s.limits, Some(s.path.as_path())),
         };
-        let settings = settings::apply(scene, alg, settings)?;
+        let settings = crate::settings::keywords(settings)?;
         let (seed, generations, evaluations) = (seed.0, generations.map(|g| g.0), evaluations.map(|e| e.0));
         let horizon = Horizon { generations, budget: budget_arg(budget)?, evaluations };
-        let graph = grammar.generator().or_raise()?.generator.graph();
-        let opt = AnyOptimizer::new(alg, graph, &limits, &settings, seed, horizon)
-            .map_err(|e| error(format!("{}: {e}", alg.name())))?;
-        let inner = AskTell::new(opt).map_err(error)?;
-        let _ = py;
-        Ok(Optimizer { inner, grammar, limits, algorithm: alg.name(), stats: Vec::new() })
+        let generator = grammar.generator().or_raise()?.clone();
+        let request = AskTellRequest { generator: &generator, limits, scene, algorithm, seed, horizon, settings };
+        let opt = py.detach(|| genform_app::ask_tell(request)).or_raise()?;
+        Ok(Optimizer { inner: opt.inner, grammar, limits, algorithm: opt.algorithm, stats: Vec::new() })
     }
 
     /// The models to score next (the same list until `tell`).
@@ -104,7 +101,7 @@ impl Optimizer {
         }
         let (grammar, limits) = (&self.grammar, self.limits);
         let models: anyhow::Result<Vec<Model>> =
-            py.detach(|| genomes.into_par_iter().map(|g| grammar.derive(g, limits)).collect());
+            py.detach(|| genomes.into_par_iter().map(|g| crate::grammar::derive(grammar, g, limits)).collect());
         models.or_raise()
     }
 
@@ -166,7 +163,7 @@ impl Optimizer {
     fn best(&self, py: Python<'_>) -> PyResult<Option<Model>> {
         let Some(b) = self.inner.optimizer().best() else { return Ok(None) };
         let genome = b.genome.clone();
-        py.detach(|| self.grammar.derive(genome, self.limits)).map(Some).or_raise()
+        py.detach(|| crate::grammar::derive(&self.grammar, genome, self.limits)).map(Some).or_raise()
     }
 
     /// The best genome so far as JSON text.

@@ -148,6 +148,63 @@ impl Fitness {
         body - len_term
     }
 
+    /// The terms of [`Fitness::eval`] as named components (`good`, `bad`,
+    /// `overlap`, `length`, as the form has them): what each adds, its
+    /// weight, the measure it is made of and the most it can add. They add
+    /// up to the fitness (to rounding, in the `linear` form).
+    pub fn components(&self, c: &Counts, len: usize) -> Vec<crate::contract::Component> {
+        let t = c.target;
+        let s = |a: f64, b: f64, x: f64| if b > a { smootherstep(a, b, x) } else { 0.0 };
+        let term = |name: &'static str, measure: f64, weight: f64, value: f64, sign: f64| crate::contract::Component {
+            name,
+            measure,
+            target: None,
+            weight,
+            error: None,
+            value,
+            max: (sign * weight).max(0.0),
+        };
+        let mut out = match self.form {
+            Form::Paper => {
+                let wrong = c.bad + c.overlap + c.outside;
+                vec![
+                    term("good", c.good, self.good, self.good * s(0.0, t, c.good), 1.0),
+                    term("bad", wrong, self.bad, -(self.bad * s(0.0, 2.0 * t, wrong)), -1.0),
+                ]
+            }
+            Form::SeparateOverlap => {
+                let wrong = c.overlap + c.outside;
+                vec![
+                    term("good", c.good, self.good, self.good * s(0.0, t, c.good), 1.0),
+                    term("bad", c.bad, self.bad, -(self.bad * s(0.0, 3.0 * t, c.bad)), -1.0),
+                    term("overlap", wrong, self.overlap, -(self.overlap * s(0.0, c.good + c.bad, wrong)), -1.0),
+                ]
+            }
+            Form::Image => vec![
+                term("good", c.good, self.good, self.good * s(0.0, t, c.good), 1.0),
+                term("bad", c.bad + c.outside, self.bad, -(self.bad * s(0.0, t, c.bad + c.outside)), -1.0),
+            ],
+            Form::ReferenceCpu => {
+                let wrong = (t - c.good).max(0.0) + c.bad;
+                vec![
+                    term("good", c.good, self.good, self.good * s(0.0, t, c.good), 1.0),
+                    term("bad", wrong, self.bad, -(self.bad * s(0.0, 2.0 * t, wrong)), -1.0),
+                ]
+            }
+            Form::Linear => {
+                let per = |v: f64| if t > 0.0 { v / t } else { 0.0 };
+                vec![
+                    term("good", c.good, self.good, per(self.good * c.good), 1.0),
+                    term("bad", c.bad + c.outside, self.bad, per(-(self.bad * (c.bad + c.outside))), -1.0),
+                    term("overlap", c.overlap, self.overlap, per(-(self.overlap * c.overlap)), -1.0),
+                ]
+            }
+        };
+        let len_term = self.length * smootherstep(self.length_from, self.length_to, len as f64);
+        out.push(term("length", len as f64, self.length, -len_term, -1.0));
+        out
+    }
+
     /// The best fitness a model of `len` genes can reach (everything
     /// covered, nothing wrong), for reporting results as a fraction.
     pub fn max_reachable(&self, len: usize) -> f64 {

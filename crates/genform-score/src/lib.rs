@@ -1,9 +1,15 @@
-//! Scorers for genform Scenes: voxel volume targets and image silhouette
-//! targets. Scorers read only a [`genform_core::Scene`]; they reduce it to
-//! [`Counts`], which a [`Fitness`] turns into the number optimizers maximize.
+//! Scorers for genform Scenes: voxel volume targets, image silhouette
+//! targets and Genr8's surface criteria, behind one contract
+//! ([`contract`]: a [`Scorer`] gives a fitness, named components with
+//! weights and reachable maxima, and steerable knobs). Scorers read only a
+//! [`genform_core::Scene`]; counting targets reduce it to [`Counts`],
+//! which a [`Fitness`] turns into the number optimizers maximize.
 
+pub mod contract;
+pub mod descriptor;
 pub mod fitness;
 pub mod image;
+pub mod look;
 
 mod bits;
 pub mod error;
@@ -15,6 +21,8 @@ pub mod volume;
 pub mod voxel_set;
 pub mod voxelize;
 
+pub use contract::{Component, Counter, FITNESS_WEIGHTS, Knob, Score, Scorer, Scratch, Sum, Targets};
+pub use descriptor::Descriptor;
 pub use fitness::{Counts, Fitness, Form, smootherstep};
 
 pub use error::ScoreError;

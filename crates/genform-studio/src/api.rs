@@ -5,7 +5,7 @@
 use axum::extract::{FromRequest, Request};
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use genform_app::source_text::SourceErrors;
+use genform_app::SourceErrors;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 

@@ -5,16 +5,13 @@
 use axum::extract::{Path as UrlPath, Query, State};
 use axum::http::{HeaderValue, header};
 use axum::response::{IntoResponse, Response};
-use genform_app::codon_scene::is_codon_scene;
-use genform_app::formalism::{self, SampleRequest};
-use genform_app::scene_config::SceneConfig;
-use genform_app::scene_file::SceneFile;
+use genform_app::{SAMPLE_OPTIONS, SampleRequest};
 use genform_core::Scene;
-use genform_export::{ExportOptions, Format, Granularity};
+use genform_export::Format;
 use serde::Deserialize;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+use std::sync::Mutex;
 
 use super::api::{ApiError, JsonBody, blocking, bytes_response};
 use super::assets::content_type;
@@ -22,20 +19,11 @@ use super::files::walk;
 use super::sample_store::{KEEP_SAMPLES, SampleEntry};
 use super::state::{App, Shared};
 
-/// The `sample` options the studio passes on (the others name side files).
-pub const STUDIO_OPTIONS: &[&str] = &[
-    "steps",
-    "max-modules",
-    "box",
-    "env",
-    "smooth",
-    "max-genes",
-    "max-depth",
-    "max-primitives",
-    "granularity",
-    "schem-version",
-    "data-version",
-];
+/// The `sample` options the studio passes on: those of the application's
+/// table it offers (the others name files outside its roots).
+pub fn studio_options() -> Vec<&'static str> {
+    SAMPLE_OPTIONS.iter().filter(|o| o.studio).map(|o| o.name).collect()
+}
 
 /// `GET /api/grammars`.
 pub async fn grammars(State(app): State<Shared>) -> Result<Response, ApiError> {
@@ -74,64 +62,47 @@ fn list(app: &App) -> Vec<Value> {
 /// The list entry of `file`, or `None` when it is neither a grammar nor a scene.
 fn describe(file: &Path, shown: &str) -> Option<Value> {
     let stem = file.file_name()?.to_string_lossy().split('.').next().unwrap_or_default().to_string();
-    if formalism::ends_with_any(file, &[".toml"]) {
-        let text = std::fs::read_to_string(file).ok()?;
-        let table = text.parse::<toml::Table>().ok()?;
-        table.get("grammar")?.as_str()?;
-        let title = table.get("description").and_then(|d| d.as_str()).map_or(stem, str::to_string);
+    if genform_app::ends_with_any(file, &[".toml"]) {
+        let summary = genform_app::Scene::summary(file)?;
+        let title = summary.description.filter(|d| !d.is_empty()).unwrap_or(stem);
         let mut item = json!({ "path": shown, "kind": "scene", "title": title });
-        match SceneFile::load(file, &[]) {
+        item["formalism"] = json!(if summary.codons { "codon scene" } else { "scene" });
+        item["algorithms"] = json!(summary.algorithms);
+        match summary.scene {
             Ok(scene) => {
-                let codon = matches!(scene, SceneFile::Codon(_));
-                item["formalism"] = json!(if codon { "codon scene" } else { "scene" });
-                item["algorithms"] = json!(scene.algorithms());
-                item["criteria"] = json!(scene.steerable().values());
+                item["criteria"] = json!(genform_app::Steerable::of_scene(&scene).values());
                 if let Some(targets) = targets_of(&scene, shown) {
                     item["targets"] = targets;
                 }
             }
-            Err(e) => {
-                let codon = is_codon_scene(file);
-                item["formalism"] = json!(if codon { "codon scene" } else { "scene" });
-                item["algorithms"] = json!(if codon { &["ge", "random"][..] } else { &["ga"][..] });
-                item["error"] = json!(format!("{e:#}"));
-            }
+            Err(e) => item["error"] = json!(format!("{e:#}")),
         }
         return Some(item);
     }
-    let f = formalism::for_path(file).ok()?;
-    let options: Vec<&str> = f
-        .sample_options()
-        .iter()
-        .chain(formalism::COMMON_SAMPLE_OPTIONS)
-        .map(|o| o.trim_start_matches("--"))
-        .filter(|o| STUDIO_OPTIONS.contains(o))
-        .collect();
+    let f = genform_app::formalism_of(file).ok()?;
+    let options: Vec<&str> = studio_options().into_iter().filter(|o| f.reads(o)).collect();
     Some(json!({ "path": shown, "kind": "grammar", "formalism": f.name(), "title": stem, "options": options }))
 }
 
 /// `{"glb": url | null, "images": [url]}`: where the scene's targets can be
 /// fetched (`shown` is its root path); `None` for scenes without targets.
 pub fn targets(file: &Path, shown: &str) -> Option<Value> {
-    targets_of(&SceneFile::load(file, &[]).ok()?, shown)
+    targets_of(&genform_app::Scene::load(file, &[]).ok()?, shown)
 }
 
 /// [`targets`] of a loaded scene.
-fn targets_of(scene: &SceneFile, shown: &str) -> Option<Value> {
-    let config = scene.targets()?;
+fn targets_of(scene: &genform_app::Scene, shown: &str) -> Option<Value> {
+    let pictures = scene.target_pictures();
+    if !scene.has_target_model() && pictures.is_empty() {
+        return None;
+    }
     let q = query_path(shown);
-    let volume = config.volume.is_some().then(|| format!("/api/target.glb?path={q}"));
-    let images: Vec<String> = (0..config.image.len())
-        .filter(|i| !formalism::ends_with_any(&config.image[*i].target, &[".pfm"]))
+    let volume = scene.has_target_model().then(|| format!("/api/target.glb?path={q}"));
+    let images: Vec<String> = (0..pictures.len())
+        .filter(|i| !genform_app::ends_with_any(&pictures[*i], &[".pfm"]))
         .map(|i| format!("/api/target.png?path={q}&index={i}"))
         .collect();
     Some(json!({ "glb": volume, "images": images }))
-}
-
-/// The targets part of a scene: a tree scene's config, or a codon scene's
-/// targets seen as one (surface scenes have none).
-fn target_config(file: &Path) -> anyhow::Result<SceneConfig> {
-    SceneFile::load(file, &[])?.targets().ok_or_else(|| anyhow::anyhow!("a surface scene has no target model"))
 }
 
 /// A root path as a query value (`/` kept; the few characters that would
@@ -153,30 +124,11 @@ pub struct TargetQuery {
 pub async fn target_glb(State(app): State<Shared>, Query(q): Query<TargetQuery>) -> Result<Response, ApiError> {
     let file = app.roots.resolve(&q.path)?;
     let bytes = blocking(move || {
-        let config = target_config(&file).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
-        let volume =
-            config.volume.ok_or_else(|| ApiError::not_found(format!("`{}` has no [volume] target", q.path)))?;
-        let mut scene = Scene::new();
-        let tag = scene.tag("target");
-        for (i, t) in volume.target.iter().enumerate() {
-            let mesh = match (&t.mesh, &t.grammar, &t.genome) {
-                (Some(m), _, _) => genform_app::targets::read_mesh(m),
-                (None, Some(g), Some(genome)) => {
-                    genform_app::targets::fixed_genome_scene(g, genome).map(|s| flatten(&s))
-                }
-                _ => continue,
-            }
-            .map_err(|e| ApiError::bad_request(format!("[[volume.target]] #{}: {e:#}", i + 1)))?;
-            let id = scene.mesh(&Arc::new(mesh));
-            let transform = glam::Affine3A::IDENTITY;
-            scene.instances.push(genform_core::Instance {
-                transform,
-                primitive: genform_core::Primitive::Mesh(id),
-                tag,
-            });
+        let scene = genform_app::Scene::load(&file, &[]).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
+        if !scene.has_target_model() {
+            return Err(ApiError::not_found(format!("`{}` has no [volume] target", q.path)));
         }
-        genform_export::export(&scene, Format::Glb, &ExportOptions::default())
-            .map_err(|e| ApiError::internal(format!("cannot export the target: {e}")))
+        scene.target_glb().map_err(|e| ApiError::bad_request(format!("{e:#}")))
     })
     .await?;
     Ok(bytes_response("model/gltf-binary", bytes))
@@ -186,27 +138,17 @@ pub async fn target_glb(State(app): State<Shared>, Query(q): Query<TargetQuery>)
 pub async fn target_png(State(app): State<Shared>, Query(q): Query<TargetQuery>) -> Result<Response, ApiError> {
     let file = app.roots.resolve(&q.path)?;
     let bytes = blocking(move || {
-        let config = target_config(&file).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
-        let image = config
-            .image
-            .get(q.index)
-            .filter(|i| formalism::ends_with_any(&i.target, &[".png"]))
+        let scene = genform_app::Scene::load(&file, &[]).map_err(|e| ApiError::from_anyhow(&e, |n| app.shown(n)))?;
+        let picture = scene
+            .target_pictures()
+            .into_iter()
+            .nth(q.index)
+            .filter(|p| genform_app::ends_with_any(p, &[".png"]))
             .ok_or_else(|| ApiError::not_found(format!("`{}` has no PNG image target #{}", q.path, q.index)))?;
-        std::fs::read(&image.target).map_err(|e| ApiError::not_found(format!("{}: {e}", image.target.display())))
+        std::fs::read(&picture).map_err(|e| ApiError::not_found(format!("{}: {e}", picture.display())))
     })
     .await?;
     Ok(bytes_response("image/png", bytes))
-}
-
-/// A scene's triangles as one mesh.
-fn flatten(scene: &Scene) -> genform_core::Mesh {
-    let mut m = genform_core::Mesh { name: "target".into(), ..genform_core::Mesh::default() };
-    scene.for_each_triangle(Default::default(), |t, _| {
-        let i = m.positions.len() as u32;
-        m.positions.extend(t);
-        m.triangles.push([i, i + 1, i + 2]);
-    });
-    m
 }
 
 /// The folder (under `--out`) of grammars saved from the editor.
@@ -236,7 +178,7 @@ pub async fn save(State(app): State<Shared>, JsonBody(body): JsonBody<SaveBody>)
         let dir = app.out.join(if body.draft { DRAFTS } else { SAVED });
         std::fs::create_dir_all(&dir).map_err(|e| ApiError::internal(format!("cannot create the folder: {e}")))?;
         let file = dir.join(&name);
-        genform_app::output::write_atomic(&file, body.text.as_bytes())
+        genform_app::write_atomic(&file, body.text.as_bytes())
             .map_err(|e| ApiError::internal(format!("cannot save {name}: {e:#}")))?;
         let shown = app.roots.display(&file.canonicalize().unwrap_or(file)).unwrap_or_default();
         Ok(json!({ "path": shown }))
@@ -257,7 +199,7 @@ fn checked_name(name: &str) -> Result<String, ApiError> {
             "`{name}`: a grammar's name is a plain file name (letters, digits, _ - .; at most 100 characters)"
         )));
     }
-    formalism::for_path(Path::new(name)).map_err(|e| ApiError::bad_request(e.to_string()))?;
+    genform_app::formalism_of(Path::new(name)).map_err(|e| ApiError::bad_request(e.to_string()))?;
     Ok(name.to_string())
 }
 
@@ -299,9 +241,9 @@ pub struct SampleBody {
 pub async fn sample(State(app): State<Shared>, JsonBody(body): JsonBody<SampleBody>) -> Result<Response, ApiError> {
     let file = app.roots.resolve(&body.path)?;
     let answer = blocking(move || {
-        let f = formalism::for_path(&file).map_err(|e| ApiError::bad_request(e.to_string()))?;
-        let (request, export) = request(&app, body.seed, &body.options)?;
-        formalism::check_request(f, &request).map_err(|e| ApiError::bad_request(e.to_string()))?;
+        let f = genform_app::formalism_of(&file).map_err(|e| ApiError::bad_request(e.to_string()))?;
+        let request = request(&app, body.seed, &body.options)?;
+        f.check(&request).map_err(|e| ApiError::bad_request(e.to_string()))?;
         let shown = |name: &str| app.shown(name);
         let loaded = f.load(&file).map_err(|e| ApiError::from_anyhow(&e, shown))?;
         let sampled = loaded.sample(&request).map_err(|e| ApiError::from_anyhow(&e, shown))?;
@@ -316,7 +258,7 @@ pub async fn sample(State(app): State<Shared>, JsonBody(body): JsonBody<SampleBo
         let (id, _) = app.samples.insert(|id| SampleEntry {
             sample: sampled,
             formats: formats.clone(),
-            export,
+            export: request.export(),
             dir: app.out.join(".samples").join(format!("s{id}")),
             stem: stem.unwrap_or_default(),
             seed: body.seed,
@@ -331,51 +273,25 @@ pub async fn sample(State(app): State<Shared>, JsonBody(body): JsonBody<SampleBo
     Ok(axum::Json(answer).into_response())
 }
 
-/// The `SampleRequest` of a studio request: each option checked as the
-/// command line checks it, and named in `given` so the formalism table
-/// refuses options its formalism does not read with the CLI's message.
-fn request(
-    app: &App,
-    seed: u64,
-    options: &serde_json::Map<String, Value>,
-) -> Result<(SampleRequest, ExportOptions), ApiError> {
+/// The `SampleRequest` of a studio request: each option checked by the
+/// application's table as every door's are (files resolved within the
+/// roots), and noted as given so the formalism table refuses options its
+/// formalism does not read with the command line's message.
+fn request(app: &App, seed: u64, options: &serde_json::Map<String, Value>) -> Result<SampleRequest, ApiError> {
     let mut r = SampleRequest::new(seed);
-    let mut export = ExportOptions::default();
+    let offered = studio_options();
     for (raw, value) in options {
         let name = raw.trim_start_matches("--").replace('_', "-");
-        let bad = |what: &str| ApiError::bad_request(format!("option `{name}` must be {what}, not {value}"));
-        let int = |max: u64| value.as_u64().filter(|v| *v <= max).ok_or_else(|| bad(&format!("an integer 0..={max}")));
-        let text = || value.as_str().ok_or_else(|| bad("a string"));
-        match name.as_str() {
-            "steps" => r.steps = Some(int(u32::MAX as u64)? as u32),
-            "smooth" => r.smooth = Some(int(u32::MAX as u64)? as u32),
-            "max-modules" => r.max_modules = Some(int(usize::MAX as u64)? as usize),
-            "max-genes" => r.limits.max_genes = Some(int(usize::MAX as u64)? as usize),
-            "max-depth" => r.limits.max_depth = Some(int(usize::MAX as u64)? as usize),
-            "max-primitives" => r.limits.max_primitives = Some(int(usize::MAX as u64)? as usize),
-            "schem-version" => {
-                r.schem_version = value.as_u64().filter(|v| (2..=3).contains(v)).ok_or_else(|| bad("2 or 3"))? as u8
-            }
-            "data-version" => {
-                r.data_version =
-                    value.as_i64().and_then(|v| i32::try_from(v).ok()).ok_or_else(|| bad("a 32-bit integer"))?
-            }
-            "box" => r.box_corners = Some(text()?.to_string()),
-            "env" => r.env = Some(app.roots.resolve(text()?)?),
-            "granularity" => {
-                export.granularity =
-                    text()?.parse::<Granularity>().map_err(|e| ApiError::bad_request(format!("granularity: {e}")))?
-            }
-            _ => {
-                return Err(ApiError::bad_request(format!(
-                    "unknown option `{raw}`; the studio's sample options are {}",
-                    STUDIO_OPTIONS.join(", ")
-                )));
-            }
+        if !offered.contains(&name.as_str()) {
+            return Err(ApiError::bad_request(format!(
+                "unknown option `{raw}`; the studio's sample options are {}",
+                offered.join(", ")
+            )));
         }
-        r.given.push(format!("--{name}"));
+        let resolve = |p: &str| app.roots.resolve(p).map_err(|e| anyhow::anyhow!("{}", e.message));
+        r.set(&name, value, &resolve).map_err(|e| ApiError::bad_request(format!("{e:#}")))?;
     }
-    Ok((r, export))
+    Ok(r)
 }
 
 /// The formats a sample can be written in: the Scene formats (block

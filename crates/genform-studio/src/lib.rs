@@ -4,7 +4,7 @@
 //!
 //! - [`explore`]: the grammar list and sampling (the formalism table).
 //! - [`runs`]: `evolve` runs on their own threads through the shared run
-//!   loop (`genform_app::run::evolve`), watched over Server-Sent Events,
+//!   loop (`genform_app::evolve`), watched over Server-Sent Events,
 //!   paused, stopped and steered.
 //! - [`breed`]: interactive evolution, the GA driven by ask/tell with the
 //!   user's favourites as the fitness.

@@ -10,7 +10,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use tokio::sync::broadcast;
 
 use super::api::{ApiError, Table};
-use genform_app::run::{SteerEntry, SteerSet, Steerable};
+use genform_app::{SteerEntry, SteerSet, Steerable};
 
 /// Every run of this server.
 #[derive(Default)]

@@ -1,5 +1,5 @@
 //! Evolution runs: each on a thread of its own through the shared run loop
-//! (`genform_app::run::evolve`, as `genform evolve` runs, writing the same
+//! (`genform_app::evolve`, as `genform evolve` runs, writing the same
 //! run folder under `--out/<id>/`), watched by a
 //! [`Watcher`] that records every generation, publishes it on a broadcast
 //! channel (Server-Sent Events), holds the run while it is paused and
@@ -28,9 +28,7 @@ use super::explore;
 use super::files::resolve_in;
 use super::run_handle::{Event, MAX_RUNNING, RunHandle, RunState, Status};
 use super::state::Shared;
-use genform_app::run::{
-    self, AlgorithmChoice, Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch,
-};
+use genform_app::{Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch};
 
 /// A gallery picture is made every this many generations (and at the end,
 /// as the run folder's `gallery.png`).
@@ -141,15 +139,14 @@ pub struct StartBody {
 /// `POST /api/runs`: starts a run; 201 with its id.
 pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody>) -> Result<Response, ApiError> {
     let file = app.roots.resolve(&body.scene)?;
-    if !genform_app::formalism::ends_with_any(&file, &[".toml"]) {
+    if !genform_app::ends_with_any(&file, &[".toml"]) {
         return Err(ApiError::bad_request(format!("`{}` is not a scene (.toml)", body.scene)));
     }
-    let algorithm = match &body.algorithm {
-        None => None,
-        Some(name) => Some(AlgorithmChoice::from_name(name).map_err(|e| ApiError::bad_request(format!("{e}")))?),
-    };
+    if let Some(name) = &body.algorithm {
+        genform_app::check_algorithm(name).map_err(|e| ApiError::bad_request(format!("{e}")))?;
+    }
     if let Some(b) = &body.budget {
-        genform_app::scene_config::parse_duration(b).map_err(|e| ApiError::bad_request(format!("budget: {e:#}")))?;
+        genform_app::parse_duration(b).map_err(|e| ApiError::bad_request(format!("budget: {e:#}")))?;
     }
     if body.threads.is_some_and(|t| t == 0 || t > 256) {
         return Err(ApiError::bad_request("threads must be 1..=256"));
@@ -158,15 +155,17 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     let shown_app = app.clone();
     let scene = body.scene.clone();
     let set = body.set.clone();
-    let (steerable, targets) = blocking(move || {
-        // The scene as the run will load it: a bad patch is refused here, with the scene's own mistakes.
-        let loaded = genform_app::sweep::set::parse_patch(&set)
-            .and_then(|patch| genform_app::scene_file::SceneFile::load(&probe, &patch))
-            .map_err(|e| ApiError::from_anyhow(&e, |n| shown_app.shown(n)))?;
-        Ok((loaded.steerable(), explore::targets(&probe, &scene)))
+    let asked = body.algorithm.clone();
+    let (steerable, targets, algorithm) = blocking(move || {
+        // The scene as the run will load it: a bad patch or an algorithm
+        // that cannot evolve it is refused here, with the scene's own mistakes.
+        let shown = |e: anyhow::Error| ApiError::from_anyhow(&e, |n| shown_app.shown(n));
+        let loaded =
+            genform_app::parse_patch(&set).and_then(|patch| genform_app::Scene::load(&probe, &patch)).map_err(shown)?;
+        let algorithm = loaded.algorithm(asked.as_deref()).map_err(shown)?;
+        Ok((Steerable::of_scene(&loaded), explore::targets(&probe, &scene), algorithm))
     })
     .await?;
-    let codon = genform_app::codon_scene::is_codon_scene(&file);
     let (tx, _) = broadcast::channel(CHANNEL);
     let handle = {
         let mut guard = app.runs.inner.lock().unwrap_or_else(|p| p.into_inner());
@@ -183,7 +182,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
             folder: app.out.join(&id),
             id,
             scene: body.scene.clone(),
-            algorithm: algorithm.map_or(if codon { "ge" } else { "ga" }, |a| a.name()).to_string(),
+            algorithm: algorithm.to_string(),
             seed: body.seed,
             targets,
             cancel: Arc::new(AtomicBool::new(false)),
@@ -217,7 +216,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         evaluations: body.evaluations,
         threads: body.threads,
         out: Some(handle.folder.clone()),
-        algorithm,
+        algorithm: Some(algorithm.to_string()),
         set: body.set,
         ..EvolveRequest::default()
     };
@@ -234,7 +233,7 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
 fn run_thread(h: Arc<RunHandle>, args: EvolveRequest) {
     let mut watcher = Watcher(h.clone());
     let control = Control { cancel: h.cancel.clone(), schedule: Vec::new(), watch: Some(&mut watcher) };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run::evolve(&args, control)));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| genform_app::evolve(&args, control)));
     let (status, error) = match result {
         Ok(Ok(_)) if h.cancel.load(Ordering::SeqCst) => (Status::Stopped, None),
         Ok(Ok(_)) => (Status::Finished, None),
@@ -352,10 +351,9 @@ pub async fn steer(
     if set.is_empty() {
         return Err(ApiError::bad_request("nothing to change: give `weights` or `targets`"));
     }
-    let mut probe = s.steerable.clone();
     let mut pending = s.pending.clone().unwrap_or_default();
     pending.merge(set.clone());
-    probe.apply(&pending).map_err(|e| ApiError::bad_request(format!("{e:#}")))?;
+    s.steerable.check(&pending).map_err(|e| ApiError::bad_request(format!("{e:#}")))?;
     s.pending = Some(pending);
     // The change is taken after the generation under way (or, paused, at once).
     let generation = match s.generation {

@@ -1,7 +1,7 @@
 //! The samples a studio has made, by number: the models `POST /api/sample`
 //! answered with, kept for download until newer ones push them out.
 
-use genform_app::formalism::Sample;
+use genform_app::Sample;
 use genform_export::ExportOptions;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};

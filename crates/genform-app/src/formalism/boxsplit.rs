@@ -12,9 +12,16 @@ use genform_export::{BlockOptions, ExportOptions, Format};
 use glam::IVec3;
 use std::path::{Path, PathBuf};
 
-use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
-use crate::grammar::Loaded;
-use crate::output::{output_format, write_atomic, write_model_with};
+use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, reject};
+use super::options::SampleRequest;
+use super::row::{Formalism, Genomes, Loaded, LoadedGrammar, Sample, ends_with_any, no_generator};
+use super::scene_keys::{ModelSettings, SceneLimits};
+use crate::files::{output_format, write_atomic, write_model_with};
+use crate::text::compile_file;
+use crate::toml_doc::Doc;
+
+/// Default wraps of box-split and graph codon sources.
+pub(crate) const DEFAULT_SOURCE_WRAPS: u32 = 2;
 
 /// The box-split row of the table.
 pub struct BoxSplitGrammars;
@@ -36,13 +43,92 @@ impl Formalism for BoxSplitGrammars {
         REGION
     }
 
-    fn genomes(&self) -> super::Genomes {
-        super::Genomes::Codons
+    fn genomes(&self) -> Genomes {
+        Genomes::Codons
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, genform_boxsplit::compile)?;
         Ok(Box::new(BoxFile { path: path.to_path_buf(), grammar }))
+    }
+
+    fn scene_keys(&self) -> &'static [&'static str] {
+        &["box", "mapper.max_wraps"]
+    }
+
+    fn limit_keys(&self, _model: &ModelSettings) -> &'static [&'static str] {
+        &[]
+    }
+
+    fn check_scene(&self, doc: &Doc, model: &ModelSettings) -> Result<()> {
+        if model.box_corners.is_none() {
+            return Err(doc.refuse(
+                &["grammar"],
+                "a box-split scene derives in a box: add `box = [x0, y0, z0, x1, y1, z1]` (two opposite corners, \
+                 inclusive)",
+            ));
+        }
+        Ok(())
+    }
+
+    fn decoder(
+        &self,
+        grammar: &Path,
+        model: &ModelSettings,
+        _limits: &SceneLimits,
+        codon_range: u32,
+    ) -> Result<Box<dyn CodonDecoder>> {
+        let compiled = compile_file(grammar, genform_boxsplit::compile)?;
+        let (min, max) = box_bounds(model.box_corners.context("a box-split scene needs `box`")?);
+        let wraps = model.mapper.max_wraps.unwrap_or(DEFAULT_SOURCE_WRAPS);
+        Ok(Box::new(BoxDecoder { grammar: compiled, min, max, range: codon_range, wraps }))
+    }
+
+    fn kind(&self, _model: &ModelSettings) -> &'static str {
+        "box-split"
+    }
+}
+
+/// The flat `.bsg` box `[x0, y0, z0, x1, y1, z1]` as `min..max_exclusive`.
+pub(crate) fn box_bounds(c: [i32; 6]) -> (IVec3, IVec3) {
+    let a = IVec3::new(c[0], c[1], c[2]);
+    let b = IVec3::new(c[3], c[4], c[5]);
+    (a.min(b), a.max(b) + IVec3::ONE)
+}
+
+/// Codons as the choices of a box-split derivation.
+struct BoxDecoder {
+    grammar: BoxGrammar,
+    min: IVec3,
+    max: IVec3,
+    range: u32,
+    wraps: u32,
+}
+
+impl CodonDecoder for BoxDecoder {
+    fn scratch(&self) -> DecodeScratch {
+        Box::new(())
+    }
+
+    fn decode(
+        &self,
+        codons: &[u32],
+        _scratch: &mut DecodeScratch,
+        scene: &mut Scene,
+        detail: bool,
+        lap: &mut dyn FnMut(Phase),
+    ) -> Result<Decoded, Rejection> {
+        let mut source = genform_core::CodonSource::new(codons, self.range, self.wraps);
+        let d = self.grammar.derive(None, self.min, self.max, &mut source, &DeriveOptions::default());
+        lap(Phase::Mapping);
+        if source.exhausted() {
+            return Err(reject(Invalid::Exhausted, detail, || {
+                format!("the {} codons ran out after {} wraps", codons.len(), source.wraps())
+            }));
+        }
+        let d = d.map_err(|f| reject(Invalid::Derivation, detail, || f.message.clone()))?;
+        scene.blocks.push(d.blocks);
+        Ok(Decoded { codons_read: source.used(), wraps: source.wraps(), grammar_file: None })
     }
 }
 

@@ -3,13 +3,22 @@
 
 use anyhow::{Context, Result};
 use genform_core::Scene;
-use genform_graph::{DEFAULT_MAX_ELEMENTS, Graph, GraphGrammar};
+use genform_graph::{Graph, GraphGrammar};
 use std::path::{Path, PathBuf};
 
-use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
-use crate::grammar::Loaded;
-use crate::output::{write_atomic_with, write_model_with};
+use super::boxsplit::DEFAULT_SOURCE_WRAPS;
+use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, reject};
+use super::options::SampleRequest;
+use super::row::{Formalism, Genomes, Loaded, LoadedGrammar, Sample, ends_with_any, no_generator};
+use super::scene_keys::{ModelSettings, SceneLimits};
+use crate::files::{write_atomic_with, write_model_with};
+use crate::text::compile_file;
+use genform_core::scene::{Polygon, Shape2dKind};
 use genform_export::ExportOptions;
+use glam::{Vec2, Vec3};
+
+/// Default `[limits] elements` of graph grammars in codon scenes.
+pub const SCENE_MAX_ELEMENTS: usize = 20_000;
 
 /// The graph-grammar row of the table.
 pub struct GraphGrammars;
@@ -34,14 +43,134 @@ impl Formalism for GraphGrammars {
         YAML
     }
 
-    fn genomes(&self) -> super::Genomes {
-        super::Genomes::Codons
+    fn genomes(&self) -> Genomes {
+        Genomes::Codons
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
         let grammar = compile_file(path, genform_graph::compile)?;
         Ok(Box::new(GraphFile { path: path.to_path_buf(), grammar }))
     }
+
+    fn scene_keys(&self) -> &'static [&'static str] {
+        &["steps", "mapper.max_wraps"]
+    }
+
+    fn limit_keys(&self, _model: &ModelSettings) -> &'static [&'static str] {
+        &["elements"]
+    }
+
+    fn decoder(
+        &self,
+        grammar: &Path,
+        model: &ModelSettings,
+        limits: &SceneLimits,
+        codon_range: u32,
+    ) -> Result<Box<dyn CodonDecoder>> {
+        let compiled = compile_file(grammar, genform_graph::compile)?;
+        Ok(Box::new(GraphDecoder {
+            grammar: compiled,
+            steps: model.steps.map(|s| s as usize),
+            max_elements: limits.elements.unwrap_or(SCENE_MAX_ELEMENTS),
+            range: codon_range,
+            wraps: model.mapper.max_wraps.unwrap_or(DEFAULT_SOURCE_WRAPS),
+        }))
+    }
+
+    fn kind(&self, _model: &ModelSettings) -> &'static str {
+        "graph"
+    }
+}
+
+/// Codons as the choices of a graph derivation (which matches, which
+/// options).
+struct GraphDecoder {
+    grammar: GraphGrammar,
+    steps: Option<usize>,
+    max_elements: usize,
+    range: u32,
+    wraps: u32,
+}
+
+impl CodonDecoder for GraphDecoder {
+    /// The last derived graph, whose allocations the next derivation reuses.
+    fn scratch(&self) -> DecodeScratch {
+        Box::new(None::<Graph>)
+    }
+
+    fn decode(
+        &self,
+        codons: &[u32],
+        scratch: &mut DecodeScratch,
+        scene: &mut Scene,
+        detail: bool,
+        lap: &mut dyn FnMut(Phase),
+    ) -> Result<Decoded, Rejection> {
+        let kept = scratch.downcast_mut::<Option<Graph>>().expect("a graph scratch holds a graph");
+        let mut source = genform_core::CodonSource::new(codons, self.range, self.wraps);
+        let d = self.grammar.derive_reusing(&mut source, self.steps, self.max_elements, kept.take());
+        lap(Phase::Mapping);
+        if source.exhausted() {
+            return Err(reject(Invalid::Exhausted, detail, || {
+                format!("the {} codons ran out after {} wraps", codons.len(), source.wraps())
+            }));
+        }
+        let d = d.map_err(|e| {
+            let reason = match e {
+                genform_graph::DeriveError::TooManyElements { .. } => Invalid::ElementLimit,
+                _ => Invalid::Derivation,
+            };
+            reject(reason, detail, || e.to_string())
+        })?;
+        *scene = d.graph.to_scene();
+        *kept = Some(d.graph);
+        drawing_as_polygons(scene);
+        Ok(Decoded { codons_read: source.used(), wraps: source.wraps(), grammar_file: None })
+    }
+}
+
+/// Segments of circles drawn as polygons.
+const CIRCLE_SEGMENTS: usize = 16;
+
+/// Adds a polygon (z = 0) for every filled 2D shape and stroked line of a
+/// graph drawing, so the image and volume scorers, which see polygons but
+/// not SVG shapes, see the drawing: rectangles as quads, circles as
+/// 16-gons, lines as quads as wide as their stroke. Paths and images are
+/// left out.
+fn drawing_as_polygons(scene: &mut Scene) {
+    let at = |p: Vec2| Vec3::new(p.x, p.y, 0.0);
+    let mut polygons = Vec::new();
+    for shape in &scene.shapes2d {
+        let points: Vec<Vec3> = match &shape.kind {
+            Shape2dKind::Rect { min, size } => {
+                let (a, b) = (*min, *min + *size);
+                vec![at(a), at(Vec2::new(b.x, a.y)), at(b), at(Vec2::new(a.x, b.y))]
+            }
+            Shape2dKind::Circle { center, radius } => (0..CIRCLE_SEGMENTS)
+                .map(|i| {
+                    let t = std::f32::consts::TAU * i as f32 / CIRCLE_SEGMENTS as f32;
+                    at(*center + *radius * Vec2::new(t.cos(), t.sin()))
+                })
+                .collect(),
+            Shape2dKind::Line { from, to } => {
+                let width = shape
+                    .attributes
+                    .iter()
+                    .find(|(k, _)| k == "stroke-width")
+                    .and_then(|(_, v)| v.parse::<f32>().ok())
+                    .unwrap_or(genform_graph::DEFAULT_STROKE_WIDTH as f32);
+                let d = *to - *from;
+                if d.length_squared() == 0.0 || width.is_nan() || width <= 0.0 {
+                    continue;
+                }
+                let n = Vec2::new(-d.y, d.x).normalize() * (0.5 * width);
+                vec![at(*from + n), at(*to + n), at(*to - n), at(*from - n)]
+            }
+            Shape2dKind::Path { .. } | Shape2dKind::Image { .. } => continue,
+        };
+        polygons.push(Polygon { points, tag: shape.tag });
+    }
+    scene.polygons.extend(polygons);
 }
 
 /// A compiled graph grammar and the file it came from.
@@ -53,7 +182,7 @@ struct GraphFile {
 impl LoadedGrammar for GraphFile {
     fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
         let grammar = &self.grammar;
-        let max_elements = request.max_modules.unwrap_or(DEFAULT_MAX_ELEMENTS);
+        let max_elements = request.max_modules.unwrap_or(genform_graph::DEFAULT_MAX_ELEMENTS);
         let d = grammar
             .derive(&mut request.rng(), request.steps.map(|s| s as usize), max_elements)
             .with_context(|| format!("{}: the derivation stopped", grammar.name()))?;
@@ -117,5 +246,28 @@ impl Sample for GraphSample {
         } else {
             write_model_with(self.scene(), out, export)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use genform_core::scene::Shape2d;
+
+    #[test]
+    fn drawings_become_polygons_the_scorers_see() {
+        let mut scene = Scene::new();
+        let shape = |kind, attributes: Vec<(String, String)>| Shape2d { kind, attributes: attributes.into(), tag: 0 };
+        scene.shapes2d.push(shape(Shape2dKind::Rect { min: Vec2::ZERO, size: Vec2::new(2.0, 1.0) }, vec![]));
+        scene.shapes2d.push(shape(Shape2dKind::Circle { center: Vec2::ONE, radius: 0.5 }, vec![]));
+        let wide = vec![("stroke-width".to_string(), "0.4".to_string())];
+        scene.shapes2d.push(shape(Shape2dKind::Line { from: Vec2::ZERO, to: Vec2::new(0.0, 3.0) }, wide));
+        scene.shapes2d.push(shape(Shape2dKind::Path { d: "M 0 0".into() }, vec![]));
+        drawing_as_polygons(&mut scene);
+        assert_eq!(scene.polygons.len(), 3);
+        assert_eq!(scene.polygons[0].points[2], Vec3::new(2.0, 1.0, 0.0));
+        assert_eq!(scene.polygons[1].points.len(), CIRCLE_SEGMENTS);
+        let line = &scene.polygons[2].points;
+        assert!((line[0].x - -0.2).abs() < 1e-6 && (line[3].x - 0.2).abs() < 1e-6, "{line:?}");
     }
 }

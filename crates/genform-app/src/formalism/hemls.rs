@@ -7,9 +7,11 @@ use genform_core::{Scene, SourceFile, Surface};
 use genform_hemls::{Environment, GrowError, Settings};
 use std::path::{Path, PathBuf};
 
-use super::{Formalism, LoadedGrammar, Sample, SampleRequest, compile_file, ends_with_any, no_generator};
-use crate::grammar::Loaded;
-use crate::output::write_model;
+use super::options::{SAMPLE_STREAM, SampleRequest};
+use super::row::{Formalism, Genomes, Loaded, LoadedGrammar, Sample, ends_with_any, no_generator};
+use crate::files::{write_atomic, write_model};
+use crate::text::compile_file;
+use genform_export::preview_y_up;
 
 /// The HEMLS row of the table.
 pub struct Hemls;
@@ -37,8 +39,8 @@ impl Formalism for Hemls {
         &["--steps", "--env", "--every-step", "--smooth"]
     }
 
-    fn genomes(&self) -> super::Genomes {
-        super::Genomes::Phenotype
+    fn genomes(&self) -> Genomes {
+        Genomes::Phenotype
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
@@ -50,9 +52,9 @@ impl Formalism for Hemls {
 /// Reads an environment file (`--env`) into growth settings and an
 /// environment; mesh boundaries are read relative to the file.
 pub fn load_environment(path: &Path) -> Result<(Settings, Environment)> {
-    let text = crate::source_text::read_text(path, "environment")?;
+    let text = crate::text::read_text(path, "environment")?;
     let file = SourceFile::new(path.display().to_string(), text);
-    let spec = genform_hemls::parse_env(&file).map_err(|d| crate::source_text::SourceErrors::new(&d, false))?;
+    let spec = genform_hemls::parse_env(&file).map_err(|d| crate::text::SourceErrors::new(&d, false))?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut load_mesh = |rel: &str| -> Result<genform_core::Mesh, String> {
         genform_export::read_mesh_file(&base.join(rel)).map_err(|e| e.to_string())
@@ -101,7 +103,7 @@ impl HemlsFile {
         seed: u64,
         keep_steps: bool,
     ) -> Result<(genform_hemls::Growth, Vec<Surface>)> {
-        let mut rng = genform_core::Rng::stream(seed, &[super::SAMPLE_STREAM]);
+        let mut rng = genform_core::Rng::stream(seed, &[SAMPLE_STREAM]);
         let mut steps = Vec::new();
         let mut record = |_: u32, map: &genform_hemls::Map| {
             if keep_steps {
@@ -203,11 +205,7 @@ impl LoadedGrammar for HemlsFile {
 
 /// Writes `scene` to `out`; PNG previews are seen with +z up.
 fn write_surface_scene(scene: &Scene, out: &Path) -> Result<Vec<PathBuf>> {
-    if ends_with_any(out, &[".png"]) {
-        write_model(&crate::codon_report::z_up(scene), out)
-    } else {
-        write_model(scene, out)
-    }
+    if ends_with_any(out, &[".png"]) { write_model(&preview_y_up(scene), out) } else { write_model(scene, out) }
 }
 
 /// `dir/name.ext` → `dir/name-step{k}.ext`.
@@ -269,13 +267,12 @@ impl Grown {
         let (w, h) = PANEL_PX;
         let mut all = self.scene.clone();
         all.surfaces = self.steps.clone();
-        let camera = genform_export::fitted_camera(&crate::codon_report::z_up(&all), w, h);
+        let camera = genform_export::fitted_camera(&preview_y_up(&all), w, h);
         let tiles: Vec<genform_export::plot::Tile> = (0..self.steps.len())
             .map(|k| {
                 let opts =
                     genform_export::RenderOptions { width: w, height: h, camera: Some(camera), ..Default::default() };
-                let (rgb, width, height) =
-                    genform_export::render_rgb(&crate::codon_report::z_up(&self.step_scene(k)), &opts);
+                let (rgb, width, height) = genform_export::render_rgb(&preview_y_up(&self.step_scene(k)), &opts);
                 genform_export::plot::Tile { rgb, width, height, caption: self.step_label(k) }
             })
             .collect();
@@ -358,11 +355,11 @@ impl Sample for Grown {
             return write_surface_scene(&self.scene, out);
         }
         if ends_with_any(out, &[".png"]) {
-            crate::output::write_atomic(out, &self.steps_png())?;
+            write_atomic(out, &self.steps_png())?;
             return Ok(vec![out.to_path_buf()]);
         }
         if ends_with_any(out, PICTURES) {
-            crate::output::write_atomic(out, self.steps_svg()?.as_bytes())?;
+            write_atomic(out, self.steps_svg()?.as_bytes())?;
             return Ok(vec![out.to_path_buf()]);
         }
         let mut written = Vec::with_capacity(self.steps.len());

@@ -10,9 +10,10 @@ use genform_lsystem::{Command, LSystem, LsGenerator, View};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::{FileAssets, Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
-use crate::grammar::Loaded;
-use crate::output::write_atomic_with;
+use super::options::SampleRequest;
+use super::row::{FileAssets, Formalism, Genomes, Loaded, LoadedGrammar, Sample, SceneSample, sample_genome};
+use crate::files::write_atomic_with;
+use crate::text::compile_file;
 
 /// The L-system row of the table.
 pub struct LSystems;
@@ -30,8 +31,8 @@ impl Formalism for LSystems {
         &["--steps", "--max-modules", "--string-out", "--genome-out", "--max-genes", "--max-depth", "--max-primitives"]
     }
 
-    fn genomes(&self) -> super::Genomes {
-        super::Genomes::Tree
+    fn genomes(&self) -> Genomes {
+        Genomes::Tree
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {

@@ -6,8 +6,12 @@ use genform_core::Generator;
 use genform_shape::ShapeGrammar;
 use std::path::Path;
 
-use super::{FileAssets, Formalism, LoadedGrammar, Sample, SampleRequest, SceneSample, compile_file, sample_genome};
-use crate::grammar::{Loaded, express, genome_summary};
+use super::options::SampleRequest;
+use super::row::{
+    FileAssets, Formalism, Genomes, Loaded, LoadedGrammar, Sample, SceneSample, express, genome_summary, sample_genome,
+};
+use super::scene_keys::PRIMITIVE_BYTES;
+use crate::text::compile_file;
 
 /// The shape-grammar row of the table.
 pub struct ShapeGrammars;
@@ -25,8 +29,8 @@ impl Formalism for ShapeGrammars {
         &["--genome-out", "--max-genes", "--max-depth", "--max-primitives", "--footprints"]
     }
 
-    fn genomes(&self) -> super::Genomes {
-        super::Genomes::Tree
+    fn genomes(&self) -> Genomes {
+        Genomes::Tree
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
@@ -76,7 +80,7 @@ fn check_file_limits(g: &ShapeGrammar, request: &SampleRequest) -> Result<()> {
             "primitives",
             request.limits.max_primitives,
             l.max_primitives,
-            crate::scene_config::PRIMITIVE_BYTES,
+            PRIMITIVE_BYTES,
             "primitives",
             "--max-primitives",
         ),

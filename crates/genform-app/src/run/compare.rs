@@ -2,16 +2,16 @@
 //! budget on one scene, with the traces, the best individual of each
 //! algorithm, a table and a plot.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use genform_evolve::{Individual, Objective, Optimizer, Stop, StopReason, run};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use super::{AlgorithmChoice, Control, title, worker_pool};
-use crate::comparison::{self, Trace, TracePoint};
-use crate::grammar::LimitOverrides;
-use crate::output::write_atomic;
-use crate::scene_config::parse_duration;
+use super::control::Control;
+use super::session::{title, worker_pool};
+use crate::files::write_atomic;
+use crate::formalism::LimitOverrides;
+use crate::report::comparison::{self, Trace, TracePoint};
 
 /// One `compare`, as a door asks for it.
 #[derive(Clone, Debug, Default)]
@@ -22,8 +22,9 @@ pub struct CompareRequest {
     pub budget: String,
     /// Runs per algorithm.
     pub runs: usize,
-    /// The algorithms (empty: the scene kind's default set).
-    pub algorithms: Vec<AlgorithmChoice>,
+    /// The algorithms by name (empty: those of the optimizer table that
+    /// `compare` runs by default for the scene's genomes).
+    pub algorithms: Vec<String>,
     /// Seed of each algorithm's first run (run `r` has `seed + r`).
     pub seed: u64,
     /// Worker threads (`None`: all cores).
@@ -47,43 +48,6 @@ pub struct CompareOutcome {
     pub budget: Duration,
     /// The table of results (Markdown).
     pub summary: String,
-}
-
-/// Runs `request` on a tree or codon scene; each finished run's line and
-/// any interruption reach `control`'s watcher as notes.
-pub fn compare(request: &CompareRequest, control: Control) -> Result<CompareOutcome> {
-    let patch = crate::sweep::set::parse_patch(&request.set)?;
-    match crate::scene_file::SceneFile::load(&request.scene, &patch)? {
-        crate::scene_file::SceneFile::Tree(scene) => super::tree::compare(request, scene, control),
-        crate::scene_file::SceneFile::Codon(scene) => super::codon::compare(request, scene, control),
-    }
-}
-
-/// The budget of each run, once `runs` is checked too.
-pub(super) fn race_budget(r: &CompareRequest) -> Result<Duration> {
-    let budget = parse_duration(&r.budget).context("--budget")?;
-    if r.runs == 0 {
-        bail!("--runs must be at least 1");
-    }
-    Ok(budget)
-}
-
-/// The algorithms `given` names (`default` when none), each once, as
-/// `check` turns them into the scene's kind of algorithm.
-pub(super) fn distinct<A: PartialEq>(
-    given: &[AlgorithmChoice],
-    default: &[AlgorithmChoice],
-    check: impl Fn(AlgorithmChoice) -> Result<A>,
-) -> Result<Vec<A>> {
-    let given = if given.is_empty() { default } else { given };
-    let mut algorithms: Vec<A> = Vec::new();
-    for alg in given {
-        let alg = check(*alg)?;
-        if !algorithms.contains(&alg) {
-            algorithms.push(alg);
-        }
-    }
-    Ok(algorithms)
 }
 
 /// What differs between tree and codon runs of `compare`.

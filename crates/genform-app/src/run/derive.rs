@@ -2,18 +2,13 @@
 //! (or the tree scene it was evolved in, under the scene's limits), or
 //! codons with the codon scene they were evolved in.
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use genform_core::Scene;
 use std::path::{Path, PathBuf};
 
-use super::scene_limits;
-use crate::codon_objective::{CodonObjective, read_codons};
-use crate::codon_scene::LoadedCodonScene;
-use crate::formalism::{self, Genomes};
-use crate::grammar::{self, LimitOverrides, express, genome_summary};
-use crate::scene_config::SceneConfig;
-use crate::scene_file::SceneFile;
-use crate::sweep::set::parse_patch;
+use crate::formalism::{self, Genomes, LimitOverrides, Loaded, express, genome_summary, read_codons};
+use crate::objective::{Model, OpenScene};
+use crate::optimizers::Searches;
 
 /// One `derive`, as a door asks for it.
 #[derive(Clone, Debug, Default)]
@@ -39,9 +34,14 @@ pub struct Derived {
 /// Rebuilds the model `request` names.
 pub fn derive(r: &DeriveRequest) -> Result<Derived> {
     if r.file.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
-        return match SceneFile::load(&r.file, &parse_patch(&r.set)?)? {
-            SceneFile::Tree(scene) => tree_scene(r, scene.config),
-            SceneFile::Codon(scene) => codon(r, &scene),
+        let scene = super::control::load_scene(&r.file, &r.set, None)?;
+        return match scene.searches {
+            // Trees need no scorer: the targets are not built.
+            Searches::Trees => match Model::open(&scene, r.limits)? {
+                Model::Tree { loaded, limits } => tree(&loaded, limits, &r.genome),
+                Model::Codons(_) => bail!("a tree scene makes trees"),
+            },
+            Searches::Codons => codon(r, &OpenScene::open(scene, r.limits)?),
         };
     }
     if let Ok(f) = formalism::for_path(&r.file)
@@ -54,12 +54,12 @@ pub fn derive(r: &DeriveRequest) -> Result<Derived> {
             r.genome.display()
         );
     }
-    let loaded = grammar::load(&r.file)?;
+    let loaded = formalism::load_generator(&r.file)?;
     tree(&loaded, r.limits.apply(loaded.limits), &r.genome)
 }
 
 /// A tree genome under `limits`.
-fn tree(loaded: &grammar::Loaded, limits: genform_core::Limits, genome: &Path) -> Result<Derived> {
+fn tree(loaded: &Loaded, limits: genform_core::Limits, genome: &Path) -> Result<Derived> {
     let genome = loaded.read_genome(genome)?;
     if genome.len() > limits.max_genes {
         bail!(
@@ -73,26 +73,15 @@ fn tree(loaded: &grammar::Loaded, limits: genform_core::Limits, genome: &Path) -
     Ok(Derived { scene, summary })
 }
 
-/// A tree genome with its scene's grammar and limits.
-fn tree_scene(r: &DeriveRequest, config: SceneConfig) -> Result<Derived> {
-    let loaded = grammar::load(&config.grammar)?;
-    let limits = scene_limits(&config, loaded.limits, r.limits);
-    tree(&loaded, limits, &r.genome)
-}
-
 /// Codons with their codon scene's decoder.
-fn codon(r: &DeriveRequest, scene: &LoadedCodonScene) -> Result<Derived> {
-    if r.limits != LimitOverrides::default() {
-        bail!(
-            "--max-genes, --max-depth and --max-primitives limit derivation trees; a codon scene sets its limits in its [limits] table"
-        );
-    }
-    let objective = CodonObjective::new(scene)?;
+fn codon(r: &DeriveRequest, open: &OpenScene) -> Result<Derived> {
+    let objective =
+        open.codon_objective(open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?).context("a codon scene")?;
     let codons = read_codons(&r.genome)?;
     let e = objective.express(&codons).map_err(|why| {
         anyhow::anyhow!("{} is an invalid individual of {}: {why}", r.genome.display(), r.file.display())
     })?;
     let summary =
-        format!("{}: {} codons, {} read, fitness {}", r.file.display(), codons.len(), e.codons_read, e.fitness);
+        format!("{}: {} codons, {} read, fitness {}", r.file.display(), codons.len(), e.codons_read, e.score.fitness);
     Ok(Derived { scene: e.scene, summary })
 }

@@ -22,13 +22,14 @@
 //! new ones. Re-scoring is deterministic at any thread count, so a replay is
 //! identical. See ARCHITECTURE.md ("genform serve").
 
-use crate::codon_scene::CodonSceneConfig;
-use crate::scene_config::FitnessConfig;
 use anyhow::{Context, Result, bail};
-use genform_score::{SurfaceCriterion, SurfaceObjective, SurfaceScorer};
+use genform_score::{Knob, Scorer};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
+use std::sync::Arc;
+
+use crate::toml_doc::unknown_name;
 
 /// One change: new values of named weights and targets.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -66,125 +67,138 @@ pub struct SteerEntry {
     pub set: SteerSet,
 }
 
-/// The names `[fitness]` weights go by.
-pub const FITNESS_WEIGHTS: [&str; 4] = ["good", "bad", "overlap", "length"];
+/// What a run's steering can change: the knobs of its scorer, as they
+/// are now ([`genform_score::Scorer::knobs`]), with a scorer to check
+/// changes against.
+#[derive(Clone)]
+pub struct Steerable {
+    knobs: Vec<Knob>,
+    formula: Option<&'static str>,
+    /// A scorer with these knobs (cheap: no targets), which refuses what
+    /// the real one would.
+    probe: Arc<dyn Scorer>,
+}
 
-/// What a scene's steering changes: its fitness constants or its surface goals.
-#[derive(Clone, Debug)]
-pub enum Steerable {
-    /// `[fitness]` weights.
-    Fitness(FitnessConfig),
-    /// `[surface]` goals.
-    Surface(SurfaceObjective),
+impl std::fmt::Debug for Steerable {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Steerable").field("knobs", &self.knobs).field("formula", &self.formula).finish()
+    }
+}
+
+impl Default for Steerable {
+    fn default() -> Self {
+        let probe: Arc<dyn Scorer> = Arc::new(genform_score::Sum(Vec::new()));
+        Steerable { knobs: Vec::new(), formula: None, probe }
+    }
 }
 
 impl Steerable {
-    /// Applies `set`, refusing unknown names (with a did-you-mean) and
-    /// non-finite values; surface weights must be at least 0 and one of
-    /// them positive (`[fitness]` weights may be negative: a target to
-    /// avoid). Nothing changes on error.
-    pub fn apply(&mut self, set: &SteerSet) -> Result<()> {
-        let mut next = self.clone();
-        for (name, v) in set.weights.iter().chain(&set.targets) {
-            if !v.is_finite() {
-                bail!("`{name}` must be a finite number, not {v}");
-            }
-        }
-        match &mut next {
-            Steerable::Fitness(f) => {
-                if let Some(name) = set.targets.keys().next() {
-                    bail!(
-                        "this scene's [fitness] has weights only ({}), no target `{name}`; targets belong to Genr8 \
-                         surface scenes",
-                        FITNESS_WEIGHTS.join(", ")
-                    );
-                }
-                for (name, v) in &set.weights {
-                    let slot = match name.as_str() {
-                        "good" => &mut f.good,
-                        "bad" => &mut f.bad,
-                        "overlap" => &mut f.overlap,
-                        "length" => &mut f.length,
-                        _ => bail!("{}", unknown(name, "[fitness] weight", &FITNESS_WEIGHTS)),
-                    };
-                    *slot = *v;
-                }
-            }
-            Steerable::Surface(s) => {
-                let names = SurfaceCriterion::ALL.map(|c| c.name());
-                if let Some((name, v)) = set.weights.iter().find(|(_, v)| **v < 0.0) {
-                    bail!("the weight of `{name}` must be at least 0, not {v}");
-                }
-                for (name, v, weight) in
-                    set.weights.iter().map(|(n, v)| (n, v, true)).chain(set.targets.iter().map(|(n, v)| (n, v, false)))
-                {
-                    let c = SurfaceCriterion::from_name(name)
-                        .ok_or_else(|| anyhow::anyhow!("{}", unknown(name, "[surface] criterion", &names)))?;
-                    let goal = s.goal_mut(c);
-                    if weight {
-                        goal.weight = *v;
-                    } else {
-                        goal.target = *v;
-                    }
-                }
-                SurfaceScorer::new(*s).map_err(|e| anyhow::anyhow!("[surface]: {e}"))?;
-            }
-        }
-        *self = next;
-        Ok(())
+    /// The knobs of `scorer`.
+    pub fn of(scorer: &dyn Scorer) -> Steerable {
+        let probe: Arc<dyn Scorer> = match scorer.with_knobs(&[]) {
+            Ok(p) => Arc::from(p),
+            Err(_) => Arc::new(genform_score::Sum(Vec::new())),
+        };
+        Steerable { knobs: scorer.knobs(), formula: scorer.chart(), probe }
+    }
+
+    /// The knobs of `scene`'s scorers as its file sets them (no target is
+    /// read: listing scenes reads this).
+    pub fn of_scene(scene: &crate::scene::Scene) -> Steerable {
+        let probe: Arc<dyn Scorer> = Arc::from(scene.scoring.probe());
+        Steerable { knobs: probe.knobs(), formula: probe.chart(), probe }
+    }
+
+    /// Refuses `set` as applying it would (unknown names, values out of
+    /// range, a scorer left without a weight); changes nothing.
+    pub fn check(&self, set: &SteerSet) -> Result<()> {
+        let changes = self.changes(set)?;
+        self.probe.with_knobs(&changes).map(drop).map_err(anyhow::Error::msg)
     }
 
     /// The current values as a steering request would name them.
     pub fn values(&self) -> SteerSet {
         let mut set = SteerSet::default();
-        match self {
-            Steerable::Fitness(f) => {
-                for (name, v) in FITNESS_WEIGHTS.iter().zip([f.good, f.bad, f.overlap, f.length]) {
-                    set.weights.insert(name.to_string(), v);
-                }
-            }
-            Steerable::Surface(s) => {
-                for c in SurfaceCriterion::ALL {
-                    let g = s.goal(c);
-                    set.weights.insert(c.name().to_string(), g.weight);
-                    set.targets.insert(c.name().to_string(), g.target);
-                }
+        for k in &self.knobs {
+            set.weights.insert(k.name.to_string(), k.weight);
+            if let Some(t) = k.target {
+                set.targets.insert(k.name.to_string(), t);
             }
         }
         set
     }
 
-    /// What one criterion adds to a surface scene's fitness, in words
-    /// (`w/(1+e)` or, in the paper form, `−w·e`); `None` for `[fitness]`.
+    /// What one criterion adds to the fitness, in words (`w/(1+e)` or, in
+    /// the paper form, `−w·e`), for scorers whose criteria are charted.
     pub fn contribution_formula(&self) -> Option<&'static str> {
-        match self {
-            Steerable::Surface(s) => Some(s.form.contribution_formula()),
-            Steerable::Fitness(_) => None,
-        }
+        self.formula
     }
 
-    /// What a codon scene steers: `[surface]` when it has one, else `[fitness]`.
-    pub fn of_codon_scene(config: &CodonSceneConfig) -> Steerable {
-        match &config.surface {
-            Some(s) => Steerable::Surface(*s),
-            None => Steerable::Fitness(config.fitness.clone()),
+    /// The knobs `set` changes, with their new values: unknown names are
+    /// refused (with a did-you-mean), as are non-finite values, targets of
+    /// knobs without one and negative weights of unsigned knobs.
+    fn changes(&self, set: &SteerSet) -> Result<Vec<Knob>> {
+        for (name, v) in set.weights.iter().chain(&set.targets) {
+            if !v.is_finite() {
+                bail!("`{name}` must be a finite number, not {v}");
+            }
         }
+        let names: Vec<&str> = self.knobs.iter().map(|k| k.name).collect();
+        let kind = self.knobs.first().map_or("steerable value", |k| k.kind);
+        let find = |name: &str| {
+            self.knobs
+                .iter()
+                .find(|k| k.name == name)
+                .copied()
+                .ok_or_else(|| anyhow::anyhow!("{}", unknown_name(name, kind, &names)))
+        };
+        let mut out: Vec<Knob> = Vec::new();
+        for (name, v) in &set.weights {
+            let mut k = find(name)?;
+            if !k.signed && *v < 0.0 {
+                bail!("the weight of `{name}` must be at least 0, not {v}");
+            }
+            k.weight = *v;
+            out.push(k);
+        }
+        for (name, v) in &set.targets {
+            let Some(known) = self.knobs.iter().find(|k| k.name == name.as_str()) else {
+                if self.knobs.iter().all(|k| k.target.is_none()) {
+                    bail!(
+                        "this scene's {}s have no targets ({}), no target `{name}`; targets belong to Genr8 surface \
+                         scenes",
+                        kind,
+                        names.join(", ")
+                    );
+                }
+                return Err(find(name).unwrap_err());
+            };
+            if known.target.is_none() {
+                bail!("`{name}` is a {} with a weight only, no target", known.kind);
+            }
+            match out.iter_mut().find(|k| k.name == name.as_str()) {
+                Some(k) => k.target = Some(*v),
+                None => out.push(Knob { target: Some(*v), ..*known }),
+            }
+        }
+        Ok(out)
     }
-}
 
-/// "`x` is not a KIND; did you mean `y`? The KINDs are a, b, c".
-fn unknown(name: &str, kind: &str, names: &[&str]) -> String {
-    let hint = genform_core::expr::did_you_mean(name, names.iter().copied())
-        .map(|n| format!("did you mean `{n}`? "))
-        .unwrap_or_default();
-    format!("`{name}` is not a {kind}; {hint}the names are {}", names.join(", "))
+    /// `scorer` (whose knobs these are) with `set` applied, and what
+    /// steering can change after it; nothing changes on error.
+    pub(crate) fn apply(&self, scorer: &dyn Scorer, set: &SteerSet) -> Result<(Box<dyn Scorer>, Steerable)> {
+        let changes = self.changes(set)?;
+        let steered = scorer.with_knobs(&changes).map_err(anyhow::Error::msg)?;
+        let now = Steerable::of(steered.as_ref());
+        Ok((steered, now))
+    }
 }
 
 /// Reads a steering log: a `run.json` (its `steering` list) or a JSON list
 /// of `{"generation": N, "set": {...}}` entries, sorted by generation
 /// (entries of one generation keep their order).
 pub fn read_log(path: &Path) -> Result<Vec<SteerEntry>> {
-    let text = crate::source_text::read_text(path, "steering log")?;
+    let text = crate::text::read_text(path, "steering log")?;
     let value: serde_json::Value =
         serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     let list = match value {
@@ -205,52 +219,66 @@ pub fn read_log(path: &Path) -> Result<Vec<SteerEntry>> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use genform_score::{SurfaceCriterion, SurfaceObjective};
 
     fn set(weights: &[(&str, f64)], targets: &[(&str, f64)]) -> SteerSet {
         let m = |v: &[(&str, f64)]| v.iter().map(|(k, v)| (k.to_string(), *v)).collect();
         SteerSet { weights: m(weights), targets: m(targets) }
     }
 
+    fn targets() -> Box<dyn Scorer> {
+        Box::new(genform_score::Targets::new(Vec::new(), genform_score::Fitness::default()))
+    }
+
+    fn surface(o: SurfaceObjective) -> Box<dyn Scorer> {
+        Box::new(genform_score::SurfaceScorer::new(o).unwrap())
+    }
+
     #[test]
     fn fitness_weights_change_and_mistakes_change_nothing() {
-        let mut s = Steerable::Fitness(FitnessConfig::default());
-        s.apply(&set(&[("good", 3.0), ("length", 0.0)], &[])).unwrap();
-        let v = s.values();
+        let scorer = targets();
+        let s = Steerable::of(scorer.as_ref());
+        let (steered, now) = s.apply(scorer.as_ref(), &set(&[("good", 3.0), ("length", 0.0)], &[])).unwrap();
+        let v = now.values();
         assert_eq!((v.weights["good"], v.weights["bad"], v.weights["length"]), (3.0, 15.0, 0.0));
-        let e = s.apply(&set(&[("bda", 1.0)], &[])).unwrap_err().to_string();
+        assert_eq!(Steerable::of(steered.as_ref()).values(), v);
+        let e = now.apply(steered.as_ref(), &set(&[("bda", 1.0)], &[])).err().unwrap().to_string();
         assert!(e.contains("did you mean `bad`"), "{e}");
-        assert_eq!(s.values(), v, "a refused change changes nothing");
-        s.apply(&set(&[("good", -1.0)], &[])).unwrap();
-        assert_eq!(s.values().weights["good"], -1.0, "[fitness] weights may be negative");
-        let before = s.values();
-        assert!(s.apply(&set(&[("good", f64::NAN)], &[])).is_err());
-        assert!(s.apply(&set(&[], &[("good", 1.0)])).unwrap_err().to_string().contains("no target"));
-        assert_eq!(s.values(), before);
+        let (_, neg) = now.apply(steered.as_ref(), &set(&[("good", -1.0)], &[])).unwrap();
+        assert_eq!(neg.values().weights["good"], -1.0, "[fitness] weights may be negative");
+        assert!(now.apply(steered.as_ref(), &set(&[("good", f64::NAN)], &[])).is_err());
+        let e = now.apply(steered.as_ref(), &set(&[], &[("good", 1.0)])).err().unwrap().to_string();
+        assert!(e.contains("no target"), "{e}");
+        assert_eq!(now.contribution_formula(), None);
     }
 
     #[test]
     fn surface_goals_change_and_keep_a_positive_weight() {
-        let mut s = Steerable::Surface(SurfaceObjective::default().with(SurfaceCriterion::Size, 10.0, 1.0));
-        s.apply(&set(&[("symmetry", 2.0)], &[("size", 4.0), ("symmetry", 1.0)])).unwrap();
-        let Steerable::Surface(o) = &s else { panic!() };
-        assert_eq!((o.size.target, o.symmetry.weight, o.symmetry.target), (4.0, 2.0, 1.0));
-        let e = s.apply(&set(&[("size", 0.0), ("symmetry", 0.0)], &[])).unwrap_err().to_string();
+        let scorer = surface(SurfaceObjective::default().with(SurfaceCriterion::Size, 10.0, 1.0));
+        let s = Steerable::of(scorer.as_ref());
+        let (steered, now) =
+            s.apply(scorer.as_ref(), &set(&[("symmetry", 2.0)], &[("size", 4.0), ("symmetry", 1.0)])).unwrap();
+        let v = now.values();
+        assert_eq!((v.targets["size"], v.weights["symmetry"], v.targets["symmetry"]), (4.0, 2.0, 1.0));
+        let e = now.apply(steered.as_ref(), &set(&[("size", 0.0), ("symmetry", 0.0)], &[])).err().unwrap().to_string();
         assert!(e.starts_with("[surface]"), "{e}");
-        assert!(s.apply(&set(&[("sise", 1.0)], &[])).unwrap_err().to_string().contains("did you mean `size`"));
-        assert!(s.apply(&set(&[("size", -1.0)], &[])).unwrap_err().to_string().contains("at least 0"));
-        assert_eq!(s.contribution_formula(), Some("w/(1+e)"));
+        let e = now.apply(steered.as_ref(), &set(&[("sise", 1.0)], &[])).err().unwrap().to_string();
+        assert!(e.contains("did you mean `size`"), "{e}");
+        let e = now.apply(steered.as_ref(), &set(&[("size", -1.0)], &[])).err().unwrap().to_string();
+        assert!(e.contains("at least 0"), "{e}");
+        assert_eq!(now.contribution_formula(), Some("w/(1+e)"));
     }
 
     #[test]
     fn steering_a_paper_form_scene_keeps_its_form() {
         let mut o = SurfaceObjective::default().with(SurfaceCriterion::Size, 10.0, 1.0);
         o.form = genform_score::SurfaceForm::Paper;
-        let mut s = Steerable::Surface(o);
-        s.apply(&set(&[("size", 2.0)], &[("size", 8.0)])).unwrap();
-        let Steerable::Surface(now) = &s else { panic!() };
-        assert_eq!((now.form, now.size.weight, now.size.target), (genform_score::SurfaceForm::Paper, 2.0, 8.0));
-        assert_eq!(s.contribution_formula(), Some("−w·e"));
-        assert_eq!(Steerable::Fitness(FitnessConfig::default()).contribution_formula(), None);
+        let scorer = surface(o);
+        let s = Steerable::of(scorer.as_ref());
+        let (steered, now) = s.apply(scorer.as_ref(), &set(&[("size", 2.0)], &[("size", 8.0)])).unwrap();
+        assert_eq!(steered.form(), "paper");
+        assert_eq!((now.values().weights["size"], now.values().targets["size"]), (2.0, 8.0));
+        assert_eq!(now.contribution_formula(), Some("−w·e"));
     }
 
     #[test]

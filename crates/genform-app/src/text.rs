@@ -3,7 +3,7 @@
 //! same way: a position for bad bytes, ariadne's reports for bad content.
 
 use anyhow::{Context, Result};
-use genform_core::Diagnostics;
+use genform_core::{Diagnostics, SourceFile};
 use std::fmt;
 use std::path::Path;
 
@@ -16,6 +16,27 @@ pub fn read_text(path: &Path, what: &str) -> Result<String> {
         let at = e.utf8_error().valid_up_to();
         anyhow::anyhow!("{}:{}", path.display(), invalid_utf8(e.as_bytes(), at))
     })
+}
+
+/// Reads and compiles a grammar file with `compile`: warnings go to the
+/// door's [`crate::notes`] sink, errors become one error with every
+/// diagnostic rendered.
+pub(crate) fn compile_file<T>(
+    path: &Path,
+    compile: impl FnOnce(&SourceFile) -> Result<(T, Diagnostics), Diagnostics>,
+) -> Result<T> {
+    let text = read_text(path, "grammar")?;
+    let file = SourceFile::new(path.display().to_string(), text);
+    let color = crate::notes::colour();
+    match compile(&file) {
+        Ok((value, warnings)) => {
+            if !warnings.items.is_empty() {
+                crate::notes::warn(&warnings.render(color));
+            }
+            Ok(value)
+        }
+        Err(errors) => Err(SourceErrors::new(&errors, color).into()),
+    }
 }
 
 /// `LINE:COL: not valid UTF-8 (byte 0xNN at byte offset K)` for the first
@@ -96,7 +117,7 @@ pub fn report(e: &anyhow::Error) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use genform_core::{Diagnostic, SourceFile, Span};
+    use genform_core::{Diagnostic, Span};
 
     #[test]
     fn invalid_utf8_names_line_column_and_byte() {

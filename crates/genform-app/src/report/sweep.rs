@@ -6,7 +6,7 @@
 use genform_export::plot::{Chart, charts_svg};
 use std::fmt::Write as _;
 
-use crate::comparison::{mean_sd, mean_sd_series, palette};
+use super::comparison::{mean_sd, mean_sd_series, palette};
 
 /// One generation of one run.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,8 +11,6 @@ use anyhow::{Result, anyhow, bail};
 use std::path::Path;
 use toml_edit::{DocumentMut, Item, Table, TableLike, Value};
 
-use crate::scene_config::{LoadedScene, SceneConfig};
-
 /// One `--set`: a dotted scene key and its values, in the order given.
 #[derive(Clone, Debug)]
 pub struct Axis {
@@ -165,11 +163,33 @@ fn set_in(table: &mut dyn TableLike, path: &[&str], value: &Value) -> Result<(),
 /// One combination of values: the text of each axis' value, in axis order.
 pub type Combination = Vec<String>;
 
+/// A scene text edited by a settings patch: the text, and how refusals
+/// name the patch.
+pub(crate) struct Patched {
+    /// The edited text.
+    pub text: String,
+    /// `--set a=1 --set b=2`, what refusals name instead of positions.
+    pub shown: String,
+    /// The dotted keys set, for messages about unknown keys.
+    pub keys: Vec<Vec<String>>,
+}
+
+/// `text` (the scene at `path`) with each axis set to its value at the
+/// index given.
+pub(crate) fn apply(path: &Path, text: &str, settings: &[(&Axis, usize)]) -> Result<Patched> {
+    let mut doc: DocumentMut = text.parse().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let shown: Vec<String> = settings.iter().map(|(a, i)| format!("{}={}", a.key, a.values[*i])).collect();
+    let shown = format!("--set {}", shown.join(" --set "));
+    for (axis, i) in settings {
+        edit(&mut doc, &axis.path(), &axis.parsed[*i]).map_err(|e| anyhow!("{shown}: {e}"))?;
+    }
+    let keys = settings.iter().map(|(a, _)| a.path().iter().map(|s| s.to_string()).collect()).collect();
+    Ok(Patched { text: doc.to_string(), shown, keys })
+}
+
 /// Every combination of the axes' values (the first axis varies slowest),
-/// each applied to the scene at `path` (text `text`) and loaded with the
-/// normal validation; an error names the settings of the combination.
-pub fn variants(path: &Path, text: &str, axes: &[Axis]) -> Result<Vec<(Combination, LoadedScene)>> {
-    let doc: DocumentMut = text.parse().map_err(|e| anyhow!("{}: {e}", path.display()))?;
+/// as indices into each axis' values.
+pub(crate) fn combinations(axes: &[Axis]) -> Vec<Vec<usize>> {
     let mut combos: Vec<Vec<usize>> = vec![Vec::new()];
     for axis in axes {
         combos = combos
@@ -178,37 +198,6 @@ pub fn variants(path: &Path, text: &str, axes: &[Axis]) -> Result<Vec<(Combinati
             .collect();
     }
     combos
-        .into_iter()
-        .map(|combo| {
-            let chosen: Vec<(&Axis, &Value)> = axes.iter().zip(&combo).map(|(a, &i)| (a, &a.parsed[i])).collect();
-            let names: Combination = axes.iter().zip(&combo).map(|(a, &i)| a.values[i].clone()).collect();
-            let shown: Vec<String> = axes.iter().zip(&names).map(|(a, v)| format!("{}={v}", a.key)).collect();
-            let loaded = apply(path, &doc, &chosen).map_err(|e| anyhow!("--set {}: {e:#}", shown.join(" --set ")))?;
-            Ok((names, loaded))
-        })
-        .collect()
-}
-
-/// The scene with `settings` applied, loaded and checked.
-fn apply(path: &Path, doc: &DocumentMut, settings: &[(&Axis, &Value)]) -> Result<LoadedScene> {
-    let text = edited::<SceneConfig>(doc, settings)?;
-    SceneConfig::load_text(path, &text)
-}
-
-/// The text of `doc` with `settings` applied, parsed once as `T` for a
-/// message about the setting (unknown keys with a suggestion, wrong types)
-/// rather than a position in the edited text.
-fn edited<T: serde::de::DeserializeOwned>(doc: &DocumentMut, settings: &[(&Axis, &Value)]) -> Result<String> {
-    let mut doc = doc.clone();
-    for (axis, value) in settings {
-        edit(&mut doc, &axis.path(), value).map_err(|e| anyhow!("{e}"))?;
-    }
-    let text = doc.to_string();
-    if let Err(e) = toml::from_str::<T>(&text) {
-        let paths: Vec<Vec<&str>> = settings.iter().map(|(a, _)| a.path()).collect();
-        bail!("{}", explain(e.message(), &paths));
-    }
-    Ok(text)
 }
 
 /// A settings patch: `KEY=VALUE` arguments (`--set` of evolve, score and
@@ -226,31 +215,23 @@ pub fn parse_patch(args: &[String]) -> Result<Vec<Axis>> {
         .collect()
 }
 
-/// The tables of a scene file (tree or codon) that keyword settings may
-/// name with a dict of their keys.
-pub const SECTIONS: [&str; 13] = [
-    "ga",
-    "mh",
-    "smc",
-    "hybrid",
-    "map_elites",
-    "ge",
-    "mapper",
-    "fitness",
-    "surface",
-    "run",
-    "limits",
-    "volume",
-    "image",
-];
+/// Whether `name` is a table of a scene file (tree or codon) that keyword
+/// settings may name with a dict of its keys: an optimizer's, a scorer's,
+/// `[fitness]`, `[mapper]`, `[run]` or `[limits]`.
+fn is_section(name: &str) -> bool {
+    crate::optimizers::SECTIONS.iter().any(|s| s.name == name)
+        || crate::scoring::SCORERS.iter().any(|s| s.section() == name)
+        || ["fitness", "mapper", "run", "limits"].contains(&name)
+}
 
 /// Keyword settings (Python's `population=20`, `ga={...}`) as a settings
-/// patch: a key naming one of [`SECTIONS`] takes an object of that table's
-/// keys; any other key belongs to `own` (the algorithm's table).
+/// patch: a key naming a table of the scene ([`is_section`]) takes an
+/// object of that table's keys; any other key belongs to `own` (the
+/// algorithm's table).
 pub fn patch_from_json(own: &str, updates: &serde_json::Map<String, serde_json::Value>) -> Result<Vec<String>> {
     let mut patch = Vec::new();
     for (key, value) in updates {
-        match (SECTIONS.contains(&key.as_str()), value) {
+        match (is_section(key), value) {
             (true, serde_json::Value::Object(keys)) => {
                 for (k, v) in keys {
                     patch.push(format!("{key}.{k}={}", toml_literal(v)?));
@@ -267,52 +248,6 @@ pub fn patch_from_json(own: &str, updates: &serde_json::Map<String, serde_json::
 fn toml_literal(value: &serde_json::Value) -> Result<String> {
     let v = toml::Value::try_from(value).map_err(|e| anyhow!("settings: {value} is not a TOML value ({e})"))?;
     Ok(v.to_string())
-}
-
-/// The optimizer settings of `scene` (a scene file; `None`: the defaults,
-/// for a bare grammar) with `patch` applied, checked as a scene file's are
-/// (ask/tell optimizers take their settings this way).
-pub fn patched_settings(scene: Option<&Path>, patch: &[Axis]) -> Result<genform_evolve::Settings> {
-    let (path, text) = match scene {
-        Some(p) => (p.to_path_buf(), crate::source_text::read_text(p, "scene")?),
-        None => (Path::new("(defaults)").to_path_buf(), "grammar = \"-\"\n".to_string()),
-    };
-    let text = if patch.is_empty() { text } else { patched_text::<SceneConfig>(&path, &text, patch)? };
-    let config: SceneConfig = crate::scene_config::parse_toml(&path, &text)?;
-    Ok(config.settings())
-}
-
-/// The scene text at `path` with `patch` applied, checked as a `T` (a tree
-/// or codon scene config); errors name the `--set` that caused them.
-pub fn patched_text<T: serde::de::DeserializeOwned>(path: &Path, text: &str, patch: &[Axis]) -> Result<String> {
-    let doc: DocumentMut = text.parse().map_err(|e| anyhow!("{}: {e}", path.display()))?;
-    let chosen: Vec<(&Axis, &Value)> = patch.iter().map(|a| (a, &a.parsed[0])).collect();
-    let shown: Vec<String> = patch.iter().map(|a| format!("{}={}", a.key, a.values[0])).collect();
-    edited::<T>(&doc, &chosen).map_err(|e| anyhow!("--set {}: {e:#}", shown.join(" --set ")))
-}
-
-/// A deserialization message in terms of the keys set: unknown keys and
-/// variants get the closest known name and the section they are in.
-fn explain(message: &str, paths: &[Vec<&str>]) -> String {
-    for kind in ["field", "variant"] {
-        let Some(rest) = message.strip_prefix(&format!("unknown {kind} `")) else { continue };
-        let Some((name, expected)) = rest.split_once('`') else { continue };
-        let known: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
-        let suggestion = genform_core::expr::did_you_mean(name, known.iter().copied())
-            .map(|s| format!("; did you mean `{s}`?"))
-            .unwrap_or_default();
-        let list = if known.is_empty() { String::new() } else { format!(" (known: {})", known.join(", ")) };
-        if kind == "variant" {
-            return format!("unknown value `{name}`{suggestion}{list}");
-        }
-        let section = paths
-            .iter()
-            .find_map(|p| p.iter().position(|s| *s == name).map(|i| p[..i].join(".")))
-            .map(|s| if s.is_empty() { "at the top level".to_string() } else { format!("in [{s}]") })
-            .unwrap_or_default();
-        return format!("unknown key `{name}` {section}{suggestion}{list}");
-    }
-    message.trim().to_string()
 }
 
 #[cfg(test)]
@@ -373,22 +308,5 @@ mod tests {
         }
         let bad: serde_json::Map<String, serde_json::Value> = serde_json::from_str(r#"{"ga": 3}"#).unwrap();
         assert!(patch_from_json("ga", &bad).unwrap_err().to_string().contains("takes a dict"));
-    }
-
-    #[test]
-    fn unknown_keys_and_values_get_suggestions() {
-        let m = "unknown field `populaton`, expected one of `population`, `elitism`";
-        assert_eq!(
-            explain(m, &[vec!["ga", "populaton"]]),
-            "unknown key `populaton` in [ga]; did you mean `population`? (known: population, elitism)"
-        );
-        let top = explain("unknown field `gaa`, expected `ga` or `mh`", &[vec!["gaa", "population"]]);
-        assert!(top.starts_with("unknown key `gaa` at the top level; did you mean `ga`?"), "{top}");
-        let v = explain("unknown variant `roulete`, expected `roulette` or `random`", &[vec!["ga", "x"]]);
-        assert!(v.starts_with("unknown value `roulete`; did you mean `roulette`?"), "{v}");
-        assert_eq!(
-            explain("invalid type: string \"x\", expected usize\n", &[]),
-            "invalid type: string \"x\", expected usize"
-        );
     }
 }

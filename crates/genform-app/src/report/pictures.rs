@@ -7,16 +7,15 @@
 //! the target's camera in the scorers' (mirrored) frame so the two line up
 //! as they do for the fitness. A scene with both shows the volume.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use genform_core::camera::Camera;
 use genform_core::scene::Tessellation;
 use genform_core::{Mesh, Scene};
 use genform_export::{Backdrop, RenderOptions};
 use genform_score::ImageScorer;
+use std::sync::Arc;
 
-use crate::objective::Scorers;
-use crate::scene_config::SceneConfig;
-use crate::targets;
+use crate::files::write_atomic;
 
 /// Frames an animation aims for, whatever the run's length.
 pub const FRAMES: usize = 30;
@@ -45,27 +44,11 @@ const IMAGE_AVOID: [u8; 3] = [255, 255, 255];
 const IMAGE_DONT_CARE: [u8; 3] = [236, 238, 241];
 
 impl TargetPicture {
-    /// The target of `config`: its volume targets' meshes (read again;
-    /// fixed-genome targets expressed) or else its first image target.
-    pub fn new(config: &SceneConfig, scorers: &Scorers) -> Result<Self> {
-        let mut ghosts = Vec::new();
-        if let Some(v) = &config.volume {
-            for (i, t) in v.target.iter().enumerate() {
-                let mesh = match (&t.mesh, &t.grammar, &t.genome) {
-                    (Some(m), _, _) => targets::read_mesh(m),
-                    (None, Some(g), Some(genome)) => targets::fixed_genome_scene(g, genome).map(|s| flatten(&s)),
-                    _ => continue,
-                };
-                ghosts.push(mesh.with_context(|| format!("[[volume.target]] #{}", i + 1))?);
-            }
-        }
-        let image = if ghosts.is_empty() { scorers.images.first().map(target_image) } else { None };
-        Ok(TargetPicture { ghosts, image })
-    }
-
-    /// Whether there is anything to draw behind a model.
-    pub fn is_empty(&self) -> bool {
-        self.ghosts.is_empty() && self.image.is_none()
+    /// The target as its scorers show it: `ghosts` (volume targets'
+    /// meshes) or else the first image target.
+    pub fn new(ghosts: &[Mesh], images: &[Arc<ImageScorer>]) -> Self {
+        let image = if ghosts.is_empty() { images.first().map(|i| target_image(i)) } else { None };
+        TargetPicture { ghosts: ghosts.to_vec(), image }
     }
 
     /// The picture size: the image target's, else 800 × 600.
@@ -175,17 +158,6 @@ fn target_image(img: &ImageScorer) -> TargetImage {
     TargetImage { camera: *img.camera(), width, height, rgb }
 }
 
-/// Every triangle of `scene` as one mesh in world coordinates.
-fn flatten(scene: &Scene) -> Mesh {
-    let mut m = Mesh { name: "target".into(), ..Mesh::default() };
-    scene.for_each_triangle(Tessellation::default(), |t, _| {
-        let i = m.positions.len() as u32;
-        m.positions.extend(t);
-        m.triangles.push([i, i + 1, i + 2]);
-    });
-    m
-}
-
 /// Halves an RGB picture (2 × 2 box filter; an odd last row or column is dropped).
 fn halve(rgb: &[u8], w: u32, h: u32) -> (Vec<u8>, u32, u32) {
     let (nw, nh) = (w / 2, h / 2);
@@ -282,12 +254,12 @@ impl<G: Clone> BestHistory<G> {
 
 /// Writes `best-silhouette.png` (then `-2`, `-3`, …): `scene` over each
 /// image target, as the scorer sees it.
-pub fn write_silhouettes(out: &std::path::Path, images: &[ImageScorer], scene: &Scene) -> Result<()> {
+pub fn write_silhouettes(out: &std::path::Path, images: &[Arc<ImageScorer>], scene: &Scene) -> Result<()> {
     for (i, img) in images.iter().enumerate() {
         let (rgba, w, h) = img.silhouette(scene);
         let rgb: Vec<u8> = rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
         let name = if i == 0 { "best-silhouette.png".to_string() } else { format!("best-silhouette-{}.png", i + 1) };
-        crate::output::write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
+        write_atomic(&out.join(name), &genform_export::plot::encode_png_rgb(&rgb, w, h))?;
     }
     Ok(())
 }

@@ -6,12 +6,13 @@
 //! scene's `[map_elites]` names, by default genome length and bounding-box
 //! aspect); the caller measures them on the derived models.
 
-use crate::objective::Descriptor;
-use crate::output::write_atomic;
+use super::gallery::gallery_png_captioned;
+use crate::files::write_atomic;
 use anyhow::{Context, Result};
 use genform_core::{Generator, Genome, Limits, Scene};
 use genform_evolve::{Individual, MapElitesConfig};
 use genform_export::plot::{caption_rgb, caption_size, encode_png_rgb};
+use genform_score::Descriptor;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -42,8 +43,8 @@ pub struct Reports<'a> {
     /// Derivation limits.
     pub limits: Limits,
     /// The scene's `[map_elites]` with every range set
-    /// ([`SceneConfig::map_elites`](crate::scene_config::SceneConfig::map_elites)):
-    /// its descriptors are the gallery's too.
+    /// ([`crate::optimizers::OptimizerSettings::map_elites`]): its
+    /// descriptors are the gallery's too.
     pub config: MapElitesConfig,
 }
 
@@ -51,14 +52,15 @@ impl Reports<'_> {
     /// The valid individuals of `population` with their models and
     /// descriptor values, in population order.
     pub fn describe<'p>(&self, population: &'p [Individual]) -> Result<Vec<(Scene, Described<'p>)>> {
-        let descriptors = Descriptor::pair(&self.config);
+        let descriptors =
+            self.config.descriptors.each_ref().map(|d| Descriptor::from_name(&d.name).unwrap_or(Descriptor::Length));
         population
             .iter()
             .filter(|i| i.is_valid())
             .map(|i| {
                 let mut scene = Scene::new();
                 self.generator.express(&i.genome, &self.limits, &mut scene).context("cannot build a model")?;
-                let values = descriptors.map(|d| d.value(&i.genome, &scene));
+                let values = descriptors.map(|d| d.value(i.genome.len(), &scene));
                 Ok((scene, Described { genome: &i.genome, fitness: i.fitness, descriptors: values }))
             })
             .collect()
@@ -76,7 +78,7 @@ impl Reports<'_> {
             .enumerate()
             .map(|(rank, &i)| (&described[i].0, caption(rank + 1, &items[i], names)))
             .collect();
-        crate::report::gallery_png_captioned(&tiles)
+        gallery_png_captioned(&tiles)
     }
 
     /// Writes `archive.csv`, `archive.png` and `elites/cell-C-R.json` (each

@@ -83,19 +83,6 @@ pub fn csv(traces: &[Trace]) -> String {
     s
 }
 
-/// Plot colour of an algorithm (the thesis' colours where it has them).
-pub fn color(algorithm: &str) -> &'static str {
-    match algorithm {
-        "ga" => "#1f77b4",
-        "mh" => "#2ca02c",
-        "smc" => "#d62728",
-        "sosmc" => "#ff7f0e",
-        "hybrid" => "#9467bd",
-        "ge" => "#17becf",
-        _ => "#7f7f7f",
-    }
-}
-
 /// Mean and (population) standard deviation.
 pub fn mean_sd(values: &[f64]) -> (f64, f64) {
     if values.is_empty() {
@@ -151,7 +138,7 @@ pub fn svg(title: &str, traces: &[Trace], budget: f64) -> String {
             let runs: Vec<&Trace> = traces.iter().filter(|t| t.algorithm == alg).collect();
             let moments = (0..=200).map(|k| budget * k as f64 / 200.0);
             let values = moments.map(|t| (t, runs.iter().map(|r| r.best_at(t)).collect()));
-            mean_sd_series(alg, color(alg), values)
+            mean_sd_series(alg, crate::optimizers::color(alg), values)
         })
         .collect();
     let runs = traces.iter().map(|t| t.run).max().map_or(0, |r| r + 1);

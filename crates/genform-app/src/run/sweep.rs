@@ -11,24 +11,22 @@
 //! bytes at any thread count (with generation or evaluation limits; a
 //! wall-clock budget makes runs depend on the machine's load).
 
-pub mod report;
-pub mod set;
-
 use anyhow::{Context, Result, anyhow, bail};
 use genform_core::Limits;
 use genform_evolve::{AnyOptimizer, Horizon, Stop, StopReason};
+use genform_score::{Descriptor, Scorer};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
-use std::time::Duration;
 
-use crate::grammar;
-use crate::objective::{DescribedObjective, Descriptor, SceneObjective, Scorers};
-use crate::output::write_atomic;
-use crate::scene_config::{SceneConfig, parse_duration};
-pub use report::{GenPoint, RunTrace, SweepResult};
-pub use set::{Axis, parse_set};
+use crate::files::write_atomic;
+use crate::formalism::Loaded;
+use crate::objective::{Model, TreeObjective};
+use crate::optimizers::{Kind, Searches};
+pub use crate::report::sweep::{GenPoint, RunTrace, SweepResult};
+use crate::scene::Scene;
+pub use crate::scene::patch::Axis;
 
 /// Most keys a sweep crosses.
 pub const MAX_KEYS: usize = 2;
@@ -51,8 +49,8 @@ pub struct SweepRequest {
     pub budget: Option<String>,
     /// Evaluations per run.
     pub evaluations: Option<u64>,
-    /// The tree algorithm to run.
-    pub algorithm: genform_evolve::Algorithm,
+    /// The algorithm's name (a tree algorithm).
+    pub algorithm: String,
     /// Worker threads (`None`: all cores).
     pub threads: Option<usize>,
     /// Output folder.
@@ -74,9 +72,9 @@ pub struct RunDone<'a> {
 /// One value combination, ready to run.
 struct Variant {
     label: String,
-    generator: Arc<grammar::Loaded>,
+    generator: Arc<Loaded>,
     limits: Limits,
-    scorers: Arc<Scorers>,
+    scorer: Arc<dyn Scorer>,
     settings: genform_evolve::Settings,
     horizon: Horizon,
     /// What MAP-Elites bins (other algorithms only read the fitness).
@@ -103,85 +101,74 @@ fn check(req: &SweepRequest) -> Result<()> {
     Ok(())
 }
 
-/// The stop rules of one combination: the command line's replace the
-/// scene's `[run]` as a whole (which a `--set run.generations=…` may vary).
-fn horizon(req: &SweepRequest, config: &SceneConfig) -> Result<Horizon> {
-    let cli = req.generations.is_some() || req.budget.is_some() || req.evaluations.is_some();
-    let r = &config.run;
-    let (generations, budget, evaluations) = if cli {
-        (req.generations, req.budget.clone(), req.evaluations)
-    } else {
-        (r.generations, r.budget.clone(), r.evaluations)
-    };
-    let budget: Option<Duration> = budget.map(|b| parse_duration(&b)).transpose().context("budget")?;
-    if generations.is_none() && budget.is_none() && evaluations.is_none() {
-        bail!(
-            "nothing tells the runs when to stop: give --generations, --budget or --evaluations (or [run] in the scene)"
-        );
-    }
-    Ok(Horizon { generations, budget, evaluations })
-}
-
 /// Loads every combination: the scene with the values applied and checked,
-/// its grammar and its scorers (built once and shared while the settings
+/// its grammar and its scorer (built once and shared while the settings
 /// that make them are the same).
-fn load(req: &SweepRequest) -> Result<(Vec<Vec<String>>, Vec<Variant>)> {
-    let text = crate::source_text::read_text(&req.scene, "scene")?;
+fn load(req: &SweepRequest) -> Result<(genform_evolve::Algorithm, Vec<Vec<String>>, Vec<Variant>)> {
+    let text = crate::text::read_text(&req.scene, "scene")?;
     // The scene as written first: its own mistakes keep their positions.
-    SceneConfig::load_text(&req.scene, &text)?;
+    let written = Scene::from_text(&req.scene, &text, None)?;
+    if written.searches != Searches::Trees {
+        bail!("{} is a codon scene; genform sweep runs tree scenes (.sg, .ls grammars) for now", req.scene.display());
+    }
+    let Kind::Tree(algorithm) = super::control::algorithm(Some(&req.algorithm), &written)?.kind else {
+        bail!("genform sweep runs tree algorithms");
+    };
     let mut combos = Vec::new();
     let mut variants = Vec::new();
-    let mut grammars: Vec<(PathBuf, Arc<grammar::Loaded>)> = Vec::new();
-    let mut scorers: Vec<(String, Arc<Scorers>)> = Vec::new();
-    for (values, loaded) in set::variants(&req.scene, &text, &req.axes)? {
-        let config = loaded.config;
+    let mut grammars: Vec<(PathBuf, Arc<Loaded>)> = Vec::new();
+    let mut scorers: Vec<(String, Arc<dyn Scorer>)> = Vec::new();
+    for (values, scene) in Scene::variants(&req.scene, &text, &req.axes)? {
         let shown = |all: bool| -> Vec<String> {
             let pairs = req.axes.iter().zip(&values).filter(|(a, _)| all || a.values.len() > 1);
             pairs.map(|(a, v)| format!("{}={v}", a.key)).collect()
         };
         let label = shown(false).join(" ");
         let at = || format!("--set {}", shown(true).join(" --set "));
-        let generator = match grammars.iter().find(|(p, _)| *p == config.grammar) {
+        let generator = match grammars.iter().find(|(p, _)| *p == scene.grammar) {
             Some((_, g)) => g.clone(),
             None => {
-                let g = Arc::new(grammar::load(&config.grammar)?);
-                grammars.push((config.grammar.clone(), g.clone()));
-                g
+                let Model::Tree { loaded, .. } = Model::open(&scene, Default::default())? else {
+                    bail!("a tree scene makes trees");
+                };
+                grammars.push((scene.grammar.clone(), loaded.clone()));
+                loaded
             }
         };
-        let targets_key = serde_json::to_string(&(
-            &config.volume,
-            &config.image,
-            &config.fitness,
-            &config.ga.min_length,
-            &config.ga.max_length,
+        let scoring_key = serde_json::to_string(&(
+            scene.scoring.to_json(),
+            &scene.scoring.fitness,
+            scene.optimizers.ga.min_length,
+            scene.optimizers.ga.max_length,
         ))?;
-        let scorer = match scorers.iter().find(|(k, _)| *k == targets_key) {
+        let scorer = match scorers.iter().find(|(k, _)| *k == scoring_key) {
             Some((_, s)) => s.clone(),
             None => {
-                let s = Arc::new(crate::targets::build(&config).with_context(at)?);
-                scorers.push((targets_key, s.clone()));
+                let s: Arc<dyn Scorer> = Arc::from(scene.scoring.build(scene.lengths()).with_context(at)?.scorer);
+                scorers.push((scoring_key, s.clone()));
                 s
             }
         };
-        let limits = config.limits.overrides().apply(generator.limits);
-        let horizon = horizon(req, &config).with_context(at)?;
-        let settings = config.settings();
+        let limits = scene.limits.overrides().apply(generator.limits);
+        let horizon =
+            super::control::horizon(req.generations, req.budget.as_deref(), req.evaluations, &scene.run, "the runs")
+                .with_context(at)?;
+        let settings = scene.tree_settings();
         // Fail now, not in the middle of the runs.
-        AnyOptimizer::new(req.algorithm, generator.generator.graph(), &limits, &settings, req.seed, horizon)
+        AnyOptimizer::new(algorithm, generator.generator.graph(), &limits, &settings, req.seed, horizon)
             .map_err(|e| anyhow!("{}: {e}", at()))?;
-        let descriptors = Descriptor::pair(&config.map_elites);
-        variants.push(Variant { label, generator, limits, scorers: scorer, settings, horizon, descriptors });
+        let descriptors = scene.optimizers.descriptors();
+        variants.push(Variant { label, generator, limits, scorer, settings, horizon, descriptors });
         combos.push(req.axes.iter().zip(values).filter(|(a, _)| a.values.len() > 1).map(|(_, v)| v).collect());
     }
-    Ok((combos, variants))
+    Ok((algorithm, combos, variants))
 }
 
 /// Runs the sweep; `on_done` hears of every finished run (in the order
 /// they finish). Runs stopped by `cancel` are left out of the result.
 pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) + Sync)) -> Result<SweepResult> {
     check(req)?;
-    let (combinations, variants) = load(req)?;
+    let (algorithm, combinations, variants) = load(req)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(req.threads.unwrap_or(0))
         .build()
@@ -191,7 +178,7 @@ pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) +
     let results: Vec<Result<Option<RunTrace>>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(v, r)| {
-                let trace = one_run(&variants[v], req, v, r, cancel)?;
+                let trace = one_run(&variants[v], algorithm, req, v, r, cancel)?;
                 if let Some(t) = &trace {
                     let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
                     on_done(RunDone { label: &variants[v].label, trace: t, done: k, total: jobs.len() });
@@ -209,13 +196,22 @@ pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) +
 }
 
 /// One run of combination `v`; `None` when it was cancelled.
-fn one_run(variant: &Variant, req: &SweepRequest, v: usize, r: usize, cancel: &AtomicBool) -> Result<Option<RunTrace>> {
+fn one_run(
+    variant: &Variant,
+    algorithm: genform_evolve::Algorithm,
+    req: &SweepRequest,
+    v: usize,
+    r: usize,
+    cancel: &AtomicBool,
+) -> Result<Option<RunTrace>> {
     let seed = req.seed + r as u64;
-    let Variant { generator, limits, scorers, settings, horizon, descriptors, .. } = variant;
-    let mut opt = AnyOptimizer::new(req.algorithm, generator.generator.graph(), limits, settings, seed, *horizon)
+    let Variant { generator, limits, scorer, settings, horizon, descriptors, .. } = variant;
+    let mut opt = AnyOptimizer::new(algorithm, generator.generator.graph(), limits, settings, seed, *horizon)
         .map_err(|e| anyhow!("{}: {e}", variant.label))?;
-    let objective = DescribedObjective {
-        objective: SceneObjective { generator: generator.generator.as_ref(), limits: *limits, scorers },
+    let objective = TreeObjective {
+        generator: generator.generator.as_ref(),
+        limits: *limits,
+        scorer: scorer.as_ref(),
         descriptors: *descriptors,
     };
     let stop =
