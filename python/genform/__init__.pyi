@@ -110,6 +110,10 @@ class Scene:
     def counts(self, model: Model) -> dict[str, float]:
         """The voxel/pixel counts behind the fitness (good, bad, overlap,
         outside, target) and `fitness`."""
+    def components(self, model: Model) -> list[dict[str, Any]]:
+        """The named parts of the fitness, one dict each: `name`, `value`
+        (what it adds), `weight`, `max` (the most it can add), `measure`
+        and, for criteria, `target`."""
     def derive(self, genome: Mapping[str, Any] | str) -> Model:
         """Expresses a genome under the scene's limits."""
     def score_genomes(self, genomes: Sequence[str]) -> list[tuple[float, float, float]]:

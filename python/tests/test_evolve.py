@@ -155,6 +155,10 @@ def test_scene_scorers_are_callables():
     assert c["target"] > 0 and c["good"] >= 0
     [(f, _, _)] = scene.score_genomes([m.genome_json()])
     assert f == scene(m)
+    parts = scene.components(m)
+    assert [p["name"] for p in parts] == ["good", "bad", "length"]
+    assert abs(sum(p["value"] for p in parts) - f) < 1e-9
+    assert all(p["value"] <= p["max"] + 1e-12 for p in parts) and parts[0]["max"] == parts[0]["weight"]
     no_genome = genform.load(SHIP_SCENE.parent / "../graph/koch.gg.yaml").sample(seed=1)
     with pytest.raises(genform.GenformError, match="no genome"):
         scene(no_genome)

@@ -179,6 +179,17 @@ impl OpenScene {
             Model::Tree { .. } => None,
         }
     }
+
+    /// A copy of the scene's scorer (to steer, or to count apart).
+    pub(crate) fn scorer_copy(&self) -> Result<Box<dyn Scorer>> {
+        self.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)
+    }
+
+    /// The codon objective of a codon scene, with its own copy of the
+    /// scorer (and its own invalid counts and time split).
+    pub(crate) fn codons(&self) -> Result<CodonObjective> {
+        self.codon_objective(self.scorer_copy()?).ok_or_else(|| anyhow::anyhow!("a tree scene has no codon objective"))
+    }
 }
 
 /// A generator scored by a scorer, with two descriptors for MAP-Elites:

@@ -35,6 +35,18 @@ fn graph() -> BTreeMap<String, Vec<String>> {
     graph
 }
 
+/// Every `.rs` file under `dir`.
+fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+    for entry in std::fs::read_dir(dir).expect("a source folder").flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
 /// Everything `root` links, itself included.
 fn closure(graph: &BTreeMap<String, Vec<String>>, root: &str) -> BTreeSet<String> {
     let mut seen = BTreeSet::new();
@@ -77,16 +89,6 @@ fn libraries_depend_on_no_door() {
 /// the run's watcher (comments and test modules aside).
 #[test]
 fn the_application_library_does_not_print() {
-    fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-        for entry in std::fs::read_dir(dir).expect("a source folder").flatten() {
-            let path = entry.path();
-            if path.is_dir() {
-                rust_files(&path, out);
-            } else if path.extension().is_some_and(|e| e == "rs") {
-                out.push(path);
-            }
-        }
-    }
     let mut files = Vec::new();
     rust_files(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
     assert!(files.len() > 20, "the app's sources are found");
@@ -104,4 +106,64 @@ fn the_application_library_does_not_print() {
             }
         }
     }
+}
+
+/// The doors fill requests and hold handles: they construct no optimizer,
+/// scorer or scene and read no scene TOML themselves (the application
+/// does, behind its facade). Their sources name none of the constructors
+/// (comments aside) and their manifests link no TOML reader.
+#[test]
+fn the_doors_construct_no_optimizer_scorer_or_scene() {
+    const BUILDERS: [&str; 13] = [
+        "AnyOptimizer::new",
+        "AnyCodonOptimizer::new",
+        "AskTell::new",
+        "Ga::new",
+        "Ge::new",
+        "Mh::new",
+        "Smc::new",
+        "VolumeScorer::new",
+        "ImageScorer::new",
+        "SurfaceScorer::new",
+        "Targets::new",
+        "toml::",
+        "toml_edit::",
+    ];
+    let graph = graph();
+    for door in ["genform-cli", "genform-studio", "genform-py"] {
+        let deps = &graph[door];
+        assert!(!deps.iter().any(|d| d == "toml" || d == "toml_edit"), "{door} links a TOML reader: {deps:?}");
+        let mut files = Vec::new();
+        rust_files(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(door).join("src"), &mut files);
+        assert!(files.len() >= 4, "{door}: its sources are found");
+        for file in files {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (n, line) in text.lines().enumerate() {
+                let code = line.split("//").next().unwrap_or_default();
+                for b in BUILDERS {
+                    assert!(!code.contains(b), "{}:{}: a door calls {b}: {line}", file.display(), n + 1);
+                }
+            }
+        }
+    }
+}
+
+/// The CLI links the studio behind its default feature `studio`: built
+/// without it, no web server or async runtime is linked.
+#[test]
+fn the_cli_without_its_default_features_links_no_http_stack() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let out = std::process::Command::new(cargo)
+        .args(["tree", "-p", "genform-cli", "--no-default-features", "-e", "normal", "--prefix", "none", "--offline"])
+        .arg("--manifest-path")
+        .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/../../Cargo.toml"))
+        .output()
+        .expect("cargo tree runs");
+    assert!(out.status.success(), "cargo tree: {}", String::from_utf8_lossy(&out.stderr));
+    let tree = String::from_utf8_lossy(&out.stdout);
+    assert!(tree.lines().count() > 20, "the tree is listed:\n{tree}");
+    for name in ["axum ", "tokio ", "hyper ", "genform-studio "] {
+        assert!(!tree.lines().any(|l| l.starts_with(name)), "genform-cli --no-default-features links {name}");
+    }
+    assert!(tree.lines().any(|l| l.starts_with("clap ")), "the CLI's own dependencies are listed");
 }

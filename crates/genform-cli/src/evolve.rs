@@ -1,6 +1,6 @@
-//! `genform evolve`, `score` and `compare`: arguments into requests of
-//! [`genform_app::run`], a progress bar, Ctrl-C and what the runs have to
-//! say on stderr and stdout.
+//! `genform evolve`, `score` and `compare`: arguments into requests of the
+//! application's run loop ([`genform_app::evolve`]), a progress bar, Ctrl-C
+//! and what the runs have to say on stderr and stdout.
 
 use anyhow::Result;
 use genform_app::{Control, Start, SteerSet, Tick, Watch};

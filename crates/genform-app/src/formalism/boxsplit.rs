@@ -12,7 +12,7 @@ use genform_export::{BlockOptions, ExportOptions, Format};
 use glam::IVec3;
 use std::path::{Path, PathBuf};
 
-use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, reject};
+use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, exhausted, read_from, reject};
 use super::options::SampleRequest;
 use super::row::{Formalism, Genomes, Loaded, LoadedGrammar, Sample, ends_with_any, no_generator};
 use super::scene_keys::{ModelSettings, SceneLimits};
@@ -121,14 +121,12 @@ impl CodonDecoder for BoxDecoder {
         let mut source = genform_core::CodonSource::new(codons, self.range, self.wraps);
         let d = self.grammar.derive(None, self.min, self.max, &mut source, &DeriveOptions::default());
         lap(Phase::Mapping);
-        if source.exhausted() {
-            return Err(reject(Invalid::Exhausted, detail, || {
-                format!("the {} codons ran out after {} wraps", codons.len(), source.wraps())
-            }));
+        if let Some(r) = exhausted(codons, &source, detail) {
+            return Err(r);
         }
         let d = d.map_err(|f| reject(Invalid::Derivation, detail, || f.message.clone()))?;
         scene.blocks.push(d.blocks);
-        Ok(Decoded { codons_read: source.used(), wraps: source.wraps(), grammar_file: None })
+        Ok(read_from(&source))
     }
 }
 

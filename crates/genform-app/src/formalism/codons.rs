@@ -205,6 +205,21 @@ impl fmt::Display for InvalidCounts {
     }
 }
 
+/// The rejection of a derivation whose codons ran out (after their
+/// wraps), if they did.
+pub(crate) fn exhausted(codons: &[u32], source: &genform_core::CodonSource, detail: bool) -> Option<Rejection> {
+    source.exhausted().then(|| {
+        reject(Invalid::Exhausted, detail, || {
+            format!("the {} codons ran out after {} wraps", codons.len(), source.wraps())
+        })
+    })
+}
+
+/// What a derivation that took its choices from `source` read.
+pub(crate) fn read_from(source: &genform_core::CodonSource) -> Decoded {
+    Decoded { codons_read: source.used(), wraps: source.wraps(), grammar_file: None }
+}
+
 /// Reads a codon genome: `best-codons.json` (an object with `codons`) or a
 /// bare JSON array of codons.
 pub fn read_codons(path: &std::path::Path) -> Result<Vec<u32>> {

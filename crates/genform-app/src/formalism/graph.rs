@@ -7,7 +7,7 @@ use genform_graph::{Graph, GraphGrammar};
 use std::path::{Path, PathBuf};
 
 use super::boxsplit::DEFAULT_SOURCE_WRAPS;
-use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, reject};
+use super::codons::{CodonDecoder, DecodeScratch, Decoded, Invalid, Phase, Rejection, exhausted, read_from, reject};
 use super::options::SampleRequest;
 use super::row::{Formalism, Genomes, Loaded, LoadedGrammar, Sample, ends_with_any, no_generator};
 use super::scene_keys::{ModelSettings, SceneLimits};
@@ -110,10 +110,8 @@ impl CodonDecoder for GraphDecoder {
         let mut source = genform_core::CodonSource::new(codons, self.range, self.wraps);
         let d = self.grammar.derive_reusing(&mut source, self.steps, self.max_elements, kept.take());
         lap(Phase::Mapping);
-        if source.exhausted() {
-            return Err(reject(Invalid::Exhausted, detail, || {
-                format!("the {} codons ran out after {} wraps", codons.len(), source.wraps())
-            }));
+        if let Some(r) = exhausted(codons, &source, detail) {
+            return Err(r);
         }
         let d = d.map_err(|e| {
             let reason = match e {
@@ -125,7 +123,7 @@ impl CodonDecoder for GraphDecoder {
         *scene = d.graph.to_scene();
         *kept = Some(d.graph);
         drawing_as_polygons(scene);
-        Ok(Decoded { codons_read: source.used(), wraps: source.wraps(), grammar_file: None })
+        Ok(read_from(&source))
     }
 }
 

@@ -168,10 +168,7 @@ impl BreedSession {
             Some(scene) if scene.searches == Searches::Codons => {
                 let mut ge = scene.optimizers.ge.clone();
                 let open = OpenScene::open(scene, Default::default())?;
-                let objective = Arc::new(
-                    open.codon_objective(open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?)
-                        .context("a codon scene")?,
-                );
+                let objective = Arc::new(open.codons()?);
                 ge.population = request.size;
                 ge.elitism = 0;
                 let opt = super::codon::optimizer(CodonAlgorithm::Ge, &ge, request.seed)?;

@@ -30,8 +30,7 @@ pub(crate) fn optimizer(alg: CodonAlgorithm, config: &GeConfig, seed: u64) -> Re
 /// The score of a genome against a codon scene: the fitness and every
 /// part of it, one line each.
 pub(super) fn score(a: &ScoreRequest, open: &OpenScene) -> Result<Vec<String>> {
-    let objective =
-        open.codon_objective(open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?).context("a codon scene")?;
+    let objective = open.codons()?;
     let codons = read_codons(&a.genome)?;
     let e = objective.express(&codons).map_err(|r| {
         anyhow::anyhow!("{} is an invalid individual of {}: {r}", a.genome.display(), a.scene.display())
@@ -76,7 +75,7 @@ pub(super) fn evolve(
     horizon: genform_evolve::Horizon,
     mut control: Control,
 ) -> Result<RunOutcome> {
-    let scorer = open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?;
+    let scorer = open.scorer_copy()?;
     let steerable = Steerable::of(scorer.as_ref());
     let objective = open.codon_objective(scorer).context("a codon scene")?;
     let opt = optimizer(alg, &open.scene.optimizers.ge, a.seed)?;
@@ -369,8 +368,7 @@ pub(super) fn compare(
 ) -> Result<CompareOutcome> {
     let config = &open.scene.optimizers.ge;
     optimizer(CodonAlgorithm::Ge, config, a.seed)?;
-    let objective =
-        open.codon_objective(open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?).context("a codon scene")?;
+    let objective = open.codons()?;
     let contest = CodonContest { config, objective: &objective, scene: &open.scene.path, seed: a.seed };
     race(a, &open.scene.path, budget, algorithms, &objective, &contest, control)
 }
@@ -427,7 +425,7 @@ mod tests {
     #[test]
     fn a_genr8_gallery_never_shows_one_face_count_and_criteria_twice() {
         let open = open(&canopy());
-        let objective = open.codon_objective(open.scorer().with_knobs(&[]).unwrap()).unwrap();
+        let objective = open.codons().unwrap();
         let mut ge = Ge::new(open.scene.optimizers.ge.clone(), 3).unwrap();
         for _ in 0..30 {
             Optimizer::step(&mut ge, &objective);
@@ -458,7 +456,7 @@ mod tests {
     #[test]
     fn phenotype_keys_follow_the_rule_set_and_subtrees_nest_inside_the_read_codons() {
         let open = open(&canopy());
-        let objective = open.codon_objective(open.scorer().with_knobs(&[]).unwrap()).unwrap();
+        let objective = open.codons().unwrap();
         let mut s = objective.scratch();
         let mut rng = genform_core::Rng::from_seed(5);
         let mut by_key: std::collections::HashMap<u64, String> = std::collections::HashMap::new();
@@ -502,7 +500,7 @@ mod tests {
         let patch = crate::scene::patch::parse_patch(&["mapper.layout=\"per-choice\"".to_string()]).unwrap();
         let scene = crate::scene::Scene::load(&canopy(), &patch).unwrap();
         let open = OpenScene::open(scene, Default::default()).unwrap();
-        let objective = open.codon_objective(open.scorer().with_knobs(&[]).unwrap()).unwrap();
+        let objective = open.codons().unwrap();
         let mut s = objective.scratch();
         let mut rng = genform_core::Rng::from_seed(9);
         let (mut valid, mut short) = (0, 0);
@@ -536,7 +534,7 @@ mod tests {
                      [surface]\nsize = { target = 4.5 }\nsymmetry = { target = 1 }\n";
         std::fs::write(dir.path().join("s.toml"), scene).unwrap();
         let open = open(&dir.path().join("s.toml"));
-        let objective = open.codon_objective(open.scorer().with_knobs(&[]).unwrap()).unwrap();
+        let objective = open.codons().unwrap();
         let mut scratch = objective.scratch();
         // A unit square grown 2 steps by 1.5: 2.25 + 2.25 across, symmetric.
         assert_eq!(objective.evaluate(&vec![0], &mut scratch), 2.0);

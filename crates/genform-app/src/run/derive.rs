@@ -2,7 +2,7 @@
 //! (or the tree scene it was evolved in, under the scene's limits), or
 //! codons with the codon scene they were evolved in.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use genform_core::Scene;
 use std::path::{Path, PathBuf};
 
@@ -75,8 +75,7 @@ fn tree(loaded: &Loaded, limits: genform_core::Limits, genome: &Path) -> Result<
 
 /// Codons with their codon scene's decoder.
 fn codon(r: &DeriveRequest, open: &OpenScene) -> Result<Derived> {
-    let objective =
-        open.codon_objective(open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?).context("a codon scene")?;
+    let objective = open.codons()?;
     let codons = read_codons(&r.genome)?;
     let e = objective.express(&codons).map_err(|why| {
         anyhow::anyhow!("{} is an invalid individual of {}: {why}", r.genome.display(), r.file.display())

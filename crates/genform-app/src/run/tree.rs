@@ -78,7 +78,7 @@ pub(super) fn evolve(
     }
     let pool = worker_pool(r.threads)?;
     let cancel = control.cancel.clone();
-    let scorer = open.scorer().with_knobs(&[]).map_err(anyhow::Error::msg)?;
+    let scorer = open.scorer_copy()?;
     let mut ctx = TreeRun {
         common: Common {
             request: r,

@@ -16,6 +16,7 @@
 mod fitness;
 mod image;
 mod row;
+mod silhouettes;
 mod surface;
 mod volume;
 
@@ -31,7 +32,8 @@ use crate::memory::Size;
 
 /// Every scorer, one row each, in the order their fitness parts are
 /// summed: a scene's section of a row's name is read by that row.
-pub(crate) static SCORERS: &[&dyn ScorerRow] = &[&volume::Volume, &image::Images, &surface::Surface];
+pub(crate) static SCORERS: &[&dyn ScorerRow] =
+    &[&volume::Volume, &image::Images, &silhouettes::Silhouettes, &surface::Surface];
 
 /// The section of the counting targets' formula.
 pub(crate) const FITNESS: &str = "fitness";
