@@ -1,7 +1,7 @@
 //! Constraint and size formulas in the `.bsg` dialect of the project's one
 //! expression language (`genform_core::expr`).
 //!
-//! The core parser reads them in [`DIALECT`]: `#` starts a comment there and
+//! The core parser reads them in [`DIALECT`](crate::dialect::DIALECT): `#` starts a comment there and
 //! `//` is integer division, `%` the floored remainder, `not` binds looser
 //! than comparisons, and observers such as `FULL(minecraft:stone)` take a
 //! block type as written. This module resolves what only a grammar knows —
@@ -10,38 +10,11 @@
 //! conditions that guard it, so a zero divisor is reported at its
 //! `file:line:col` instead of turning into a silent infinity.
 
-use crate::lex::block_at;
 use crate::observe::TypeTable;
-use crate::syntax::{Ident, KEYWORDS};
+use crate::syntax::Ident;
 use genform_core::diag::{Diagnostic, SourceFile, Span};
-use genform_core::expr::{self, Ast, BinOp, Dialect, Node, Program, RawArgument, Scope, Wording};
+use genform_core::expr::{self, Ast, BinOp, Node, Program, Scope};
 use std::collections::HashMap;
-
-/// The `.bsg` dialect of the expression language.
-pub(crate) const DIALECT: Dialect<'static> = Dialect {
-    hash_comments: true,
-    word_logic: true,
-    digit_separators: true,
-    dotted_names: false,
-    reserved: KEYWORDS,
-    raw_argument: Some(RawArgument {
-        calls: &["FULL", "NONEMPTY", "EMPTY", "COUNT"],
-        noun: "block type",
-        hint: "block types are SOLID, LIQUID, AIR, PASSABLE, a `group` or a block id",
-        scan: block_end,
-    }),
-    wording: Wording {
-        expression: "a formula",
-        hint: "a formula is a number, a size like `X`, an observer like `FULL(SOLID)`, or a calculation of these",
-        end: "the end of the file",
-        quote_source: true,
-    },
-};
-
-/// The end of the block type starting at `start`.
-fn block_end(src: &str, start: usize) -> usize {
-    block_at(src, start).end as usize
-}
 
 /// What an observer asks about the pre-existing world in the scope's box.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -33,6 +33,7 @@
 
 mod compile;
 mod derive;
+mod dialect;
 mod formula;
 mod grammar;
 mod known_blocks;

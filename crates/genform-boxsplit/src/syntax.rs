@@ -2,7 +2,7 @@
 //! reports every error it can find: after a mistake it skips to the end of
 //! the alternative or declaration and carries on.
 
-use crate::formula::DIALECT;
+use crate::dialect::{DIALECT, KEYWORDS};
 use crate::lex::{Tok, Token, block_at, string_value, token_at};
 use crate::split::Round;
 use genform_core::diag::{Diagnostic, Span};
@@ -87,13 +87,6 @@ pub(crate) enum OpSyn {
     Reorient([usize; 3], Span, Box<OpSyn>),
     Call(Ident),
 }
-
-/// Keywords, never rule names.
-#[rustfmt::skip] // one long keyword would otherwise put each on its own line
-pub(crate) const KEYWORDS: &[&str] = &[
-    "grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let", "when",
-    "else", "weight", "split", "repeat", "round", "fill", "void", "skip", "reorient", "and", "or", "not",
-];
 
 const DECLARATIONS: &[&str] =
     &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let"];

@@ -221,7 +221,7 @@ impl Graph {
             ends.extend(elements.iter().map(|e| e.ends.map(|v| v2(self.vertices[v as usize].pos))));
             for (&e, &[a, b]) in elements.iter().zip(&ends) {
                 let Some((kind, stroked)) = self.shape(e, a, b, &mut styles) else { continue };
-                let tag = &mut crate::graph::grown(&mut tags, e.label as usize)[usize::from(e.is_vertex)];
+                let tag = &mut crate::table::grown(&mut tags, e.label as usize)[usize::from(e.is_vertex)];
                 let tag = *tag.get_or_insert_with(|| {
                     let name = self.labels.name(e.label);
                     scene.tag(if !name.is_empty() {

@@ -2,6 +2,7 @@
 //! plans and daughter options, ready to run.
 
 use crate::graph::{Graph, Value};
+use crate::mother::{MEdge, MVertex, PairVector, SpatialPair};
 use crate::plan::Plan;
 use crate::template::Template;
 use genform_core::expr::Program;
@@ -66,55 +67,6 @@ pub(crate) struct Group {
     /// Most applications of this group in one derivation.
     pub(crate) cap: Option<usize>,
     pub(crate) members: Vec<usize>,
-}
-
-/// What a mother element's env slot is loaded from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(crate) enum Load {
-    X,
-    Y,
-    Attr(u32),
-    Degree,
-    Generation,
-}
-
-#[derive(Clone, Debug)]
-pub(crate) struct MVertex {
-    pub(crate) name: String,
-    pub(crate) label: Option<u32>,
-    pub(crate) attrs: Vec<(u32, Value)>,
-    pub(crate) wildcard: bool,
-    pub(crate) at: Option<[f64; 2]>,
-    pub(crate) loads: Vec<(u32, Load)>,
-}
-
-#[derive(Clone, Debug)]
-pub(crate) struct MEdge {
-    pub(crate) name: String,
-    pub(crate) from: usize,
-    pub(crate) to: usize,
-    pub(crate) directed: bool,
-    pub(crate) label: Option<u32>,
-    pub(crate) attrs: Vec<(u32, Value)>,
-    pub(crate) loads: Vec<(u32, Load)>,
-}
-
-/// A named vector from one mother vertex to another, kept in two env slots.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct PairVector {
-    pub(crate) from: usize,
-    pub(crate) to: usize,
-    /// Slot of the x component; y is the next one.
-    pub(crate) slot: u32,
-}
-
-/// Required order of two mother vertices along x and y (spatial matching).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SpatialPair {
-    pub(crate) a: usize,
-    pub(crate) b: usize,
-    /// Per axis: the sign of b − a in the mother's layout (−1, 0, 1).
-    pub(crate) order: [i8; 2],
 }
 
 #[derive(Clone, Debug)]

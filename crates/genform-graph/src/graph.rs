@@ -8,8 +8,9 @@
 //! positions the elements store), and, when a grammar asks for "oldest"
 //! matching, the same sets split by generation.
 
+use crate::element::{Common, NONE};
 pub(crate) use crate::index::Index;
-use crate::index::{NONE, Slots, index_insert, index_remove, relabel, slot_of};
+use crate::index::{index_insert, index_remove, relabel, slot_of};
 use crate::names::Interner;
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -38,30 +39,6 @@ impl Value {
             Value::Text(t) => Some(t),
             Value::Num(_) => None,
         }
-    }
-}
-
-/// What vertices and edges share. An element is live while it is in the
-/// index of all live elements (`slots.all` is set).
-#[derive(Clone, Debug)]
-pub(crate) struct Common {
-    pub(crate) label: u32,
-    pub(crate) generation: u32,
-    /// Creation order, for drawing and writing in a stable order.
-    pub(crate) birth: u64,
-    /// The element's attribute list, an id in [`AttrSets`] (0: none).
-    pub(crate) attrs: u32,
-    pub(crate) slots: Slots,
-}
-
-impl Common {
-    fn new() -> Common {
-        Common { label: 0, generation: 0, birth: 0, attrs: 0, slots: Slots::EMPTY }
-    }
-
-    /// Whether the element is live.
-    pub(crate) fn alive(&self) -> bool {
-        self.slots.all != NONE
     }
 }
 
@@ -365,15 +342,6 @@ impl AdjPool {
         a.len -= 1;
         (pos < a.len).then_some(moved)
     }
-}
-
-/// Entry `i` of `v`, which grows (with default entries) to hold it: the
-/// tables kept per label, per attribute list or per daughter element.
-pub(crate) fn grown<T: Default>(v: &mut Vec<T>, i: usize) -> &mut T {
-    if v.len() <= i {
-        v.resize_with(i + 1, T::default);
-    }
-    &mut v[i]
 }
 
 /// The ids of `(birth, id)` pairs in birth order; births are unique and
@@ -978,6 +946,7 @@ impl Graph {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::table::grown;
 
     fn new(label: u32, generation: u32, attrs: &mut Vec<(u32, Value)>) -> NewCommon<'_> {
         NewCommon { label, generation, attrs: NewAttrs::List(attrs) }

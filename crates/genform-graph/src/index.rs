@@ -4,24 +4,9 @@
 //! removing and relabelling are O(1) (generation sets: O(1) for the two
 //! generations met last, else O(log generations)).
 
-use crate::graph::{Common, grown};
+use crate::element::{Common, NONE, Slots};
+use crate::table::grown;
 use std::collections::BTreeMap;
-
-/// "No position": the marker of an element absent from an index set.
-pub(crate) const NONE: u32 = u32::MAX;
-
-/// Positions of one element in the index sets it belongs to.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Slots {
-    pub(crate) all: u32,
-    pub(crate) label: u32,
-    pub(crate) gen_all: u32,
-    pub(crate) gen_label: u32,
-}
-
-impl Slots {
-    pub(crate) const EMPTY: Slots = Slots { all: NONE, label: NONE, gen_all: NONE, gen_label: NONE };
-}
 
 /// Swap-remove sets of element ids: all live elements, per label, and
 /// (optionally) per generation.

@@ -11,7 +11,7 @@
 //! named vectors and spatial-order tests run as soon as everything they
 //! read is bound.
 
-use crate::grammar::{MEdge, MVertex, PairVector, SpatialPair};
+use crate::mother::{MEdge, MVertex, PairVector, SpatialPair};
 
 /// One binding operation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -7,8 +7,9 @@
 //! match's largest generation + 1.
 
 use crate::grammar::{AttrSpec, Coord, DEdge, DVertex, Daughter, End, LabelSpec, Production};
-use crate::graph::{Graph, NewAttrs, NewCommon, Value, grown};
+use crate::graph::{Graph, NewAttrs, NewCommon, Value};
 use crate::placement::Similarity;
+use crate::table::grown;
 use genform_core::rng::Draws;
 
 /// Per new daughter element (by its `list_key`): `None` until its list is

@@ -12,8 +12,10 @@
 //! a random one without enumerating all of them.
 
 use crate::choices::{Order, Pick};
-use crate::grammar::{Load, Production};
-use crate::graph::{Common, Graph, Value};
+use crate::element::Common;
+use crate::grammar::Production;
+use crate::graph::{Graph, Value};
+use crate::mother::Load;
 use crate::plan::{Op, Plan, Step};
 
 /// Marker of an unbound mother element.

@@ -1,7 +1,8 @@
 //! `Graph` → YAML in the host format, so a result can be read back as the
 //! host of another grammar.
 
-use crate::graph::{Graph, Value, grown};
+use crate::graph::{Graph, Value};
+use crate::table::grown;
 use std::fmt::Write;
 
 /// The shortest text that reads back as exactly `v` (YAML's `.nan`,

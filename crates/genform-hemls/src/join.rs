@@ -28,7 +28,7 @@
 //! loops in lockstep and relabels the shorter one, moving only the branches
 //! based on it), so repeated splits of one big face stay O(n log n).
 
-use crate::grow::GrowError;
+use crate::error::GrowError;
 use crate::map::{Map, NONE};
 use crate::settings::GrowthLimits;
 use glam::DVec3;

@@ -10,6 +10,7 @@
 
 pub mod env;
 pub mod envfile;
+mod error;
 pub mod grammar;
 pub mod grow;
 mod join;

@@ -4,7 +4,7 @@
 //! [`Program`]s; a statement list runs over one mutable environment.
 
 use crate::alphabet::{Alphabet, Sym};
-use crate::rules::{Arg, is_true};
+use crate::arg::{Arg, is_true};
 use crate::string::ModuleString;
 use genform_core::Draws;
 use genform_core::diag::Span;

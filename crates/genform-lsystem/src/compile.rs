@@ -2,8 +2,9 @@
 //! against their production's parameters and the file's constants.
 
 use crate::alphabet::{self, Alphabet, Command, Sym};
+use crate::arg::Arg;
 use crate::body::{Body, Op};
-use crate::rules::{Arg, Entry, Rule, Table};
+use crate::rules::{Entry, Rule, Table};
 use crate::settings::{Heading, Settings, View};
 use crate::string::ModuleString;
 use crate::surface::{self, SurfaceAssets};

@@ -3,10 +3,11 @@
 //! decomposition rules and cuts.
 
 use crate::alphabet::{Command, Sym};
+use crate::arg::is_true;
 use crate::body::Faults;
 use crate::compile::LSystem;
 use crate::context::{Context, bracket_partners};
-use crate::rules::{Entry, Rule, Table, is_true};
+use crate::rules::{Entry, Rule, Table};
 use crate::string::ModuleString;
 use genform_core::{Draws, Rng};
 

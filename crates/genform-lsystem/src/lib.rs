@@ -30,6 +30,7 @@
 //! ```
 
 mod alphabet;
+mod arg;
 mod body;
 mod compile;
 mod context;

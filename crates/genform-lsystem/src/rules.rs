@@ -2,40 +2,11 @@
 //! successor whose parameters are compiled formulas.
 
 use crate::alphabet::Sym;
+use crate::arg::Arg;
 use crate::body::Body;
 use genform_core::Draws;
 use genform_core::diag::Span;
-use genform_core::expr::{Arith, Operand, Program, Trivial};
-
-/// A compiled successor parameter. Most are a constant, a parameter, or one
-/// operation on two of those (`x*p`, `t-1`); those skip the bytecode
-/// interpreter and perform the same IEEE operation, so results are
-/// bit-identical to [`Program::eval`].
-#[derive(Clone, Debug)]
-pub(crate) enum Arg {
-    Value(Operand),
-    Bin(Arith, Operand, Operand),
-    Run(Program),
-}
-
-impl Arg {
-    pub(crate) fn of(prog: Program) -> Arg {
-        match prog.trivial() {
-            Some(Trivial::Value(a)) => Arg::Value(a),
-            Some(Trivial::Bin(op, a, b)) => Arg::Bin(op, a, b),
-            None => Arg::Run(prog),
-        }
-    }
-
-    #[inline(always)]
-    pub(crate) fn eval(&self, env: &[f64], draws: &mut impl Draws) -> f64 {
-        match self {
-            Arg::Value(a) => a.value(env),
-            Arg::Bin(op, a, b) => op.apply(a.value(env), b.value(env)),
-            Arg::Run(p) => p.eval_draws(env, draws),
-        }
-    }
-}
+use genform_core::expr::Program;
 
 /// One production (or decomposition / interpretation rule).
 #[derive(Clone, Debug)]
@@ -128,10 +99,4 @@ impl Draws for Stored<'_> {
         self.next += 1;
         v
     }
-}
-
-/// True as the expression language defines it: non-zero and not NaN.
-#[inline]
-pub(crate) fn is_true(v: f64) -> bool {
-    v != 0.0 && !v.is_nan()
 }

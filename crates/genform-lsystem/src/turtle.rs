@@ -15,6 +15,7 @@
 mod cylinder;
 mod flat;
 mod query;
+mod state;
 
 use crate::alphabet::{Command, Sym};
 use crate::compile::LSystem;
@@ -23,22 +24,10 @@ use crate::settings::{Settings, View};
 use crate::string::ModuleString;
 use cylinder::Cylinder;
 use genform_core::Rng;
-use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene, TagId};
+use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene};
 use glam::{Affine3A, DMat3, DVec3, Vec3};
+use state::{MAX_COLOR, NO_CYLINDER, NOT_DRAWN, State, Turtle, tropism};
 use std::sync::Arc;
-
-/// Colours used when the file gives no `colors:` table: near-black lines,
-/// then green, red, yellow, brown.
-const DEFAULT_COLORS: [[u8; 3]; 5] =
-    [[0x22, 0x22, 0x22], [0x2e, 0x7d, 0x32], [0xc6, 0x28, 0x28], [0xf9, 0xa8, 0x25], [0x6d, 0x4c, 0x41]];
-
-/// The largest colour index (keeps the tag table small).
-const MAX_COLOR: u32 = 1 << 16;
-
-/// A colour index from a parameter: negative or non-finite values give 0.
-fn color_index(c: f64) -> u32 {
-    if c.is_finite() && c >= 0.0 { (c as u64).min(u64::from(MAX_COLOR)) as u32 } else { 0 }
-}
 
 /// Why a drawing stopped.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -60,84 +49,6 @@ pub struct TurtleEnd {
     pub position: DVec3,
     /// Drawn segments (`F`).
     pub segments: usize,
-}
-
-/// The turtle's state, copied at every `[` and `]`: kept to 128 bytes,
-/// which the compiler copies inline (at 152 bytes each copy was a call to
-/// `memmove`, a third of drawing a bracketed plant).
-#[derive(Clone, Copy, Debug)]
-struct State {
-    pos: DVec3,
-    h: DVec3,
-    l: DVec3,
-    u: DVec3,
-    width: f64,
-    /// Width the last segment of this branch ended with (for taper);
-    /// [`NOT_DRAWN`] before the branch's first segment.
-    drawn: f64,
-    /// L-Py's turtle scale (`@D`): multiplies move lengths, drawn widths
-    /// and sphere radii.
-    scale: f64,
-    /// At most [`MAX_COLOR`].
-    color: u32,
-    /// The generalized cylinder this branch is tracing, by index into
-    /// `Turtle::cylinders`; [`NO_CYLINDER`] for none (`[` starts a branch
-    /// without one).
-    cylinder: u32,
-}
-
-const _: () = assert!(std::mem::size_of::<State>() == 128, "see State");
-
-/// `State::drawn` of a branch that has drawn nothing: compares below every
-/// width.
-const NOT_DRAWN: f64 = f64::NEG_INFINITY;
-
-/// `State::cylinder` of a branch tracing none.
-const NO_CYLINDER: u32 = u32::MAX;
-
-impl State {
-    /// The cylinder this branch is tracing.
-    fn cylinder(&self) -> Option<usize> {
-        (self.cylinder != NO_CYLINDER).then_some(self.cylinder as usize)
-    }
-
-    /// The cylinder this branch is tracing, which it stops tracing.
-    fn take_cylinder(&mut self) -> Option<usize> {
-        let k = self.cylinder();
-        self.cylinder = NO_CYLINDER;
-        k
-    }
-}
-
-struct Turtle<'a> {
-    sys: &'a LSystem,
-    scene: &'a mut Scene,
-    state: State,
-    stack: Vec<State>,
-    polygons: Vec<Vec<Vec3>>,
-    /// The tag and width of the scene's last polyline when it is the one
-    /// this branch is drawing (a segment of that style continuing it from
-    /// its last point extends it).
-    open_line: Option<(TagId, f32)>,
-    tags: Vec<Option<TagId>>,
-    /// Generalized cylinders being traced (`None` once emitted).
-    cylinders: Vec<Option<Cylinder>>,
-    /// Rings added to cylinders by `F`: each counts as a primitive, like
-    /// the frustum it replaces (the cylinder's instance counts once more).
-    rings: usize,
-    segments: usize,
-    limit: usize,
-    over: bool,
-    /// Only the turtle state matters (filling query modules): nothing is
-    /// drawn.
-    dry: bool,
-    /// Each symbol's command (read once per module: a table of its own
-    /// keeps the dispatch to one byte load).
-    commands: Vec<Command>,
-    /// Sine and cosine of the file's angle and of its negative: turns
-    /// without a parameter are most modules of a plant, and `sin_cos` was
-    /// an eighth of drawing one.
-    turns: [(f64, f64); 2],
 }
 
 impl LSystem {
@@ -202,39 +113,9 @@ impl LSystem {
     }
 }
 
-impl<'a> Turtle<'a> {
-    /// A turtle at the origin in the file's initial frame.
-    fn new(sys: &'a LSystem, scene: &'a mut Scene, limit: usize, dry: bool) -> Turtle<'a> {
-        let [h, l, u] = sys.settings.heading.frame();
-        let st = &sys.settings;
-        Turtle {
-            sys,
-            scene,
-            state: State {
-                pos: DVec3::ZERO,
-                h,
-                l,
-                u,
-                width: st.width * st.width_unit,
-                drawn: NOT_DRAWN,
-                color: 0,
-                scale: 1.0,
-                cylinder: NO_CYLINDER,
-            },
-            stack: Vec::new(),
-            polygons: Vec::new(),
-            open_line: None,
-            tags: Vec::new(),
-            cylinders: Vec::new(),
-            rings: 0,
-            segments: 0,
-            limit,
-            over: false,
-            dry,
-            commands: sys.alphabet.symbols.iter().map(|s| s.command).collect(),
-            turns: [st.angle.to_radians().sin_cos(), (-st.angle).to_radians().sin_cos()],
-        }
-    }
+/// A colour index from a parameter: negative or non-finite values give 0.
+fn color_index(c: f64) -> u32 {
+    if c.is_finite() && c >= 0.0 { (c as u64).min(u64::from(MAX_COLOR)) as u32 } else { 0 }
 }
 
 /// Carries out `command` on `s` if it only changes the state (turns,
@@ -321,33 +202,6 @@ fn rotate(a: DVec3, b: DVec3, arg: Option<f64>, sign: f64, turns: &[(f64, f64); 
 }
 
 impl Turtle<'_> {
-    fn primitives(&self) -> usize {
-        self.scene.instances.len() + self.scene.polylines.len() + self.scene.polygons.len() + self.rings
-    }
-
-    /// The tag of colour `color` (interned on first use).
-    #[inline]
-    fn tag(&mut self, color: u32) -> TagId {
-        match self.tags.get(color as usize) {
-            Some(Some(t)) => *t,
-            _ => self.new_tag(color as usize),
-        }
-    }
-
-    #[cold]
-    fn new_tag(&mut self, color: usize) -> TagId {
-        let table: &[[u8; 3]] =
-            if self.sys.settings.colors.is_empty() { &DEFAULT_COLORS } else { &self.sys.settings.colors };
-        // Indices past the table keep its last colour.
-        let [r, g, b] = table[color.min(table.len() - 1)];
-        let id = self.scene.tag(&format!("color{color}#{r:02x}{g:02x}{b:02x}"));
-        if self.tags.len() <= color {
-            self.tags.resize(color + 1, None);
-        }
-        self.tags[color] = Some(id);
-        id
-    }
-
     /// Draws a string without parameters (most plants), stopping when
     /// over the limit: the flat turtle (when `flat`) as far as it can, the
     /// rest here. The state lives in a local that nothing outside this
@@ -606,23 +460,6 @@ impl Turtle<'_> {
         }
         self.over |= self.primitives() > self.limit;
     }
-}
-
-/// Bends H towards T about H × T by e·|H × T| (ABOP p. 58).
-fn tropism(st: &Settings, s: &mut State) {
-    let Some(t) = st.tropism else { return };
-    if st.elasticity == 0.0 {
-        return;
-    }
-    let axis = s.h.cross(DVec3::from_array(t));
-    let n = axis.length();
-    if n < 1e-12 {
-        return;
-    }
-    let rot = DMat3::from_axis_angle(axis / n, st.elasticity * n);
-    s.h = (rot * s.h).normalize();
-    s.l = (rot * s.l).normalize();
-    s.u = s.h.cross(s.l);
 }
 
 #[cfg(test)]

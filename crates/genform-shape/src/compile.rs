@@ -1,10 +1,11 @@
 //! The compile driver: header items, rule table, template expansion, symbol
 //! compilation, the axiom, reachability warnings.
 
+use crate::assets::AssetResolver;
 use crate::ast::*;
 use crate::codegen::{ConstScope, Globals, KEYWORDS, OPS, RuleInfo, SymbolCx, eval_const, instance_name, reserved};
+use crate::grammar::ShapeGrammar;
 use crate::parser::{is_header_word, parse_file};
-use crate::{AssetResolver, ShapeGrammar};
 use genform_core::expr::did_you_mean;
 use genform_core::{Diagnostic, Diagnostics, GeneratorGraph, Limits, Mesh, Severity, SourceFile, Span};
 use std::sync::Arc;

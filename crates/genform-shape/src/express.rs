@@ -1,6 +1,6 @@
 //! Expression: runs a finished genome and writes a [`Scene`].
 
-use crate::ShapeGrammar;
+use crate::grammar::ShapeGrammar;
 use crate::interp::{self, Mode, Stop};
 use crate::program::SlotCode;
 use crate::scratch::with_scratch;

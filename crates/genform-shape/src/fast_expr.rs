@@ -9,7 +9,7 @@
 //! gene env), performing the same IEEE operations on the same values in the
 //! same order as the evaluator, so results are bit-identical.
 
-use crate::program::ENV_SX;
+use crate::builtins::ENV_SX;
 use genform_core::expr::{self, Arith, Program, Trivial};
 use glam::DVec3;
 

@@ -7,8 +7,9 @@
 //! Reading the file is the door's job ([`crate::AssetResolver::load_footprints`]);
 //! this module checks what it read.
 
-use crate::ShapeGrammar;
 use crate::geom;
+use crate::grammar::ShapeGrammar;
+use crate::polygon::area2;
 use glam::DVec2;
 use std::sync::Arc;
 
@@ -17,7 +18,7 @@ pub const MAX_CORNERS: usize = 1024;
 
 /// Whether `p` (at least 3 points) is a simple polygon with an area.
 pub(crate) fn is_valid_outline(p: &[DVec2]) -> bool {
-    p.len() >= 3 && geom::is_simple(p) && geom::area2(p) != 0.0
+    p.len() >= 3 && geom::is_simple(p) && area2(p) != 0.0
 }
 
 /// Checks one footprint given as world `(x, z)` corners and turns it into

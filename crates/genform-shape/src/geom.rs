@@ -5,14 +5,9 @@
 //! is tested on its own. Polygons are lists of points, counter-clockwise
 //! (positive signed area) unless a function says otherwise.
 
+use crate::polygon::{area2, bbox};
 use genform_core::scene::{Mesh, triangulate_polygon};
 use glam::{DVec2, DVec3, Vec3};
-
-/// Twice the signed area (positive when counter-clockwise).
-pub(crate) fn area2(p: &[DVec2]) -> f64 {
-    let n = p.len();
-    (0..n).map(|i| p[i].perp_dot(p[(i + 1) % n])).sum()
-}
 
 /// The area centroid, or the vertex mean when the area is zero.
 pub(crate) fn centroid(p: &[DVec2]) -> DVec2 {
@@ -27,12 +22,6 @@ pub(crate) fn centroid(p: &[DVec2]) -> DVec2 {
         c += (u + v) * u.perp_dot(v);
     }
     c / (3.0 * a)
-}
-
-/// Lower and upper corners of the bounding box (`None` when empty).
-pub(crate) fn bbox(p: &[DVec2]) -> Option<(DVec2, DVec2)> {
-    let first = *p.first()?;
-    Some(p.iter().fold((first, first), |(lo, hi), q| (lo.min(*q), hi.max(*q))))
 }
 
 /// Whether segments `a–b` and `c–d` touch (closed segments).

@@ -17,14 +17,17 @@
 mod build;
 pub(crate) mod occlusion;
 mod pieces;
+mod scope_geom;
 
-use crate::ShapeGrammar;
+use crate::builtins::{ENV_COUNT, ENV_DEPTH, ENV_INDEX, ENV_SX};
 use crate::fast_expr::Fast;
+use crate::grammar::ShapeGrammar;
 use crate::program::*;
 use crate::scope::ScopeState;
 use genform_core::genome::GenePos;
 use genform_core::{ExpressError, Genome, LimitKind, Limits, Primitive};
 use glam::{Affine3A, DVec3};
+use scope_geom::Geom;
 
 /// Operations one run may execute per unit of its primitive and gene
 /// limits, so grammars that loop without emitting (huge `repeat`s, nested
@@ -137,7 +140,7 @@ pub(crate) struct Stacks {
     pieces: Vec<(f64, f64)>,
     args: Vec<f64>,
     /// Polygons and masses of polygon scopes (see `build`).
-    geoms: Vec<build::Geom>,
+    geoms: Vec<Geom>,
     /// Their points.
     pts: Vec<glam::DVec2>,
     /// Faces of open `comp`s: arm and scope.
@@ -176,7 +179,7 @@ impl Stacks {
             + (self.counters.capacity() + self.saved_counters.capacity()) * size_of::<u32>()
             + self.loops.capacity() * size_of::<Loop>()
             + self.pieces.capacity() * size_of::<(f64, f64)>()
-            + self.geoms.capacity() * size_of::<build::Geom>()
+            + self.geoms.capacity() * size_of::<Geom>()
             + self.pts.capacity() * size_of::<glam::DVec2>()
             + self.faces.capacity() * size_of::<(u32, ScopeState)>()
     }
@@ -389,8 +392,8 @@ impl<'g, M: Mode> Interp<'g, M> {
             Op::MirrorEnd(start) => self.mirror_end(rule, start),
             Op::SplitBegin { axis, first, n } => self.split_begin(rule, axis, first, n)?,
             Op::Piece(k) => {
-                if let Some(&Loop::Split { axis, pieces, .. }) = self.st.loops.last() {
-                    let (centre, len) = self.st.pieces[pieces + k as usize];
+                if let Some(&Loop::Split { axis, pieces: first, .. }) = self.st.loops.last() {
+                    let (centre, len) = self.st.pieces[first + k as usize];
                     self.st.scopes.push(self.cur);
                     let parent = self.cur.size[axis as usize];
                     self.cur.piece(axis, centre, len);
@@ -410,8 +413,8 @@ impl<'g, M: Mode> Interp<'g, M> {
             Op::CompNext { arm, body } => self.comp_next(arm, body),
             Op::CompEnd => self.comp_end(),
             Op::SplitEnd => {
-                if let Some(Loop::Split { pieces, index, count, .. }) = self.st.loops.pop() {
-                    self.st.pieces.truncate(pieces);
+                if let Some(Loop::Split { pieces: first, index, count, .. }) = self.st.loops.pop() {
+                    self.st.pieces.truncate(first);
                     self.restore_index(index, count);
                 }
             }
@@ -463,10 +466,10 @@ impl<'g, M: Mode> Interp<'g, M> {
         let base = self.top.env;
         let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
         let at = self.st.pieces.len();
-        let pieces = &rule.pieces[first as usize..(first + n) as usize];
+        let sizes = &rule.pieces[first as usize..(first + n) as usize];
         // Floating sizes stretch to fill the scope unless relative pieces
         // take the rest; then they are absolute.
-        let any_rel = pieces.iter().any(|p| p.1 == SizeKind::Relative);
+        let any_rel = sizes.iter().any(|p| p.1 == SizeKind::Relative);
         let mut absolute = 0.0;
         let mut weights = 0.0;
         let mut floating = 0.0;

@@ -19,7 +19,9 @@
 //! assert_eq!(scene.instances.len(), 1);
 //! ```
 
+mod assets;
 mod ast;
+mod builtins;
 mod codegen;
 mod compile;
 mod express;
@@ -27,9 +29,11 @@ mod fast_expr;
 mod footprint;
 mod genome_check;
 mod geom;
+mod grammar;
 mod interp;
 mod lexer;
 mod parser;
+mod polygon;
 mod program;
 mod sample;
 mod scope;
@@ -37,85 +41,11 @@ mod scratch;
 mod skeleton;
 
 use genform_core::{
-    Diagnostics, ExpressError, Generator, GeneratorGraph, Genome, Limits, Mesh, Rng, Sampled, Scene, SourceFile,
+    Diagnostics, ExpressError, Generator, GeneratorGraph, Genome, Limits, Rng, Sampled, Scene, SourceFile,
 };
-use std::sync::Arc;
 
-/// Loads the mesh assets a grammar declares with `mesh name = "path";`.
-pub trait AssetResolver {
-    /// Loads the mesh at `path`, exactly as written in the `.sg` file (the
-    /// CLI resolves it relative to the grammar file). The error message is
-    /// shown to the user next to the path.
-    fn load_mesh(&self, path: &str) -> Result<Mesh, String>;
-
-    /// Loads the footprints at `path` (`footprints "…";`): one list of
-    /// world `(x, z)` corners per polygon.
-    fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
-        Err(format!("no footprint files are available here (asked for \"{path}\")"))
-    }
-}
-
-/// A resolver without assets: every `mesh` declaration is an error.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoAssets;
-
-impl AssetResolver for NoAssets {
-    fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
-        Err(format!("no mesh assets are available here (asked for \"{path}\")"))
-    }
-}
-
-/// A compiled shape grammar: the generator graph plus one operation program
-/// per symbol. Implements [`Generator`].
-#[derive(Clone, Debug)]
-pub struct ShapeGrammar {
-    name: String,
-    graph: GeneratorGraph,
-    rules: Vec<program::RuleCode>,
-    meshes: Vec<Arc<Mesh>>,
-    tags: Vec<String>,
-    limits: Limits,
-    file: SourceFile,
-    /// Tables for the fast genome check of `express`, built from `graph`.
-    check: genome_check::GenomeCheck,
-    /// Some rule asks an occlusion query: runs record what they place.
-    occlusion: bool,
-    /// The lots of `footprints "…";`.
-    footprints: Vec<Arc<[glam::DVec2]>>,
-    /// The occluders of `context "…";`.
-    context: Arc<[interp::occlusion::Placed]>,
-    /// The lot runs start on ([`ShapeGrammar::on_footprint`]).
-    start_lot: Option<Arc<[glam::DVec2]>>,
-    /// Where the `limits` item sets genes, depth and primitives.
-    limits_at: [Option<genform_core::Span>; 3],
-    /// Per `color(…)` colour, the tag each tag becomes.
-    color_tags: Vec<Vec<u32>>,
-    /// Each tag's tag without a colour (kept when occlusion queries ask).
-    base_tags: Vec<u32>,
-}
-
-impl ShapeGrammar {
-    /// The grammar's name: `grammar "name";`, else the file stem.
-    pub fn name(&self) -> &str {
-        &self.name
-    }
-
-    /// The limits of the `limits` header, defaults for those not given.
-    pub fn limits(&self) -> Limits {
-        self.limits
-    }
-
-    /// `file:line:col` of the value the `limits` header gives `kind`, if it
-    /// gives one.
-    pub fn limit_location(&self, kind: genform_core::LimitKind) -> Option<String> {
-        let i = match kind {
-            genform_core::LimitKind::Genes => 0,
-            genform_core::LimitKind::Depth => 1,
-            genform_core::LimitKind::Primitives => 2,
-        };
-        self.limits_at[i].map(|s| self.file.location(s.start))
-    }
-}
+pub use assets::{AssetResolver, NoAssets};
+pub use grammar::ShapeGrammar;
 
 impl Generator for ShapeGrammar {
     fn graph(&self) -> &GeneratorGraph {

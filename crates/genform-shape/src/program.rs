@@ -5,6 +5,7 @@
 //! stack, however deep a derivation goes.
 
 use crate::ast::CompKind;
+use crate::builtins::ENV_SX;
 use crate::fast_expr::Fast;
 use genform_core::Span;
 use genform_core::expr::Program;
@@ -311,11 +312,3 @@ pub(crate) struct RuleCode {
     /// Tag of emissions until `tag(...)` changes it.
     pub tag: u32,
 }
-
-/// Env indices of the built-in variables (the same in every rule).
-pub(crate) const ENV_SX: usize = 0;
-pub(crate) const ENV_DEPTH: usize = 3;
-pub(crate) const ENV_INDEX: usize = 4;
-pub(crate) const ENV_COUNT: usize = 5;
-/// Names of the built-in variables, in env order.
-pub(crate) const BUILTINS: [&str; 6] = ["sx", "sy", "sz", "depth", "index", "count"];

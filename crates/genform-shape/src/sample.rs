@@ -8,7 +8,7 @@
 //! and the template chain are respected, and a link touched twice (the
 //! second pass of a `mirror`) keeps its first decision.
 
-use crate::ShapeGrammar;
+use crate::grammar::ShapeGrammar;
 use crate::interp::{self, Mode, Stop};
 use crate::program::SlotCode;
 use crate::scratch::with_scratch;

@@ -13,7 +13,7 @@
 //! every wavefront polygon that has lost its area, within a tolerance
 //! relative to the polygon's size.
 
-use crate::geom::{area2, bbox};
+use crate::polygon::{area2, bbox};
 use glam::DVec2;
 
 /// A wavefront vertex: where the offset lines of edges `ein` (arriving) and

@@ -3,7 +3,7 @@
 
 use super::*;
 use genform_core::genome::{GenePos, Link};
-use genform_core::{Generator, LimitKind, Primitive};
+use genform_core::{Generator, LimitKind, Mesh, Primitive};
 use glam::{Mat3, Vec3};
 
 fn grammar(src: &str) -> ShapeGrammar {

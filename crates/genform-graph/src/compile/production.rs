@@ -4,7 +4,8 @@
 use super::scope::{GlobalInfo, Owner, ProdScope, Slots, VecDef};
 use super::syntax::{Formula, ProductionSyn, Variable, Written};
 use super::{Cx, Place};
-use crate::grammar::{Daughter, MEdge, MVertex, PairVector, Production, SpatialPair};
+use crate::grammar::{Daughter, Production};
+use crate::mother::{MEdge, MVertex, PairVector, SpatialPair};
 use crate::plan::make_plan;
 use genform_core::diag::{Diagnostic, Span};
 use genform_core::expr::{Program, did_you_mean, parse};

@@ -6,7 +6,7 @@
 //! globals. Slots are handed out on first use, so a match loads only what
 //! the production's formulas read.
 
-use crate::grammar::Load;
+use crate::mother::Load;
 use crate::names::Interner;
 use genform_core::expr::Scope;
 use genform_core::expr::vec2::VecScope;

@@ -10,7 +10,7 @@
 //! module it has no command for, it hands its state and stack over to the
 //! general turtle, which goes on from there.
 
-use super::{State, Turtle};
+use super::state::{State, Turtle};
 use crate::alphabet::{Command, Sym};
 use crate::settings::View;
 use genform_core::scene::Polyline;

@@ -5,7 +5,7 @@
 //! productions can react to where a module is (ABOP-style environmental
 //! sensitivity, e.g. pruning against a shape).
 
-use super::Turtle;
+use super::state::Turtle;
 use crate::compile::LSystem;
 use crate::derive::Scratch;
 use crate::string::ModuleString;

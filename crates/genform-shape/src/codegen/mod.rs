@@ -10,6 +10,7 @@ mod decl;
 mod ops;
 
 use crate::ast::*;
+use crate::builtins::BUILTINS;
 use crate::program::*;
 use genform_core::expr::{Ast, Node, Program, Scope, did_you_mean};
 use genform_core::{Diagnostic, Distribution, ParamSpec, SlotSpec, Span, SymbolSpec};

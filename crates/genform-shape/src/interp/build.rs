@@ -11,9 +11,11 @@
 //! from y = −0.5 to +0.5.
 
 use super::pieces::{Piece, PieceGeom};
+use super::scope_geom::{Geom, GeomKind};
 use super::*;
 use crate::ast::CompKind;
 use crate::geom::{self, RoofKind};
+use crate::polygon::{area2, bbox};
 use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP};
 use crate::scope::NO_GEOM;
 use genform_core::scene::Mesh;
@@ -22,23 +24,6 @@ use glam::{DAffine3, DMat3, DVec2};
 /// Points the geometry arena of one run may hold (32 MiB); a run that
 /// needs more stops like one that places too many primitives.
 const MAX_GEOM_POINTS: usize = 1 << 21;
-
-/// What a scope's geometry is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum GeomKind {
-    Polygon,
-    Mass,
-}
-
-/// A polygon or mass: `len` points from `start` in [`Stacks::pts`]. An
-/// empty one (fewer than 3 points) is what cutting can leave: it emits
-/// nothing.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Geom {
-    pub(super) kind: GeomKind,
-    start: u32,
-    pub(super) len: u32,
-}
 
 /// The unit square, counter-clockwise in a polygon's xy plane.
 pub(super) const SQUARE: [DVec2; 4] =
@@ -51,7 +36,7 @@ const FOOT_SQUARE: [DVec2; 4] =
 fn is_unit_square(p: &[DVec2]) -> bool {
     p.len() == 4
         && FOOT_SQUARE.iter().all(|c| p.iter().any(|q| (*q - *c).abs().max_element() <= 1e-12))
-        && (geom::area2(p).abs() - 2.0).abs() <= 1e-9
+        && (area2(p).abs() - 2.0).abs() <= 1e-9
 }
 
 impl<'g, M: Mode> Interp<'g, M> {
@@ -114,10 +99,10 @@ impl<'g, M: Mode> Interp<'g, M> {
                 None => ExpressError::Eval(format!("the footprint: {msg}")).into(),
             });
         }
-        if geom::area2(&p) < 0.0 {
+        if area2(&p) < 0.0 {
             p.reverse();
         }
-        let (lo, hi) = geom::bbox(&p).unwrap_or_default();
+        let (lo, hi) = bbox(&p).unwrap_or_default();
         let (c, size) = ((lo + hi) * 0.5, hi - lo);
         let unit: Vec<DVec2> = p.iter().map(|q| (*q - c) / size).collect();
         let m = DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y);
@@ -259,7 +244,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     pub(super) fn absolute_foot(&self, g: Geom) -> Vec<DVec2> {
         let s = self.cur.size;
         let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
-        if geom::area2(&foot) < 0.0 {
+        if area2(&foot) < 0.0 {
             foot.reverse();
         }
         foot
@@ -402,7 +387,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 } else {
                     abs.iter().rev().copied().collect()
                 };
-                let Some((lo, hi)) = geom::bbox(&p) else { continue };
+                let Some((lo, hi)) = bbox(&p) else { continue };
                 let (c, size) = ((lo + hi) * 0.5, hi - lo);
                 if size.x == 0.0 || size.y == 0.0 {
                     continue;

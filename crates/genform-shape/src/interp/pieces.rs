@@ -9,10 +9,11 @@
 //! is its outward normal in the polygon's plane: −y `front` (a lot's street
 //! side, world +z), +y `back`, +x `right`, −x `left`.
 
-use super::build::GeomKind;
+use super::scope_geom::GeomKind;
 use super::*;
 use crate::ast::CompKind;
-use crate::geom::{self, area2, bbox, clip};
+use crate::geom::{self, clip};
+use crate::polygon::{area2, bbox};
 use crate::program::{FACE_BACK, FACE_FRONT, FACE_LEFT, FACE_RIGHT, PIECE_REST, PIECE_SHAPE, SIDE};
 use crate::scope::NO_GEOM;
 use crate::skeleton;

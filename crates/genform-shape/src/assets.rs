@@ -1,0 +1,28 @@
+//! Where a grammar's mesh and footprint files come from: the door that
+//! compiles a grammar knows where its files lie, the compiler does not.
+
+use genform_core::Mesh;
+
+/// Loads the mesh assets a grammar declares with `mesh name = "path";`.
+pub trait AssetResolver {
+    /// Loads the mesh at `path`, exactly as written in the `.sg` file (the
+    /// CLI resolves it relative to the grammar file). The error message is
+    /// shown to the user next to the path.
+    fn load_mesh(&self, path: &str) -> Result<Mesh, String>;
+
+    /// Loads the footprints at `path` (`footprints "…";`): one list of
+    /// world `(x, z)` corners per polygon.
+    fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
+        Err(format!("no footprint files are available here (asked for \"{path}\")"))
+    }
+}
+
+/// A resolver without assets: every `mesh` declaration is an error.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoAssets;
+
+impl AssetResolver for NoAssets {
+    fn load_mesh(&self, path: &str) -> Result<Mesh, String> {
+        Err(format!("no mesh assets are available here (asked for \"{path}\")"))
+    }
+}
