@@ -1,6 +1,10 @@
 //! Optimizer settings, their defaults (the paper's spaceship experiment,
 //! reference §1.9) and their validation.
 
+pub(crate) mod gene_choice;
+
+pub use gene_choice::GeneChoice;
+
 use crate::operators::{LengthBounds, MutationMix};
 use crate::selection::Selection;
 use serde::{Deserialize, Serialize};
@@ -387,19 +391,6 @@ impl RandomConfig {
         }
         check_lengths(1, self.max_length, self.initial_length)
     }
-}
-
-/// How an MCMC move picks the gene it changes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum GeneChoice {
-    /// Uniformly among the eligible genes.
-    Uniform,
-    /// Talton et al.'s nonterminal selection as the reference implements
-    /// it: a depth uniformly among the depths that hold eligible genes, then
-    /// a gene uniformly at that depth, so shallow (structural) genes are
-    /// changed as often as the many deep ones.
-    Level,
 }
 
 /// Settings of the RJMCMC chains (Talton et al. 2011 as the thesis runs

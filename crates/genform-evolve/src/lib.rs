@@ -42,6 +42,7 @@ pub mod fixtures;
 pub mod ga;
 pub mod ge;
 pub mod hybrid;
+mod individual;
 pub mod map_elites;
 pub mod mcmc;
 pub mod objective;

@@ -2,44 +2,12 @@
 //! both generic over the genome type (default: the derivation-tree
 //! [`Genome`]; grammatical evolution uses [`Codons`](crate::ge::Codons)).
 
+pub use crate::individual::{Genotype, Individual};
+
 use crate::objective::Objective;
 use crate::selection::rank;
 use crate::stats::GenerationStats;
 use genform_core::{Genome, Limits};
-
-/// What statistics need to know about a genome representation.
-pub trait Genotype {
-    /// Its length: genes of a [`Genome`], codons of a codon string.
-    fn length(&self) -> usize;
-}
-
-impl Genotype for Genome {
-    fn length(&self) -> usize {
-        self.len()
-    }
-}
-
-impl Genotype for Vec<u32> {
-    fn length(&self) -> usize {
-        self.len()
-    }
-}
-
-/// A genome with its cached fitness.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Individual<G = Genome> {
-    /// The genome.
-    pub genome: G,
-    /// Its fitness; non-finite means invalid (see [`Objective`]).
-    pub fitness: f64,
-}
-
-impl<G> Individual<G> {
-    /// Whether the fitness is finite.
-    pub fn is_valid(&self) -> bool {
-        self.fitness.is_finite()
-    }
-}
 
 /// Sorts best first, stably: ties (and all invalid individuals) keep their
 /// order, so the result depends only on the input order.

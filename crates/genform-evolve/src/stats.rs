@@ -1,7 +1,7 @@
 //! Per-generation statistics (the reference's CSV columns and more).
 
+use crate::individual::{Genotype, Individual};
 use crate::operators::MutationKind;
-use crate::optimizer::{Genotype, Individual};
 use serde::Serialize;
 use std::time::Duration;
 

@@ -198,7 +198,7 @@ impl Welder {
 }
 
 mod stl {
-    use super::*;
+    use crate::import::*;
 
     fn malformed(name: &str, message: String) -> ImportError {
         ImportError::Malformed { format: MeshFormat::Stl, name: name.into(), message }
@@ -277,7 +277,7 @@ mod stl {
 }
 
 mod glb {
-    use super::*;
+    use crate::import::*;
 
     const FLOAT: u64 = 5126;
     const JSON: u32 = 0x4E4F_534A;

@@ -75,13 +75,12 @@ pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFileError, MeshFormat, r
 pub use obj::{write_obj, write_obj_materials, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
-pub use render::{Backdrop, Camera, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over};
+pub use render::{
+    Backdrop, Camera, MAX_IMAGE_SIDE, RenderOptions, fitted_camera, render_png, render_rgb, render_rgb_over,
+};
 pub use stl::write_stl;
 pub use surfaces::{grown_to_y_up, preview_y_up, surfaces_y_up};
 pub use svg::{SvgOptions, write_svg};
-
-/// The largest image side [`export`] accepts for [`Format::Png`].
-pub const MAX_IMAGE_SIDE: u32 = 8192;
 
 /// An output file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

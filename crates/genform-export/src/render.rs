@@ -52,6 +52,10 @@ fn refine(cam: &mut Camera, aspect: f32, pts: &[Vec3]) {
     }
 }
 
+/// The largest image side [`export`](crate::export) accepts for
+/// [`Format::Png`](crate::Format::Png).
+pub const MAX_IMAGE_SIDE: u32 = 8192;
+
 /// Settings for [`render_png`] and [`render_rgb`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderOptions {
@@ -173,8 +177,8 @@ fn render_backdrop_with(
     backdrop: &Backdrop,
     tess: Tessellation,
 ) -> (Vec<u8>, u32, u32) {
-    let w = opts.width.clamp(1, crate::MAX_IMAGE_SIDE);
-    let h = opts.height.clamp(1, crate::MAX_IMAGE_SIDE);
+    let w = opts.width.clamp(1, MAX_IMAGE_SIDE);
+    let h = opts.height.clamp(1, MAX_IMAGE_SIDE);
     let plain = backdrop.ghosts.is_empty() && backdrop.image.is_none() && !backdrop.mirrored;
     if !plain {
         return render_over(scene, opts, backdrop, tess, w, h);

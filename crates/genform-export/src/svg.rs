@@ -344,8 +344,8 @@ fn write_surface(w: &mut Writer, s: &Surface, fill: [u8; 3], floor: f32) {
 
 /// Guides, faint: boundary meshes under everything, points over it.
 mod guides {
-    use super::{Writer, flip, hex};
     use crate::palette::guide_color;
+    use crate::svg::{Writer, flip, hex};
     use genform_core::scene::Scene;
     use genform_core::surface::GuideKind;
     use glam::Vec2;
@@ -543,7 +543,7 @@ impl Writer {
 
 /// 2D shapes: their extent and their SVG elements.
 mod shapes2d {
-    use super::{Shape2d, Shape2dKind, Vec2, Writer, flip};
+    use crate::svg::{Shape2d, Shape2dKind, Vec2, Writer, flip};
     use std::fmt::Write;
     use std::sync::Arc;
 

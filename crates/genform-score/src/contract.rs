@@ -26,47 +26,10 @@ use crate::surface::{SurfaceCriterion, SurfaceScorer};
 use genform_core::scene::Scene;
 use std::any::Any;
 
+pub use crate::component::{Component, Score};
+
 /// Per-thread working memory of a scorer (each scorer knows its own type).
 pub type Scratch = Box<dyn Any + Send>;
-
-/// One named part of a fitness.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Component {
-    /// Its name: a criterion (`size`) or a term (`good`, `length`).
-    pub name: &'static str,
-    /// The raw measure the term is made of.
-    pub measure: f64,
-    /// The value the measure should have, for criteria with a target.
-    pub target: Option<f64>,
-    /// Its weight.
-    pub weight: f64,
-    /// How far the measure is from its target, in the criterion's units of
-    /// error (criteria with a target).
-    pub error: Option<f64>,
-    /// What it adds to the fitness (the components add up to it).
-    pub value: f64,
-    /// The most it can add.
-    pub max: f64,
-}
-
-/// A scored model: the fitness, what it is made of and what was measured.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Score {
-    /// The fitness ([`Scorer::fitness`] of the same model, bit for bit).
-    pub fitness: f64,
-    /// Its parts, in the scorer's order.
-    pub components: Vec<Component>,
-    /// The raw measures by name (a counting target's `good`, `bad`,
-    /// `overlap`, `outside`, `target`; a criterion's measure).
-    pub measures: Vec<(&'static str, f64)>,
-}
-
-impl Score {
-    /// The measure called `name`.
-    pub fn measure(&self, name: &str) -> Option<f64> {
-        self.measures.iter().find(|(n, _)| *n == name).map(|(_, v)| *v)
-    }
-}
 
 /// A weight (and, for criteria, a target) that steering may change.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -139,31 +102,31 @@ pub trait Counter: Send + Sync {
     fn clear_caches(&self) {}
 }
 
-impl Counter for crate::VolumeScorer {
+impl Counter for crate::volume::VolumeScorer {
     fn scratch(&self) -> Scratch {
-        Box::new(crate::VolumeScorer::scratch(self))
+        Box::new(crate::volume::VolumeScorer::scratch(self))
     }
 
     fn counts(&self, scene: &Scene, scratch: &mut Scratch) -> Counts {
-        crate::VolumeScorer::counts(self, scene, downcast(scratch))
+        crate::volume::VolumeScorer::counts(self, scene, downcast(scratch))
     }
 
     fn clear_caches(&self) {
-        crate::VolumeScorer::clear_caches(self)
+        crate::volume::VolumeScorer::clear_caches(self)
     }
 }
 
-impl Counter for crate::ImageScorer {
+impl Counter for crate::image::ImageScorer {
     fn scratch(&self) -> Scratch {
-        Box::new(crate::ImageScorer::scratch(self))
+        Box::new(crate::image::ImageScorer::scratch(self))
     }
 
     fn counts(&self, scene: &Scene, scratch: &mut Scratch) -> Counts {
-        crate::ImageScorer::counts(self, scene, downcast(scratch))
+        crate::image::ImageScorer::counts(self, scene, downcast(scratch))
     }
 
     fn clear_caches(&self) {
-        crate::ImageScorer::clear_caches(self)
+        crate::image::ImageScorer::clear_caches(self)
     }
 }
 

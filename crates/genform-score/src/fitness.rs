@@ -152,10 +152,10 @@ impl Fitness {
     /// `overlap`, `length`, as the form has them): what each adds, its
     /// weight, the measure it is made of and the most it can add. They add
     /// up to the fitness (to rounding, in the `linear` form).
-    pub fn components(&self, c: &Counts, len: usize) -> Vec<crate::contract::Component> {
+    pub fn components(&self, c: &Counts, len: usize) -> Vec<crate::component::Component> {
         let t = c.target;
         let s = |a: f64, b: f64, x: f64| if b > a { smootherstep(a, b, x) } else { 0.0 };
-        let term = |name: &'static str, measure: f64, weight: f64, value: f64, sign: f64| crate::contract::Component {
+        let term = |name: &'static str, measure: f64, weight: f64, value: f64, sign: f64| crate::component::Component {
             name,
             measure,
             target: None,

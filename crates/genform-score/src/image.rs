@@ -22,6 +22,7 @@
 
 mod coverage;
 mod decode;
+mod edge_table;
 mod error;
 #[cfg(any(test, feature = "test-support"))]
 pub mod oracle;
@@ -29,9 +30,10 @@ mod outline;
 mod preview;
 mod project;
 mod raster;
+mod scan;
 pub mod target;
 
-pub use coverage::Coverage;
+pub use coverage::{Coverage, MAX_SIDE};
 pub use error::ImageError;
 pub use raster::ImageScratch;
 pub use target::{ImageTarget, PngMode};
@@ -41,14 +43,6 @@ use crate::span_cache::CachePool;
 use genform_core::camera::{Camera, Projection};
 use genform_core::scene::{Scene, Tessellation};
 use project::Frame;
-
-/// The largest image side accepted, in pixels.
-pub const MAX_SIDE: u32 = 4096;
-
-/// Mask words per row of a `width`-pixel image.
-pub(crate) fn words_per_row(width: u32) -> usize {
-    (width as usize).div_ceil(64)
-}
 
 /// Scores Scenes against one image target through one camera.
 #[derive(Clone, Debug)]

@@ -5,6 +5,7 @@
 //! [`genform_core::Scene`]; counting targets reduce it to [`Counts`],
 //! which a [`Fitness`] turns into the number optimizers maximize.
 
+pub mod component;
 pub mod contract;
 pub mod descriptor;
 pub mod fitness;
@@ -21,7 +22,8 @@ pub mod volume;
 pub mod voxel_set;
 pub mod voxelize;
 
-pub use contract::{Component, Counter, FITNESS_WEIGHTS, Knob, Score, Scorer, Scratch, Sum, Targets};
+pub use component::{Component, Score};
+pub use contract::{Counter, FITNESS_WEIGHTS, Knob, Scorer, Scratch, Sum, Targets};
 pub use descriptor::Descriptor;
 pub use fitness::{Counts, Fitness, Form, smootherstep};
 

@@ -1,7 +1,8 @@
 //! Name resolution, constant folding and bytecode emission; the evaluator.
 
 use super::parse::{Ast, BinOp, Node, UnOp};
-use super::{Scope, did_you_mean};
+use super::scope::Scope;
+use super::suggest::did_you_mean;
 use crate::diag::Diagnostic;
 use crate::rng::{Draws, Rng, standard_normal, uniform_in};
 

@@ -367,7 +367,7 @@ impl<'a> Parser<'a> {
     }
 
     /// `name(` raw text `)`: the text as one [`Node::Var`] argument.
-    fn raw_call(&mut self, name: &str, span: Span, open: Span, raw: super::RawArgument<'a>) -> PResult<Ast> {
+    fn raw_call(&mut self, name: &str, span: Span, open: Span, raw: super::dialect::RawArgument<'a>) -> PResult<Ast> {
         let start = self.lex.trivia_end(open.end as usize);
         let mut end = (raw.scan)(self.src, start).clamp(start, self.src.len());
         // A host's scanner is trusted with positions, not with UTF-8.

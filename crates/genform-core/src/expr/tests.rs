@@ -258,8 +258,8 @@ fn did_you_mean_counts_a_swap_as_one_typo() {
     assert_eq!(super::did_you_mean("stpes", ["steps", "scale"]), Some("steps"));
     assert_eq!(super::did_you_mean("repellor", ["repeller", "attractor"]), Some("repeller"));
     assert_eq!(super::did_you_mean("xyzzy", ["steps", "scale"]), None);
-    assert_eq!(super::edit_distance("ab", "ba"), 1);
-    assert_eq!(super::edit_distance("", "ab"), 2);
+    assert_eq!(super::suggest::edit_distance("ab", "ba"), 1);
+    assert_eq!(super::suggest::edit_distance("", "ab"), 2);
 }
 
 /// The full alignment table, as `did_you_mean` computed it before the
@@ -299,7 +299,7 @@ proptest::proptest! {
         }
         proptest::prop_assert_eq!(super::did_you_mean(&name, candidates.iter().map(String::as_str)), best.map(|(_, c)| c));
         for c in &candidates {
-            proptest::prop_assert_eq!(super::edit_distance(&name, c), full_table_distance(&name, c));
+            proptest::prop_assert_eq!(super::suggest::edit_distance(&name, c), full_table_distance(&name, c));
         }
     }
 }

@@ -18,9 +18,10 @@
 //! relative, a subtree copied to another genome keeps its internal links;
 //! growing appends at the end; cutting is one forward sweep (O(words)).
 
+mod file;
 mod json;
 
-pub use json::{GenomeFile, JsonGene};
+pub use file::{GenomeFile, JsonGene};
 
 use crate::graph::{GeneratorGraph, SymbolId};
 use std::fmt;

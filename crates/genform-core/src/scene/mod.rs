@@ -13,12 +13,14 @@
 //! - `obj`: [`Mesh::from_obj`], reading Wavefront OBJ text;
 //! - `polylines`: [`Polylines`], every stroke's points in one array;
 //! - `triangulate`: [`triangulate_polygon`], ear clipping of planar polygons;
-//! - `tessellate`: [`Tessellation`], [`unit_mesh`] and
-//!   [`Scene::for_each_triangle`].
+//! - `primitive`: [`Primitive`], the built-in unit shapes;
+//! - `tessellate`: [`Tessellation`] and [`unit_mesh`], which
+//!   [`Scene::for_each_triangle`] (here) walks the triangles with.
 
 pub(crate) mod mesh;
 mod obj;
 mod polylines;
+mod primitive;
 mod tessellate;
 #[cfg(test)]
 mod tests;
@@ -26,38 +28,14 @@ mod triangulate;
 
 pub use mesh::{Mesh, MeshId, TagId};
 pub use polylines::{Polyline, Polylines};
+pub use primitive::Primitive;
 pub use tessellate::{Tessellation, unit_mesh};
 pub use triangulate::triangulate_polygon;
 
 use glam::Affine3A;
 use glam::Vec3;
+use mesh::bounds_of;
 use std::sync::Arc;
-
-/// A unit-sized shape, placed by an instance transform.
-///
-/// Every built-in primitive fits the cube `[-0.5, 0.5]³`; axial ones run
-/// along local +y, with the base at y = −0.5.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Primitive {
-    /// The cube `[-0.5, 0.5]³`.
-    Box,
-    /// A frustum along y: bottom radius 0.5, top radius `0.5 * top`.
-    /// `top = 1` is a cylinder, `top = 0` a cone.
-    Frustum {
-        /// Top radius relative to the bottom radius.
-        top: f32,
-    },
-    /// The sphere of radius 0.5.
-    Sphere,
-    /// A box whose top face (y = +0.5) is scaled by `top` in x and z
-    /// (a square frustum; `top = 0` is a pyramid).
-    TaperedBox {
-        /// Top face size relative to the bottom face.
-        top: f32,
-    },
-    /// A mesh asset from [`Scene::meshes`], used as is (not normalized).
-    Mesh(MeshId),
-}
 
 /// One placed primitive.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -206,5 +184,61 @@ impl Scene {
             && self.blocks.iter().all(|g| g.set_count() == 0)
             && self.shapes2d.is_empty()
             && self.surfaces.iter().all(|s| s.positions.is_empty())
+    }
+
+    /// Calls `f(triangle, tag)` for every triangle of every instance,
+    /// polygon and surface face, in world space and counter-clockwise seen from outside
+    /// (triangles of reflected instances are re-ordered to stay so).
+    /// Polygons are split by [`triangulate_polygon`]: counter-clockwise seen
+    /// from the side their points wind counter-clockwise around.
+    pub fn for_each_triangle(&self, tess: Tessellation, mut f: impl FnMut([Vec3; 3], TagId)) {
+        let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
+        for inst in &self.instances {
+            let mesh: &Mesh = match inst.primitive {
+                Primitive::Mesh(id) => &self.meshes[id as usize],
+                p => {
+                    let i = match cache.iter().position(|(q, _)| *q == p) {
+                        Some(i) => i,
+                        None => {
+                            cache.push((p, unit_mesh(p, tess)));
+                            cache.len() - 1
+                        }
+                    };
+                    &cache[i].1
+                }
+            };
+            let flip = inst.transform.matrix3.determinant() < 0.0;
+            for t in &mesh.triangles {
+                let [a, b, c] = t.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]));
+                f(if flip { [a, c, b] } else { [a, b, c] }, inst.tag);
+            }
+        }
+        for poly in &self.polygons {
+            for t in triangulate_polygon(&poly.points) {
+                f(t.map(|i| poly.points[i as usize]), poly.tag);
+            }
+        }
+        for surface in &self.surfaces {
+            surface.for_each_face_points(|pts| {
+                for t in triangulate_polygon(pts) {
+                    f(t.map(|i| pts[i as usize]), surface.tag);
+                }
+            });
+        }
+    }
+
+    /// Number of triangles [`Scene::for_each_triangle`] yields.
+    pub fn triangle_count(&self, tess: Tessellation) -> usize {
+        let mut n = 0;
+        self.for_each_triangle(tess, |_, _| n += 1);
+        n
+    }
+
+    /// Axis-aligned bounds of all geometry, `None` when empty.
+    pub fn bounds(&self, tess: Tessellation) -> Option<(Vec3, Vec3)> {
+        let mut pts = Vec::new();
+        self.for_each_triangle(tess, |t, _| pts.extend_from_slice(&t));
+        pts.extend_from_slice(self.polylines.points());
+        bounds_of(pts.into_iter())
     }
 }

@@ -4,7 +4,7 @@
 //! every branch); one `Vec` per line made a million-segment drawing spend
 //! about a third of its time allocating, growing and freeing point lists.
 
-use super::TagId;
+use super::mesh::TagId;
 use glam::Vec3;
 
 /// One polyline, borrowed from [`Polylines`]: an open line through points.

@@ -1,9 +1,9 @@
-//! Turning a Scene's geometry into triangles: the unit meshes of the
-//! built-in primitives, and the walk over every triangle of a scene.
+//! The unit meshes of the built-in primitives, and how finely curved ones
+//! are tessellated; [`Scene::for_each_triangle`](super::Scene::for_each_triangle)
+//! walks a scene's triangles with them.
 
-use super::mesh::bounds_of;
-use super::triangulate::triangulate_polygon;
-use super::{Mesh, Primitive, Scene, TagId};
+use super::mesh::Mesh;
+use super::primitive::Primitive;
 use glam::Vec3;
 
 /// How finely curved primitives are tessellated.
@@ -18,64 +18,6 @@ pub struct Tessellation {
 impl Default for Tessellation {
     fn default() -> Self {
         Tessellation { radial: 24, rings: 12 }
-    }
-}
-
-impl Scene {
-    /// Calls `f(triangle, tag)` for every triangle of every instance,
-    /// polygon and surface face, in world space and counter-clockwise seen from outside
-    /// (triangles of reflected instances are re-ordered to stay so).
-    /// Polygons are split by [`triangulate_polygon`]: counter-clockwise seen
-    /// from the side their points wind counter-clockwise around.
-    pub fn for_each_triangle(&self, tess: Tessellation, mut f: impl FnMut([Vec3; 3], TagId)) {
-        let mut cache: Vec<(Primitive, Mesh)> = Vec::new();
-        for inst in &self.instances {
-            let mesh: &Mesh = match inst.primitive {
-                Primitive::Mesh(id) => &self.meshes[id as usize],
-                p => {
-                    let i = match cache.iter().position(|(q, _)| *q == p) {
-                        Some(i) => i,
-                        None => {
-                            cache.push((p, unit_mesh(p, tess)));
-                            cache.len() - 1
-                        }
-                    };
-                    &cache[i].1
-                }
-            };
-            let flip = inst.transform.matrix3.determinant() < 0.0;
-            for t in &mesh.triangles {
-                let [a, b, c] = t.map(|i| inst.transform.transform_point3(mesh.positions[i as usize]));
-                f(if flip { [a, c, b] } else { [a, b, c] }, inst.tag);
-            }
-        }
-        for poly in &self.polygons {
-            for t in triangulate_polygon(&poly.points) {
-                f(t.map(|i| poly.points[i as usize]), poly.tag);
-            }
-        }
-        for surface in &self.surfaces {
-            surface.for_each_face_points(|pts| {
-                for t in triangulate_polygon(pts) {
-                    f(t.map(|i| pts[i as usize]), surface.tag);
-                }
-            });
-        }
-    }
-
-    /// Number of triangles [`Scene::for_each_triangle`] yields.
-    pub fn triangle_count(&self, tess: Tessellation) -> usize {
-        let mut n = 0;
-        self.for_each_triangle(tess, |_, _| n += 1);
-        n
-    }
-
-    /// Axis-aligned bounds of all geometry, `None` when empty.
-    pub fn bounds(&self, tess: Tessellation) -> Option<(Vec3, Vec3)> {
-        let mut pts = Vec::new();
-        self.for_each_triangle(tess, |t, _| pts.extend_from_slice(&t));
-        pts.extend_from_slice(self.polylines.points());
-        bounds_of(pts.into_iter())
     }
 }
 

@@ -3,7 +3,10 @@
 //! codon optimizers need an `Objective<Codons>`, tree optimizers an
 //! `Objective<Genome>`, and neither enum forces the other's objective.
 
-use super::{CodonRandom, CodonRandomConfig, Codons, Ge, GeConfig};
+use super::codons::Codons;
+use super::config::{CodonRandomConfig, GeConfig};
+use super::ea::Ge;
+use super::random::CodonRandom;
 use crate::config::ConfigError;
 use crate::objective::Objective;
 use crate::optimizer::{Individual, Optimizer};

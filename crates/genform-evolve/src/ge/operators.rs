@@ -1,7 +1,7 @@
 //! Operators on codon strings: random genomes, variable-length one-point
 //! crossover and per-codon mutation.
 
-use super::Codons;
+use super::codons::Codons;
 use genform_core::Rng;
 
 /// A genome of `int_inclusive(a, b)` codons, each uniform in

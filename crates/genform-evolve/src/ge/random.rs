@@ -6,8 +6,9 @@
 //! `(seed, CODON_RANDOM_STREAM, g, i)`), evaluates them, and keeps the best
 //! `population` individuals seen so far.
 
+use super::codons::Codons;
 use super::config::CodonRandomConfig;
-use super::{Codons, operators};
+use super::operators;
 use crate::config::ConfigError;
 use crate::objective::Objective;
 use crate::optimizer::{Individual, Optimizer};

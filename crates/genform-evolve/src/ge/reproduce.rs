@@ -1,7 +1,8 @@
 //! Making the children of one pair.
 
+use super::codons::Codons;
+use super::config::GeConfig;
 use super::operators::{crossover, effective_crossover, mutate};
-use super::{Codons, GeConfig};
 use crate::evaluate::Child;
 use crate::optimizer::Individual;
 use crate::population::PairOutput;

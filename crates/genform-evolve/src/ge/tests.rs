@@ -1,7 +1,11 @@
 use super::*;
 use crate::fixtures::{HalfInvalidToy, PrefixToy, SevensToy, TargetToy};
-use crate::objective::FnObjective;
+use crate::objective::{FnObjective, Objective, SensiblePlan};
+use crate::optimizer::{Individual, Optimizer};
 use crate::run::{Stop, StopReason, run};
+use crate::stats::GenerationStats;
+use genform_core::Rng;
+use std::collections::HashSet;
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 

@@ -12,8 +12,9 @@
 //! - Diffusion: new parameters for one gene, redrawn from their
 //!   distributions or drifted by a symmetric Gaussian step.
 
-use crate::config::GeneChoice;
-use crate::operators::{Depths, drift_sd};
+use crate::config::gene_choice::GeneChoice;
+use crate::operators::drift::drift_sd;
+use crate::operators::shared::Depths;
 use genform_core::genome::{GenePos, GeneRef, Link};
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 use std::collections::BTreeMap;

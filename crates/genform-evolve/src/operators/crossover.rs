@@ -1,7 +1,7 @@
 //! Single-point subtree crossover on compatible connections (paper
 //! Algorithm 1).
 
-use super::{Connection, LengthBounds};
+use super::shared::{Connection, LengthBounds};
 use genform_core::genome::{GenePos, Link};
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
 

@@ -1,6 +1,7 @@
 //! The grow, cut and alter mutations, and the mix that chooses among them.
 
-use super::{Connection, Depths, drift, grow_mandatory_with, grow_one, regrow};
+use super::shared::{Connection, Depths, grow_mandatory_with, grow_one};
+use super::{drift, regrow};
 use genform_core::genome::{GenePos, Link};
 use genform_core::graph::SymbolId;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};

@@ -8,8 +8,7 @@
 //! body's top `T` comes only after its next body and its wing). No
 //! mandatory closure: a `T` may stand without its `t`.
 
-use super::grow_one;
-use super::{Connection, Depths};
+use super::shared::{Connection, Depths, grow_one};
 use genform_core::genome::{GenePos, Link};
 use genform_core::graph::SymbolId;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};
@@ -59,5 +58,5 @@ pub fn reference_initial(graph: &GeneratorGraph, limits: &Limits, length: [usize
     let mut params = Vec::new();
     graph.draw_params(graph.root, rng, &mut params);
     let genome = Genome::with_root(graph, graph.root, &params);
-    super::grow_to_drawn_length(genome, length, rng, |g, rng| reference_grow(g, graph, limits, rng).is_some())
+    super::shared::grow_to_drawn_length(genome, length, rng, |g, rng| reference_grow(g, graph, limits, rng).is_some())
 }

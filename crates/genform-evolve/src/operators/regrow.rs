@@ -1,6 +1,6 @@
 //! Regrow: MH's jump move as a GA mutation (shared code, not a copy).
 
-use crate::config::GeneChoice;
+use crate::config::gene_choice::GeneChoice;
 use crate::mcmc::moves::{Eligible, choose, jump};
 use genform_core::genome::GenePos;
 use genform_core::{GeneratorGraph, Genome, Limits, Rng};

@@ -1,6 +1,7 @@
 use super::*;
 use crate::fixtures::{ship, ship_ids::*};
 use genform_core::Rng;
+use genform_core::genome::Link;
 use proptest::prelude::*;
 
 const LIMITS: Limits = Limits { max_genes: 60, max_depth: 8, max_primitives: 1000 };

@@ -1,9 +1,10 @@
 //! One 1.18+ chunk: its NBT tree, its sections' block states, and edits
 //! that keep every tag they do not change.
 
+use super::constants::MIN_CHUNK_DATA_VERSION;
+use super::error::MinecraftError;
 use super::nbt::{self, Tag};
 use super::packing::{aligned_len, pack_aligned, section_bits, unpack_aligned};
-use super::{MIN_CHUNK_DATA_VERSION, MinecraftError};
 use genform_core::blocks::BlockState;
 
 /// Blocks per section.

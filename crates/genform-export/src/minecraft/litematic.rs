@@ -4,9 +4,11 @@
 //! back to back into longs, entries straddling long boundaries, with
 //! `max(2, ⌈log₂ n⌉)` bits and the index `(y·sizeZ + z)·sizeX + x`.
 
+use super::constants::LITEMATIC_V7_DATA_VERSION;
+use super::error::{MinecraftError, malformed};
+use super::grid::{check_grid, dense_palette, merge_grids};
 use super::nbt_file::{self, Compound};
 use super::packing::{litematic_bits, pack_tight, tight_len, unpack_tight};
-use super::{LITEMATIC_V7_DATA_VERSION, MinecraftError, check_grid, dense_palette, malformed, merge_grids};
 use fastnbt::{LongArray, Value};
 use genform_core::blocks::{BlockGrid, BlockState};
 use glam::{IVec3, UVec3};

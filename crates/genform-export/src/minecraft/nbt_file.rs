@@ -2,7 +2,7 @@
 //! to `fastnbt::Value` with bounded allocations, and typed field access
 //! with errors that name the field.
 
-use super::{MinecraftError, malformed};
+use super::error::{MinecraftError, malformed};
 use fastnbt::Value;
 use flate2::Compression;
 use flate2::read::GzDecoder;

@@ -7,7 +7,8 @@
 //! flate2, or fastanvil's LZ4 reader for LZ4 chunks.
 
 use super::chunk::{Chunk, SECTION_CELLS, SectionIndices};
-use super::{MAX_TERRAIN_CELLS, MinecraftError};
+use super::constants::MAX_TERRAIN_CELLS;
+use super::error::MinecraftError;
 use flate2::Compression;
 use flate2::read::{GzDecoder, ZlibDecoder, ZlibEncoder};
 use genform_core::blocks::{BlockGrid, BlockState};
@@ -273,7 +274,7 @@ fn fill_section(grid: &mut BlockGrid, base: IVec3, lo: IVec3, hi: IVec3, map: &[
 /// missing, unfinished or older than 1.18, a block above or below the
 /// chunk's sections, a chunk that no longer fits a region entry.
 pub fn write_region(original: &RegionFile, blocks: &BlockGrid) -> Result<Vec<u8>, MinecraftError> {
-    super::check_grid(blocks)?;
+    super::grid::check_grid(blocks)?;
     let container = Container::new(original)?;
     let mut rewritten: HashMap<usize, Vec<u8>> = HashMap::new();
     for (i, cells) in touched_chunks(original, blocks) {

@@ -6,9 +6,10 @@
 //! the fields in the root compound (named `Schematic`); version 3 nests them
 //! in a `Schematic` compound and the blocks in `Blocks{Palette, Data}`.
 
+use super::error::{MinecraftError, malformed};
+use super::grid::{check_grid, dense_palette};
 use super::nbt_file::{self, Compound};
 use super::packing::{put_varint, read_varints};
-use super::{MinecraftError, check_grid, dense_palette, malformed};
 use fastnbt::{ByteArray, IntArray, Value};
 use genform_core::blocks::{BlockGrid, BlockState};
 use glam::{IVec3, UVec3};

@@ -2,7 +2,7 @@
 //! one block thick is a 2D tile pattern (the PNG backend of Eger's first
 //! box-split paper), drawn cell by cell instead of in perspective.
 
-use super::block_color;
+use super::colors::block_color;
 use genform_core::{BlockGrid, BlockKind, Scene};
 
 /// The one grid of a scene that holds only blocks, when that grid is one

@@ -8,7 +8,8 @@
 //! (no mirror).
 
 use super::colors::block_color;
-use super::{MinecraftError, check_grid};
+use super::error::MinecraftError;
+use super::grid::check_grid;
 use genform_core::blocks::{BlockGrid, BlockKind};
 
 /// Colours a `.vox` palette holds (index 0 is reserved for "empty").

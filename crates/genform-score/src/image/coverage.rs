@@ -2,9 +2,34 @@
 //! remembers which rows and words it touched (so only those are counted and
 //! cleared), and [`Coverage`], an owned copy for callers and tests.
 
-use super::raster::or_span;
-use super::words_per_row;
 use crate::span_cache::{Bounds, Span};
+
+/// The largest image side accepted, in pixels.
+pub const MAX_SIDE: u32 = 4096;
+
+/// Mask words per row of a `width`-pixel image.
+pub(crate) fn words_per_row(width: u32) -> usize {
+    (width as usize).div_ceil(64)
+}
+
+/// Covers pixels `x0..=x1` (`0 <= x0 <= x1`, within the row) of one row's
+/// mask words.
+#[inline]
+pub(crate) fn or_span(line: &mut [u64], x0: i64, x1: i64) {
+    let (w0, w1) = (x0 as usize / 64, x1 as usize / 64);
+    let first = !0u64 << (x0 % 64);
+    let last = !0u64 >> (63 - x1 % 64);
+    // Branch-free for one or two words (whether a span crosses a word
+    // boundary is a coin toss): with one word both writes set the same
+    // bits.
+    let one = w0 == w1;
+    line[w0] |= first & if one { last } else { !0 };
+    line[w1] |= last & if one { first } else { !0 };
+    // Short runs are the rule; a loop beats a call to memset.
+    for w in line.iter_mut().take(w1).skip(w0 + 1) {
+        *w = !0;
+    }
+}
 
 /// Which pixels a silhouette covers: one bit per pixel, rows from the top,
 /// each row [`Coverage::words_per_row`] `u64` words with pixel `x` at bit

@@ -24,51 +24,11 @@
 //! left to right.
 
 use super::coverage::Mask;
-use super::project::{Frame, HALF, ONE, Pt, SUB};
-use super::raster::{EdgeWalk, Rows, cross, fill_convex, first_row, or_span};
+use super::coverage::or_span;
+use super::edge_table::EdgeTable;
+use super::project::{Frame, HALF, ONE, Pt, SUB, cross};
+use super::scan::{EdgeWalk, Rows, fill_convex, first_row};
 use genform_core::scene::Mesh;
-
-/// A mesh asset's undirected edges, each with the triangles that use it.
-#[derive(Debug, Default)]
-pub(crate) struct EdgeTable {
-    /// Edges used once each way (all edges of a closed 2-manifold): the
-    /// vertices `a < b`, the triangle running `a → b`, the one running
-    /// `b → a`.
-    pairs: Vec<[u32; 4]>,
-    /// Other edges: the vertices `a < b` and the range of their uses.
-    others: Vec<([u32; 2], std::ops::Range<usize>)>,
-    /// `(triangle, +1 if it runs a → b else −1)` of the other edges.
-    uses: Vec<(u32, i32)>,
-}
-
-impl EdgeTable {
-    /// The edges of `mesh` (whose indices must all be in range).
-    pub fn new(mesh: &Mesh) -> EdgeTable {
-        let mut all: Vec<(u32, u32, u32, i32)> = Vec::with_capacity(3 * mesh.triangles.len());
-        for (t, tri) in mesh.triangles.iter().enumerate() {
-            for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
-                all.push(if a < b { (a, b, t as u32, 1) } else { (b, a, t as u32, -1) });
-            }
-        }
-        all.sort_unstable();
-        let mut table = EdgeTable::default();
-        for group in all.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
-            let (a, b) = (group[0].0, group[0].1);
-            if let [(.., t, s), (.., u, r)] = group
-                && s + r == 0
-            {
-                let (fwd, back) = if *s > 0 { (*t, *u) } else { (*u, *t) };
-                table.pairs.push([a, b, fwd, back]);
-            } else {
-                let start = table.uses.len();
-                table.uses.extend(group.iter().map(|&(_, _, t, s)| (t, s)));
-                table.others.push(([a, b], start..table.uses.len()));
-            }
-        }
-        table
-    }
-}
 
 /// Working memory of [`fill_outline`].
 #[derive(Default)]
@@ -340,7 +300,7 @@ mod tests {
             let (w, h) = if case % 3 == 0 { (16, 12) } else { (70, 33) };
             let frame = Frame::new(&Camera::default().projection(w, h));
             let mesh = &meshes[case % meshes.len()];
-            assert!(crate::image::raster::is_closed(mesh));
+            assert!(crate::image::edge_table::is_closed(mesh));
             let table = EdgeTable::new(mesh);
             // Placements: a random affine image of the unit shape, snapped
             // to a grid of 1/2, 1/4 pixel or anywhere, sometimes flattened.

@@ -8,8 +8,7 @@
 //! exact integer arithmetic, so the fast path can be checked against the
 //! oracle pixel for pixel.
 
-use super::outline::EdgeTable;
-use super::raster::is_closed;
+use super::edge_table::{EdgeTable, is_closed};
 use genform_core::camera::Projection;
 use genform_core::scene::{Mesh, Primitive, Tessellation, unit_mesh};
 use glam::{Affine3A, DAffine3, DVec3, Vec3};
@@ -32,6 +31,13 @@ pub(crate) const MAX_CLIPPED: usize = 9;
 
 /// A snapped point: pixel coordinates times [`ONE`], `y` down.
 pub(crate) type Pt = [i64; 2];
+
+/// `(b − a) × (c − a)`: positive when `a, b, c` turn the way every filled
+/// polygon here is wound (clockwise on screen, as `y` runs down).
+#[inline]
+pub(crate) fn cross(a: Pt, b: Pt, c: Pt) -> i64 {
+    (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+}
 
 /// A camera and image size prepared for rasterizing.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -260,7 +266,7 @@ impl Projector {
             }
             if s == [Vertex::Kept; 3] {
                 let t = [self.snapped[a], self.snapped[b], self.snapped[c]];
-                if !cull || super::raster::cross(t[0], t[1], t[2]) > 0 {
+                if !cull || cross(t[0], t[1], t[2]) > 0 {
                     f(t);
                 }
                 continue;

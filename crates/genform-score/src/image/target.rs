@@ -3,10 +3,9 @@
 //! mask costs a popcount per word (one weight per sign) or two prefix-sum
 //! lookups per covered run (any weights).
 
-use super::coverage::Mask;
+use super::coverage::{MAX_SIDE, Mask, words_per_row};
 use super::decode::{LUMA_ONE, decode_png, parse_pfm};
 use super::error::ImageError;
-use super::{MAX_SIDE, words_per_row};
 
 /// How a PNG's pixels become weights.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -298,14 +298,14 @@ fn closed_assets() -> Vec<Arc<Mesh>> {
 
 #[test]
 fn closed_surfaces_are_recognised() {
-    assert!(closed_assets().iter().all(|m| raster::is_closed(m)));
-    assert!(!raster::is_closed(&asset()));
+    assert!(closed_assets().iter().all(|m| edge_table::is_closed(m)));
+    assert!(!edge_table::is_closed(&asset()));
     // One triangle turned over, or one missing, opens the cube.
     let mut cube = (*closed_assets()[2]).clone();
     cube.triangles[3].swap(0, 1);
-    assert!(!raster::is_closed(&cube));
+    assert!(!edge_table::is_closed(&cube));
     cube.triangles.remove(3);
-    assert!(!raster::is_closed(&cube));
+    assert!(!edge_table::is_closed(&cube));
 }
 
 proptest! {

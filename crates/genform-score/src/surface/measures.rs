@@ -1,6 +1,6 @@
 //! The six raw measures of a Scene's surfaces.
 
-use super::SurfaceCriterion;
+use super::criterion::SurfaceCriterion;
 use genform_core::Surface;
 use genform_core::scene::Scene;
 

@@ -47,7 +47,8 @@
 //! `1/(1 + e)²`), so roulette pressure among very poor individuals is weak;
 //! the paper form keeps a constant slope `w_i` there.
 
-use super::{SurfaceCriterion, SurfaceMeasures};
+use super::criterion::SurfaceCriterion;
+use super::measures::SurfaceMeasures;
 use genform_core::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::fmt;

@@ -18,8 +18,9 @@
 //! another, but voxels it shares with instances or other grids are overlap
 //! voxels, and its held voxels outside the grid add to `outside`.
 
+use super::out::{Out, Tally};
+use super::scratch::VolumeScratch;
 use super::spans::lattice_box;
-use super::{Out, Tally, VolumeScratch};
 use crate::grid::Lattice;
 use genform_core::blocks::{BlockGrid, BlockKind};
 use genform_core::scene::Scene;

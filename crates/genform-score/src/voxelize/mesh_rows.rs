@@ -9,49 +9,12 @@
 //! operations in the same order, so the crossings, and with them the held
 //! voxels, are the oracle's bit for bit.
 
+use super::mesh_buffers::{MeshBuffers, NONE, P2, Point};
+use super::out::{Out, emit};
 use super::prepare::Prepared;
-use super::{Out, emit};
 use crate::grid::Lattice;
 use genform_core::scene::Mesh;
 use glam::Vec3;
-
-/// Working memory of [`mesh_rows`], kept in the scratch.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct MeshBuffers {
-    /// `(row, x)` per crossing, in triangle order.
-    crossings: Vec<(u32, f64)>,
-    /// Per row of the bounding box: its last crossing ([`NONE`]: none).
-    head: Vec<u32>,
-    /// Per crossing: the one before it in its row ([`NONE`]: none).
-    next: Vec<u32>,
-    /// One row's crossing coordinates.
-    xs: Vec<f64>,
-    /// Voxel centres along the rows and along lattice axes 1 and 2 over
-    /// the instance's bounding box (`f32` centres, widened).
-    centres: [Vec<f64>; 3],
-    /// Per vertex: its projection `(y, z)` and row coordinate `x` widened to
-    /// `f64`, and its lattice coordinates along axes 1 and 2 (bounds only).
-    points: Vec<Point>,
-}
-
-/// A vertex converted once per instance rather than once per triangle.
-#[derive(Clone, Copy, Debug, Default)]
-struct Point {
-    p: P2,
-    x: f64,
-    u: f64,
-    v: f64,
-    /// The rows its slack box reaches: the least `j` and `k` at or above
-    /// `u − slack`, `v − slack` and the greatest at or below `u + slack`,
-    /// `v + slack`, clamped to one past the instance's rows (see
-    /// [`row_bounds`]).
-    rows: [i64; 4],
-}
-
-/// No crossing (end of a row's list).
-const NONE: u32 = u32::MAX;
-
-type P2 = (f64, f64);
 
 /// The longest range of centres along the rows kept in a table.
 const TABLE_MAX: i64 = 1 << 16;

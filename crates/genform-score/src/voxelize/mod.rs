@@ -50,9 +50,11 @@
 
 mod blocks;
 mod crossing;
+mod mesh_buffers;
 mod mesh_rows;
 #[cfg(any(test, feature = "test-support"))]
 pub mod oracle;
+mod out;
 mod prepare;
 mod scratch;
 mod shape;
@@ -60,13 +62,14 @@ mod spans;
 
 pub(crate) use crossing::crossing;
 use mesh_rows::mesh_rows;
+use out::{Out, Tally};
 use prepare::{Body, prepare};
 pub(crate) use scratch::Plane;
 pub use scratch::VolumeScratch;
 use spans::{separable_box, solid_rows, split_box};
 
 use crate::grid::{Grid, Lattice};
-use crate::span_cache::{Lookup, Span};
+use crate::span_cache::Lookup;
 use crate::voxel_set::VoxelSet;
 use genform_core::scene::{Primitive, Scene};
 
@@ -95,45 +98,6 @@ pub fn voxelize(grid: &Grid, scene: &Scene) -> Voxelized {
     };
     s.clear();
     out
-}
-
-/// Per-instance tallies of held voxels in and outside the grid.
-#[derive(Default)]
-struct Tally {
-    in_grid: u64,
-    outside: u64,
-}
-
-/// Where an instance's spans go.
-struct Out<'a> {
-    s: &'a mut VolumeScratch,
-    tally: &'a mut Tally,
-    target: &'a [u64],
-    /// Where the marked spans are recorded too, if they are.
-    record: Option<&'a mut Vec<Span>>,
-}
-
-/// Adds the held span `lo..=hi` of lattice row `(j, k)`.
-#[inline(always)]
-fn emit(lat: &Lattice, out: &mut Out, j: i64, k: i64, lo: i64, hi: i64) {
-    let len = (hi - lo + 1) as u64;
-    match lat.row(j, k) {
-        Some(r) => {
-            let (a, b) = (lo.max(0), hi.min(lat.dims[0] - 1));
-            if a <= b {
-                out.s.write(r, a as usize, b as usize, out.target);
-                if let Some(rec) = &mut out.record {
-                    rec.push((r as u32, a as u32, b as u32));
-                }
-                let n = (b - a + 1) as u64;
-                out.tally.in_grid += n;
-                out.tally.outside += len - n;
-            } else {
-                out.tally.outside += len;
-            }
-        }
-        None => out.tally.outside += len,
-    }
 }
 
 /// Voxelizes every instance and block grid of `scene` into `s` (which must be clear),

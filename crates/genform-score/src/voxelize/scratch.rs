@@ -1,6 +1,6 @@
 //! The fast voxelizer's per-thread working memory.
 
-use super::mesh_rows::MeshBuffers;
+use super::mesh_buffers::MeshBuffers;
 use crate::bits::{BitRows, bit_range};
 use crate::grid::Lattice;
 use crate::span_cache::{CachePool, CacheSlot, MeshKeys, Span, SpanCache};

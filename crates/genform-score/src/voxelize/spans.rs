@@ -1,9 +1,9 @@
 //! Spans of solid primitives: per-row interval guesses settled by the
 //! predicate, and separable boxes that share one span across their rows.
 
+use super::out::{Out, emit};
 use super::prepare::{Prepared, Solid};
 use super::shape::{self, Shape};
-use super::{Out, emit};
 use crate::grid::Lattice;
 use glam::{DVec3, Vec3};
 
