@@ -65,7 +65,7 @@ class Grammar:
     def sample(self, seed: int = 0, **options: Any) -> Model:
         """Draws one model. Options are `genform sample`'s flags without the
         dashes (steps, max_modules, max_genes, max_depth, max_primitives,
-        box, world, env, smooth, every_step, ...); a flag another formalism
+        footprints, box, world, env, smooth, every_step, ...); a flag another formalism
         owns raises GenformError. Grammars with a generator graph give a
         model with a genome; the same seed gives the same model as the CLI."""
     def derive(self, genome: Mapping[str, Any] | str) -> Model:

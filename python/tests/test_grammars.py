@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import genform
-from conftest import SAMPLES
+from conftest import EXAMPLES, SAMPLES
 
 
 def read_obj(path):
@@ -141,6 +141,29 @@ def test_sample_options_follow_the_cli():
         genform.load(SAMPLES[".sg"]).sample(seed=1, box="0,0,0,9,9,9")
     with pytest.raises(genform.GenformError, match="unknown option `colour`"):
         ls.sample(colour=1)
+
+
+def test_sample_reads_other_footprints_as_the_cli_does(tmp_path, cli):
+    """`footprints` is one of the options the table gives every door."""
+    block = genform.load(EXAMPLES / "shape" / "city_block.sg")
+    lots = tmp_path / "two.geojson"
+    lots.write_text(
+        '{"type": "FeatureCollection", "features": ['
+        '{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [10, 8], [0, 8], [0, 0]]]}},'
+        '{"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[20, 0], [30, 0], [30, 4], [20, 4], [20, 0]]]}}]}'
+    )
+    own, two = block.sample(seed=3), block.sample(seed=3, footprints=str(lots))
+    xs = two.mesh()[0][:, 0]
+    assert 29.5 < xs.max() < 30.5 and -0.5 < xs.min() < 0.5, "the lots stand where the file puts them"
+    assert own.triangle_count() != two.triangle_count()
+    if cli is not None:
+        (tmp_path / "py").mkdir()
+        (tmp_path / "cli").mkdir()
+        two.save(tmp_path / "py" / "b.obj")
+        args = [cli, "sample", str(EXAMPLES / "shape" / "city_block.sg"), "--seed", "3"]
+        args += ["--footprints", str(lots), "--out", str(tmp_path / "cli" / "b.obj")]
+        subprocess.run(args, check=True, capture_output=True)
+        assert (tmp_path / "py" / "b.obj").read_bytes() == (tmp_path / "cli" / "b.obj").read_bytes()
 
 
 def test_compile_errors_carry_positions_and_hints(tmp_path):

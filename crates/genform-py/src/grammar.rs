@@ -2,7 +2,7 @@
 //! (`genform_app::formalism::FORMALISMS`), sampled, derived from genomes,
 //! exported, meshed into NumPy arrays.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use genform_app::{GrammarHandle, Sample, SampleRequest};
 use genform_core::scene::Tessellation;
 use genform_core::{Genome, Limits, Scene};
@@ -162,37 +162,15 @@ pub fn genome_text(py: Python<'_>, genome: &Bound<'_, PyAny>) -> PyResult<String
     }
 }
 
-/// One sample; grammars whose formalism can save the genome
-/// (`--genome-out`) keep it, so the model can be derived again and evolved.
+/// One sample; grammars with a generator graph keep the genome, so the
+/// model can be derived again and evolved.
 fn sample(core: &Arc<GrammarCore>, req: &mut SampleRequest) -> Result<Model> {
-    let wants_genome = core.generator.is_some() && core.formalism.reads("genome-out");
-    let dir = tempdir_if(wants_genome && req.genome_out.is_none())?;
-    if let Some(d) = &dir {
-        req.genome_out = Some(d.join("genome.json"));
-    }
+    req.keep_genome = core.generator.is_some();
     let s = core.loaded.sample(req)?;
-    let genome = match (&req.genome_out, wants_genome) {
-        (Some(p), true) => Some(core.parse_genome(&std::fs::read_to_string(p).context("cannot read the genome")?)?),
-        _ => None,
-    };
-    if let Some(d) = dir {
-        let _ = std::fs::remove_dir_all(d);
-    }
+    let genome = s.genome().cloned();
     let limits = core.generator.as_ref().map_or(Limits::default(), |g| req.limits.apply(g.limits));
     let summary = s.summary();
     Ok(Model { body: Body::Sample(s), genome, grammar: Some(core.clone()), limits, summary })
-}
-
-/// A fresh private folder under the system's temporary folder, when `want`.
-fn tempdir_if(want: bool) -> Result<Option<PathBuf>> {
-    if !want {
-        return Ok(None);
-    }
-    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("genform-py-{}-{n}", std::process::id()));
-    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    Ok(Some(dir))
 }
 
 /// A point as Python sees it.

@@ -98,7 +98,8 @@ impl LoadedGrammar for LsFile {
         }
         let max_primitives = request.limits.max_primitives.unwrap_or_else(drawing_limit);
         let mut scene = Scene::new();
-        let string = if request.genome_out.is_some() {
+        let mut kept = None;
+        let string = if request.genome_out.is_some() || request.keep_genome {
             // Through the generator, so `genform derive` replays the genome.
             let generator = self
                 .generator()
@@ -108,6 +109,7 @@ impl LoadedGrammar for LsFile {
             let genome = sample_genome(&generator, request, &limits)?;
             let s = generator.derive(&genome, &limits).context("cannot derive the genome")?;
             generator.express(&genome, &limits, &mut scene).context("cannot draw the model")?;
+            kept = Some(genome);
             s
         } else {
             let mut rng = request.rng();
@@ -125,7 +127,7 @@ impl LoadedGrammar for LsFile {
                 w.write_all(b"\n")
             })?;
         }
-        let drawn = if string_only(request) && request.genome_out.is_none() {
+        let drawn = if string_only(request) && kept.is_none() {
             " (not drawn: only --string-out was asked for)".to_string()
         } else {
             format!(
@@ -135,7 +137,7 @@ impl LoadedGrammar for LsFile {
             )
         };
         let summary = format!("{} seed {}, {steps} steps: {} modules{drawn}", st.name, request.seed, string.len());
-        Ok(Box::new(SceneSample { scene, summary }))
+        Ok(Box::new(SceneSample { scene, summary, genome: kept }))
     }
 
     /// Settings, modules, rules, growth per step, and the generator graph

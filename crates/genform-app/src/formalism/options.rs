@@ -384,6 +384,10 @@ pub struct SampleRequest {
     pub granularity: Granularity,
     /// `--genome-out`: where to save the genome.
     pub genome_out: Option<PathBuf>,
+    /// Derive through the generator graph, so the sample carries its
+    /// genome ([`Sample::genome`](super::Sample::genome)) as `--genome-out`
+    /// would save it (doors that keep models for `derive` and `evolve`).
+    pub keep_genome: bool,
     /// `--max-genes`, `--max-depth`, `--max-primitives`.
     pub limits: LimitOverrides,
     /// `--steps`: derivation steps.
@@ -423,6 +427,7 @@ impl SampleRequest {
             given: Vec::new(),
             granularity: Granularity::Auto,
             genome_out: None,
+            keep_genome: false,
             limits: LimitOverrides::default(),
             steps: None,
             max_modules: None,

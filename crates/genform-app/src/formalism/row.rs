@@ -178,6 +178,13 @@ pub trait Sample: Send + Sync {
     fn write(&self, out: &Path, export: &ExportOptions) -> Result<Vec<PathBuf>> {
         write_model_with(self.scene(), out, export)
     }
+
+    /// The genome the model was derived from, where there is one genome
+    /// (not on several footprints) and the request went through the
+    /// generator (`--genome-out` or [`SampleRequest::keep_genome`]).
+    fn genome(&self) -> Option<&Genome> {
+        None
+    }
 }
 
 /// A [`Sample`] that is a Scene and a summary line.
@@ -186,6 +193,8 @@ pub struct SceneSample {
     pub scene: Scene,
     /// The summary line.
     pub summary: String,
+    /// The genome, when it was derived from one.
+    pub genome: Option<Genome>,
 }
 
 impl Sample for SceneSample {
@@ -195,6 +204,10 @@ impl Sample for SceneSample {
 
     fn summary(&self) -> String {
         self.summary.clone()
+    }
+
+    fn genome(&self) -> Option<&Genome> {
+        self.genome.as_ref()
     }
 }
 

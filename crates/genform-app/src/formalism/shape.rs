@@ -109,7 +109,7 @@ impl LoadedGrammar for ShapeGrammar {
         let genome = sample_genome(self, request, &limits)?;
         let scene = express(self, &genome, &limits)?;
         let summary = format!("{} seed {}: {}", self.name(), request.seed, genome_summary(&scene, &genome));
-        Ok(Box::new(SceneSample { scene, summary }))
+        Ok(Box::new(SceneSample { scene, summary, genome: Some(genome) }))
     }
 
     fn describe(&self) -> String {
@@ -183,7 +183,7 @@ fn sample_on_lots(g: &ShapeGrammar, lots: &[ShapeGrammar], request: &SampleReque
         g.name(),
         seed.wrapping_add(n as u64 - 1)
     );
-    Ok(Box::new(SceneSample { scene, summary }))
+    Ok(Box::new(SceneSample { scene, summary, genome: None }))
 }
 
 fn format_prob(p: f64) -> String {
