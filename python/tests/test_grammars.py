@@ -254,3 +254,16 @@ def test_building_grammars_sample_closed_roofs_and_polygons(name):
     assert len(f) > 20 and np.isfinite(v).all(), name
     v2, f2 = g.sample(seed=2).mesh()
     assert np.array_equal(v, v2) and np.array_equal(f, f2), name
+
+
+def test_a_model_is_never_saved_over_the_files_its_grammar_reads(tmp_path):
+    import shutil
+
+    shutil.copy(EXAMPLES / "shape" / "tree_v1.sg", tmp_path / "tree_v1.sg")
+    shutil.copytree(EXAMPLES / "shape" / "assets", tmp_path / "assets")
+    trunk = (tmp_path / "assets" / "trunk.obj").read_bytes()
+    m = genform.load(tmp_path / "tree_v1.sg").sample(seed=1)
+    with pytest.raises(genform.GenformError, match="would replace the mesh"):
+        m.save(tmp_path / "assets" / ".." / "assets" / "trunk.obj")
+    assert (tmp_path / "assets" / "trunk.obj").read_bytes() == trunk
+    m.save(tmp_path / "tree.obj")

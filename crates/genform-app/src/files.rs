@@ -8,31 +8,6 @@ use genform_export::{ExportOptions, Format};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// Refuses a command whose output (flag name, path) would overwrite one of
-/// its inputs: the same file reached by two spellings counts (paths are
-/// compared after resolving the existing folder part).
-pub fn refuse_overwriting_inputs(inputs: &[&Path], outputs: &[(&str, Option<&Path>)]) -> Result<()> {
-    let real = |p: &Path| -> Option<std::path::PathBuf> {
-        if let Ok(c) = p.canonicalize() {
-            return Some(c);
-        }
-        let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        Some(dir.canonicalize().ok()?.join(p.file_name()?))
-    };
-    for &(flag, out) in outputs {
-        let Some(out) = out else { continue };
-        let Some(o) = real(out) else { continue };
-        if let Some(input) = inputs.iter().find(|i| real(i).as_deref() == Some(o.as_path())) {
-            anyhow::bail!(
-                "{flag} {} is an input of this command ({}); writing it would destroy it: choose another file",
-                out.display(),
-                input.display()
-            );
-        }
-    }
-    Ok(())
-}
-
 /// The export format `path`'s extension names.
 pub fn output_format(path: &Path) -> Result<Format> {
     Format::from_path(path).ok_or_else(|| unknown_format(path, &[]))
@@ -192,7 +167,8 @@ fn write_atomic_via(path: &Path, fill: impl FnOnce(&mut std::fs::File) -> std::i
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create folder {}", dir.display()))?;
+    crate::gate::check_write(path)?;
+    crate::gate::create_dir(dir)?;
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let tmp = dir.join(format!(".{name}.{}-{n}.tmp", std::process::id()));

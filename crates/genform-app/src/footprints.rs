@@ -32,7 +32,7 @@ pub fn read_footprints(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
 
 /// The up-facing faces of the OBJ file at `path` as lots.
 pub fn read_obj(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::text::read_text(path, "footprints")?;
     let mut verts: Vec<[f64; 3]> = Vec::new();
     let mut lots = Vec::new();
     for (ln, line) in text.lines().enumerate() {
@@ -92,7 +92,7 @@ pub fn read_obj(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
 
 /// The lots of the GeoJSON file at `path`: world `(x, z)` corners each.
 pub fn read_geojson(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = crate::text::read_text(path, "footprints")?;
     let value: Value = serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     let mut lots = Vec::new();
     collect(&value, &mut lots).with_context(|| format!("{} is not GeoJSON genform can read", path.display()))?;

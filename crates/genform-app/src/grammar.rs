@@ -21,11 +21,16 @@ pub struct GrammarHandle {
     pub generator: Option<Arc<Loaded>>,
     /// Why there is no generator graph (when there is none).
     no_generator: String,
+    /// What compiling it read (the grammar, its meshes, context,
+    /// footprints) and what its samples read: files no model of it may be
+    /// saved over ([`GrammarHandle::guarded`]).
+    inputs: Arc<crate::gate::Session>,
 }
 
 impl GrammarHandle {
     /// Compiles `path` with the formalism its extension names.
     pub fn open(path: &Path) -> Result<GrammarHandle> {
+        let session = crate::gate::fresh_session();
         let formalism = formalism::formalism_of(path)?;
         let loaded = formalism.load(path)?;
         // A second compile for the generator: `into_generator` consumes the grammar.
@@ -33,11 +38,19 @@ impl GrammarHandle {
             Ok(g) => (Some(Arc::new(g)), String::new()),
             Err(e) => (None, format!("{e:#}")),
         };
-        Ok(GrammarHandle { path: path.to_path_buf(), formalism, loaded, generator, no_generator })
+        let inputs = session.session().clone();
+        Ok(GrammarHandle { path: path.to_path_buf(), formalism, loaded, generator, no_generator, inputs })
+    }
+
+    /// Runs `f` (a sample, a save) with this grammar's inputs in force:
+    /// what `f` reads joins them, and a file `f` writes may not be one.
+    pub fn guarded<T>(&self, f: impl FnOnce() -> T) -> T {
+        crate::gate::within(&Some(self.inputs.clone()), f)
     }
 
     /// A handle on a scene's grammar whose generator is already compiled.
     pub fn with_generator(path: &Path, generator: Arc<Loaded>) -> Result<GrammarHandle> {
+        let session = crate::gate::fresh_session();
         let formalism = formalism::formalism_of(path)?;
         let loaded = formalism.load(path)?;
         Ok(GrammarHandle {
@@ -46,6 +59,7 @@ impl GrammarHandle {
             loaded,
             generator: Some(generator),
             no_generator: String::new(),
+            inputs: session.session().clone(),
         })
     }
 

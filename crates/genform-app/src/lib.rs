@@ -12,9 +12,11 @@
 //! `footprints`), the formalism table, the scorer registry and the
 //! optimizer table, scenes, objectives, reports, runs (see ARCHITECTURE.md).
 
+mod caps;
 mod files;
 mod footprints;
 mod formalism;
+mod gate;
 mod grammar;
 mod memory;
 mod notes;
@@ -28,14 +30,15 @@ mod text;
 mod toml_doc;
 mod units;
 
-pub use files::{output_format, refuse_overwriting_inputs, unknown_format, write_atomic, write_model};
+pub use files::{output_format, unknown_format, write_atomic, write_model};
 pub use formalism::{
     COMMON_SAMPLE_OPTIONS, FormalismRef, Genomes, LimitOverrides, Loaded, LoadedGrammar, ModelSettings, SAMPLE_OPTIONS,
     Sample, SampleOption, SampleRequest, SceneLimits, ValueKind, ends_with_any, express, formalism_of, formalisms,
     genome_summary, grammar_files_help, info, sample_option,
 };
+pub use gate::{Refused, Session, SessionGuard, admit_read, confine, create_dir, refuse_outputs, session};
 pub use grammar::GrammarHandle;
-pub use memory::{parse_size, set_budget};
+pub use memory::{Budget, MemoryUse, OverBudget, Reservation, budget, in_use, parse_size, reserve, set_budget, usage};
 pub use notes::set_sink;
 pub use objective::{EvalScratch, OpenScene, TreeObjective};
 pub use optimizers::OptimizerSettings;
@@ -49,7 +52,7 @@ pub use run::derive::{DeriveRequest, Derived, derive};
 pub use run::map::{MapRequest, map};
 pub use run::steering::{SteerEntry, SteerSet, Steerable, read_log as read_steering_log};
 pub use run::sweep::{RunDone, SweepRequest, SweepResult, run as sweep, write as write_sweep};
-pub use run::{compare, evolve, score, settings_patch};
+pub use run::{Admitted, admit, compare, evolve, score, settings_patch};
 pub use scene::patch::{parse_patch, parse_set, patch_from_json};
 pub use scene::{RunConfig, Scene, SceneSummary};
 pub use scoring::{FitnessConfig, Scoring};

@@ -13,11 +13,20 @@
 //! holds at its start (see [`estimate`]); they are deliberately on the
 //! generous side of the real footprint only by constant factors, so a
 //! setting refused here would not have fitted anyway.
+//!
+//! Those checks are per scene. The budget is also one for the whole
+//! process: every run, comparison, sweep and breeding session holds a
+//! [`Reservation`] of its scene's estimated bytes in the process's ledger
+//! ([`reserve`]) for as long as it lives, and one that would take the
+//! bytes held together past the budget is refused, naming what holds them
+//! — so several runs of one server (the studio, Python threads), each
+//! inside the budget alone, cannot together exhaust the machine.
 
 use anyhow::{Result, bail};
 
 use crate::toml_doc::Doc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard};
 
 /// The budget set by a door (0: not set, use [`machine_default`]).
 static BUDGET: AtomicU64 = AtomicU64::new(0);
@@ -245,6 +254,194 @@ pub fn limit_sizes(limits: &[(&'static str, Option<usize>, u64, &'static str)]) 
         .collect()
 }
 
+/// What a reservation is refused with: the message names what is asked,
+/// what is held and by whom, the budget and its origin. Doors tell it from
+/// other errors (the studio answers 503) with `downcast_ref`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct OverBudget {
+    /// Bytes asked for.
+    pub asked: u64,
+    /// Bytes held by others when it was asked.
+    pub in_use: u64,
+    /// The budget then.
+    pub budget: u64,
+    /// The whole refusal.
+    pub message: String,
+}
+
+impl std::fmt::Display for OverBudget {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for OverBudget {}
+
+/// The process's ledger of reservations.
+pub(crate) struct Ledger {
+    held: Mutex<Held>,
+}
+
+/// The reservations held: (id, bytes, what holds them).
+struct Held {
+    next: u64,
+    holders: Vec<(u64, u64, String)>,
+}
+
+/// The ledger of this process.
+static LEDGER: Ledger = Ledger::new();
+
+impl Ledger {
+    const fn new() -> Ledger {
+        Ledger { held: Mutex::new(Held { next: 0, holders: Vec::new() }) }
+    }
+
+    fn lock(&self) -> MutexGuard<'_, Held> {
+        // The ledger is consistent after every statement: a panic elsewhere leaves it usable.
+        self.held.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Reserves `bytes` for `what` unless the bytes held with them would
+    /// pass `budget`; `lower` names the setting that makes them (for the
+    /// refusal).
+    fn reserve(&'static self, bytes: u128, what: &str, lower: Option<&str>, budget: &Budget) -> Result<Reservation> {
+        let mut held = self.lock();
+        let in_use: u64 = held.holders.iter().map(|h| h.1).fold(0, u64::saturating_add);
+        let fits = u64::try_from(bytes).ok().filter(|b| b.checked_add(in_use).is_some_and(|t| t <= budget.bytes));
+        let Some(bytes) = fits else {
+            let others: Vec<&str> = held.holders.iter().map(|h| h.2.as_str()).collect();
+            let message = refusal(what, bytes, in_use, &others, budget, lower);
+            let asked = u64::try_from(bytes).unwrap_or(u64::MAX);
+            return Err(anyhow::Error::new(OverBudget { asked, in_use, budget: budget.bytes, message }));
+        };
+        held.next += 1;
+        let id = held.next;
+        held.holders.push((id, bytes, what.to_string()));
+        Ok(Reservation { ledger: self, id, bytes })
+    }
+
+    fn in_use(&self) -> u64 {
+        self.lock().holders.iter().map(|h| h.1).fold(0, u64::saturating_add)
+    }
+
+    fn holders(&self) -> usize {
+        self.lock().holders.len()
+    }
+
+    fn release(&self, id: u64) {
+        self.lock().holders.retain(|h| h.0 != id);
+    }
+}
+
+/// Bytes of the memory budget held by a run, comparison, sweep or breeding
+/// session for as long as it lives: dropping it gives them back.
+pub struct Reservation {
+    ledger: &'static Ledger,
+    id: u64,
+    bytes: u64,
+}
+
+impl Reservation {
+    /// The bytes held.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+impl std::fmt::Debug for Reservation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Reservation").field("id", &self.id).field("bytes", &self.bytes).finish()
+    }
+}
+
+impl Drop for Reservation {
+    fn drop(&mut self) {
+        self.ledger.release(self.id);
+    }
+}
+
+/// Reserves `bytes` of the process's [`budget`] for `what` (a noun such as
+/// "run" or "breeding session", as refusals name holders: "this run needs
+/// about …, held by 2 other runs"), until the [`Reservation`] is dropped.
+/// Refused (with an [`OverBudget`] error) when the bytes held with them
+/// would pass the budget.
+pub fn reserve(bytes: u128, what: String) -> Result<Reservation> {
+    LEDGER.reserve(bytes, &what, None, &budget())
+}
+
+/// Reserves the total of `sizes` (a scene's, as [`check_sizes`] checks
+/// them) for `what`, as [`reserve`]; a refusal suggests lowering the
+/// largest of them.
+pub(crate) fn reserve_sizes(sizes: &[Size], what: &str) -> Result<Reservation> {
+    let total: u128 = sizes.iter().map(|s| s.bytes).fold(0, u128::saturating_add);
+    let largest = sizes.iter().max_by_key(|s| s.bytes).map(setting_name);
+    LEDGER.reserve(total, what, largest.as_deref(), &budget())
+}
+
+/// Bytes held by every [`Reservation`] of this process now.
+pub fn in_use() -> u64 {
+    LEDGER.in_use()
+}
+
+/// The budget and what is held of it, for a door to show (the studio's
+/// `/api/status`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MemoryUse {
+    /// The budget in force.
+    pub budget: Budget,
+    /// Bytes held by reservations.
+    pub in_use: u64,
+    /// Reservations held.
+    pub holders: usize,
+}
+
+/// The budget and what is held of it now.
+pub fn usage() -> MemoryUse {
+    MemoryUse { budget: budget(), in_use: LEDGER.in_use(), holders: LEDGER.holders() }
+}
+
+/// `[section] key` (or the bare key) of a size.
+fn setting_name(s: &Size) -> String {
+    if s.section.is_empty() { s.key.to_string() } else { format!("[{}] {}", s.section, s.key) }
+}
+
+/// The refusal of `bytes` for `what` while `in_use` bytes are held by
+/// `others` (each holder's noun).
+fn refusal(what: &str, bytes: u128, in_use: u64, others: &[&str], budget: &Budget, lower: Option<&str>) -> String {
+    let asked = human(bytes as f64);
+    let of_budget = format!("the memory budget of {} ({})", human(budget.bytes as f64), budget.origin);
+    if bytes > u128::from(budget.bytes) || others.is_empty() {
+        let fix = match lower {
+            Some(l) => format!("lower {l}"),
+            None => "ask for less".to_string(),
+        };
+        return format!(
+            "this {what} needs about {asked}, more than {of_budget}; {fix}, or raise the budget with --max-memory {}G \
+             if the machine has the memory",
+            bytes.div_ceil(1 << 30).max(1)
+        );
+    }
+    // Holders by kind, in the order they came.
+    let mut kinds: Vec<(&str, usize)> = Vec::new();
+    for o in others {
+        match kinds.iter_mut().find(|k| k.0 == *o) {
+            Some(k) => k.1 += 1,
+            None => kinds.push((o, 1)),
+        }
+    }
+    let count = |(kind, n): (&str, usize)| if n == 1 { format!("1 {kind}") } else { format!("{n} {kind}s") };
+    let holders = match kinds.as_slice() {
+        [(kind, 1)] => format!("1 other {kind}"),
+        [(kind, n)] => format!("{n} other {kind}s"),
+        _ => format!("{} others ({})", others.len(), kinds.iter().map(|k| count(*k)).collect::<Vec<_>>().join(", ")),
+    };
+    let or_lower = lower.map(|l| format!(" or lower {l}")).unwrap_or_default();
+    format!(
+        "this {what} needs about {asked}, and {} of {of_budget} is held by {holders}; wait for one to finish{or_lower}",
+        human(in_use as f64)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -303,6 +500,127 @@ mod tests {
 
     fn huge_like() -> Size<'static> {
         Size { section: "ga", key: "population", value: 10, bytes: 0, what: "genomes".into() }
+    }
+
+    /// A ledger of its own (the process's is shared with every other test).
+    fn ledger() -> &'static Ledger {
+        Box::leak(Box::new(Ledger::new()))
+    }
+
+    fn thousand() -> Budget {
+        Budget { bytes: 1000, origin: "--max-memory 1000 B".into() }
+    }
+
+    #[test]
+    fn reservations_are_held_refused_and_given_back_on_drop() {
+        let (l, b) = (ledger(), thousand());
+        let first = l.reserve(600, "run", Some("[ga] population"), &b).unwrap();
+        assert_eq!((first.bytes(), l.in_use(), l.holders()), (600, 600, 1));
+        let e = l.reserve(500, "run", Some("[ga] population"), &b).unwrap_err();
+        let over = e.downcast_ref::<OverBudget>().expect("an OverBudget refusal");
+        assert_eq!((over.asked, over.in_use, over.budget), (500, 600, 1000));
+        assert_eq!(
+            e.to_string(),
+            "this run needs about 500 B, and 600 B of the memory budget of 1000 B (--max-memory 1000 B) is held by \
+             1 other run; wait for one to finish or lower [ga] population"
+        );
+        // A refusal holds nothing; what fits beside the first is admitted.
+        assert_eq!(l.in_use(), 600);
+        let second = l.reserve(400, "breeding session", None, &b).unwrap();
+        assert_eq!(l.in_use(), 1000);
+        let e = l.reserve(1, "run", None, &b).unwrap_err().to_string();
+        assert!(e.contains("is held by 2 others (1 run, 1 breeding session); wait for one to finish"), "{e}");
+        drop(first);
+        assert_eq!((l.in_use(), l.holders()), (400, 1));
+        let third = l.reserve(600, "run", None, &b).unwrap();
+        drop((second, third));
+        assert_eq!((l.in_use(), l.holders()), (0, 0));
+        // Several of one kind are counted in the plural.
+        let runs: Vec<Reservation> = (0..3).map(|_| l.reserve(300, "run", None, &b).unwrap()).collect();
+        let e = l.reserve(200, "run", Some("[ge] population"), &b).unwrap_err().to_string();
+        assert!(e.contains("900 B of the memory budget") && e.contains("held by 3 other runs;"), "{e}");
+        drop(runs);
+        assert_eq!(l.in_use(), 0);
+    }
+
+    #[test]
+    fn more_than_the_whole_budget_is_refused_even_alone() {
+        let (l, b) = (ledger(), thousand());
+        let e = l.reserve(1001, "run", Some("[ga] population"), &b).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "this run needs about 1001 B, more than the memory budget of 1000 B (--max-memory 1000 B); lower \
+             [ga] population, or raise the budget with --max-memory 1G if the machine has the memory"
+        );
+        let e = l.reserve(u128::MAX, "sweep", None, &b).unwrap_err();
+        assert_eq!(e.downcast_ref::<OverBudget>().unwrap().asked, u64::MAX);
+        assert_eq!(l.in_use(), 0);
+        // Exactly the budget fits, and nothing more then.
+        let all = l.reserve(1000, "run", None, &b).unwrap();
+        assert!(l.reserve(1, "run", None, &b).is_err());
+        let none = l.reserve(0, "run", None, &b).unwrap();
+        drop((all, none));
+    }
+
+    #[test]
+    fn concurrent_reservations_never_pass_the_budget() {
+        let (l, b) = (ledger(), thousand());
+        // Eight threads ask for 300 bytes each at once: three fit.
+        let start = std::sync::Barrier::new(8);
+        let held = std::sync::Barrier::new(8);
+        let admitted = std::sync::atomic::AtomicUsize::new(0);
+        std::thread::scope(|s| {
+            for _ in 0..8 {
+                s.spawn(|| {
+                    start.wait();
+                    let r = l.reserve(300, "run", None, &b);
+                    if r.is_ok() {
+                        admitted.fetch_add(1, Ordering::SeqCst);
+                    }
+                    assert!(l.in_use() <= 1000);
+                    held.wait();
+                    drop(r);
+                });
+            }
+        });
+        assert_eq!(admitted.load(Ordering::SeqCst), 3);
+        assert_eq!((l.in_use(), l.holders()), (0, 0));
+        // Many threads reserving and dropping in a loop: the ledger never
+        // holds more than the budget and ends empty.
+        let b = &b;
+        std::thread::scope(|s| {
+            for t in 0..6u128 {
+                s.spawn(move || {
+                    for i in 0..2000u128 {
+                        if let Ok(r) = l.reserve(100 + (t * 37 + i) % 400, "run", None, b) {
+                            assert!(l.in_use() <= 1000);
+                            drop(r);
+                        }
+                    }
+                });
+            }
+        });
+        assert_eq!((l.in_use(), l.holders()), (0, 0));
+    }
+
+    #[test]
+    fn the_process_ledger_is_reached_through_reserve() {
+        let r = reserve(1, "run".into()).unwrap();
+        assert_eq!(r.bytes(), 1);
+        assert!(in_use() >= 1 && usage().holders >= 1);
+        let e = reserve(u128::from(u64::MAX), "run".into()).unwrap_err();
+        assert!(e.downcast_ref::<OverBudget>().is_some(), "{e}");
+        drop(r);
+    }
+
+    #[test]
+    fn reserving_sizes_suggests_the_largest() {
+        let sizes = [
+            Size { section: "ga", key: "population", value: 1, bytes: u128::from(u64::MAX), what: String::new() },
+            Size { section: "volume", key: "voxels", value: 1, bytes: 10, what: String::new() },
+        ];
+        let e = reserve_sizes(&sizes, "run").unwrap_err().to_string();
+        assert!(e.starts_with("this run needs about") && e.contains("lower [ga] population"), "{e}");
     }
 
     #[test]

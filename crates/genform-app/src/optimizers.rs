@@ -429,6 +429,16 @@ fn members(section: &'static str, key: &'static str, n: usize, each: u64) -> Siz
     }
 }
 
+/// The sizes every settings section of `searches` asks for.
+pub(crate) fn sizes(searches: Searches, settings: &OptimizerSettings) -> Vec<Size<'static>> {
+    SECTIONS.iter().filter(|s| s.searches == searches).flat_map(|s| s.memory(settings)).collect()
+}
+
+/// The sizes the settings section `name` asks for.
+pub(crate) fn section_sizes(name: &str, settings: &OptimizerSettings) -> Vec<Size<'static>> {
+    SECTIONS.iter().filter(|s| s.name == name).flat_map(|s| s.memory(settings)).collect()
+}
+
 impl SettingsSection {
     /// Reads this section of `doc` into `settings`.
     pub(crate) fn read(&self, doc: &Doc, value: &Value, settings: &mut OptimizerSettings) -> Result<()> {

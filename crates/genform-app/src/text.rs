@@ -2,7 +2,7 @@
 //! turning their diagnostics into one error, so every such file fails the
 //! same way: a position for bad bytes, ariadne's reports for bad content.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use genform_core::{Diagnostics, SourceFile};
 use std::fmt;
 use std::path::Path;
@@ -11,7 +11,7 @@ use std::path::Path;
 /// A file that cannot be read says "cannot read {what} {path}"; one that is
 /// not UTF-8 says `FILE:LINE:COL: not valid UTF-8 (byte 0xNN at byte offset K)`.
 pub fn read_text(path: &Path, what: &str) -> Result<String> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {what} {}", path.display()))?;
+    let bytes = crate::gate::read_bytes(path, what)?;
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         anyhow::anyhow!("{}:{}", path.display(), invalid_utf8(e.as_bytes(), at))
@@ -27,6 +27,7 @@ pub(crate) fn compile_file<T>(
 ) -> Result<T> {
     let text = read_text(path, "grammar")?;
     let file = SourceFile::new(path.display().to_string(), text);
+    crate::gate::take_refusal();
     let color = crate::notes::colour();
     match compile(&file) {
         Ok((value, warnings)) => {
@@ -35,7 +36,14 @@ pub(crate) fn compile_file<T>(
             }
             Ok(value)
         }
-        Err(errors) => Err(SourceErrors::new(&errors, color).into()),
+        Err(errors) => {
+            let e = anyhow::Error::new(SourceErrors::new(&errors, color));
+            // An asset outside a confined process's folders refuses the grammar.
+            Err(match crate::gate::take_refusal() {
+                Some(why) => e.context(crate::gate::Refused(why)),
+                None => e,
+            })
+        }
     }
 }
 

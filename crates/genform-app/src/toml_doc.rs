@@ -90,6 +90,31 @@ impl<'t> Doc<'t> {
         self.read(&Spanned::new(0..self.text.len(), DeValue::Table(self.root.clone())))
     }
 
+    /// Refuses an integer outside TOML's range (64-bit signed: the toml
+    /// reader takes larger ones into unsigned settings, so a count of
+    /// 2⁶⁴−1 would otherwise run until killed), at its position.
+    pub(crate) fn check_integers(&self) -> Result<()> {
+        fn find<'a, 'v>(value: &'a Value<'v>) -> Option<&'a Value<'v>> {
+            match value.get_ref() {
+                DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix()).is_err().then_some(value),
+                DeValue::Array(a) => a.iter().find_map(find),
+                DeValue::Table(t) => t.values().find_map(find),
+                _ => None,
+            }
+        }
+        let Some(bad) = self.root.values().find_map(find) else { return Ok(()) };
+        let written = &self.text[bad.span()];
+        let message = format!(
+            "{written} is beyond TOML's integers ({} to {}); no setting needs so large a number",
+            i64::MIN,
+            i64::MAX
+        );
+        Err(match &self.patch {
+            Some((patch, _)) => anyhow!("{patch}: {message}"),
+            None => anyhow!("{}: {message}", self.at(bad.span().start)),
+        })
+    }
+
     /// `file:line:col` of byte `offset`.
     pub(crate) fn at(&self, offset: usize) -> String {
         format!("{}{}", self.path.display(), position_suffix(self.text, offset))

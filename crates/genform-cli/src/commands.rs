@@ -13,6 +13,8 @@ pub fn run(cli: Cli) -> Result<()> {
     if let Some(bytes) = cli.max_memory {
         genform_app::set_budget(bytes);
     }
+    // One command per process: everything it reads is its input.
+    let _session = genform_app::session();
     match cli.command {
         Command::Sample(a) => sample(a),
         Command::Derive(a) => derive(a),
@@ -35,20 +37,14 @@ pub fn run(cli: Cli) -> Result<()> {
 
 fn sample(a: SampleArgs) -> Result<()> {
     let request = a.request()?;
-    let inputs: Vec<&std::path::Path> =
-        [Some(a.file.as_path()), request.env.as_deref(), request.footprints.as_deref()].into_iter().flatten().collect();
-    genform_app::refuse_overwriting_inputs(
-        &inputs,
-        &[
-            ("--out", request.out.as_deref()),
-            ("--string-out", request.string_out.as_deref()),
-            ("--trace", request.trace.as_deref()),
-            ("--genome-out", request.genome_out.as_deref()),
-        ],
-    )?;
     let formalism = genform_app::formalism_of(&a.file)?;
     formalism.check(&request)?;
-    let sample = formalism.load(&a.file)?.sample(&request)?;
+    // Everything the grammar reads (its meshes, context, footprints) and
+    // the files the flags name are inputs that no output may replace.
+    let loaded = formalism.load(&a.file)?;
+    request.admit_inputs()?;
+    genform_app::refuse_outputs(&request.outputs())?;
+    let sample = loaded.sample(&request)?;
     match &request.out {
         Some(out) => {
             let written = sample.write(out, &request.export())?;
@@ -82,7 +78,9 @@ fn shown(written: &[PathBuf]) -> String {
 }
 
 fn derive(a: DeriveArgs) -> Result<()> {
-    genform_app::refuse_overwriting_inputs(&[&a.file, &a.genome], &[("--out", Some(&a.out))])?;
+    genform_app::admit_read(&a.file, "grammar or scene")?;
+    genform_app::admit_read(&a.genome, "genome")?;
+    genform_app::refuse_outputs(&[("--out", &a.out)])?;
     output_format(&a.out)?;
     let request = genform_app::DeriveRequest {
         file: a.file.clone(),
@@ -91,6 +89,7 @@ fn derive(a: DeriveArgs) -> Result<()> {
         set: a.set.clone(),
     };
     let derived = genform_app::derive(&request)?;
+    genform_app::refuse_outputs(&[("--out", &a.out)])?;
     let written = write_model(&derived.scene, &a.out)?;
     eprintln!("{} → {}", derived.summary, shown(&written));
     Ok(())

@@ -204,17 +204,19 @@ fn cut(text: &str, columns: usize) -> String {
 /// Ctrl-Cs received so far.
 static INTERRUPTS: AtomicUsize = AtomicUsize::new(0);
 
-/// A flag set by Ctrl-C. The run stops and writes its results; a second
-/// Ctrl-C (often a key held or pressed twice) does not cut that short but
-/// makes the process exit with 130 once they are written; a third quits at
-/// once.
+/// A flag set by Ctrl-C. The run stops after its current generation and
+/// writes its results, and the process then ends as interrupted
+/// ([`end_as_interrupted`]), so a calling shell stops its loop or `set -e`
+/// script. A second Ctrl-C (often a key held or pressed twice) does not
+/// cut the writing short; a third quits at once (every file is written
+/// whole or not at all).
 pub(crate) fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
     let _ = ctrlc::set_handler(move || {
         flag.store(true, Ordering::SeqCst);
         match INTERRUPTS.fetch_add(1, Ordering::SeqCst) + 1 {
-            1 => {}
+            1 => eprintln!("\ninterrupted: stopping after this generation and saving the results"),
             2 => eprintln!("\nsaving the results first; Ctrl-C once more quits without them"),
             _ => std::process::exit(130),
         }
@@ -222,9 +224,28 @@ pub(crate) fn cancel_on_ctrl_c() -> Arc<AtomicBool> {
     cancel
 }
 
-/// Whether Ctrl-C came at least twice (the command then exits with 130).
-pub(crate) fn interrupted_twice() -> bool {
-    INTERRUPTS.load(Ordering::SeqCst) >= 2
+/// Whether Ctrl-C came during the command.
+pub(crate) fn interrupted() -> bool {
+    INTERRUPTS.load(Ordering::SeqCst) >= 1
+}
+
+/// Ends the process as a Ctrl-C would have, once the results are written:
+/// the default SIGINT action is restored and the signal raised, so the
+/// parent sees a process killed by SIGINT (a shell's `$?` is 130, and
+/// `while`/`for` loops and `set -e` scripts stop) rather than a success.
+pub(crate) fn end_as_interrupted() -> ! {
+    use std::io::Write as _;
+    let _ = std::io::stdout().flush();
+    let _ = std::io::stderr().flush();
+    #[cfg(unix)]
+    // SAFETY: `signal` and `raise` are async-signal-safe and take plain
+    // integers; nothing runs after them but the exit below if SIGINT is
+    // somehow ignored.
+    unsafe {
+        libc::signal(libc::SIGINT, libc::SIG_DFL);
+        libc::raise(libc::SIGINT);
+    }
+    std::process::exit(130)
 }
 
 #[cfg(test)]

@@ -13,9 +13,9 @@ fn main() -> ExitCode {
     genform_app::set_sink(Box::new(|text| eprintln!("{text}")), std::io::stderr().is_terminal());
     let cli = args::parse();
     match commands::run(cli) {
-        // Interrupted twice: the results were saved all the same, and the
-        // exit status says the user asked to quit.
-        Ok(()) if evolve::interrupted_twice() => ExitCode::from(130),
+        // Interrupted: the results were saved, and the process ends as
+        // interrupted so that shell loops and scripts stop too.
+        Ok(()) if evolve::interrupted() => evolve::end_as_interrupted(),
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // Diagnostics print with their own `Error:` headers; only the summary gets `error:`.

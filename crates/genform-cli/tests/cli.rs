@@ -220,14 +220,22 @@ fn outputs_never_overwrite_the_commands_inputs() {
     let text = std::fs::read_to_string(example("spaceship.sg")).unwrap();
     std::fs::create_dir(tmp.path().join("sub")).unwrap();
     std::fs::write(tmp.path().join("ship.sg"), &text).unwrap();
-    for (flag, path) in [("--genome-out", "ship.sg"), ("--trace", "./sub/../ship.sg"), ("--string-out", "ship.sg")] {
-        let err = genform(tmp.path(), &["sample", "ship.sg", flag, path]).fails().stderr();
-        assert!(err.contains(flag) && err.contains("is an input of this command"), "{flag}: {err}");
+    std::fs::copy(root().join("examples/lsystem/koch_snowflake.ls"), tmp.path().join("koch.ls")).unwrap();
+    for (grammar, flag, path) in [
+        ("ship.sg", "--genome-out", "ship.sg"),
+        ("ship.sg", "--genome-out", "./sub/../ship.sg"),
+        ("koch.ls", "--string-out", "koch.ls"),
+    ] {
+        let err = genform(tmp.path(), &["sample", grammar, flag, path]).fails().stderr();
+        assert!(
+            err.contains(&format!("{flag} {path} is the grammar")) && err.contains("an input of this command"),
+            "{flag}: {err}"
+        );
     }
     genform(tmp.path(), &["sample", "ship.sg", "--seed", "3", "--genome-out", "g.json"]).ok();
     let err =
         genform(tmp.path(), &["derive", "ship.sg", "--genome", "g.json", "--out", "sub/../g.json"]).fails().stderr();
-    assert!(err.contains("is an input"), "{err}");
+    assert!(err.contains("is the genome g.json, an input"), "{err}");
     assert_eq!(std::fs::read_to_string(tmp.path().join("ship.sg")).unwrap(), text);
     assert!(std::fs::read_to_string(tmp.path().join("g.json")).unwrap().starts_with(['{', '[']));
 }

@@ -132,9 +132,9 @@ fn set_patches_the_scene_for_one_run_with_the_files_checks() {
 }
 
 /// Two Ctrl-Cs 5 ms apart (a key pressed twice): the results are written
-/// all the same and the exit status is 130.
+/// all the same and the process ends as interrupted.
 #[test]
-fn a_double_ctrl_c_keeps_the_results_and_exits_130() {
+fn a_double_ctrl_c_keeps_the_results_and_ends_as_interrupted() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = ship(tmp.path());
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_genform"))
@@ -151,7 +151,7 @@ fn a_double_ctrl_c_keeps_the_results_and_exits_130() {
         std::thread::sleep(Duration::from_millis(5));
     }
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(130), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(common::ended_by_sigint(&out.status), "{:?} {}", out.status, String::from_utf8_lossy(&out.stderr));
     assert_eq!(json(&tmp.path().join("run/run.json"))["stopped_by"], "interrupted");
     assert!(json(&tmp.path().join("run/best-genome.json")).is_object());
     assert!(std::fs::read_to_string(tmp.path().join("run/stats.csv")).unwrap().lines().count() > 1);

@@ -48,7 +48,11 @@ pub enum ConfigError {
     #[error("mutation_rate must lie in [0, 1], got {0}")]
     MutationRate(f64),
     /// The mutation weights are unusable.
-    #[error("mutation weights must be finite, ≥ 0 and not all 0; got alter {alter}, grow {grow}, cut {cut}")]
+    #[error(
+        "mutation weights must be finite and ≥ 0, and alter, grow, cut and regrow not all 0 (drift alone never \
+         changes a derivation's rules or length); got alter {alter}, grow \
+         {grow}, cut {cut}"
+    )]
     MutationMix {
         /// Alter weight.
         alter: f64,
@@ -63,6 +67,19 @@ pub enum ConfigError {
     /// A tournament without contestants.
     #[error("the tournament size in selection.{0} must be at least 1")]
     Tournament(&'static str),
+    /// A tournament larger than the population it draws from.
+    #[error(
+        "the tournament size {size} in {key} is larger than the population ({population}): a tournament draws \
+         its contestants from the population"
+    )]
+    TournamentSize {
+        /// The setting, e.g. `selection.first`.
+        key: &'static str,
+        /// The size given.
+        size: usize,
+        /// The population.
+        population: usize,
+    },
     /// A codon genome's initial length range is empty or passes the cap.
     #[error("initial_length [{a}, {b}] needs 1 ≤ {a} ≤ {b} ≤ max_length ({max})")]
     CodonLength {
@@ -83,6 +100,19 @@ pub enum ConfigError {
         /// The value given.
         value: f64,
     },
+    /// Memory for a size the user set could not be had: the estimate the
+    /// application checked it against was off, or the machine is short.
+    #[error("cannot allocate {bytes} bytes for the {what} of {count}; lower `{key}`")]
+    Allocation {
+        /// The setting that sized it, e.g. `population`.
+        key: &'static str,
+        /// What was allocated, e.g. "population" or "archive".
+        what: &'static str,
+        /// Items asked for.
+        count: u128,
+        /// Bytes asked for.
+        bytes: u128,
+    },
 }
 
 impl ConfigError {
@@ -101,9 +131,26 @@ impl ConfigError {
             ConfigError::CrossoverRetries => "crossover_retries",
             ConfigError::Tournament("first") => "selection.first",
             ConfigError::Tournament(_) => "selection.second",
+            ConfigError::TournamentSize { key, .. } => key,
             ConfigError::Setting { name, .. } => name,
+            ConfigError::Allocation { key, .. } => key,
         }
     }
+}
+
+/// An empty `Vec` with room for `count` items, or [`ConfigError::Allocation`]
+/// (naming `key` and `what`) when the memory cannot be had: the big
+/// user-sized buffers (populations, archives, particles) are allocated
+/// fallibly, so a size past the machine is an error, not an abort.
+pub(crate) fn room<T>(count: usize, key: &'static str, what: &'static str) -> Result<Vec<T>, ConfigError> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(count).map_err(|_| ConfigError::Allocation {
+        key,
+        what,
+        count: count as u128,
+        bytes: count as u128 * std::mem::size_of::<T>() as u128,
+    })?;
+    Ok(v)
 }
 
 /// Fails with [`ConfigError::Setting`] unless `ok(value)`.
@@ -113,6 +160,17 @@ pub(crate) fn require(name: &'static str, value: f64, requirement: &'static str,
 
 pub(crate) fn probability(name: &'static str, value: f64) -> Result<(), ConfigError> {
     require(name, value, "in [0, 1]", (0.0..=1.0).contains(&value))
+}
+
+/// The default tournament size (the thesis' 10).
+pub const DEFAULT_TOURNAMENT: usize = 10;
+
+/// Whether a tournament of `size` draws more contestants than a selection
+/// can use: contestants are drawn with replacement, so past the population
+/// a tournament only costs time (a million draws per parent). Sizes up to
+/// the default stay allowed for small populations, which keep the default.
+pub(crate) fn too_large_tournament(size: usize, population: usize) -> bool {
+    size > population && size > DEFAULT_TOURNAMENT
 }
 
 /// An elitist EA's sizes: at least one pair to reproduce, and room for
@@ -141,7 +199,7 @@ impl Default for SelectionPair {
     /// Tournament of 10, then roulette, as every reference experiment but
     /// `eg_target`.
     fn default() -> Self {
-        SelectionPair { first: Selection::Tournament(10), second: Selection::Roulette }
+        SelectionPair { first: Selection::Tournament(DEFAULT_TOURNAMENT), second: Selection::Roulette }
     }
 }
 
@@ -339,7 +397,11 @@ impl GaConfig {
         require("mutation.drift", drift, "finite and ≥ 0", drift.is_finite() && drift >= 0.0)?;
         require("mutation.regrow", regrow, "finite and ≥ 0", regrow.is_finite() && regrow >= 0.0)?;
         require("mutation.drift_scale", drift_scale, "finite and > 0", drift_scale.is_finite() && drift_scale > 0.0)?;
-        if !self.effective().mutation.is_valid() {
+        let effective = self.effective().mutation;
+        // Drift alone only nudges parameters: no derivation could ever
+        // change its rules or its length by mutation.
+        let structural = effective.alter + effective.grow + effective.cut + effective.regrow;
+        if !effective.is_valid() || structural <= 0.0 {
             return Err(ConfigError::MutationMix { alter, grow, cut });
         }
         if self.crossover_retries == 0 {
@@ -352,6 +414,12 @@ impl GaConfig {
         for (which, s) in [("first", self.selection.first), ("second", self.selection.second)] {
             if s == Selection::Tournament(0) {
                 return Err(ConfigError::Tournament(which));
+            }
+            if let Selection::Tournament(size) = s
+                && too_large_tournament(size, self.population)
+            {
+                let key = if which == "first" { "selection.first" } else { "selection.second" };
+                return Err(ConfigError::TournamentSize { key, size, population: self.population });
             }
         }
         Ok(())
@@ -524,7 +592,8 @@ impl Default for SmcConfig {
 impl SmcConfig {
     /// Checks every setting; the first problem is returned.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        require("particles", self.particles as f64, "at least 1", self.particles >= 1)?;
+        // One particle is a single random walk: resampling has nothing to choose from.
+        require("particles", self.particles as f64, "at least 2", self.particles >= 2)?;
         if let Some(t) = self.temperature {
             require("temperature", t, "finite and > 0", t.is_finite() && t > 0.0)?;
         }
@@ -647,6 +716,15 @@ mod tests {
     }
 
     #[test]
+    fn smc_needs_two_particles_and_small_populations_keep_the_default_tournament() {
+        let one = SmcConfig { particles: 1, ..SmcConfig::default() }.validate().unwrap_err();
+        assert_eq!(one.to_string(), "particles must be at least 2, got 1");
+        SmcConfig { particles: 2, ..SmcConfig::default() }.validate().unwrap();
+        // Contestants are drawn with replacement: the default 10 of 6 is allowed.
+        GaConfig { population: 6, elitism: Some(1), ..GaConfig::default() }.validate().unwrap();
+    }
+
+    #[test]
     fn unknown_fields_are_errors() {
         assert!(parse("populaton = 3").unwrap_err().contains("populaton"));
         assert!(parse("mutation = { shrink = 3 }").unwrap_err().contains("shrink"));
@@ -707,6 +785,22 @@ mod tests {
             ),
             (GaConfig { mutation: MutationMix { alter: -1.0, ..MutationMix::default() }, ..base.clone() }, "≥ 0"),
             (GaConfig { crossover_retries: 0, ..base.clone() }, "crossover_retries"),
+            (
+                GaConfig {
+                    mutation: MutationMix { alter: 0.0, grow: 0.0, cut: 0.0, ..MutationMix::default() },
+                    ..base.clone()
+                },
+                "drift alone never changes",
+            ),
+            (
+                GaConfig {
+                    population: 20,
+                    elitism: Some(2),
+                    selection: SelectionPair { first: Selection::Tournament(21), second: Selection::Roulette },
+                    ..base.clone()
+                },
+                "tournament size 21 in selection.first is larger than the population (20)",
+            ),
             (GaConfig { restart_tolerance: -0.1, ..base.clone() }, "restart_tolerance must be in [0, 1], got -0.1"),
             (GaConfig { restart_tolerance: f64::NAN, ..base.clone() }, "restart_tolerance"),
             (GaConfig { restart_keep: 150, ..base.clone() }, "restart_keep must be smaller than the population"),

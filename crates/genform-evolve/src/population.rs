@@ -7,6 +7,7 @@
 //! evaluations land in their own slots and sorting is stable, so a seed
 //! gives the same populations and statistics at any thread count.
 
+use crate::config::{ConfigError, room};
 use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::optimizer::{Genotype, Individual, sort_population, update_best};
@@ -34,6 +35,14 @@ pub(crate) struct Population<G> {
 impl<G> Default for Population<G> {
     fn default() -> Self {
         Population { members: Vec::new(), generation: 0, evaluations: 0, best: None }
+    }
+}
+
+impl<G> Population<G> {
+    /// An empty population with room for `count` members, allocated
+    /// fallibly (see [`room`]) and kept across [`Population::initialize`].
+    pub fn with_room(count: usize, key: &'static str) -> Result<Self, ConfigError> {
+        Ok(Population { members: room(count, key, "population")?, ..Population::default() })
     }
 }
 
@@ -99,7 +108,10 @@ impl<G: Genotype + Clone + Send + Sync> Population<G> {
     ) -> GenerationStats {
         let started = Instant::now();
         let children = sample(count, make);
-        *self = Population::default();
+        // Starts over in the room already allocated (see `with_room`).
+        let mut members = std::mem::take(&mut self.members);
+        members.clear();
+        *self = Population { members, ..Population::default() };
         // Nothing to drop: the population is exactly the children.
         self.absorb(objective, children, 0, usize::MAX, started, ReproductionCounts::default())
     }
@@ -213,6 +225,19 @@ pub(crate) fn breed<G: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_population_past_the_machine_is_an_error_not_an_abort() {
+        let e = Population::<Vec<u32>>::with_room(usize::MAX / 8, "population").unwrap_err();
+        let ConfigError::Allocation { key, what, count, bytes } = e.clone() else { panic!("{e:?}") };
+        assert_eq!((key, what, count), ("population", "population", (usize::MAX / 8) as u128));
+        assert_eq!(bytes, count * std::mem::size_of::<Individual<Vec<u32>>>() as u128);
+        assert_eq!(e.key(), "population");
+        assert!(e.to_string().starts_with("cannot allocate ") && e.to_string().ends_with("; lower `population`"));
+        // A size the machine has is room kept for generation 0.
+        let room = Population::<Vec<u32>>::with_room(1000, "population").unwrap();
+        assert!(room.is_empty() && room.members.capacity() >= 1000);
+    }
 
     #[test]
     fn breed_collects_pairs_in_order_and_the_odd_last_pair_makes_one() {

@@ -31,7 +31,8 @@ impl RandomSearch {
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: RandomConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
         let limits = crate::optimizer::length_capped(limits, config.max_length);
-        Ok(RandomSearch { graph: graph.clone(), limits, config, seed, state: Population::default() })
+        let state = Population::with_room(config.population, "population")?;
+        Ok(RandomSearch { graph: graph.clone(), limits, config, seed, state })
     }
 
     /// Samples and evaluates one batch; the first call is generation 0.

@@ -43,6 +43,12 @@ use toml::de::{DeTable, DeValue};
 /// Most derivation steps an environment file may ask for.
 pub const MAX_STEPS: u32 = 64;
 
+/// Smallest `scale`: the growth shrinks by it every step.
+pub const MIN_SCALE: f64 = 0.01;
+
+/// Largest `scale`: it compounds every step (10 over 20 steps is 10²⁰).
+pub const MAX_SCALE: f64 = 10.0;
+
 /// A parsed environment file: settings, charges, gravity, and boundaries
 /// whose meshes are not loaded yet.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,6 +117,9 @@ pub enum ShapeSpec {
     Mesh {
         /// The path as written in the file.
         path: String,
+        /// Where the file names it (`file:line:col`), for the errors of
+        /// reading it.
+        at: String,
     },
 }
 
@@ -118,14 +127,15 @@ impl EnvSpec {
     /// The mesh paths the boundaries name, in order.
     pub fn mesh_paths(&self) -> impl Iterator<Item = &str> {
         self.boundaries.iter().filter_map(|b| match &b.shape {
-            ShapeSpec::Mesh { path } => Some(path.as_str()),
+            ShapeSpec::Mesh { path, .. } => Some(path.as_str()),
             _ => None,
         })
     }
 
     /// Builds the environment; `load_mesh` gets each mesh path as written
     /// (the CLI resolves it relative to the environment file and reads it).
-    /// Errors name the boundary and the path.
+    /// Errors name the boundary and the path; a mesh's errors start at the
+    /// position that names it.
     pub fn resolve(
         self,
         load_mesh: &mut dyn FnMut(&str) -> Result<Mesh, String>,
@@ -142,9 +152,10 @@ impl EnvSpec {
                 ShapeSpec::Box { min, max } => Boundary::cuboid(min, max),
                 ShapeSpec::Plane { point, normal } => Boundary::plane(point, normal)
                     .ok_or_else(|| format!("boundary {}: the plane's normal is zero", i + 1))?,
-                ShapeSpec::Mesh { path } => {
-                    let mesh = load_mesh(&path).map_err(|e| format!("boundary {} (mesh `{path}`): {e}", i + 1))?;
-                    Boundary::mesh(&mesh).map_err(|e| format!("boundary {} (mesh `{path}`): {e}", i + 1))?
+                ShapeSpec::Mesh { path, at } => {
+                    let mesh =
+                        load_mesh(&path).map_err(|e| format!("{at}: boundary {} (mesh `{path}`): {e}", i + 1))?;
+                    Boundary::mesh(&mesh).map_err(|e| format!("{at}: boundary {} (mesh `{path}`): {e}", i + 1))?
                 }
             };
             env.boundaries.push(boundary.with_behaviour(b.behaviour).with_keep(b.keep));
@@ -167,7 +178,7 @@ pub fn parse_env(file: &SourceFile) -> Result<EnvSpec, Diagnostics> {
         }
         return Err(diags);
     }
-    let mut r = Reader { errors: Vec::new() };
+    let mut r = Reader { errors: Vec::new(), file };
     let spec = r.document(root.get_ref());
     if r.errors.is_empty() {
         Ok(spec)
@@ -209,11 +220,13 @@ fn span_of<T>(v: &Spanned<T>) -> Span {
 }
 
 /// Walks the parsed document, collecting errors.
-struct Reader {
+struct Reader<'f> {
     errors: Vec<Diagnostic>,
+    /// The file read (positions of mesh paths, for the errors of reading them).
+    file: &'f SourceFile,
 }
 
-impl Reader {
+impl Reader<'_> {
     fn error(&mut self, span: Span, message: impl Into<String>) -> &mut Diagnostic {
         self.errors.push(Diagnostic::error(span, message));
         self.errors.last_mut().expect("just pushed")
@@ -429,10 +442,16 @@ impl Reader {
                 return None;
             }
         };
-        if s.min_element() > 0.0 {
+        if s.min_element() >= MIN_SCALE && s.max_element() <= MAX_SCALE {
             Some(s)
         } else {
-            self.error(span_of(v), "`scale` must be positive (below 1 shrinks, above 1 grows)");
+            self.error(
+                span_of(v),
+                format!(
+                    "`scale` must lie from {MIN_SCALE} to {MAX_SCALE} (below 1 shrinks, above 1 grows; it compounds \
+                     every step)"
+                ),
+            );
             None
         }
     }
@@ -602,7 +621,8 @@ impl Reader {
                 self.error(span_of(v), "`mesh` must name an OBJ file");
                 return None;
             }
-            return Some(ShapeSpec::Mesh { path: path.to_string() });
+            let at = self.file.location(span_of(v).start);
+            return Some(ShapeSpec::Mesh { path: path.to_string(), at });
         }
         let t = self.table(v, key)?;
         let what = format!("`{key}`");

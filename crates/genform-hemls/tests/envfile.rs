@@ -118,7 +118,7 @@ max_faces = 500
                 keep: Keep::Outside,
             },
             BoundarySpec {
-                shape: ShapeSpec::Mesh { path: "meshes/rock.obj".into() },
+                shape: ShapeSpec::Mesh { path: "meshes/rock.obj".into(), at: "test.toml:41:8".into() },
                 behaviour: Behaviour::Slide,
                 keep: Keep::Outside,
             },
@@ -192,7 +192,7 @@ fn mesh_loading_errors_name_the_boundary_and_path() {
     let spec =
         parse("[[boundary]]\nsphere = { center = [0, 0, 0], radius = 1 }\n\n[[boundary]]\nmesh = \"gone.obj\"\n");
     let err = spec.clone().resolve(&mut |_| Err("no such file".into())).unwrap_err();
-    assert_eq!(err, "boundary 2 (mesh `gone.obj`): no such file");
+    assert_eq!(err, "test.toml:5:8: boundary 2 (mesh `gone.obj`): no such file");
     let mut flat = |_: &str| {
         Ok(Mesh {
             name: "flat".into(),
@@ -201,7 +201,7 @@ fn mesh_loading_errors_name_the_boundary_and_path() {
         })
     };
     let err = spec.resolve(&mut flat).unwrap_err();
-    assert!(err.starts_with("boundary 2 (mesh `gone.obj`): ") && err.contains("no triangle"), "{err}");
+    assert!(err.starts_with("test.toml:5:8: boundary 2 (mesh `gone.obj`): ") && err.contains("no triangle"), "{err}");
 }
 
 #[test]

@@ -166,7 +166,7 @@ pub fn genome_text(py: Python<'_>, genome: &Bound<'_, PyAny>) -> PyResult<String
 /// model can be derived again and evolved.
 fn sample(core: &Arc<GrammarCore>, req: &mut SampleRequest) -> Result<Model> {
     req.keep_genome = core.generator.is_some();
-    let s = core.loaded.sample(req)?;
+    let s = core.guarded(|| core.loaded.sample(req))?;
     let genome = s.genome().cloned();
     let limits = core.generator.as_ref().map_or(Limits::default(), |g| req.limits.apply(g.limits));
     let summary = s.summary();
@@ -312,9 +312,16 @@ impl Model {
                     if !genform_app::ends_with_any(&path, extra) && genform_export::Format::from_path(&path).is_none() {
                         return Err(genform_app::unknown_format(&path, extra));
                     }
-                    s.write(&path, &genform_export::ExportOptions::default())
+                    let write = || s.write(&path, &genform_export::ExportOptions::default());
+                    match &self.grammar {
+                        Some(g) => g.guarded(write),
+                        None => write(),
+                    }
                 }
-                Body::Scene(scene) => genform_app::write_model(scene, &path),
+                Body::Scene(scene) => match &self.grammar {
+                    Some(g) => g.guarded(|| genform_app::write_model(scene, &path)),
+                    None => genform_app::write_model(scene, &path),
+                },
             })
             .or_raise()?;
         Ok(written.iter().map(|p| p.display().to_string()).collect())

@@ -4,6 +4,8 @@
 //! lattice row axis, one row per `(j, k)`. Voxel `i` of a row is bit
 //! `i % 64` of word `i / 64`; bits past the row's end stay zero.
 
+use crate::error::ScoreError;
+
 /// Rows of bits, `words` `u64`s each.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) struct BitRows {
@@ -37,6 +39,17 @@ impl BitRows {
     /// `rows` empty rows of `words` words.
     pub fn new(words: usize, rows: usize) -> BitRows {
         BitRows { words, data: vec![0; words * rows] }
+    }
+
+    /// `rows` empty rows of `words` words, allocated fallibly: a grid of
+    /// `voxels` past the machine's memory is [`ScoreError::Allocation`].
+    pub fn try_new(words: usize, rows: usize, voxels: u64) -> Result<BitRows, ScoreError> {
+        let failed = || ScoreError::Allocation { voxels, bytes: words as u128 * rows as u128 * 8 };
+        let n = words.checked_mul(rows).ok_or_else(failed)?;
+        let mut data = Vec::new();
+        data.try_reserve_exact(n).map_err(|_| failed())?;
+        data.resize(n, 0);
+        Ok(BitRows { words, data })
     }
 
     /// All words, row after row.
@@ -122,6 +135,16 @@ pub(crate) fn popcount(words: &[u64]) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_past_the_machine_are_an_error_not_an_abort() {
+        let e = BitRows::try_new(usize::MAX / 4, 3, 7).unwrap_err();
+        assert_eq!(e, ScoreError::Allocation { voxels: 7, bytes: (usize::MAX / 4) as u128 * 3 * 8 });
+        assert!(e.to_string().starts_with("cannot allocate ") && e.to_string().ends_with("lower `voxels`"));
+        let e = BitRows::try_new(usize::MAX / 16, 1, 9).unwrap_err();
+        assert!(matches!(e, ScoreError::Allocation { voxels: 9, .. }), "{e}");
+        assert_eq!(BitRows::try_new(2, 3, 100).unwrap(), BitRows::new(2, 3));
+    }
 
     #[test]
     fn ranges_and_words() {

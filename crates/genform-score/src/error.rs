@@ -63,4 +63,13 @@ pub enum ScoreError {
         /// What is wrong, naming the triangle or vertex.
         problem: String,
     },
+    /// The memory for a voxel grid could not be had (the machine is short
+    /// of what the grid's size asks for); use fewer voxels per axis.
+    #[error("cannot allocate {bytes} bytes for the voxel grid of {voxels} voxels; lower `voxels`")]
+    Allocation {
+        /// Voxels in the grid.
+        voxels: u64,
+        /// Bytes asked for.
+        bytes: u128,
+    },
 }

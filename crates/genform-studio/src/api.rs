@@ -5,7 +5,7 @@
 use axum::extract::{FromRequest, Request};
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
-use genform_app::SourceErrors;
+use genform_app::{OverBudget, Refused, SourceErrors};
 use serde::Serialize;
 use serde::de::DeserializeOwned;
 
@@ -84,10 +84,29 @@ impl ApiError {
         Self::new(StatusCode::INTERNAL_SERVER_ERROR, message)
     }
 
+    /// 503: the memory budget is held by other runs and sessions now.
+    pub fn unavailable(message: impl Into<String>) -> Self {
+        Self::new(StatusCode::SERVICE_UNAVAILABLE, message)
+    }
+
     /// A failed CLI operation on user input (400): its error chain as one
-    /// line, compile errors as diagnostics. `shown` turns file names into
-    /// what the client may see.
+    /// line, compile errors as diagnostics; 403 for a path outside the
+    /// studio's folders ([`genform_app::Refused`]); 503 when it was refused because
+    /// the memory budget is held by other runs and sessions
+    /// ([`genform_app::OverBudget`]), so waiting may help. `shown` turns
+    /// file names into what the client may see.
     pub fn from_anyhow(e: &anyhow::Error, shown: impl Fn(&str) -> String) -> Self {
+        // A path outside the studio's folders, however it was named.
+        if let Some(refused) =
+            e.downcast_ref::<Refused>().or_else(|| e.chain().find_map(|c| c.downcast_ref::<Refused>()))
+        {
+            return Self::forbidden(refused.to_string());
+        }
+        if let Some(over) = e.chain().find_map(|c| c.downcast_ref::<OverBudget>())
+            && over.asked <= over.budget
+        {
+            return Self::unavailable(e.chain().map(|c| c.to_string()).collect::<Vec<_>>().join(": "));
+        }
         let mut diagnostics = Vec::new();
         let parts: Vec<String> = e
             .chain()

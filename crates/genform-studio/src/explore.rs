@@ -176,10 +176,8 @@ pub async fn save(State(app): State<Shared>, JsonBody(body): JsonBody<SaveBody>)
     let name = checked_name(&body.name)?;
     let answer = blocking(move || {
         let dir = app.out.join(if body.draft { DRAFTS } else { SAVED });
-        std::fs::create_dir_all(&dir).map_err(|e| ApiError::internal(format!("cannot create the folder: {e}")))?;
         let file = dir.join(&name);
-        genform_app::write_atomic(&file, body.text.as_bytes())
-            .map_err(|e| ApiError::internal(format!("cannot save {name}: {e:#}")))?;
+        genform_app::write_atomic(&file, body.text.as_bytes()).map_err(|e| ApiError::from_anyhow(&e, |n| n.into()))?;
         let shown = app.roots.display(&file.canonicalize().unwrap_or(file)).unwrap_or_default();
         Ok(json!({ "path": shown }))
     })
@@ -369,7 +367,7 @@ pub async fn model(
         let path = entry.dir.join(format!("model.{written_as}"));
         let _one = entry.writing.lock().unwrap_or_else(|p| p.into_inner());
         if !path.is_file() {
-            std::fs::create_dir_all(&entry.dir).map_err(|e| ApiError::internal(e.to_string()))?;
+            genform_app::create_dir(&entry.dir).map_err(|e| ApiError::from_anyhow(&e, |n| n.into()))?;
             let written =
                 entry.sample.write(&path, &entry.export).map_err(|e| ApiError::from_anyhow(&e, |n| n.into()))?;
             if !written.contains(&path) {

@@ -111,9 +111,26 @@ pub fn scrub(app: &App, message: &str) -> String {
     dirs.sort_by_key(|(d, _)| std::cmp::Reverse(d.len()));
     for (dir, name) in dirs {
         if dir.len() > 1 {
-            out = out.replace(&dir, &name);
+            out = replace_folder(&out, &dir, &name);
         }
     }
+    out
+}
+
+/// `text` with the folder path `dir` replaced by `name` wherever it is a
+/// whole path or a path's start (`/srv/out` in `/srv/out/r1`, not in
+/// `/srv/outside`).
+fn replace_folder(text: &str, dir: &str, name: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(i) = rest.find(dir) {
+        let after = &rest[i + dir.len()..];
+        let whole = !after.starts_with(|c: char| c.is_alphanumeric() || matches!(c, '.' | '-' | '_'));
+        out.push_str(&rest[..i]);
+        out.push_str(if whole { name } else { dir });
+        rest = after;
+    }
+    out.push_str(rest);
     out
 }
 

@@ -60,6 +60,11 @@ pub struct ServeOptions {
 /// page's address once the port is bound.
 pub fn serve(a: ServeOptions, listening: impl FnOnce(&str) + Send) -> Result<()> {
     let app = Arc::new(app(&a)?);
+    // Whatever a request names — a `set` value, a grammar's mesh, an
+    // environment — is read only below the roots, and written only below
+    // `--out`, through links never.
+    let read: Vec<PathBuf> = app.roots.list().iter().map(|r| r.dir.clone()).collect();
+    genform_app::confine(&read, &app.out, "examples/, scene/ and runs/")?;
     let host = a.host.clone().unwrap_or_else(|| "127.0.0.1".to_string());
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -128,6 +133,7 @@ pub fn router(app: Shared) -> Router {
         .route("/api/models/{file}", get(explore::model))
         .route("/api/target.glb", get(explore::target_glb))
         .route("/api/target.png", get(explore::target_png))
+        .route("/api/status", get(state::status))
         .route("/api/runs", post(runs::start).get(runs::list))
         .route("/api/runs/{id}", get(runs::snapshot))
         .route("/api/runs/{id}/events", get(runs::events))

@@ -28,7 +28,7 @@ use super::explore;
 use super::files::resolve_in;
 use super::run_handle::{Event, MAX_RUNNING, RunHandle, RunState, Status};
 use super::state::Shared;
-use genform_app::{Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch};
+use genform_app::{Admitted, Control, EvolveRequest, Start, SteerEntry, SteerSet, Steerable, Tick, Watch};
 
 /// A gallery picture is made every this many generations (and at the end,
 /// as the run folder's `gallery.png`).
@@ -151,21 +151,30 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
     if body.threads.is_some_and(|t| t == 0 || t > 256) {
         return Err(ApiError::bad_request("threads must be 1..=256"));
     }
-    let probe = file.clone();
+    let request = EvolveRequest {
+        scene: file.clone(),
+        seed: body.seed,
+        generations: body.generations,
+        budget: body.budget,
+        evaluations: body.evaluations,
+        threads: body.threads,
+        out: None,
+        algorithm: body.algorithm.clone(),
+        set: body.set,
+        ..EvolveRequest::default()
+    };
     let shown_app = app.clone();
     let scene = body.scene.clone();
-    let set = body.set.clone();
-    let asked = body.algorithm.clone();
-    let (steerable, targets, algorithm) = blocking(move || {
-        // The scene as the run will load it: a bad patch or an algorithm
-        // that cannot evolve it is refused here, with the scene's own mistakes.
-        let shown = |e: anyhow::Error| ApiError::from_anyhow(&e, |n| shown_app.shown(n));
-        let loaded =
-            genform_app::parse_patch(&set).and_then(|patch| genform_app::Scene::load(&probe, &patch)).map_err(shown)?;
-        let algorithm = loaded.algorithm(asked.as_deref()).map_err(shown)?;
-        Ok((Steerable::of_scene(&loaded), explore::targets(&probe, &scene), algorithm))
+    let (mut admitted, steerable, targets) = blocking(move || {
+        // The run as it will go, admitted to the memory budget: a bad
+        // patch, an algorithm that cannot evolve the scene or a run that
+        // does not fit beside the others is refused here, never started.
+        let admitted = genform_app::admit(&request).map_err(|e| ApiError::from_anyhow(&e, |n| shown_app.shown(n)))?;
+        let steerable = Steerable::of_scene(admitted.scene());
+        Ok((admitted, steerable, explore::targets(&file, &scene)))
     })
     .await?;
+    let algorithm = admitted.algorithm();
     let (tx, _) = broadcast::channel(CHANNEL);
     let handle = {
         let mut guard = app.runs.inner.lock().unwrap_or_else(|p| p.into_inner());
@@ -208,36 +217,30 @@ pub async fn start(State(app): State<Shared>, JsonBody(body): JsonBody<StartBody
         guard.1.insert(n, handle.clone());
         handle
     };
-    let args = EvolveRequest {
-        scene: file,
-        seed: body.seed,
-        generations: body.generations,
-        budget: body.budget,
-        evaluations: body.evaluations,
-        threads: body.threads,
-        out: Some(handle.folder.clone()),
-        algorithm: Some(algorithm.to_string()),
-        set: body.set,
-        ..EvolveRequest::default()
-    };
+    admitted.set_out(Some(handle.folder.clone()));
     let h = handle.clone();
     std::thread::Builder::new()
         .name(format!("genform-run-{}", handle.id))
-        .spawn(move || run_thread(h, args))
+        .spawn({
+            let app = app.clone();
+            move || run_thread(h, admitted, &app)
+        })
         .map_err(|e| ApiError::internal(format!("cannot start a thread: {e}")))?;
     let answer = json!({ "id": handle.id, "folder": format!("runs/{}", handle.id) });
     Ok((StatusCode::CREATED, axum::Json(answer)).into_response())
 }
 
-/// The run's thread: the shared run loop, then the final status.
-fn run_thread(h: Arc<RunHandle>, args: EvolveRequest) {
+/// The run's thread: the shared run loop, then the final status. The
+/// run's memory reservation is given back when the loop returns.
+fn run_thread(h: Arc<RunHandle>, run: Admitted, app: &crate::state::App) {
     let mut watcher = Watcher(h.clone());
     let control = Control { cancel: h.cancel.clone(), schedule: Vec::new(), watch: Some(&mut watcher) };
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| genform_app::evolve(&args, control)));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run.run(control)));
     let (status, error) = match result {
         Ok(Ok(_)) if h.cancel.load(Ordering::SeqCst) => (Status::Stopped, None),
         Ok(Ok(_)) => (Status::Finished, None),
-        Ok(Err(e)) => (Status::Failed, Some(format!("{e:#}"))),
+        // Snapshots are answers too: no server path in them.
+        Ok(Err(e)) => (Status::Failed, Some(crate::guard::scrub(app, &format!("{e:#}")))),
         Err(_) => (Status::Failed, Some("internal error: the run panicked".to_string())),
     };
     let mut s = h.lock();

@@ -1,6 +1,9 @@
 //! What every handler shares: the roots, the output folder and the tables
-//! of samples, runs and breeding sessions.
+//! of samples, runs and breeding sessions; and the server's status
+//! (`GET /api/status`: the memory budget and what runs hold of it).
 
+use axum::extract::State;
+use axum::response::{IntoResponse, Response};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -47,4 +50,23 @@ pub type Shared = Arc<App>;
 pub struct Allowed {
     /// `--host`, lower-case, when given.
     pub host: Option<String>,
+}
+
+/// `GET /api/status`: the process's memory budget (bytes, and where it
+/// came from) and the bytes runs and breeding sessions hold of it now,
+/// with the runs going.
+pub async fn status(State(app): State<Shared>) -> Response {
+    let memory = genform_app::usage();
+    let running =
+        app.runs.inner.lock().unwrap_or_else(|p| p.into_inner()).1.values().filter(|h| h.is_running()).count();
+    axum::Json(serde_json::json!({
+        "memory": {
+            "budget": memory.budget.bytes,
+            "in_use": memory.in_use,
+            "origin": memory.budget.origin,
+            "holders": memory.holders,
+        },
+        "runs_going": running,
+    }))
+    .into_response()
 }

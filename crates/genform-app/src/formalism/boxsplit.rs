@@ -185,6 +185,9 @@ impl LoadedGrammar for BoxFile {
                 }
                 // Only regions the derivation box needs matter to the observers.
                 let needed = regions_for_box(min, max);
+                if let Some(out) = out.filter(|_| to_region) {
+                    check_region_name(out, &needed)?;
+                }
                 missing.retain(|r| needed.contains(r));
                 if !missing.is_empty() {
                     crate::notes::warn(&format!(
@@ -345,6 +348,9 @@ struct World {
 /// Regions the box needs that are not there are reported and left unset
 /// (they observe as air).
 fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
+    // Admitted before anything is looked at, so a refused path reads the
+    // same whether or not it exists.
+    crate::gate::admit_read(path, "world")?;
     let needed = regions_for_box(min, max);
     let mut files = Vec::new();
     let mut paths = Vec::new();
@@ -363,7 +369,7 @@ fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
     for &(x, z) in &needed {
         match candidates.iter().find(|c| c.0 == x && c.1 == z) {
             Some((_, _, p)) if p.exists() => {
-                let bytes = std::fs::read(p).with_context(|| format!("cannot read {}", p.display()))?;
+                let bytes = crate::gate::read_bytes(p, "region file")?;
                 files.push(RegionFile { x, z, bytes });
                 paths.push(p.clone());
             }
@@ -400,6 +406,31 @@ fn terrain_context(terrain: &BlockGrid, structure: &BlockGrid) -> BlockGrid {
         }
     }
     out
+}
+
+/// Refuses an output region file named for another region than the one
+/// the box lies in (Minecraft places a region's chunks by its file name),
+/// and says what to rename an output that has no region name.
+fn check_region_name(out: &Path, needed: &[(i32, i32)]) -> Result<()> {
+    let &[(x, z)] = needed else { return Ok(()) };
+    let name = out.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    match region_coords(&name) {
+        Some(named) if named != (x, z) => bail!(
+            "--out {} names region {},{}, but the box lies in region {x},{z}: Minecraft places a region's chunks \
+             by its file name, so name the output {}",
+            out.display(),
+            named.0,
+            named.1,
+            region_file_name(x, z)
+        ),
+        Some(_) => {}
+        None => crate::notes::warn(&format!(
+            "note: {} holds region {x},{z}; Minecraft reads a region by its file name, so copy it into a world as {}",
+            out.display(),
+            region_file_name(x, z)
+        )),
+    }
+    Ok(())
 }
 
 /// Writes the blocks into a copy of the one region file the box lies in.

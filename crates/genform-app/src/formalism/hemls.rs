@@ -57,15 +57,16 @@ pub fn load_environment(path: &Path) -> Result<(Settings, Environment)> {
     let spec = genform_hemls::parse_env(&file).map_err(|d| crate::text::SourceErrors::new(&d, false))?;
     let base = path.parent().unwrap_or(Path::new(".")).to_path_buf();
     let mut load_mesh = |rel: &str| -> Result<genform_core::Mesh, String> {
-        genform_export::read_mesh_file(&base.join(rel)).map_err(|e| e.to_string())
+        crate::gate::read_mesh(&base.join(rel)).map_err(|e| format!("{e:#}"))
     };
-    spec.resolve(&mut load_mesh).map_err(|e| anyhow!("{}: {e}", path.display()))
+    // A mesh's errors start at the line naming it.
+    spec.resolve(&mut load_mesh).map_err(anyhow::Error::msg)
 }
 
 /// A growth error in words, with the rule's file position when it names one.
 pub fn grow_error(path: &Path, grammar: &genform_hemls::Hemls, e: GrowError) -> anyhow::Error {
     match &e {
-        GrowError::Rule { span, .. } if span.end > span.start => match std::fs::read_to_string(path) {
+        GrowError::Rule { span, .. } if span.end > span.start => match crate::text::read_text(path, "grammar") {
             Ok(text) => {
                 let (line, col) = SourceFile::new(path.display().to_string(), text).line_col(span.start);
                 anyhow!("{}:{line}:{col}: {e}", path.display())

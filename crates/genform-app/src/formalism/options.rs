@@ -140,7 +140,7 @@ pub static SAMPLE_OPTIONS: &[SampleOption] = &[
         name: "steps",
         short: None,
         value_name: "N",
-        kind: ValueKind::Count { max: u32::MAX as u64 },
+        kind: ValueKind::Count { max: crate::caps::MAX_STEPS },
         default: None,
         help: "L-systems, graph grammars and HEMLS: derivation steps (default: the file's `derivation:`; HEMLS: \
                the environment's `steps`, else 4).",
@@ -462,6 +462,32 @@ impl SampleRequest {
         Ok(())
     }
 
+    /// The files the request names to read (`--env`, `--footprints`,
+    /// `--world`), admitted through the file gate (and recorded as inputs
+    /// of the command) before anything is derived.
+    pub fn admit_inputs(&self) -> anyhow::Result<()> {
+        let named = [("environment", &self.env), ("footprints", &self.footprints), ("world", &self.world)];
+        for (what, path) in named {
+            if let Some(p) = path {
+                crate::gate::admit_read(p, what)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The files the request writes, by flag: each is refused before
+    /// anything runs when it is one of the command's inputs
+    /// ([`crate::refuse_outputs`]).
+    pub fn outputs(&self) -> Vec<(&'static str, &std::path::Path)> {
+        let named = [
+            ("--out", &self.out),
+            ("--string-out", &self.string_out),
+            ("--trace", &self.trace),
+            ("--genome-out", &self.genome_out),
+        ];
+        named.into_iter().filter_map(|(flag, p)| Some((flag, p.as_deref()?))).collect()
+    }
+
     /// The export settings of `--out`.
     pub fn export(&self) -> genform_export::ExportOptions {
         genform_export::ExportOptions { granularity: self.granularity, ..Default::default() }
@@ -494,7 +520,7 @@ mod tests {
         assert_eq!((r.every_step, r.schem_version, r.granularity), (true, 3, Granularity::PerTag));
         assert_eq!(r.given, ["--steps", "--max-modules", "--box", "--every-step", "--schem-version", "--granularity"]);
         let e = r.set("steps", &Value::from(-1), &as_is).unwrap_err().to_string();
-        assert_eq!(e, "option `steps` must be a whole number 0..=4294967295, not -1");
+        assert_eq!(e, "option `steps` must be a whole number 0..=1000000, not -1");
         let e = r.set("schem_version", &Value::from(4), &as_is).unwrap_err().to_string();
         assert_eq!(e, "option `schem_version` must be 2 or 3, not 4", "named as the door wrote it");
         let e = r.set("stpes", &Value::from(1), &as_is).unwrap_err().to_string();

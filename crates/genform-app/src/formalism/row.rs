@@ -269,7 +269,7 @@ impl FileAssets {
     }
 
     fn load(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
-        genform_export::read_mesh_file(&self.base.join(path)).map_err(|e| e.to_string())
+        crate::gate::read_mesh(&self.base.join(path)).map_err(|e| format!("{e:#}"))
     }
 }
 

@@ -90,9 +90,10 @@ impl Reports<'_> {
         write_atomic(&out.join("archive.png"), &archive_png(&self.config, &elites))?;
         let dir = out.join("elites");
         if dir.exists() {
+            crate::gate::check_write(&dir)?;
             std::fs::remove_dir_all(&dir).with_context(|| format!("cannot empty {}", dir.display()))?;
         }
-        std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+        crate::gate::create_dir(&dir)?;
         let graph = self.generator.graph();
         for e in &elites {
             let [c, r] = self.config.cell(e.descriptors);

@@ -21,8 +21,9 @@ use std::sync::Arc;
 
 use crate::files::write_atomic;
 use crate::formalism::Loaded;
+use crate::memory::{Reservation, Size, reserve_sizes};
 use crate::objective::{CodonObjective, OpenScene, TreeObjective};
-use crate::optimizers::{Kind, Searches};
+use crate::optimizers::{Kind, Searches, section_sizes};
 use crate::scene::Scene as SceneFile;
 use crate::scene::patch::{parse_patch, patch_from_json};
 
@@ -51,6 +52,16 @@ pub struct AskTellOptimizer {
     pub inner: AskTell,
     /// The algorithm's name.
     pub algorithm: &'static str,
+    /// Its settings' estimated memory, held in the process's ledger while
+    /// it lives.
+    memory: Reservation,
+}
+
+impl AskTellOptimizer {
+    /// The bytes it holds of the memory budget.
+    pub fn reserved(&self) -> u64 {
+        self.memory.bytes()
+    }
 }
 
 /// The tree algorithm called `name`.
@@ -70,14 +81,23 @@ fn tree_algorithm(name: &str, scene: &Path) -> Result<(genform_evolve::Algorithm
 pub fn ask_tell(request: AskTellRequest) -> Result<AskTellOptimizer> {
     let (alg, section) = tree_algorithm(request.algorithm, request.scene.unwrap_or(Path::new("(grammar)")))?;
     let patch = parse_patch(&patch_from_json(section, &request.settings)?)?;
-    let settings = match request.scene {
-        Some(path) => SceneFile::load(path, &patch)?.tree_settings(),
-        None => crate::scene::optimizer_settings(None, &patch)?.tree(None),
+    let (settings, sizes) = match request.scene {
+        Some(path) => {
+            let scene = SceneFile::load(path, &patch)?;
+            let mut sizes = crate::optimizers::sizes(Searches::Trees, &scene.optimizers);
+            sizes.extend(scene.limit_sizes());
+            (scene.tree_settings(), sizes)
+        }
+        None => {
+            let settings = crate::scene::optimizer_settings(None, &patch)?;
+            (settings.tree(None), crate::optimizers::sizes(Searches::Trees, &settings))
+        }
     };
+    let memory = reserve_sizes(&sizes, "ask/tell optimizer")?;
     let graph = request.generator.generator.graph();
     let opt = AnyOptimizer::new(alg, graph, &request.limits, &settings, request.seed, request.horizon)
         .map_err(|e| anyhow::anyhow!("{}: {e}", alg.name()))?;
-    Ok(AskTellOptimizer { inner: AskTell::new(opt).map_err(anyhow::Error::msg)?, algorithm: alg.name() })
+    Ok(AskTellOptimizer { inner: AskTell::new(opt).map_err(anyhow::Error::msg)?, algorithm: alg.name(), memory })
 }
 
 /// What a breeding session starts from.
@@ -111,6 +131,25 @@ pub struct BreedSession {
     fitness: Vec<Option<f64>>,
     /// Earlier picks: (generation, favourite indices, their genome files).
     history: Vec<(usize, Vec<usize>, Vec<String>)>,
+    /// Its estimated memory, held in the process's ledger while it lives.
+    memory: Reservation,
+}
+
+/// What a breeding session asks memory for: its optimizer at `size`
+/// individuals, the scene's scorers where they are built (codon scenes,
+/// and tree scenes whose fitness is mixed in) and the scene's `[limits]`.
+fn breeding_sizes(scene: Option<&SceneFile>, request: &BreedRequest) -> Vec<Size<'static>> {
+    let mut settings = scene.map(|s| s.optimizers.clone()).unwrap_or_default();
+    settings.ga.population = request.size;
+    settings.ge.population = request.size;
+    let Some(scene) = scene else { return section_sizes("ga", &settings) };
+    let codons = scene.searches == Searches::Codons;
+    let mut sizes = section_sizes(if codons { "ge" } else { "ga" }, &settings);
+    if codons || request.mix > 0.0 {
+        sizes.extend(scene.scoring.memory());
+    }
+    sizes.extend(scene.limit_sizes());
+    sizes
 }
 
 /// What it takes to build one individual's model away from the session.
@@ -164,6 +203,7 @@ impl BreedSession {
         }
         let is_scene = crate::formalism::ends_with_any(&request.path, &[".toml"]);
         let scene = if is_scene { Some(SceneFile::load(&request.path, &[])?) } else { None };
+        let memory = reserve_sizes(&breeding_sizes(scene.as_ref(), &request), "breeding session")?;
         let pool = match scene {
             Some(scene) if scene.searches == Searches::Codons => {
                 let mut ge = scene.optimizers.ge.clone();
@@ -222,7 +262,7 @@ impl BreedSession {
                 Pool::Tree { loaded, limits, scene, ask, batch: Vec::new() }
             }
         };
-        let mut session = BreedSession { request, pool, round: 0, fitness: Vec::new(), history: Vec::new() };
+        let mut session = BreedSession { request, pool, round: 0, fitness: Vec::new(), history: Vec::new(), memory };
         session.next_batch()?;
         Ok(session)
     }
@@ -230,6 +270,11 @@ impl BreedSession {
     /// What the session was started with.
     pub fn request(&self) -> &BreedRequest {
         &self.request
+    }
+
+    /// The bytes it holds of the memory budget.
+    pub fn reserved(&self) -> u64 {
+        self.memory.bytes()
     }
 
     /// Individuals shown.

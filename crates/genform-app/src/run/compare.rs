@@ -2,7 +2,7 @@
 //! budget on one scene, with the traces, the best individual of each
 //! algorithm, a table and a plot.
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use genform_evolve::{Individual, Objective, Optimizer, Stop, StopReason, run};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -78,7 +78,7 @@ pub(super) fn race<G: Clone + Send, C: Contest<G>, O: Objective<G> + Sync>(
     contest: &C,
     mut control: Control,
 ) -> Result<CompareOutcome> {
-    std::fs::create_dir_all(&r.out).with_context(|| format!("cannot create output folder {}", r.out.display()))?;
+    crate::gate::create_dir(&r.out)?;
     let pool = worker_pool(r.threads)?;
     let cancel = control.cancel.clone();
     let mut watch = control.watch.take();

@@ -231,6 +231,12 @@ pub(crate) fn horizon(
     what: &str,
 ) -> Result<Horizon> {
     let asked = generations.is_some() || budget.is_some() || evaluations.is_some();
+    if let Some(why) = generations.and_then(|g| crate::caps::generations("--generations", g)) {
+        bail!(why);
+    }
+    if let Some(why) = evaluations.and_then(|e| crate::caps::count("--evaluations", e, crate::caps::MAX_EVALUATIONS)) {
+        bail!(why);
+    }
     let (generations, budget, evaluations) = if asked {
         (generations, budget.map(str::to_string), evaluations)
     } else {

@@ -27,9 +27,25 @@ pub struct MapRequest {
     pub json: bool,
 }
 
+/// Bytes one codon read may take in a mapping's trace: its step (with the
+/// non-terminal's name) and its share of the pending symbols and output.
+const TRACE_CODON_BYTES: u64 = 160;
+
 /// The mapping `request` asks for, as the text the door prints.
 pub fn map(request: &MapRequest) -> Result<String> {
     let bnf = compile_file(&request.grammar, genform_ge::compile)?;
+    // Reading stops after (wraps + 1) passes over the genome: a recursive
+    // rule allowed a billion wraps would fill the memory before that.
+    if let Some(w) = request.max_wraps {
+        let codons = (u64::from(w) + 1).saturating_mul(request.genome.len() as u64);
+        crate::memory::check_limit(
+            &format!("--max-wraps {w}"),
+            "--max-wraps",
+            usize::try_from(codons).unwrap_or(usize::MAX),
+            TRACE_CODON_BYTES,
+            "codons read",
+        )?;
+    }
     let mut options = if request.genr8 { MapOptions::genr8() } else { MapOptions::default() };
     if let Some(w) = request.max_wraps {
         options.max_wraps = w;

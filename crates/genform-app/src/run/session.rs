@@ -241,7 +241,7 @@ pub(super) fn drive<G, S: Session<G>, P: Rescore<G>>(
             .with_context(|| format!("steering of generation {}", e.generation))?;
     }
     if let Some(out) = &out {
-        std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+        crate::gate::create_dir(out)?;
     }
     let mut rows: Vec<Row> = Vec::new();
     let mut rec = S::Record::default();

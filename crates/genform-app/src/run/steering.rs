@@ -138,7 +138,12 @@ impl Steerable {
     /// refused (with a did-you-mean), as are non-finite values, targets of
     /// knobs without one and negative weights of unsigned knobs.
     fn changes(&self, set: &SteerSet) -> Result<Vec<Knob>> {
-        for (name, v) in set.weights.iter().chain(&set.targets) {
+        for (name, v) in &set.weights {
+            if let Some(why) = crate::caps::weight(&format!("`{name}`"), *v) {
+                bail!(why);
+            }
+        }
+        for (name, v) in &set.targets {
             if !v.is_finite() {
                 bail!("`{name}` must be a finite number, not {v}");
             }

@@ -22,6 +22,7 @@ use std::sync::atomic::AtomicBool;
 
 use crate::files::write_atomic;
 use crate::formalism::Loaded;
+use crate::memory::{Reservation, Size};
 use crate::objective::{Model, TreeObjective};
 use crate::optimizers::{Kind, Searches};
 pub use crate::report::sweep::{GenPoint, RunTrace, SweepResult};
@@ -79,6 +80,15 @@ struct Variant {
     horizon: Horizon,
     /// What MAP-Elites bins (other algorithms only read the fitness).
     descriptors: [Descriptor; 2],
+    /// What one run of it asks memory for.
+    sizes: Vec<Size<'static>>,
+}
+
+impl Variant {
+    /// The bytes one run of it asks for.
+    fn bytes(&self) -> u128 {
+        self.sizes.iter().map(|s| s.bytes).fold(0, u128::saturating_add)
+    }
 }
 
 /// Checks a request's counts and the key count before anything is loaded.
@@ -95,8 +105,8 @@ fn check(req: &SweepRequest) -> Result<()> {
             bail!("--set {} is given twice; give all its values in one --set", a.key);
         }
     }
-    if req.runs == 0 {
-        bail!("--runs must be at least 1");
+    if let Some(why) = crate::caps::count("--runs", req.runs as u64, crate::caps::MAX_RUNS) {
+        bail!(why);
     }
     Ok(())
 }
@@ -158,7 +168,8 @@ fn load(req: &SweepRequest) -> Result<(genform_evolve::Algorithm, Vec<Vec<String
         AnyOptimizer::new(algorithm, generator.generator.graph(), &limits, &settings, req.seed, horizon)
             .map_err(|e| anyhow!("{}: {e}", at()))?;
         let descriptors = scene.optimizers.descriptors();
-        variants.push(Variant { label, generator, limits, scorer, settings, horizon, descriptors });
+        let sizes = scene.sizes();
+        variants.push(Variant { label, generator, limits, scorer, settings, horizon, descriptors, sizes });
         combos.push(req.axes.iter().zip(values).filter(|(a, _)| a.values.len() > 1).map(|(_, v)| v).collect());
     }
     Ok((algorithm, combos, variants))
@@ -168,17 +179,21 @@ fn load(req: &SweepRequest) -> Result<(genform_evolve::Algorithm, Vec<Vec<String
 /// they finish). Runs stopped by `cancel` are left out of the result.
 pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) + Sync)) -> Result<SweepResult> {
     check(req)?;
+    let _session = crate::gate::session();
     let (algorithm, combinations, variants) = load(req)?;
+    crate::gate::refuse_folder("--out", &req.out, super::writes_run_file)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(req.threads.unwrap_or(0))
         .build()
         .context("cannot start worker threads")?;
     let jobs: Vec<(usize, usize)> = (0..variants.len()).flat_map(|v| (0..req.runs).map(move |r| (v, r))).collect();
+    let _memory = reserve(&variants, &jobs, pool.current_num_threads())?;
     let done = std::sync::atomic::AtomicUsize::new(0);
+    let session = crate::gate::current();
     let results: Vec<Result<Option<RunTrace>>> = pool.install(|| {
         jobs.par_iter()
             .map(|&(v, r)| {
-                let trace = one_run(&variants[v], algorithm, req, v, r, cancel)?;
+                let trace = crate::gate::within(&session, || one_run(&variants[v], algorithm, req, v, r, cancel))?;
                 if let Some(t) = &trace {
                     let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
                     on_done(RunDone { label: &variants[v].label, trace: t, done: k, total: jobs.len() });
@@ -193,6 +208,17 @@ pub fn run(req: &SweepRequest, cancel: &AtomicBool, on_done: &(dyn Fn(RunDone) +
     }
     let keys = req.axes.iter().filter(|a| a.values.len() > 1).map(|a| a.key.clone()).collect();
     Ok(SweepResult { keys, combinations, runs })
+}
+
+/// Reserves what the runs that may go at once (one per worker thread, the
+/// largest first) ask for together, for the whole sweep.
+fn reserve(variants: &[Variant], jobs: &[(usize, usize)], threads: usize) -> Result<Reservation> {
+    let mut largest: Vec<&Variant> = jobs.iter().map(|&(v, _)| &variants[v]).collect();
+    largest.sort_by_key(|v| std::cmp::Reverse(v.bytes()));
+    let at_once = threads.clamp(1, largest.len().max(1));
+    let sizes: Vec<Size> = largest.iter().take(at_once).flat_map(|v| v.sizes.iter().cloned()).collect();
+    crate::memory::reserve_sizes(&sizes, "sweep")
+        .with_context(|| format!("{at_once} runs of the sweep go at once (one per thread; fewer with --threads)"))
 }
 
 /// One run of combination `v`; `None` when it was cancelled.
@@ -234,7 +260,7 @@ fn one_run(
 
 /// Writes `sweep.csv`, `sweep.svg` and `summary.md` into `out`.
 pub fn write(result: &SweepResult, scene: &Path, out: &Path) -> Result<()> {
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create output folder {}", out.display()))?;
+    crate::gate::create_dir(out)?;
     write_atomic(&out.join("sweep.csv"), result.csv().as_bytes())?;
     let title = scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     write_atomic(&out.join("sweep.svg"), result.svg(&title).as_bytes())?;

@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 use crate::formalism::{FORMALISMS, Formalism, Genomes, LIMIT_KEYS, MODEL_KEYS, ModelSettings, SceneLimits};
+use crate::memory::{Reservation, Size};
 use crate::optimizers::{OptimizerSettings, SECTIONS, Searches};
 use crate::scoring::{FITNESS, FitnessConfig, SCORERS, Scoring};
 use crate::toml_doc::{Doc, unknown_name};
@@ -246,7 +247,7 @@ impl Scene {
     /// What a scene file is, for lists; `None` when `path` is no scene (no
     /// TOML with a `grammar` key).
     pub fn summary(path: &Path) -> Option<SceneSummary> {
-        let text = std::fs::read_to_string(path).ok()?;
+        let text = crate::text::read_text(path, "scene").ok()?;
         let doc = Doc::parse(path, &text).ok()?;
         let grammar: String = doc.read(doc.get("grammar")?).ok()?;
         let codons = crate::formalism::for_path(Path::new(&grammar)).is_ok_and(|f| f.genomes() != Genomes::Tree);
@@ -257,12 +258,51 @@ impl Scene {
     }
 }
 
+/// Bytes one codon read may take while a genome is mapped (its pending
+/// symbols and output; no trace is kept in a run).
+const MAPPING_CODON_BYTES: u64 = 32;
+
+/// What one mapping may grow to under `[mapper] max_wraps`: reading stops
+/// after `max_wraps + 1` passes over a genome of up to `max_length`
+/// codons, per worker thread.
+fn mapping_size(max_wraps: u32, max_length: usize) -> crate::memory::Size<'static> {
+    let codons = (u64::from(max_wraps) + 1).saturating_mul(max_length as u64);
+    crate::memory::Size {
+        section: "mapper",
+        key: "max_wraps",
+        value: u128::from(max_wraps),
+        bytes: crate::memory::estimate(codons, MAPPING_CODON_BYTES),
+        what: format!(
+            "{codons} codons read by one mapping ([ge] max_length {max_length}, {} passes)",
+            u64::from(max_wraps) + 1
+        ),
+    }
+}
+
+/// Refuses `[run]` values no run could reach, at their positions.
+fn check_run(doc: &Doc, run: &RunConfig) -> Result<()> {
+    if let Some(b) = &run.budget {
+        crate::units::parse_duration(b).map_err(|e| doc.refuse(&["run", "budget"], format!("[run] budget: {e:#}")))?;
+    }
+    if let Some(why) = run.generations.and_then(|g| crate::caps::generations("[run] generations", g)) {
+        return Err(doc.refuse(&["run", "generations"], why));
+    }
+    let evaluations =
+        run.evaluations.and_then(|e| crate::caps::count("[run] evaluations", e, crate::caps::MAX_EVALUATIONS));
+    if let Some(why) = evaluations {
+        return Err(doc.refuse(&["run", "evaluations"], why));
+    }
+    Ok(())
+}
+
 /// Reads and checks the scene in `doc`, paths relative to `base`.
 fn read(doc: &Doc, base: &Path) -> Result<Scene> {
+    doc.check_integers()?;
     let grammar_value = doc.get("grammar").ok_or_else(|| {
         doc.refuse(&[], "a scene names its grammar: add `grammar = \"file\"` (relative to the scene)")
     })?;
     let grammar = base.join(doc.read::<PathBuf>(grammar_value)?);
+    crate::gate::admit_path(&grammar).map_err(|e| crate::gate::placed(doc.place(&["grammar"]), e))?;
     let formalism = crate::formalism::for_path(&grammar).map_err(|e| doc.refuse(&["grammar"], e))?;
     let searches = match formalism.genomes() {
         Genomes::Tree => Searches::Trees,
@@ -285,6 +325,7 @@ fn read(doc: &Doc, base: &Path) -> Result<Scene> {
     let mut model: ModelSettings = doc.read_root()?;
     if let Some(env) = &mut model.environment {
         *env = base.join(&*env);
+        crate::gate::admit_path(env).map_err(|e| crate::gate::placed(doc.place(&["environment"]), e))?;
     }
     let (mut limits, mut run) = (SceneLimits::default(), RunConfig::default());
     let mut scoring = Scoring::default();
@@ -320,24 +361,24 @@ fn read(doc: &Doc, base: &Path) -> Result<Scene> {
     scoring.sections.sort_by_key(|(i, _)| *i);
     check_limits(doc, formalism, &model, &limits)?;
     formalism.check_scene(doc, &model)?;
+    if let Some(s) = model.steps.filter(|&s| u64::from(s) > crate::caps::MAX_STEPS) {
+        let cap = crate::caps::MAX_STEPS;
+        return Err(doc.refuse(&["steps"], format!("steps = {s} is past the cap of {cap} derivation steps")));
+    }
     if scoring.sections.is_empty() {
         return Err(doc.refuse(&["grammar"], missing_scorer(formalism.grows_surfaces(&model))));
     }
-    if let Some(b) = &run.budget {
-        crate::units::parse_duration(b).map_err(|e| doc.refuse(&["run", "budget"], format!("[run] budget: {e:#}")))?;
-    }
+    check_run(doc, &run)?;
     for section in SECTIONS.iter().filter(|s| s.searches == searches) {
         section.check(doc, &optimizers)?;
     }
     check_layout(doc, &model, &optimizers)?;
-    let mut sizes = Vec::new();
-    for section in SECTIONS.iter().filter(|s| s.searches == searches) {
-        sizes.extend(section.memory(&optimizers));
-    }
+    let mut sizes = crate::optimizers::sizes(searches, &optimizers);
     sizes.extend(scoring.memory());
-    sizes.extend(crate::memory::limit_sizes(
-        &LIMIT_KEYS.iter().map(|&(key, bytes, what)| (key, limits.get(key), bytes, what)).collect::<Vec<_>>(),
-    ));
+    if let (Searches::Codons, Some(w)) = (searches, model.mapper.max_wraps) {
+        sizes.push(mapping_size(w, optimizers.ge.max_length));
+    }
+    sizes.extend(limit_sizes(&limits));
     crate::memory::check_sizes(doc, &sizes)?;
     Ok(Scene {
         path: doc.path().to_path_buf(),
@@ -504,6 +545,44 @@ pub fn optimizer_settings(scene: Option<&Path>, patch: &[Axis]) -> Result<Optimi
     Ok(settings)
 }
 
+/// The sizes of a scene's `[limits]`.
+fn limit_sizes(limits: &SceneLimits) -> Vec<Size<'static>> {
+    crate::memory::limit_sizes(
+        &LIMIT_KEYS.iter().map(|&(key, bytes, what)| (key, limits.get(key), bytes, what)).collect::<Vec<_>>(),
+    )
+}
+
+/// What a scene asks memory for: the sizes checked when it is read, and
+/// the reservations its runs hold in the process's ledger.
+impl Scene {
+    /// Every size its settings ask for (its optimizers', its scorers' and
+    /// its `[limits]`), as the memory budget checks them when it is read.
+    pub(crate) fn sizes(&self) -> Vec<Size<'static>> {
+        let mut sizes = crate::optimizers::sizes(self.searches, &self.optimizers);
+        sizes.extend(self.scoring.memory());
+        sizes.extend(limit_sizes(&self.limits));
+        sizes
+    }
+
+    /// The sizes of its `[limits]` alone.
+    pub(crate) fn limit_sizes(&self) -> Vec<Size<'static>> {
+        limit_sizes(&self.limits)
+    }
+
+    /// The bytes its settings ask for together (an estimate, generous by
+    /// constant factors): what a run of it reserves for its whole life.
+    pub fn estimated_bytes(&self) -> u128 {
+        self.sizes().iter().map(|s| s.bytes).fold(0, u128::saturating_add)
+    }
+
+    /// Reserves [`Scene::estimated_bytes`] for `what` ("run",
+    /// "comparison") in the process's memory ledger, refused while others
+    /// hold too much of the budget.
+    pub(crate) fn reserve(&self, what: &str) -> Result<Reservation> {
+        crate::memory::reserve_sizes(&self.sizes(), what)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -543,7 +622,7 @@ mod tests {
 
     #[test]
     fn every_scene_level_refusal_names_the_value_it_refuses() {
-        let cases: [(String, &str, &str, &str); 12] = [
+        let cases: [(String, &str, &str, &str); 20] = [
             (ship("[ga]\npopulation = 0\n"), "population", "0", "[ga] population must be at least 2, got 0"),
             (ship("[ga]\npopulation = 1\n"), "population", "1", "[ga] population must be at least 2, got 1"),
             (
@@ -553,7 +632,40 @@ mod tests {
                 "[ga] mutation_rate must lie in [0, 1], got NaN",
             ),
             (ship("[mh]\nchains = 0\n"), "chains", "0", "[mh] chains must be at least 1, got 0"),
-            (ship("[smc]\nparticles = 0\n"), "particles", "0", "[smc] particles must be at least 1, got 0"),
+            (ship("[smc]\nparticles = 0\n"), "particles", "0", "[smc] particles must be at least 2, got 0"),
+            (ship("[smc]\nparticles = 1\n"), "particles", "1", "[smc] particles must be at least 2, got 1"),
+            (ship("[run]\nevaluations = 0\n"), "evaluations", "0", "[run] evaluations must be at least 1"),
+            (
+                ship("[run]\ngenerations = 1000000001\n"),
+                "generations",
+                "1",
+                "[run] generations = 1000000001 is past the cap of 1,000,000,000",
+            ),
+            (
+                ship("[run]\ngenerations = 18446744073709551615\n"),
+                "generations",
+                "1",
+                "18446744073709551615 is beyond TOML's integers",
+            ),
+            (
+                ship("[ga]\npopulation = 20\nselection = { first = { tournament = 21 } }\n"),
+                "selection",
+                "{ tournament",
+                "[ga] the tournament size 21 in selection.first is larger than the population (20)",
+            ),
+            (
+                ship("[ga]\nmutation = { alter = 0, grow = 0, cut = 0 }\n"),
+                "mutation",
+                "{",
+                "[ga] mutation weights must be finite and ≥ 0, and alter, grow, cut and regrow not all 0",
+            ),
+            (ship("[fitness]\nbad = -1e308\n"), "bad", "-", "[fitness] `bad` = -1e308 is past ±1e9"),
+            (
+                canopy("[surface]\nsize = { target = 5, weight = 1e308 }\n"),
+                "size =",
+                "{",
+                "[surface]: surface criterion `size`: the weight must be a number from 0 to 1e9",
+            ),
             (
                 ship("[ga]\nselection = { first = { tournament = 0 } }\n"),
                 "selection",
@@ -586,10 +698,10 @@ mod tests {
                 "[surface]: the surface objective has no criterion with a weight above 0",
             ),
             (
-                canopy("[surface]\nsize = { target = 5 }\n[limits]\nvertices = 18446744073709551615\n"),
+                canopy("[surface]\nsize = { target = 5 }\n[limits]\nvertices = 9223372036854775807\n"),
                 "vertices",
-                "18",
-                "[limits] vertices = 18446744073709551615 needs about",
+                "9",
+                "[limits] vertices = 9223372036854775807 needs about",
             ),
         ];
         for (text, on, needle, message) in cases {

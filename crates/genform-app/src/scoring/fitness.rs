@@ -82,8 +82,8 @@ impl FitnessConfig {
     /// their positions.
     fn check(&self, doc: &Doc) -> Result<()> {
         for (k, v) in [("good", self.good), ("bad", self.bad), ("overlap", self.overlap), ("length", self.length)] {
-            if !v.is_finite() {
-                return Err(doc.refuse(&["fitness", k], format!("[fitness] `{k}` must be a finite number, not {v}")));
+            if let Some(why) = crate::caps::weight(&format!("[fitness] `{k}`"), v) {
+                return Err(doc.refuse(&["fitness", k], why));
             }
         }
         if let Some([a, b]) = self.length_range

@@ -150,7 +150,7 @@ impl ScorerSection for ImageSection {
 
 /// The scorer of one image target: its picture read, its camera set.
 fn image(c: &ImageConfig) -> Result<ImageScorer> {
-    let bytes = std::fs::read(&c.target).with_context(|| format!("cannot read target image {}", c.target.display()))?;
+    let bytes = crate::gate::read_bytes(&c.target, "target image")?;
     let is_pfm = c.target.extension().is_some_and(|e| e.eq_ignore_ascii_case("pfm"));
     let target = if is_pfm {
         ImageTarget::from_pfm(&bytes)

@@ -150,7 +150,7 @@ impl ScorerSection for SilhouettesSection {
     fn build(&self) -> Result<Built> {
         let c = &self.config;
         let at = || format!("{}: [silhouettes]", self.place);
-        let mesh = genform_export::read_mesh_file(&c.mesh).with_context(at)?;
+        let mesh = crate::gate::read_mesh(&c.mesh).with_context(at)?;
         let views = c
             .views
             .iter()
@@ -161,7 +161,7 @@ impl ScorerSection for SilhouettesSection {
     }
 
     fn target_meshes(&self) -> Result<Vec<Mesh>> {
-        Ok(vec![genform_export::read_mesh_file(&self.config.mesh)?])
+        Ok(vec![crate::gate::read_mesh(&self.config.mesh)?])
     }
 
     fn has_target_meshes(&self) -> bool {

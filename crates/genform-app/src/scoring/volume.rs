@@ -117,9 +117,15 @@ impl ScorerRow for Volume {
             }
             places.push(doc.place(&["volume", "target", &index]));
         }
-        for t in &mut config.target {
-            for p in [&mut t.mesh, &mut t.grammar, &mut t.genome].into_iter().flatten() {
-                *p = base.join(&*p);
+        for (i, t) in config.target.iter_mut().enumerate() {
+            let index = i.to_string();
+            for (key, p) in [("mesh", &mut t.mesh), ("grammar", &mut t.grammar), ("genome", &mut t.genome)] {
+                if let Some(p) = p {
+                    *p = base.join(&*p);
+                    // A file no process of this kind may read is refused here, at its line.
+                    crate::gate::admit_path(p)
+                        .map_err(|e| crate::gate::placed(doc.place(&["volume", "target", index.as_str(), key]), e))?;
+                }
             }
         }
         let voxels_at = doc.place(&["volume", "voxels"]);
@@ -188,7 +194,7 @@ impl ScorerSection for VolumeSection {
 fn volume_target(t: &VolumeTargetConfig, grid: &Grid) -> Result<(VolumeTarget, Mesh)> {
     let (voxels, mesh) = match (&t.mesh, &t.grammar, &t.genome) {
         (Some(path), _, _) => {
-            let mesh = genform_export::read_mesh_file(path)?;
+            let mesh = crate::gate::read_mesh(path)?;
             (genform_score::target::from_mesh(grid, &mesh)?.0, mesh)
         }
         (None, Some(g), Some(genome)) => {
@@ -203,7 +209,7 @@ fn volume_target(t: &VolumeTargetConfig, grid: &Grid) -> Result<(VolumeTarget, M
 /// The mesh a target is: the file, or the fixed genome's model flattened.
 fn target_mesh(t: &VolumeTargetConfig) -> Result<Mesh> {
     match (&t.mesh, &t.grammar, &t.genome) {
-        (Some(path), _, _) => Ok(genform_export::read_mesh_file(path)?),
+        (Some(path), _, _) => Ok(crate::gate::read_mesh(path)?),
         (None, Some(g), Some(genome)) => Ok(flatten(&fixed_genome_scene(g, genome)?)),
         _ => bail!("give either `mesh` or `grammar` and `genome`"),
     }

@@ -79,17 +79,8 @@ impl Ga {
         let limits = crate::optimizer::length_capped(limits, config.max_length);
         let rates = Rates::new(config.mutation_rate, config.mutation, config.adapt_rates);
         let epoch = Epoch::start(&config, f64::NEG_INFINITY);
-        Ok(Ga {
-            graph: graph.clone(),
-            limits,
-            config,
-            seed,
-            state: Population::default(),
-            rates,
-            epoch,
-            restarts: 0,
-            champions: Vec::new(),
-        })
+        let state = Population::with_room(config.population, "population")?;
+        Ok(Ga { graph: graph.clone(), limits, config, seed, state, rates, epoch, restarts: 0, champions: Vec::new() })
     }
 
     /// A GA whose generation 0 is `individuals` (with the fitness they

@@ -161,6 +161,11 @@ impl GeConfig {
         if self.selection == Selection::Tournament(0) {
             return Err(ConfigError::Setting { name: "selection.tournament", requirement: "at least 1", value: 0.0 });
         }
+        if let Selection::Tournament(size) = self.selection
+            && crate::config::too_large_tournament(size, self.population)
+        {
+            return Err(ConfigError::TournamentSize { key: "selection.tournament", size, population: self.population });
+        }
         probability("crossover_rate", self.crossover_rate)?;
         probability("mutation_rate", self.mutation_rate)?;
         probability("subtree_mutation", self.subtree_mutation)?;

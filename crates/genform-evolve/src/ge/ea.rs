@@ -87,10 +87,11 @@ impl Ge {
     /// A GE run with no population yet (see [`Ge::initialize`]).
     pub fn new(config: GeConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
+        let state = Population::with_room(config.population, "population")?;
         Ok(Ge {
             config,
             seed,
-            state: Population::default(),
+            state,
             seen: HashMap::new(),
             seen_codons: 0,
             record: f64::NEG_INFINITY,

@@ -31,7 +31,8 @@ impl CodonRandom {
     /// A search with nothing sampled yet.
     pub fn new(config: CodonRandomConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
-        Ok(CodonRandom { config, seed, state: Population::default() })
+        let state = Population::with_room(config.population, "population")?;
+        Ok(CodonRandom { config, seed, state })
     }
 
     /// The configuration.

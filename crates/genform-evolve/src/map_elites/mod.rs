@@ -24,7 +24,7 @@ mod tests;
 
 pub use config::{DescriptorAxis, MAX_BATCH, MAX_BINS, MapElitesConfig};
 
-use crate::config::{ConfigError, GaConfig};
+use crate::config::{ConfigError, GaConfig, room};
 use crate::objective::Objective;
 use crate::operators::{crossover, initial, mutate};
 use crate::optimizer::{Individual, Optimizer, sort_population};
@@ -83,6 +83,19 @@ struct Candidate {
     descriptors: [f64; 2],
 }
 
+/// The empty archive of `cols` × `rows` cells, allocated fallibly (a grid
+/// of bins past the machine is an error, not an abort).
+fn archive(cols: usize, rows: usize) -> Result<Vec<Option<Elite>>, ConfigError> {
+    let Some(n) = cols.checked_mul(rows) else {
+        let count = cols as u128 * rows as u128;
+        let bytes = count * std::mem::size_of::<Option<Elite>>() as u128;
+        return Err(ConfigError::Allocation { key: "descriptors", what: "archive", count, bytes });
+    };
+    let mut cells = room(n, "descriptors", "archive")?;
+    cells.resize(n, None);
+    Ok(cells)
+}
+
 impl MapElites {
     /// An empty archive. Genome lengths and operators come from `variation`
     /// (the GA's settings: `initial_length`, `min_length`, `max_length`,
@@ -98,13 +111,14 @@ impl MapElites {
         config.validate_ranges()?;
         let limits = crate::optimizer::length_capped(limits, variation.max_length);
         let [cols, rows] = config.shape();
+        let cells = archive(cols, rows)?;
         Ok(MapElites {
             graph: graph.clone(),
             limits,
             variation: variation.clone(),
             config,
             seed,
-            cells: vec![None; cols * rows],
+            cells,
             filled: Vec::new(),
             population: Vec::new(),
             best: None,

@@ -39,7 +39,7 @@ pub(crate) mod moves;
 #[cfg(test)]
 mod tests;
 
-use crate::config::{ConfigError, MhConfig};
+use crate::config::{ConfigError, MhConfig, room};
 use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::{LengthBounds, initial};
@@ -82,12 +82,14 @@ impl Mh {
     /// Chains not yet started; the first step draws and evaluates them.
     pub fn new(graph: &GeneratorGraph, limits: &Limits, config: MhConfig, seed: u64) -> Result<Self, ConfigError> {
         config.validate()?;
+        // A probe: the chains drawn at the first step take this room's place.
+        let chains = room(config.chains, "chains", "chains")?;
         Ok(Mh {
             graph: graph.clone(),
             limits: length_capped(limits, config.max_length),
             config,
             seed,
-            chains: Vec::new(),
+            chains,
             betas: Vec::new(),
             sorted: Vec::new(),
             generation: 0,

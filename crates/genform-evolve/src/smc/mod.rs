@@ -22,7 +22,7 @@ pub mod resample;
 #[cfg(test)]
 mod tests;
 
-use crate::config::{ConfigError, SmcConfig};
+use crate::config::{ConfigError, SmcConfig, room};
 use crate::evaluate::{Child, evaluate};
 use crate::objective::Objective;
 use crate::operators::{Connection, grow_one};
@@ -78,13 +78,14 @@ impl Smc {
         seed: u64,
     ) -> Result<Self, ConfigError> {
         config.validate()?;
+        let particles = room(config.particles, "particles", "particles")?;
         Ok(Smc {
             graph: graph.clone(),
             limits: length_capped(limits, config.max_length),
             config,
             order,
             seed,
-            particles: Vec::new(),
+            particles,
             sweep: 0,
             steps: 0,
             generation: 0,
@@ -112,7 +113,9 @@ impl Smc {
                 self.sweep += 1;
             }
             self.steps = 0;
-            self.particles = vec![Individual { genome: Genome::new(), fitness: f64::NAN }; self.config.particles];
+            // In the room allocated when the sampler was made (see `room`).
+            self.particles.clear();
+            self.particles.resize(self.config.particles, Individual { genome: Genome::new(), fitness: f64::NAN });
         }
         let start = Instant::now();
         let (graph, limits, order) = (&self.graph, &self.limits, self.order);

@@ -53,6 +53,10 @@ use genform_core::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
+/// Largest weight of a criterion: weights are relative, and past this the
+/// weighted sum loses the precision of the small terms.
+pub const MAX_WEIGHT: f64 = 1e9;
+
 /// The target, weight and error floor of one criterion, as written in a
 /// scene's `[surface]` table: `size = { target = 10, weight = 1 }`.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
@@ -234,7 +238,9 @@ pub enum SurfaceError {
         target: f64,
     },
     /// A weight is negative, NaN or infinite.
-    #[error("surface criterion `{criterion}`: the weight must be finite and at least 0, not {weight}")]
+    #[error(
+        "surface criterion `{criterion}`: the weight must be a number from 0 to 1e9 (weights are relative), not {weight}"
+    )]
     BadWeight {
         /// The criterion's name.
         criterion: &'static str,
@@ -350,7 +356,7 @@ impl SurfaceScorer {
             if !g.target.is_finite() {
                 return Err(SurfaceError::BadTarget { criterion: name, target: g.target });
             }
-            if !(g.weight.is_finite() && g.weight >= 0.0) {
+            if !(0.0..=MAX_WEIGHT).contains(&g.weight) {
                 return Err(SurfaceError::BadWeight { criterion: name, weight: g.weight });
             }
             let floor = g.floor.unwrap_or_else(|| criterion.default_floor());

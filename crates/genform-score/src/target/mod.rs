@@ -58,10 +58,11 @@ pub fn from_mesh(grid: &Grid, mesh: &Mesh) -> Result<(VoxelSet, TargetReport), S
     let (pos, tris, repairs) = repair::repair(mesh);
     let mut report = TargetReport { repairs, disputed: 0 };
     let lat = Lattice::new(grid);
-    // Voxels where all six rays say inside, and where any does.
-    let mut all = BitRows::new(lat.words, lat.rows);
-    let mut any = BitRows::new(lat.words, lat.rows);
-    let mut both = BitRows::new(lat.words, lat.rows);
+    // Voxels where all six rays say inside, and where any does; the grid's
+    // size is the user's, so its rows are allocated fallibly.
+    let voxels = grid.dims().iter().map(|&d| u64::from(d)).product();
+    let rows = || BitRows::try_new(lat.words, lat.rows, voxels);
+    let (mut all, mut any, mut both) = (rows()?, rows()?, rows()?);
     let mut cross: Vec<(u32, f64, i8)> = Vec::new();
     for a in 0..3 {
         let ray = Lattice::with_row_axis(grid, a);
@@ -116,7 +117,8 @@ pub fn from_mesh(grid: &Grid, mesh: &Mesh) -> Result<(VoxelSet, TargetReport), S
     }
     // Disputed voxels: some ray says inside, not all.
     let tri_pos: Vec<[DVec3; 3]> = tris.iter().map(|t| t.map(|i| pos[i as usize].as_dvec3())).collect();
-    let mut out = all.clone();
+    let mut out = rows()?;
+    out.data_mut().copy_from_slice(all.data());
     let nudge = grid.voxel_size().as_dvec3() * 1e-3;
     for r in 0..lat.rows {
         let (j, k) = lat.row_jk(r);
