@@ -30,7 +30,7 @@ mod schem;
 mod tiles;
 mod vox;
 
-pub use colors::block_color;
+pub use colors::{block_color, known_block_color};
 pub use constants::{DATA_VERSION_1_21_1, LITEMATIC_V7_DATA_VERSION, MAX_TERRAIN_CELLS, MIN_CHUNK_DATA_VERSION};
 pub use error::MinecraftError;
 pub use grid::merge_grids;
