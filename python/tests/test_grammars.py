@@ -267,3 +267,23 @@ def test_a_model_is_never_saved_over_the_files_its_grammar_reads(tmp_path):
         m.save(tmp_path / "assets" / ".." / "assets" / "trunk.obj")
     assert (tmp_path / "assets" / "trunk.obj").read_bytes() == trunk
     m.save(tmp_path / "tree.obj")
+
+
+def test_every_ply_genform_writes_opens_in_trimesh(tmp_path):
+    """An independent reader: trimesh opens every formalism's PLY as a
+    mesh, and a Genr8 surface's typed edges travel beside it."""
+    import trimesh
+
+    for ext, path in SAMPLES.items():
+        m = genform.load(path).sample(seed=1)
+        out = tmp_path / f"m{ext.replace('.', '_')}.ply"
+        m.save(out)
+        mesh = trimesh.load(out, process=False)
+        v, f = m.mesh()
+        if len(f):
+            assert isinstance(mesh, trimesh.Trimesh), ext
+            assert len(mesh.faces) >= len(f) // 2, ext
+        if ext == ".gr8":
+            edges = mesh.metadata["_ply_raw"]["surface_edge"]["data"]
+            assert len(edges) > 0 and set(edges.dtype.names) == {"vertex1", "vertex2", "type"}
+            assert edges["vertex1"].max() < len(mesh.vertices)

@@ -192,7 +192,7 @@ fn check_ply(name: &str, bytes: &[u8], want: Expected) {
             other => panic!("{name}.ply: {other:?}"),
         }
     }
-    let edges = &ply.payload["edge"];
+    let edges = &ply.payload["surface_edge"];
     assert_eq!(edges.len(), want.edges, "{name}.ply edges");
     let mut types: Vec<i32> = edges
         .iter()

@@ -19,9 +19,14 @@ use crate::palette::tag_color;
 /// their vertices are not welded: each has its own three. Then each
 /// surface's vertices (shared by its faces) and its faces, whole and
 /// counter-clockwise from the front. When the scene has surfaces an
-/// `element edge` follows with `int vertex1`, `int vertex2` and `int type`
-/// per surface edge (`type` −1 for [`SurfaceEdge::UNTYPED`]), in surface
-/// and edge order. Polylines and guides are left out.
+/// `element surface_edge` follows with `int vertex1`, `int vertex2` and
+/// `int type` per surface edge (`type` −1 for [`SurfaceEdge::UNTYPED`]),
+/// in surface and edge order. Not `element edge`: readers take an `edge`
+/// element for a wireframe of exactly two indices (trimesh refuses a third
+/// property and turns edges into a path, dropping the faces), and skip
+/// elements they do not know, so the typed edges travel beside the mesh
+/// without stopping any reader from opening it. Polylines and guides are
+/// left out.
 ///
 /// # Panics
 ///
@@ -67,7 +72,7 @@ pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
     if !scene.surfaces.is_empty() {
         let edges: usize = scene.surfaces.iter().map(|s| s.edges.len()).sum();
         header.push_str(&format!(
-            "element edge {edges}\nproperty int vertex1\nproperty int vertex2\nproperty int type\n"
+            "element surface_edge {edges}\nproperty int vertex1\nproperty int vertex2\nproperty int type\n"
         ));
     }
     header.push_str("end_header\n");

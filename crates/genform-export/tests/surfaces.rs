@@ -190,7 +190,7 @@ fn ply_reads_back_with_ply_rs_faces_and_typed_edges() {
     let ply = parser.read_ply(&mut std::io::Cursor::new(&bytes)).expect("ply-rs reads the PLY");
     let verts = &ply.payload["vertex"];
     let faces = &ply.payload["face"];
-    let edges = &ply.payload["edge"];
+    let edges = &ply.payload["surface_edge"];
     let box_tris = 12;
     let (sv, sf, se) = s
         .surfaces
