@@ -127,3 +127,31 @@ fn the_city_block_derives_once_per_footprint_with_its_own_seed() {
     let genome = genform(tmp.path(), &["sample", s(&block), "--genome-out", "g.json"]).fails();
     assert!(genome.stderr().contains("each of the 8 footprints has its own"), "{}", genome.show());
 }
+
+#[test]
+fn a_facade_invoked_for_every_wall_decorates_every_wall_and_replays() {
+    let tmp = tempfile::tempdir().unwrap();
+    let block = root().join("examples/shape/facade_every_wall.sg");
+    let primitives = |run: &common::Run| -> usize {
+        let err = run.stderr();
+        let at = err.find(" primitives").unwrap_or_else(|| panic!("{err}"));
+        err[..at].rsplit(' ').next().unwrap().parse().unwrap()
+    };
+    let all = ok(tmp.path(), &["sample", s(&block), "--seed", "2", "--out", "a/m.obj", "--genome-out", "g.json"]);
+    // A saved genome replays byte for byte: the shared genes are read back
+    // the way sampling grew them.
+    ok(tmp.path(), &["derive", s(&block), "--genome", "g.json", "--out", "b/m.obj"]);
+    for file in ["m.obj", "m.mtl"] {
+        let a = std::fs::read(tmp.path().join("a").join(file)).unwrap();
+        assert_eq!(a, std::fs::read(tmp.path().join("b").join(file)).unwrap(), "derive must reproduce {file}");
+    }
+    // The same grammar with the façade on the front wall only: the six
+    // walls of the L carry several times its windows.
+    let text = std::fs::read_to_string(&block).unwrap();
+    let front = text.replace("side: Facade(floor_h)", "front: Facade(floor_h)");
+    assert_ne!(front, text, "the façade arm is in the example");
+    std::fs::write(tmp.path().join("front.sg"), front).unwrap();
+    let one = ok(tmp.path(), &["sample", "front.sg", "--seed", "2", "--out", "front.glb"]);
+    let (a, b) = (primitives(&all), primitives(&one));
+    assert!(a > 2 * b, "{a} primitives on every wall, {b} on the front only");
+}

@@ -366,7 +366,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 self.st.env[self.top.env + idx as usize] = v;
             }
             Op::Emit(p) => self.emit(rule, p)?,
-            Op::Invoke { slot, args, nargs } => self.invoke(rule, slot, args, nargs)?,
+            Op::Invoke { slot, args, nargs, site } => self.invoke(rule, slot, args, nargs, site)?,
             Op::JumpUnless(e, t) => {
                 let v = self.eval(rule, e)?;
                 if v == 0.0 || v.is_nan() {
@@ -578,20 +578,30 @@ impl<'g, M: Mode> Interp<'g, M> {
         ExpressError::Eval(format!("rule `{sym}`: a primitive's placement overflows (size {size:?})")).into()
     }
 
-    fn invoke(&mut self, rule: &'g RuleCode, slot: u32, args: u32, nargs: u32) -> Result<(), Stop> {
+    /// Runs the child of `slot` that the invocation at `site` expresses
+    /// (see [`Op::Invoke`]): an invocation that runs again (in every face,
+    /// tile or piece of a component split, repeat or split) re-expresses
+    /// its implicit slot's one gene, or takes a declared slot's next link,
+    /// back to its first once all are used; nothing is left out.
+    fn invoke(&mut self, rule: &'g RuleCode, slot: u32, args: u32, nargs: u32, site: u32) -> Result<(), Stop> {
         let args_from = self.st.args.len();
         for a in 0..nargs {
             let v = self.eval(rule, args + a)?;
             self.st.args.push(v);
         }
         let s = &rule.slots[slot as usize];
-        let counter = self.top.counters + slot as usize;
-        let k = self.st.counters[counter];
-        self.st.counters[counter] = k.saturating_add(1);
-        if k >= s.max {
+        if s.max == 0 {
             self.st.args.truncate(args_from);
             return Ok(());
         }
+        let k = if site == COUNTED {
+            let counter = self.top.counters + slot as usize;
+            let k = self.st.counters[counter];
+            self.st.counters[counter] = k.saturating_add(1);
+            if k < s.max { k } else { k % s.max }
+        } else {
+            site.min(s.max - 1)
+        };
         let (gene, depth) = (self.top.gene, self.top.depth);
         let Some(child) = self.mode.touch(gene, (s.link + k) as usize, s, depth + 1)? else {
             self.st.args.truncate(args_from);

@@ -76,3 +76,5 @@ pub fn compile(file: &SourceFile, assets: &dyn AssetResolver) -> Result<(ShapeGr
 mod tests;
 #[cfg(test)]
 mod tests_building;
+#[cfg(test)]
+mod tests_links;

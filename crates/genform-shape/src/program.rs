@@ -191,11 +191,16 @@ pub(crate) enum Op {
     /// Stores an expression's value in an env slot.
     Let(u32, u32),
     Emit(Prim),
-    /// Runs the child in the slot's next link: `args` consecutive expressions from `args`.
+    /// Runs a child of the slot with `args` consecutive expressions from
+    /// `args`: the child in link `site` of an implicit slot (one link per
+    /// place the rule is invoked, re-expressed each time that place runs),
+    /// or, for a declared slot ([`COUNTED`]), the next link, cycling
+    /// through the slot's links once all are used.
     Invoke {
         slot: u32,
         args: u32,
         nargs: u32,
+        site: u32,
     },
     /// Jumps to the target when the expression is false.
     JumpUnless(u32, u32),
@@ -271,6 +276,10 @@ pub(crate) enum Op {
     /// Leaves the tile; enters the next one (jumping to the body) or ends.
     RepeatNext(u32),
 }
+
+/// The `site` of an [`Op::Invoke`] of a declared slot: its invocations
+/// take the slot's links in turn.
+pub(crate) const COUNTED: u32 = u32::MAX;
 
 /// What the interpreter needs about one slot of the symbol.
 #[derive(Clone, Copy, Debug)]

@@ -6,7 +6,8 @@
 //! drawn from its distributions. Links the run never reaches stay empty, so
 //! the genome follows the grammar's prior exactly: alternatives, conditions
 //! and the template chain are respected, and a link touched twice (the
-//! second pass of a `mirror`) keeps its first decision.
+//! second pass of a `mirror`, the next face or tile of an invocation that
+//! re-expresses its gene) keeps its first decision.
 
 use crate::grammar::ShapeGrammar;
 use crate::interp::{self, Mode, Stop};

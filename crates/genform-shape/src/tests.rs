@@ -280,14 +280,22 @@ fn template_chains_end_at_the_range() {
 
 #[test]
 fn slot_links_are_used_in_invocation_order() {
-    let g = grammar("S { slot k: B p 1 x 3; k; k; k; k; A; A; } B { box; } A { sphere; }");
+    let g = grammar(
+        "S { slot k: B p 1 x 3; k; k; k; k; A; A; } B { param s: uniform(1, 2); size(s, s, s); box; } A { sphere; }",
+    );
     let spec = &g.graph().symbols[0];
     assert_eq!(spec.slots[0].max_count, 3);
     // An implicit slot has one link per place it is invoked.
     assert_eq!(spec.slots[1].max_count, 2);
     let (genome, s) = run(&g, 1);
     assert_eq!(genome.len(), 6);
-    assert_eq!(s.instances.len(), 5);
+    // The fourth `k` finds the three links used and goes back to the
+    // first: nothing is left out, and its box is the first box again.
+    let prims: Vec<Primitive> = s.instances.iter().map(|i| i.primitive).collect();
+    assert_eq!(prims, [[Primitive::Box; 4].as_slice(), &[Primitive::Sphere; 2]].concat());
+    let sizes: Vec<Vec3> = (0..4).map(|i| axes_len(&s, i)).collect();
+    assert!(close(sizes[3], sizes[0]), "{sizes:?}");
+    assert!(!close(sizes[1], sizes[0]) && !close(sizes[2], sizes[1]), "{sizes:?}");
 }
 
 #[test]
@@ -316,11 +324,13 @@ fn has_reads_the_first_link_and_sampling_decides_it_once() {
     let g = grammar("A { slot b: B p 0.5; if (!has(b)) { sphere; } b; b; } B { box; }");
     for seed in 0..50 {
         let (genome, s) = run(&g, seed);
-        // Exactly one of the two: the leaf-like sphere, or the child's box.
-        assert_eq!(s.instances.len(), 1, "seed {seed}");
+        // Exactly one of the two: the leaf-like sphere, or the child's box
+        // (twice: the second `b` re-expresses the slot's one link).
         let child = genome.gene(GenePos(0)).link(0);
-        let want = if matches!(child, Link::Child(_)) { Primitive::Box } else { Primitive::Sphere };
-        assert_eq!(s.instances[0].primitive, want);
+        let want: &[Primitive] =
+            if matches!(child, Link::Child(_)) { &[Primitive::Box; 2] } else { &[Primitive::Sphere] };
+        let got: Vec<Primitive> = s.instances.iter().map(|i| i.primitive).collect();
+        assert_eq!(got, want, "seed {seed}");
     }
 }
 

@@ -19,6 +19,7 @@ const EXAMPLES: &[&str] = &[
     "setback_tower",
     "l_wings",
     "l_house",
+    "facade_every_wall",
     "office_block",
     "infill",
     "polygon_operations",

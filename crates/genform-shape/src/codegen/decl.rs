@@ -319,7 +319,7 @@ impl SymbolCx<'_> {
                 return CallKind::Op;
             }
             if let Some(i) = self.slots.iter().position(|s| s.name == target.name && !s.implicit) {
-                return CallKind::Slot(i);
+                return CallKind::Slot(i, COUNTED);
             }
         }
         if self.g.rule(&target.name).is_none() {
@@ -343,19 +343,23 @@ impl SymbolCx<'_> {
             (Some(_), Some(s)) => instance_name(&target.name, (s - self.g.rules[rule].first) as i64 + self.lo(rule)),
             (Some(_), None) => format!("{}<out of range>", target.name),
         };
+        // Each place an implicit slot is invoked owns the next link (past
+        // the most links, the places share the last one).
         if let Some(i) = self.slots.iter().position(|s| s.name == name && s.implicit) {
+            let mut site = 0;
             if let Some(gi) = self.slots[i].graph {
                 let s = &mut self.graph_slots[gi as usize];
                 s.max_count = s.max_count.saturating_add(1).min(MAX_SLOT_COUNT as u32);
+                site = s.max_count - 1;
             }
-            return CallKind::Slot(i);
+            return CallKind::Slot(i, site);
         }
         let graph = sym.map(|t| {
             self.graph_slots.push(SlotSpec { name: name.clone(), target: t, prob: 1.0, max_count: 1 });
             (self.graph_slots.len() - 1) as u32
         });
         self.slots.push(LocalSlot { name, graph, has_env: 0, rule, implicit: true });
-        CallKind::Slot(self.slots.len() - 1)
+        CallKind::Slot(self.slots.len() - 1, 0)
     }
 
     fn lo(&self, rule: usize) -> i64 {

@@ -275,7 +275,7 @@ struct LocalSlot {
     has_env: u32,
     /// Source rule of the target (for argument checks).
     rule: usize,
-    /// Implicit slots count their invocation sites.
+    /// Implicit slots count their invocation sites; each site owns one link.
     implicit: bool,
 }
 
@@ -283,7 +283,9 @@ struct LocalSlot {
 #[derive(Clone, Copy)]
 enum CallKind {
     Op,
-    Slot(usize),
+    /// A local slot and the invocation's site: its own link of an
+    /// implicit slot, or [`COUNTED`] for a declared one.
+    Slot(usize, u32),
     /// Already reported.
     Bad,
 }
@@ -734,7 +736,7 @@ impl<'a> SymbolCx<'a> {
                 let kind = self.calls.iter().find(|(s, _)| *s == target.span.start).map(|(_, k)| *k);
                 match kind {
                     Some(CallKind::Op) => self.op(target, args.as_deref()),
-                    Some(CallKind::Slot(i)) => self.invoke(i, target, args.as_deref()),
+                    Some(CallKind::Slot(i, site)) => self.invoke(i, site, target, args.as_deref()),
                     Some(CallKind::Bad) | None => {}
                 }
             }

@@ -259,7 +259,9 @@ impl SymbolCx<'_> {
         }
     }
 
-    pub(super) fn invoke(&mut self, local: usize, target: &SymRef, args: Option<&[Arg]>) {
+    /// Compiles an invocation of local slot `local` at `site` (see
+    /// [`Op::Invoke`]).
+    pub(super) fn invoke(&mut self, local: usize, site: u32, target: &SymRef, args: Option<&[Arg]>) {
         let args = args.unwrap_or(&[]);
         let slot = &self.slots[local];
         let (graph, rule) = (slot.graph, slot.rule);
@@ -289,7 +291,7 @@ impl SymbolCx<'_> {
             return;
         }
         if let Some(g) = graph {
-            self.code.push(Op::Invoke { slot: g, args: first, nargs: args.len() as u32 });
+            self.code.push(Op::Invoke { slot: g, args: first, nargs: args.len() as u32, site });
         }
     }
 }
