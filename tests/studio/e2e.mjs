@@ -43,6 +43,7 @@ const downloads = path.join(tmp, 'downloads');
 fs.mkdirSync(downloads, { recursive: true });
 
 let server = null;
+let serving = ''; // the server the page may talk to
 let serverLog = '';
 let context = null;
 let page = null;
@@ -78,10 +79,10 @@ async function screenshot(name) {
 }
 
 /** Starts `genform serve --port 0` and resolves with the URL from its first stdout line. */
-function startServer() {
+function startServer(cwd = REPO, out = outDir) {
   check(fs.existsSync(BIN), `${BIN} does not exist: build it with cargo build -p genform-cli (scripts/test-studio does)`);
-  fs.mkdirSync(outDir, { recursive: true });
-  server = spawn(BIN, ['serve', '--port', '0', '--out', outDir], { cwd: REPO, stdio: ['ignore', 'pipe', 'pipe'] });
+  fs.mkdirSync(out, { recursive: true });
+  server = spawn(BIN, ['serve', '--port', '0', '--out', out], { cwd, stdio: ['ignore', 'pipe', 'pipe'] });
   return new Promise((resolve, reject) => {
     let stdout = '';
     const timer = setTimeout(() => reject(new TestFailure(`genform serve printed no URL within 60 s; output so far:\n${stdout}${serverLog}`)), 60_000);
@@ -177,6 +178,7 @@ async function main() {
     });
   }
 
+  serving = base;
   await step('launch Chromium', async () => {
     check(fs.existsSync(CHROMIUM), `${CHROMIUM} is missing: apt-get install -y chromium (scripts/test-studio does)`);
     context = await chromium.launchPersistentContext(profileDir, {
@@ -200,7 +202,7 @@ async function main() {
       if (msg.type() === 'error' && !draftError) pageErrors.push(`console error: ${msg.text()}`);
     });
     // The page must work offline: any request that leaves the server is a failure.
-    await context.route((url) => !url.href.startsWith(base), (route) => {
+    await context.route((url) => !url.href.startsWith(serving), (route) => {
       pageErrors.push(`request outside the server: ${route.request().url()}`);
       route.abort();
     });
@@ -260,6 +262,10 @@ async function main() {
     await page.fill(byId('editor-text'), 'grammar "cube";\naxiom A;\nA { boxx; }\n');
     await waitFor('the error at line 3', () => [...document.querySelectorAll('[data-testid="editor-diagnostics"] li')]
       .some((li) => li.dataset.line === '3' && li.textContent.includes('boxx')), null, 30_000);
+    // Shown once (under the editor; the side panel points there), the last good model marked stale.
+    const summary = await page.textContent(byId('explore-summary'));
+    check(/^1 error: see the list under the editor$/.test(summary), `the side panel repeats the error: ${summary}`);
+    check(await page.getAttribute(byId('explore-viewer'), 'data-stale') !== null, 'the last good model is not marked stale');
     await page.locator(byId('editor-diagnostics')).scrollIntoViewIfNeeded();
     await screenshot('editor');
     editingDrafts = false;
@@ -269,7 +275,7 @@ async function main() {
       const v = document.querySelector('[data-testid="explore-viewer"]');
       return document.querySelector('[data-testid="editor-diagnostics"]').children.length === 0
         && document.querySelector('[data-testid="explore-summary"]').dataset.sampleId !== id
-        && v.dataset.state === 'loaded' && Number(v.dataset.triangles) === 12;
+        && v.dataset.state === 'loaded' && Number(v.dataset.triangles) === 12 && v.dataset.stale === undefined;
     }, previousId, 60_000);
     await page.click(byId('editor-save'));
     await waitFor('the saved grammar in the list', () => [...document.querySelectorAll('[data-testid="explore-grammar"] option')]
@@ -450,6 +456,29 @@ async function main() {
     await screenshot('run');
   });
 
+  await step('run: a reload follows the last run, with its final gallery', async () => {
+    const id = await page.getAttribute(byId('run-status'), 'data-run-id');
+    await page.reload();
+    await waitFor('the page after a reload', () => document.body.dataset.ready === 'true');
+    await waitFor(`run ${id} followed again`, (want) => document.querySelector('[data-testid="run-status"]').dataset.runId === want
+      && document.querySelector('[data-testid="run-status"]').dataset.status === 'finished'
+      && document.querySelector('[data-testid="run-gallery-image"]').naturalWidth > 0, id, 30_000);
+  });
+
+  await step('run: a run over in a moment shows its final gallery', async () => {
+    const old = await page.getAttribute(byId('run-status'), 'data-run-id');
+    await page.selectOption(byId('run-scene'), VOLUME_SCENE.path);
+    await page.selectOption(byId('run-algorithm'), 'ga');
+    await page.fill(byId('run-generations'), '1');
+    await page.click(byId('run-start'));
+    await waitFor('the short run to end with a gallery', (o) => {
+      const s = document.querySelector('[data-testid="run-status"]');
+      const img = document.querySelector('[data-testid="run-gallery-image"]');
+      return s.dataset.runId !== o && s.dataset.status === 'finished' && !img.hidden && img.naturalWidth > 0
+        && !document.querySelector('[data-testid="run-gallery-caption"]').textContent.includes('Waiting');
+    }, old, 60_000);
+  });
+
   await step('breed: pick favourites for two generations', async () => {
     await page.click(byId('tab-breed'));
     await page.selectOption(byId('breed-source'), BREED_GRAMMAR);
@@ -499,6 +528,29 @@ async function main() {
     check(lastPictures.every((src) => !firstPictures.includes(src)), 'generation 2 shows the same pictures as generation 0');
     const history = await page.locator(`${byId('breed-history')} li`).count();
     check(history === 2, `the history lists ${history} generations, expected 2`);
+  });
+
+  await step('a studio started where there are no grammars says where they come from', async () => {
+    await stopServer();
+    const empty = path.join(tmp, 'empty');
+    fs.mkdirSync(empty, { recursive: true });
+    serverLog = '';
+    const url = await startServer(empty, path.join(empty, 'out'));
+    for (let i = 0; i < 30 && !/no grammars/.test(serverLog); i++) await new Promise((r) => setTimeout(r, 100));
+    serving = url;
+    check(/no grammars or scenes found.*--examples/.test(serverLog), `no warning at start: ${serverLog}`);
+    await page.goto(url);
+    await waitFor('the page to load', () => document.body.dataset.ready === 'true');
+    check(await page.locator(byId('explore-empty')).isVisible(), 'the page does not say that no grammars were found');
+    check((await page.textContent(byId('explore-empty'))).includes('--examples'), 'the note does not name --examples');
+    // Edit starts from a new grammar, and its model appears.
+    editingDrafts = true;
+    await page.click(byId('editor-open'));
+    await waitFor('the new grammar\'s model', () => {
+      const v = document.querySelector('[data-testid="explore-viewer"]');
+      return v.dataset.state === 'loaded' && Number(v.dataset.triangles) === 12;
+    }, null, 60_000);
+    editingDrafts = false;
   });
 
   await step('no page errors', async () => {

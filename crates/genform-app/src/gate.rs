@@ -126,7 +126,7 @@ pub fn session() -> SessionGuard {
 /// whatever was in force (a handle that keeps what its grammar read).
 pub fn fresh_session() -> SessionGuard {
     let session = Arc::new(Session::default());
-    let previous = CURRENT.with(|c| std::mem::replace(&mut *c.borrow_mut(), Some(session.clone())));
+    let previous = CURRENT.with(|c| c.borrow_mut().replace(session.clone()));
     SessionGuard { previous: Some(previous), session }
 }
 

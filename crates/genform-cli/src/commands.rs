@@ -105,8 +105,11 @@ fn serve(a: crate::args::ServeArgs) -> Result<()> {
     }
     let options =
         genform_studio::ServeOptions { file: a.file, port: a.port, host: a.host, out: a.out, examples: a.examples };
-    genform_studio::serve(options, |url| {
+    genform_studio::serve(options, |url, warnings| {
         use std::io::Write as _;
+        for w in warnings {
+            eprintln!("{w}");
+        }
         println!("genform studio: {url}");
         let _ = std::io::stdout().flush();
     })

@@ -33,7 +33,7 @@ pub async fn grammars(State(app): State<Shared>) -> Result<Response, ApiError> {
 
 /// Every grammar and scene under the roots `examples` and `scene`, and
 /// the grammars saved from the editor (`runs/grammars/`).
-fn list(app: &App) -> Vec<Value> {
+pub(crate) fn list(app: &App) -> Vec<Value> {
     let mut seen: Vec<PathBuf> = Vec::new();
     let mut out = Vec::new();
     let saved = app.out.join(SAVED);

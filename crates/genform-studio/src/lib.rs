@@ -57,9 +57,19 @@ pub struct ServeOptions {
 }
 
 /// Serves the studio until the process is stopped; `listening` gets the
-/// page's address once the port is bound.
-pub fn serve(a: ServeOptions, listening: impl FnOnce(&str) + Send) -> Result<()> {
+/// page's address once the port is bound, and the warnings a user should
+/// see at start (no grammars found, and where they come from).
+pub fn serve(a: ServeOptions, listening: impl FnOnce(&str, &[String]) + Send) -> Result<()> {
     let app = Arc::new(app(&a)?);
+    let mut warnings = Vec::new();
+    if explore::list(&app).is_empty() {
+        warnings.push(format!(
+            "warning: no grammars or scenes found: the studio lists those under --examples (default ./examples, \
+             which {} has not), the folder of a file given on the command line, and the editor's saves; start it \
+             with `genform serve --examples PATH/TO/examples`, or write one in Explore → Grammar source → Edit",
+            std::env::current_dir().map(|d| d.display().to_string()).unwrap_or_else(|_| "this folder".into())
+        ));
+    }
     // Whatever a request names — a `set` value, a grammar's mesh, an
     // environment — is read only below the roots, and written only below
     // `--out`, through links never.
@@ -77,7 +87,7 @@ pub fn serve(a: ServeOptions, listening: impl FnOnce(&str) + Send) -> Result<()>
             .with_context(|| format!("cannot listen on {host}:{}", a.port))?;
         let addr = listener.local_addr()?;
         let shown = if addr.is_ipv6() { format!("[{}]", addr.ip()) } else { addr.ip().to_string() };
-        listening(&format!("http://{shown}:{}/", addr.port()));
+        listening(&format!("http://{shown}:{}/", addr.port()), &warnings);
         axum::serve(listener, router(app)).await.context("the server stopped")
     })
 }

@@ -118,7 +118,11 @@ impl RunHandle {
             "max_reachable": s.max_reachable, "criteria_names": s.criteria_names, "stats": s.stats,
             "steering": s.steering, "criteria": s.steerable.values(), "pending": s.pending,
             "criteria_formula": s.steerable.contribution_formula(),
-            "gallery": s.galleries.back().map(|(g, _)| format!("/api/runs/{}/gallery/{g}.png", self.id)),
+            // A run that ended before its first live picture has its folder's final one.
+            "gallery": s.galleries.back().map(|(g, _)| format!("/api/runs/{}/gallery/{g}.png", self.id)).or_else(|| {
+                (s.status != Status::Running && self.folder.join("gallery.png").is_file())
+                    .then(|| format!("/api/runs/{}/files/gallery.png", self.id))
+            }),
             // Only while the run goes: then the folder's best.glb is the answer.
             "best_model": s.best_model.as_ref().filter(|_| s.status == Status::Running)
                 .map(|(g, _)| format!("/api/runs/{}/best.glb?generation={g}", self.id)),

@@ -70,8 +70,14 @@ export function mount(section) {
     h('summary', { text: 'Grammar source' }), editBar, sourceText, editor, diagnostics);
   const envList = h('datalist', { id: 'env-files' });
 
+  const emptyNote = h('p', { class: 'empty-note', testid: 'explore-empty', hidden: true },
+    'No grammars found. The studio lists the grammars under --examples (default: ./examples, when the ',
+    'studio is started from the repository\u2019s root), the folder of a file given on the command line, ',
+    'and those saved from the editor. Start it with `genform serve --examples PATH/examples`, or open ',
+    'Grammar source \u2192 Edit to write a new one.');
   const side = h('aside', { class: 'side' },
     h('h2', { text: 'Grammar' }),
+    emptyNote,
     field('Grammar', grammarSelect),
     h('div', { class: 'row' }, formalism),
     field('Seed', seedRow),
@@ -86,11 +92,11 @@ export function mount(section) {
   viewer = new Viewer(mainArea, { testid: 'explore-viewer' });
   mainArea.append(source);
   els = { grammarSelect, seed, options, more, summary, downloads, formalism, sourceText, source, envList, sampleButton,
-    editor, diagnostics, editName, editBar };
+    editor, diagnostics, editName, editBar, emptyNote };
   showEditor(false);
 
   on('entries', fill);
-  if (store.entries.length) fill();
+  fill();
 }
 
 export function shown() {
@@ -120,6 +126,11 @@ function fill() {
   if (preferred) {
     els.grammarSelect.value = preferred.path;
     selectGrammar(preferred.path);
+  }
+  els.emptyNote.hidden = grammarEntries().length > 0;
+  if (!grammarEntries().length) {
+    els.source.open = true;
+    viewer.clear('No grammars yet: write one with Edit, or restart the studio with --examples.');
   }
 }
 
@@ -169,16 +180,24 @@ function showEditor(open) {
   els.sourceText.hidden = open;
 }
 
+/** A grammar to start from when there is none to edit: a box, in the shape grammar language. */
+const EMPTY_GRAMMAR = '// A new shape grammar: edit it and the model follows.\nStart {\n  size(4, 3, 2);\n  box;\n}\n';
+
 async function openEditor() {
-  if (!current) return;
-  await loadSource();
-  const file = current.path.split('/').pop();
-  const dot = file.indexOf('.');
-  els.editName.value = `${file.slice(0, dot)}-edit${file.slice(dot)}`;
-  els.editor.value = els.sourceText.textContent;
+  if (current) {
+    await loadSource();
+    const file = current.path.split('/').pop();
+    const dot = file.indexOf('.');
+    els.editName.value = `${file.slice(0, dot)}-edit${file.slice(dot)}`;
+    els.editor.value = els.sourceText.textContent;
+  } else {
+    els.editName.value = 'new.sg';
+    els.editor.value = EMPTY_GRAMMAR;
+  }
   editing = { timer: null };
   showEditor(true);
   els.editor.focus();
+  if (!current) editSoon(); // a new grammar: show its model at once
 }
 
 function closeEditor() {
@@ -205,12 +224,18 @@ async function sampleEdited() {
     const result = await api.sample({ path, seed, options: collectOptions() });
     if (token !== sampling) return;
     showDiagnostics([]);
+    viewer.setStale(false);
     await showSample(result, result.summary || '');
   } catch (err) {
     if (token !== sampling) return;
-    showDiagnostics(err.diagnostics || [], err.message);
-    els.summary.textContent = err.message;
+    // The errors are listed once, under the editor; the side panel only points there,
+    // and the model on screen is marked as the last good one.
+    const list = err.diagnostics || [];
+    showDiagnostics(list, err.message);
+    const count = list.length || 1;
+    els.summary.textContent = `${count} error${count === 1 ? '' : 's'}: see the list under the editor`;
     els.summary.classList.add('error');
+    viewer.setStale(viewer.root.dataset.state === 'loaded');
   }
 }
 
@@ -301,7 +326,8 @@ async function showSample(result, summary) {
 }
 
 function showDownloads(result) {
-  const base = current.path.split('/').pop().replace(/\.[^.]*(\.yaml)?$/, '');
+  // With no grammar selected (a new one in the editor) downloads take the editor's name.
+  const base = (current?.path || els.editName.value || 'model').split('/').pop().replace(/\.[^.]*(\.yaml)?$/, '');
   els.downloads.replaceChildren(...(result.formats || []).map((ext) => h('a', {
     class: 'button ghost', href: api.modelUrl(result.id, ext, true), download: `${base}-${els.seed.value}.${ext}`,
     testid: `explore-download-${ext}`, text: `.${ext}`,

@@ -79,8 +79,22 @@ export function mount(section) {
 
   on('entries', fillScenes);
   if (store.entries.length) fillScenes();
-  refreshRunList();
+  refreshRunList().then(followLatest);
   updateControls();
+}
+
+/** After a reload: follows the run this page followed last (kept in the session's storage),
+ * else the newest run on the server, so the panels are not blank. */
+async function followLatest(list) {
+  if (watching || !list?.length) return;
+  let last = null;
+  try {
+    last = sessionStorage.getItem('genform-run');
+  } catch {
+    /* storage may be off; the newest run will do */
+  }
+  const id = list.some((r) => r.id === last) ? last : list[list.length - 1].id;
+  await watch(id);
 }
 
 export function shown() {
@@ -105,15 +119,17 @@ function fillAlgorithms() {
 }
 
 async function refreshRunList() {
-  if (!els) return;
+  if (!els) return null;
   try {
     const list = await api.runs();
     const keep = watching || '';
     setChildren(els.previous, h('option', { value: '', text: list.length ? 'choose a run…' : 'none yet' }),
       list.slice().reverse().map((r) => h('option', { value: r.id, text: `${r.id} · ${r.scene} · ${r.status} · gen ${r.generation}` })));
     els.previous.value = keep;
+    return list;
   } catch {
     /* the list is a convenience; errors show elsewhere */
+    return null;
   }
 }
 
@@ -149,6 +165,11 @@ export async function watch(id) {
   if (events) events.close();
   events = null;
   watching = id;
+  try {
+    sessionStorage.setItem('genform-run', id);
+  } catch {
+    /* storage may be off */
+  }
   shownModel = shownTarget = null;
   fitnessPlot.clear();
   criteriaPlot.clear();
@@ -233,6 +254,8 @@ async function refreshSnapshot() {
       }
     }
     snapshot.stats = [...byGeneration.values()].sort((a, b) => a.generation - b.generation);
+    // A run that ended before its first live picture answers its folder's final gallery.
+    if (snapshot.gallery) gallery.show({ url: snapshot.gallery, generation: snapshot.generation });
     store.run = snapshot;
     emit('snapshot', snapshot);
     renderSnapshot();

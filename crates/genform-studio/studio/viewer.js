@@ -223,8 +223,16 @@ export class Viewer {
     });
   }
 
+  /** Marks the model shown as out of date (`stale`: the source it came from
+   * no longer compiles), dimmed with a note, or as current again. */
+  setStale(stale, note = 'last good model: the grammar has errors') {
+    if (stale) this.root.dataset.stale = note;
+    else delete this.root.dataset.stale;
+  }
+
   /** Empties the view. */
   clear(message = 'Nothing to show yet.') {
+    this.setStale(false);
     this.loadToken++;
     if (this.model) this.dispose(this.model);
     if (this.target) this.dispose(this.target);
