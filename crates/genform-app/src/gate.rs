@@ -290,6 +290,23 @@ pub fn read_mesh(path: &Path) -> Result<genform_core::Mesh> {
 /// command read, and, in a confined process, outside the write root or
 /// through a symbolic link below it.
 pub fn check_write(path: &Path) -> Result<()> {
+    check_confined_write(path)?;
+    if let Some(s) = current()
+        && let Some(input) = s.input_at(path)
+    {
+        bail!(
+            "writing {} would replace the {} {}, an input of this command: choose another output",
+            path.display(),
+            input.what,
+            input.path.display()
+        );
+    }
+    Ok(())
+}
+
+/// In a confined process, refuses a write outside the write root or
+/// through a symbolic link below it.
+fn check_confined_write(path: &Path) -> Result<()> {
     if let Some(c) = confinement() {
         // Walk the path as written below the write root: no part of it
         // may be a symbolic link (a planted link would lead elsewhere).
@@ -313,16 +330,6 @@ pub fn check_write(path: &Path) -> Result<()> {
             return Err(outside(path, &c, "write"));
         }
     }
-    if let Some(s) = current()
-        && let Some(input) = s.input_at(path)
-    {
-        bail!(
-            "writing {} would replace the {} {}, an input of this command: choose another output",
-            path.display(),
-            input.what,
-            input.path.display()
-        );
-    }
     Ok(())
 }
 
@@ -334,7 +341,8 @@ fn shown_below(path: &Path, root: &Path) -> String {
 
 /// Creates the folder `dir` (and its parents) through the gate.
 pub fn create_dir(dir: &Path) -> Result<()> {
-    check_write(dir)?;
+    // A folder that is an input (a world folder) may take new files.
+    check_confined_write(dir)?;
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create folder {}", dir.display()))
 }
 

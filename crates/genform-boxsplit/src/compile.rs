@@ -3,9 +3,11 @@
 
 use crate::derive::MAX_VOLUME;
 use crate::formula::Formulas;
-use crate::grammar::{AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId};
+use crate::grammar::{
+    AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId, Side, Support,
+};
 use crate::known_blocks::{self, BlockCheck, Known};
-use crate::observe::TypeTable;
+use crate::observe::{BlockType, TypeTable};
 use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn};
 use genform_core::diag::{Diagnostic, SourceFile, Span};
 use genform_core::expr::did_you_mean;
@@ -38,6 +40,7 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
         block_ids: HashMap::new(),
         ops: Vec::new(),
         used: Vec::new(),
+        supports: Vec::new(),
     };
     c.block_ids.insert(BlockState::air(), AIR);
     let grammar = c.run(&items);
@@ -69,6 +72,7 @@ struct Compiler<'f> {
     ops: Vec<Op>,
     /// Rules each rule invokes, for reachability.
     used: Vec<Vec<RuleId>>,
+    supports: Vec<Support>,
 }
 
 const LIMIT_KEYS: &[&str] = &["applications", "backtracks", "depth"];
@@ -152,6 +156,7 @@ impl Compiler<'_> {
                     self.types.define_group(n, members, &mut self.out);
                 }
                 Item::Material(n, entries) => self.material(n, entries),
+                Item::Support(side, members) => self.support(side, members),
                 Item::Let(n, e) => self.formulas.define(n, e, &mut self.types, &mut self.out),
                 Item::Rule(_) => {}
             }
@@ -199,6 +204,7 @@ impl Compiler<'_> {
             limits,
             default_box: default_box.and_then(|b| b.0),
             default_world: default_world.map(|w| w.0.clone()),
+            supports: std::mem::take(&mut self.supports),
         })
     }
 
@@ -298,6 +304,30 @@ impl Compiler<'_> {
         }
         self.materials.insert(name.name.clone(), self.material_list.len() as u32);
         self.material_list.push(m);
+    }
+
+    /// `support SIDE members;`: members are kinds, groups, block ids or
+    /// materials (their blocks).
+    fn support(&mut self, side: &Ident, members: &[Ident]) {
+        let side = match side.name.as_str() {
+            "above" => Side::Above,
+            "below" => Side::Below,
+            _ => Side::Beside,
+        };
+        let names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();
+        let mut ty = BlockType::empty(&names.join(", "));
+        for m in members {
+            if let Some(&i) = self.materials.get(&m.name) {
+                let blocks = &self.material_list[i as usize].blocks;
+                ty.states.extend(blocks.iter().map(|&b| self.blocks[b as usize].clone()));
+                continue;
+            }
+            match self.types.resolve(m) {
+                Ok(id) => ty.absorb(&self.types.types[id as usize]),
+                Err(d) => self.out.push(d),
+            }
+        }
+        self.supports.push(Support { side, ty });
     }
 
     fn block(&mut self, b: BlockState) -> u32 {

@@ -50,6 +50,11 @@ pub struct DeriveStats {
     pub filled: u64,
     /// Deepest nesting of rule applications.
     pub max_depth: u32,
+    /// Cells the grammar's `support` declarations changed after the
+    /// derivation (blocks with nothing to hang from, stand on or lean
+    /// against, taken away).
+    #[serde(default)]
+    pub unsupported: u64,
 }
 
 /// A successful derivation.
@@ -215,7 +220,8 @@ impl BoxGrammar {
     /// Derives the axiom in the box `min..max_exclusive`, observing `world`
     /// (cells it does not cover, or leaves unset, count as air; `None`: all
     /// air). Every random choice comes from `choices`; the same choices give
-    /// the same result.
+    /// the same result. The grammar's `support` declarations then look at
+    /// the world one cell beyond the box too: pass a world that covers it.
     pub fn derive<C: Draws + ?Sized>(
         &self,
         world: Option<&BlockGrid>,
@@ -266,7 +272,10 @@ impl BoxGrammar {
         let root = Scope { min, size, axes: [0, 1, 2] };
         e.work.push(Task { scope: root, op: self.start, owner: self.axiom, parent: NONE, depth: 0 });
         e.run()?;
-        let blocks = e.paint();
+        let mut blocks = e.paint();
+        if !self.supports.is_empty() {
+            e.stats.unsupported = crate::support::settle(&self.supports, world, &mut blocks);
+        }
         let stats = e.stats;
         let trace = e.trace.take().map(|mut events| {
             events.push(TraceEvent::Done { applications: stats.applications, backtracks: stats.backtracks });

@@ -9,7 +9,8 @@ use genform_core::expr::{Dialect, RawArgument, Wording};
 /// Keywords, never rule names.
 #[rustfmt::skip] // one long keyword would otherwise put each on its own line
 pub(crate) const KEYWORDS: &[&str] = &[
-    "grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let", "when",
+    "grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "support", "let",
+    "when",
     "else", "weight", "split", "repeat", "round", "fill", "void", "skip", "reorient", "and", "or", "not",
 ];
 

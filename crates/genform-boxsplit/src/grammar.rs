@@ -78,6 +78,25 @@ pub(crate) struct Material {
     pub weights: Vec<f64>,
 }
 
+/// Which neighbour a `support` declaration asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Side {
+    /// A solid block (or another member) directly above: hanging blocks.
+    Above,
+    /// A solid block (or another member) directly below: standing blocks.
+    Below,
+    /// A solid block beside it (one of the four horizontal neighbours) that
+    /// is not a member: linings and walls that must lean on something.
+    Beside,
+}
+
+/// `support SIDE members;`: blocks of `ty` are kept only where the side holds.
+#[derive(Clone, Debug)]
+pub(crate) struct Support {
+    pub side: Side,
+    pub ty: BlockType,
+}
+
 /// Bounds on one derivation; reaching one ends it with an error.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct DeriveLimits {
@@ -115,6 +134,8 @@ pub struct BoxGrammar {
     pub(crate) default_box: Option<(IVec3, IVec3)>,
     /// `world "…";`: the default world, as written.
     pub(crate) default_world: Option<String>,
+    /// `support …;` declarations, in source order.
+    pub(crate) supports: Vec<Support>,
 }
 
 impl BoxGrammar {

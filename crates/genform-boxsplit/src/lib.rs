@@ -40,6 +40,7 @@ mod known_blocks;
 mod lex;
 mod observe;
 pub mod split;
+mod support;
 mod syntax;
 mod trace;
 

@@ -37,7 +37,7 @@ pub(crate) fn kind_index(k: BlockKind) -> usize {
 }
 
 impl BlockType {
-    fn empty(name: &str) -> BlockType {
+    pub(crate) fn empty(name: &str) -> BlockType {
         BlockType { name: name.to_string(), kinds: [false; 4], ids: Vec::new(), states: Vec::new() }
     }
 
@@ -46,7 +46,7 @@ impl BlockType {
         self.kinds[kind_index(b.kind())] || self.ids.contains(&b.name) || self.states.contains(b)
     }
 
-    fn absorb(&mut self, other: &BlockType) {
+    pub(crate) fn absorb(&mut self, other: &BlockType) {
         for (a, b) in self.kinds.iter_mut().zip(other.kinds) {
             *a |= b;
         }

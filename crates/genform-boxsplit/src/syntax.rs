@@ -38,6 +38,8 @@ pub(crate) enum Item {
     AllowUnknownBlocks(Span),
     Group(Ident, Vec<Ident>),
     Material(Ident, Vec<MixEntry>),
+    /// `support above|below|beside members;`: the side and the members.
+    Support(Ident, Vec<Ident>),
     Let(Ident, Ast),
     Rule(RuleSyn),
 }
@@ -89,7 +91,10 @@ pub(crate) enum OpSyn {
 }
 
 const DECLARATIONS: &[&str] =
-    &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "let"];
+    &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "support", "let"];
+
+/// The sides a `support` declaration names.
+pub(crate) const SUPPORT_SIDES: &[&str] = &["above", "below", "beside"];
 
 /// Deepest nesting of split children accepted (formulas have the core
 /// parser's own limit).
@@ -230,7 +235,7 @@ impl<'a> Parser<'a> {
         if self.tok.tok != Tok::Ident {
             return Err(self
                 .error_here("a declaration or a rule")
-                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `allow_unknown_blocks`, `group`, `material` or `let`; a rule is `Name { … }`"));
+                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `allow_unknown_blocks`, `group`, `material`, `support` or `let`; a rule is `Name { … }`"));
         }
         let word = self.text(self.tok.span);
         Ok(Some(match word {
@@ -317,6 +322,21 @@ impl<'a> Parser<'a> {
                 }
                 self.end_declaration("the material's blocks");
                 Item::Material(name, entries)
+            }
+            "support" => {
+                self.bump();
+                let side = self.ident("`above`, `below` or `beside` after `support`")?;
+                if !SUPPORT_SIDES.contains(&side.name.as_str()) {
+                    return Err(Diagnostic::error(side.span, format!("`support {}`: expected `above`, `below` or `beside`", side.name))
+                        .with_hint("`support above lantern[hanging=true];` keeps a block only under a solid one, `below` only on one, `beside` only next to one"));
+                }
+                let mut members = vec![self.block("a block, a block type, a group or a material")?];
+                while self.tok.tok == Tok::Comma {
+                    self.bump();
+                    members.push(self.block("a block, a block type, a group or a material")?);
+                }
+                self.end_declaration("the supported blocks");
+                Item::Support(side, members)
             }
             "let" => {
                 self.bump();

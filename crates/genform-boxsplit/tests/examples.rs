@@ -131,7 +131,7 @@ fn bridge_over_a_ravine_without_ground_gets_no_piers() {
 }
 
 #[test]
-fn footpath_posts_only_on_dry_ground() {
+fn footpath_posts_go_down_to_the_ground_through_water() {
     // A pond (water below y = 3) with an islet at x 8..12, a sunken bar at
     // x 16..23 that stays under water, and banks as high as the box.
     let size = IVec3::new(30, 6, 3);
@@ -153,12 +153,13 @@ fn footpath_posts_only_on_dry_ground() {
     let d = derive("footpath", Some(&pond), size, 3);
     assert_no_solid_replaced("footpath", &pond, &d);
     let posts = assert_columns_stand_on_ground("footpath", &pond, &d, &["oak_log"], 4);
-    // Posts stand every fourth block at both edges: only the islet ones.
-    assert_eq!(posts, vec![(9, 0), (9, 2)]);
+    // Posts stand every fourth block at both edges: on the islet, and down
+    // through the water to the pond floor and the sunken bar.
+    let every: Vec<(i32, i32)> = [5, 9, 13, 17, 21, 25].iter().flat_map(|&x| [(x, 0), (x, 2)]).collect();
+    assert_eq!(posts, every);
     for (x, z) in posts {
-        for y in 0..5 {
-            assert_ne!(pond.get(IVec3::new(x, y, z)).unwrap().id(), "water", "a post in water");
-        }
+        let ground = (0..6).take_while(|&y| solid(&pond, IVec3::new(x, y, z))).count() as i32;
+        assert_eq!(placed(&d, IVec3::new(x, ground, z)), Some("oak_log"), "post at x {x} reaches the ground");
     }
     // The walk runs from bank to bank; the banks themselves stay.
     for x in 0..30 {
@@ -178,21 +179,32 @@ fn tunnel_lines_only_the_strips_inside_the_hill() {
         ys.clone().any(|y| zs.clone().any(|z| solid(&hill, IVec3::new(x, y, z))))
     };
     for x in 0..30 {
-        // Walls: the strips at z = 0 and z = 6, all 6 high.
+        // Walls: the strips at z = 0 and z = 6, lined block by block where
+        // the hill is, never above it.
         for z in [0, 6] {
-            let lined = (0..6).all(|y| placed(&d, IVec3::new(x, y, z)).is_some());
-            let bare = (0..6).all(|y| placed(&d, IVec3::new(x, y, z)).is_none());
-            assert!(lined || bare, "wall strip at x {x} is partly lined");
-            assert_eq!(lined, strip_has_rock(x, 0..6, z..z + 1), "wall strip at x {x}, z {z}");
+            for y in 0..6 {
+                let p = IVec3::new(x, y, z);
+                assert_eq!(placed(&d, p).is_some(), solid(&hill, p), "wall at {p}");
+            }
         }
-        // Roof: the top layer between the walls.
+        // Roof: the top layer between the walls, wherever the top of the
+        // passage (or the roof layer) holds rock, and the top dug under it.
         let roofed = placed(&d, IVec3::new(x, 5, 3)).is_some();
-        assert_eq!(roofed, strip_has_rock(x, 5..6, 1..6), "roof strip at x {x}");
-        // The passage is dug out only where it runs through rock.
+        assert_eq!(roofed, strip_has_rock(x, 4..6, 1..6), "roof strip at x {x}");
+        assert_eq!(placed(&d, IVec3::new(x, 4, 2)) == Some("air"), roofed, "top of the passage at x {x}");
+        // Below it the passage is dug out only where it runs through rock.
         let dug = placed(&d, IVec3::new(x, 1, 3)) == Some("air");
-        assert_eq!(dug, strip_has_rock(x, 0..5, 1..6), "passage at x {x}");
+        assert_eq!(dug, strip_has_rock(x, 0..4, 1..6), "passage at x {x}");
     }
-    assert!(d.blocks.palette.iter().any(|b| b.id() == "lantern"));
+    // Lanterns hang under the roof.
+    let mut lanterns = 0;
+    for (p, c) in d.blocks.iter_set() {
+        if d.blocks.palette[c as usize].id() == "lantern" {
+            lanterns += 1;
+            assert!(placed(&d, p + IVec3::Y).is_some_and(|b| b != "air"), "lantern at {p} hangs from nothing");
+        }
+    }
+    assert!(lanterns > 0);
 }
 
 #[test]

@@ -136,6 +136,8 @@ fn a_region_file_is_written_only_under_its_own_name() {
     // The observed region itself, by another spelling.
     let e = fails(d, &[&args[..], &["./w/r.0.0.mca"]].concat());
     assert!(e.contains("input of this command") || e.contains("observed region itself"), "{e}");
+    // A new file in the world's folder replaces nothing.
+    ok(d, &["sample", s(&bridge), "--world", "w", "--box", "6,50,3,62,65,5", "--out", "w/copy.schem"]);
     // Another name is written, with a word on how Minecraft reads it.
     let run = ok(d, &[&args[..], &["copy.mca"]].concat());
     assert!(run.stderr().contains("copy it into a world as r.0.0.mca"), "{}", run.show());

@@ -168,9 +168,15 @@ impl LoadedGrammar for BoxFile {
         // Previews show the ground around and behind the structure too, cut
         // open along the box's front (+z, towards the preview camera): one read
         // of that larger area serves the observers and the picture.
+        // Otherwise one cell around the box: the grammar's `support`
+        // declarations look at the terrain next to the box (the same cells
+        // whatever the output, so every output holds the same structure).
         let margin = IVec3::new(PREVIEW_MARGIN, PREVIEW_MARGIN / 2, PREVIEW_MARGIN);
-        let (read_min, read_max) =
-            if preview { (min - margin, IVec3::new(max.x + margin.x, max.y + margin.y, max.z)) } else { (min, max) };
+        let (read_min, read_max) = if preview {
+            (min - margin, IVec3::new(max.x + margin.x, max.y + margin.y, max.z + SUPPORT_MARGIN))
+        } else {
+            (min - IVec3::splat(SUPPORT_MARGIN), max + IVec3::splat(SUPPORT_MARGIN))
+        };
         let (regions, world) = match &world_path {
             Some(path) => {
                 let World { files: regions, paths, mut missing } = load_world(path, read_min, read_max)?;
@@ -229,11 +235,17 @@ impl LoadedGrammar for BoxFile {
             min,
             max - IVec3::ONE
         );
+        let summary = match d.stats.unsupported {
+            0 => summary,
+            n => format!(
+                "{summary} ({n} cells changed by `support`: blocks with nothing to hang from, stand on or lean against)"
+            ),
+        };
         let mut scene = Scene::new();
         scene.blocks.push(d.blocks);
         let schem_version = if request.schem_version == 3 { SchemVersion::V3 } else { SchemVersion::V2 };
         let blocks = BlockOptions { schem_version, data_version: request.data_version };
-        Ok(Box::new(BoxSample { scene, summary, regions, terrain: world, blocks }))
+        Ok(Box::new(BoxSample { scene, summary, regions, terrain: world, front_z: max.z, blocks }))
     }
 
     fn describe(&self) -> String {
@@ -281,6 +293,8 @@ struct BoxSample {
     summary: String,
     regions: Vec<RegionFile>,
     terrain: Option<BlockGrid>,
+    /// The box's front (exclusive z), where previews cut the terrain open.
+    front_z: i32,
     blocks: BlockOptions,
 }
 
@@ -303,7 +317,7 @@ impl Sample for BoxSample {
         match &self.terrain {
             Some(terrain) if is_preview(out)? => {
                 let mut scene = Scene::new();
-                scene.blocks.push(terrain_context(terrain, structure));
+                scene.blocks.push(terrain_context(terrain, structure, self.front_z));
                 scene.blocks.push(structure.clone());
                 write_model_with(&scene, out, &options)
             }
@@ -389,14 +403,18 @@ fn load_world(path: &Path, min: IVec3, max: IVec3) -> Result<World> {
 /// Blocks of terrain around the box that previews show with the structure.
 const PREVIEW_MARGIN: i32 = 8;
 
+/// Blocks of terrain around the box that derivations see (for `support`).
+const SUPPORT_MARGIN: i32 = 1;
+
 /// The observed terrain under and around a structure, for previews: the
-/// world's non-air blocks where the structure placed nothing.
-fn terrain_context(terrain: &BlockGrid, structure: &BlockGrid) -> BlockGrid {
+/// world's non-air blocks where the structure placed nothing, in front of
+/// `front_z` (the preview's cut along the box's front).
+fn terrain_context(terrain: &BlockGrid, structure: &BlockGrid, front_z: i32) -> BlockGrid {
     let mut out = terrain.clone();
     let mut cleared = Vec::new();
     for (p, c) in terrain.iter_set() {
         let placed = structure.get(p).is_some();
-        if placed || terrain.palette[c as usize].kind() == BlockKind::Air {
+        if placed || p.z >= front_z || terrain.palette[c as usize].kind() == BlockKind::Air {
             cleared.push(p);
         }
     }
