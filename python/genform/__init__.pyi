@@ -89,6 +89,19 @@ class Model:
     def tag_colors(self) -> list[tuple[float, float, float]]:
         """The display colour (sRGB in [0, 1]) of each name of `face_tags()`:
         the GLB materials' colours, block states in the block palette."""
+    def surface_edges(
+        self,
+    ) -> tuple[
+        npt.NDArray[np.float32],
+        npt.NDArray[np.uint32],
+        npt.NDArray[np.int32],
+        dict[int, tuple[float, float, float]],
+    ]:
+        """A grown surface's typed edges (Genr8/HEMLS): (points (N, 3)
+        float32, +y up as in `mesh()`, every surface's one after the other;
+        edges (M, 2) uint32 into them; their types (M,) int32, -1 untyped;
+        {type: colour (sRGB in [0, 1])} for the types in use: the GLB's
+        `edge<N>` materials' colours). Empty without surfaces."""
     def triangle_count(self) -> int: ...
     def bounds(self) -> tuple[tuple[float, float, float], tuple[float, float, float]] | None: ...
     def save(self, path: PathLike) -> list[str]:
@@ -105,6 +118,13 @@ class Scene:
 
     path: str
     grammar: Grammar
+    algorithms: list[str]  # the algorithms that can evolve it, its default first
+    @staticmethod
+    def algorithms_for(path: PathLike) -> list[str]:
+        """The `evolve()` algorithms that can evolve the scene config at
+        `path`, tree or codon scene (which `load_scene` does not open), its
+        default first: ga, mh, smc, sosmc, hybrid, map-elites, random for
+        tree scenes; ge, random for codon scenes."""
     def fitness(self, model: Model) -> float:
         """The scene's fitness of a model (NaN: invalid)."""
     def counts(self, model: Model) -> dict[str, float]:

@@ -6,22 +6,35 @@ Two ways in:
   ``Model.mesh()``, so its vertex and face counts are exactly the arrays'
   (triangles; lines contribute loose points). One material per tag when the
   model can say which tag each face has (``Model.face_tags()``), else one
-  material for the whole model.
+  material for the whole model. Shaded as Blender's glTF importer shades:
+  flat where faces meet at a crease (over ``SHARP_ANGLE``: a hip roof's
+  ridges, a box's edges), smooth across gentler bends.
 - ``import_gltf``: the model saved as GLB (its default granularity: one
   merged object above a few dozen primitives, one object per primitive
   below) and read by Blender's glTF importer; materials come from the GLB,
   vertices are split where flat-shaded normals differ.
+
+- ``build_edges``: a surface's typed edges (Genr8/HEMLS growth,
+  ``Model.surface_edges()``) as one curve object of thin tubes, a material
+  per edge type in the GLB's ``edge<N>`` colours, so renders show them
+  (Cycles does not render a mesh's loose edges).
 
 Nothing here registers classes: the operators call these functions.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 
 import bpy
 import numpy as np
+
+
+# Faces meeting at a larger angle than this are shaded flat on either side
+# of their edge (auto smooth by angle, as Blender's glTF importer gives).
+SHARP_ANGLE = math.radians(30.0)
 
 
 def tag_color(name: str) -> tuple[float, float, float]:
@@ -118,10 +131,87 @@ def build_object(model, name: str, collection=None, y_up: bool = True) -> bpy.ty
     mesh.polygons.foreach_set("loop_start", np.arange(0, 3 * len(faces), 3, dtype=np.int32))
     mesh.polygons.foreach_set("material_index", slots)
     mesh.update(calc_edges=True)
+    shade_by_angle(mesh)
     for t in used:
         mesh.materials.append(tag_material(names[t], colors[t]))
 
     obj = bpy.data.objects.new(name, mesh)
+    (collection or bpy.context.scene.collection).objects.link(obj)
+    return obj
+
+
+def shade_by_angle(mesh: bpy.types.Mesh, angle: float = SHARP_ANGLE) -> None:
+    """Smooth shading with split normals at creases: edges whose faces meet
+    at more than ``angle`` are marked sharp (Blender 4.1+:
+    ``Mesh.set_sharp_from_angle``; before it, auto smooth). A mesh built
+    from arrays is otherwise smooth over every shared vertex, which washes
+    out a roof's ridges and a box's edges."""
+    if hasattr(mesh, "set_sharp_from_angle"):
+        mesh.set_sharp_from_angle(angle=angle)
+        return
+    mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
+    if hasattr(mesh, "use_auto_smooth"):  # Blender < 4.1
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = angle
+    else:
+        mesh.polygons.foreach_set("use_smooth", np.zeros(len(mesh.polygons), dtype=bool))
+
+
+def edge_material(kind: int, rgb: tuple[float, float, float]) -> bpy.types.Material:
+    """The material of surface edges of type ``kind`` (-1: untyped), named
+    as the GLB names it (``edge<N>``, ``edge_untyped``)."""
+    return tag_material("edge_untyped" if kind < 0 else f"edge{kind}", rgb)
+
+
+def surface_edges(model):
+    """``Model.surface_edges()``: (positions, edges, types, colours), or
+    None when the model has no typed edges or the wheel cannot say."""
+    if not hasattr(model, "surface_edges"):
+        return None
+    points, edges, types, colors = model.surface_edges()
+    if len(edges) == 0:
+        return None
+    return (
+        np.asarray(points, dtype=np.float32).reshape(-1, 3),
+        np.asarray(edges, dtype=np.int64).reshape(-1, 2),
+        np.asarray(types, dtype=np.int32),
+        dict(colors),
+    )
+
+
+def build_edges(model, name: str, collection=None, y_up: bool = True, radius: float | None = None):
+    """A surface's typed edges as one curve object: a two-point poly spline
+    per edge, beveled into a tube (``radius``; default: 6% of the median
+    edge length), a material per edge type in the GLB's colours. None when
+    the model has no surface edges."""
+    got = surface_edges(model)
+    if got is None:
+        return None
+    points, edges, types, colors = got
+    if y_up:
+        points = np.stack([points[:, 0], -points[:, 2], points[:, 1]], axis=1)
+    ends = points[edges]  # (M, 2, 3)
+    lengths = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+    if radius is None:
+        positive = lengths[lengths > 0]
+        radius = 0.06 * float(np.median(positive)) if len(positive) else 0.01
+    kinds = sorted(set(types.tolist()), key=lambda k: (k < 0, k))  # untyped last, as the GLB
+    slot = {k: i for i, k in enumerate(kinds)}
+
+    curve = bpy.data.curves.new(name, type="CURVE")
+    curve.dimensions = "3D"
+    curve.bevel_depth = radius
+    curve.bevel_resolution = 2
+    curve.use_fill_caps = True
+    for k in kinds:
+        curve.materials.append(edge_material(k, colors.get(k, (0.44, 0.44, 0.44))))
+    for (a, b), k in zip(ends, types.tolist()):
+        spline = curve.splines.new("POLY")
+        spline.points.add(1)  # a new spline has one point
+        spline.points.foreach_set("co", [*a, 1.0, *b, 1.0])
+        spline.material_index = slot[k]
+    obj = bpy.data.objects.new(name, curve)
+    obj["genform_edge_types"] = [int(k) for k in kinds]
     (collection or bpy.context.scene.collection).objects.link(obj)
     return obj
 

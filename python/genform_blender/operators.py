@@ -18,6 +18,13 @@ from bpy.props import IntProperty, StringProperty
 from . import build
 
 
+def scene_algorithms(path: str) -> list[str]:
+    """The algorithms the scene at ``path`` allows, its default first."""
+    from . import scene_algorithms as names
+
+    return names(path)
+
+
 def _genform(op):
     """The genform module, or None after reporting how to install it."""
     try:
@@ -29,8 +36,10 @@ def _genform(op):
 
 
 def place(context, model, name: str) -> list:
-    """Adds `model` to the scene as the settings say (mesh or glTF),
-    selects what was made and makes the first object active."""
+    """Adds `model` to the scene as the settings say (mesh or glTF, and
+    a surface's typed edges as a curve object parented to it unless
+    ``edges`` is off), selects what was made and makes the first object
+    active."""
     settings = context.scene.genform
     for o in context.view_layer.objects:
         o.select_set(False)
@@ -43,6 +52,15 @@ def place(context, model, name: str) -> list:
     for o in objs:
         o["genform_summary"] = model.summary
         o.select_set(True)
+    if objs and settings.edges:
+        # glTF's importer turns +y up as y_up does.
+        y_up = settings.y_up or settings.import_mode == "GLTF"
+        edges = build.build_edges(model, f"{name}_edges", context.collection, y_up=y_up)
+        if edges is not None:
+            edges.parent = objs[0]
+            edges.matrix_parent_inverse = objs[0].matrix_world.inverted()
+            edges.select_set(True)
+            objs.append(edges)
     if objs:
         context.view_layer.objects.active = objs[0]
     return objs
@@ -83,6 +101,18 @@ class Cancelled(Exception):
     """Raised from the progress callback to stop a run (Esc)."""
 
 
+# The panel's Population as each algorithm's setting (`evolve(**settings)`).
+POPULATION_KEY = {
+    "ga": "population",
+    "ge": "population",
+    "random": "population",
+    "map-elites": "batch",
+    "smc": "particles",
+    "sosmc": "particles",
+    "mh": "chains",
+}
+
+
 class Run:
     """One evolution on a worker thread: what the timer reads back."""
 
@@ -90,8 +120,11 @@ class Run:
         self.genform = genform
         self.kwargs = dict(algorithm=algorithm, seed=seed, generations=generations)
         if population > 0:
-            self.kwargs["population"] = population
-            if algorithm in ("ga", "random"):
+            # What each optimizer calls its population (hybrid: none of its own).
+            key = POPULATION_KEY.get(algorithm)
+            if key:
+                self.kwargs[key] = population
+            if algorithm in ("ga", "ge", "random"):
                 # A scene's elitism may not fit a smaller population: keep a fifth.
                 self.kwargs["elitism"] = max(1, population // 5)
         self.scene_path = scene_path
@@ -140,6 +173,7 @@ class GENFORM_OT_evolve(bpy.types.Operator):
     scene_path: StringProperty(name="Scene", description="Scene config (.toml); empty: the panel's", default="")
     generations: IntProperty(name="Generations", description="-1: the panel's", default=-1, min=-1)
     population: IntProperty(name="Population", description="-1: the panel's; 0: the scene's", default=-1, min=-1)
+    algorithm: StringProperty(name="Algorithm", description="ga, ge, map-elites, …; empty: the panel's", default="")
 
     _run: Run | None = None
     _timer = None
@@ -155,7 +189,15 @@ class GENFORM_OT_evolve(bpy.types.Operator):
             return None
         generations = s.generations if self.generations < 0 else self.generations
         population = s.population if self.population < 0 else self.population
-        return Run(genform, path, s.algorithm, s.seed, generations, population)
+        # The panel's choice when this scene allows it, else the scene's default.
+        allowed = scene_algorithms(path)
+        algorithm = self.algorithm or s.algorithm
+        if algorithm not in allowed:
+            if self.algorithm:
+                self.report({"ERROR"}, f"{path} cannot be evolved with {algorithm}: use {', '.join(allowed)}")
+                return None
+            algorithm = allowed[0]
+        return Run(genform, path, algorithm, s.seed, generations, population)
 
     def execute(self, context):
         run = self._new_run(context)

@@ -24,8 +24,10 @@ class GENFORM_PT_panel(bpy.types.Panel):
         row = box.row(align=True)
         row.prop(s, "seed")
         row.prop(s, "import_mode", text="")
+        row = box.row(align=True)
         if s.import_mode == "MESH":
-            box.prop(s, "y_up")
+            row.prop(s, "y_up")
+        row.prop(s, "edges")
         box.operator("genform.sample", icon="PLAY")
 
         box = layout.box()

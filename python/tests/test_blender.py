@@ -278,3 +278,112 @@ def test_graph_drawings_import_with_geometry(empty):
         # Drawn in genform's xy plane (+y up), so upright in Blender's xz.
         assert size[0] == pytest.approx(98.708, abs=0.05) and size[2] == pytest.approx(108.542, abs=0.05), (mode, size)
         assert size[1] < 1e-3, (mode, size)
+
+
+def test_roof_planes_are_shaded_flat_at_their_ridges(empty):
+    """A hip roof's planes meet at a crease: each plane keeps its own normal
+    up to the ridge (split normals, as Blender's glTF importer gives), not
+    a blotchy average over the shared vertices."""
+    house = EXAMPLES / "shape" / "l_house.sg"  # hip roofs
+    assert bpy.ops.genform.sample(grammar=str(house), seed=0) == {"FINISHED"}
+    mesh = bpy.context.view_layer.objects.active.data
+    n = len(mesh.polygons)
+    face_normals = np.empty(3 * n, dtype=np.float32)
+    mesh.polygons.foreach_get("normal", face_normals)
+    face_normals = face_normals.reshape(-1, 3)
+    corners = np.array([tuple(c.vector) for c in mesh.corner_normals], dtype=np.float32).reshape(-1, 3, 3)
+    # Sloped faces (roof planes: neither walls nor flat): each corner's shading normal is the face's.
+    sloped = np.flatnonzero((np.abs(face_normals[:, 2]) > 0.2) & (np.abs(face_normals[:, 2]) < 0.95))
+    assert len(sloped) >= 4, "l_house has roofs"
+    np.testing.assert_allclose(corners[sloped], np.repeat(face_normals[sloped, None, :], 3, axis=1), atol=1e-4)
+    # So across a ridge (an edge of two sloped faces at a crease) the shading normals differ.
+    edge_faces: dict = {}
+    for f in sloped:
+        for key in mesh.polygons[f].edge_keys:
+            edge_faces.setdefault(key, []).append(f)
+    ridges = [fs for fs in edge_faces.values() if len(fs) == 2 and face_normals[fs[0]] @ face_normals[fs[1]] < 0.95]
+    assert ridges, "two roof planes meet at a ridge"
+    for a, b in ridges:
+        assert np.linalg.norm(corners[a, 0] - corners[b, 0]) > 0.1
+    # Coplanar triangles of a wall stay one smooth plane (nothing marked sharp between them).
+    sharp = mesh.attributes.get("sharp_edge")
+    assert sharp is not None and 0 < sum(d.value for d in sharp.data) < len(mesh.edges)
+
+
+def test_a_surfaces_typed_edges_come_as_coloured_tubes(empty, tmp_path):
+    """Genr8/HEMLS surfaces bring their typed edges as a curve of thin
+    tubes (loose edges would not render), a GLB-coloured material per type."""
+    tiles = EXAMPLES / "hemls" / "tiles4.gr8"
+    model = genform.load(tiles).sample(seed=0)
+    points, edges, types, colours = model.surface_edges()
+    assert points.shape[1] == 3 and edges.shape == (len(types), 2) and len(types) > 100
+    assert set(colours) == set(types.tolist())
+    model.save(tmp_path / "tiles.glb")
+    glb = glb_materials(tmp_path / "tiles.glb")
+    for mode in ["MESH", "GLTF"]:
+        for o in list(bpy.data.objects):
+            bpy.data.objects.remove(o)
+        bpy.context.scene.genform.import_mode = mode
+        assert bpy.ops.genform.sample(grammar=str(tiles), seed=0) == {"FINISHED"}
+        curves = [o for o in bpy.data.objects if o.type == "CURVE"]
+        assert len(curves) == 1, mode
+        curve = curves[0]
+        assert curve.parent is bpy.context.view_layer.objects.active and curve.select_get()
+        assert curve.data.bevel_depth > 0 and len(curve.data.splines) == len(types)
+        names = [m.name for m in curve.data.materials]
+        assert sorted(names) == sorted(f"edge{k}" for k in set(types.tolist())), names
+        for mat in curve.data.materials:
+            base = empty.build.principled_bsdf(mat).inputs["Base Color"].default_value
+            assert np.allclose(base[:3], glb[mat.name], atol=1e-3), (mat.name, tuple(base), glb[mat.name])
+        # Real geometry (tubes), lying on the surface: flat like it.
+        evaluated = curve.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        tubes = evaluated.to_mesh()
+        assert len(tubes.polygons) > 4 * len(types), mode
+        ends = np.array([curve.matrix_world @ p.co.xyz for s in curve.data.splines for p in s.points])
+        surface = np.array([o.matrix_world @ v.co for o in bpy.data.objects if o.type == "MESH" for v in o.data.vertices])
+        assert np.allclose(ends.min(axis=0), surface.min(axis=0), atol=1e-4), mode
+        assert np.allclose(ends.max(axis=0), surface.max(axis=0), atol=1e-4), mode
+        evaluated.to_mesh_clear()
+    # Off in the panel: no curve.
+    for o in list(bpy.data.objects):
+        bpy.data.objects.remove(o)
+    bpy.context.scene.genform.import_mode, bpy.context.scene.genform.edges = "MESH", False
+    try:
+        assert bpy.ops.genform.sample(grammar=str(tiles), seed=0) == {"FINISHED"}
+        assert [o.type for o in bpy.data.objects] == ["MESH"]
+    finally:
+        bpy.context.scene.genform.edges = True
+
+
+def test_the_panel_offers_the_scenes_algorithms_and_evolves_a_codon_scene(empty):
+    """The algorithm list is the scene's (tree scenes: ga … map-elites,
+    random; codon scenes: ge, random), its default chosen with the scene;
+    a Genr8 codon scene evolves from the operator and its best comes in."""
+    s = bpy.context.scene.genform
+    canopy = EXAMPLES / "scenes" / "genr8_canopy.toml"
+    items = lambda: [i[0] for i in empty._algorithm_items(s, bpy.context)]  # noqa: E731 - the enum's items
+    s.scene_path = str(SHIP_SCENE)
+    assert items() == ["ga", "mh", "smc", "sosmc", "hybrid", "map-elites", "random"] and s.algorithm == "ga"
+    s.algorithm = "map-elites"
+    s.scene_path = str(canopy)
+    assert items() == ["ge", "random"] and s.algorithm == "ge"
+    with pytest.raises(TypeError):
+        s.algorithm = "ga"
+    try:
+        assert bpy.ops.genform.evolve(generations=2, population=12) == {"FINISHED"}
+        assert s.status.startswith("best fitness"), s.status
+        best = bpy.context.view_layer.objects.active
+        assert best.name.startswith("best_2gen_") and len(best.data.polygons) > 0
+        assert [o.parent for o in bpy.data.objects if o.type == "CURVE"] == [best], "its typed edges"
+        # A tree algorithm named for a codon scene is refused, naming what it allows.
+        with pytest.raises(RuntimeError, match="use ge, random"):
+            bpy.ops.genform.evolve(generations=1, population=12, algorithm="ga")
+    finally:
+        s.scene_path = ""
+
+
+@pytest.mark.parametrize("algorithm", ["map-elites", "smc", "mh"])
+def test_the_panels_population_fits_every_tree_algorithm(empty, algorithm):
+    """Population becomes each optimizer's own setting (batch, particles, chains)."""
+    result = bpy.ops.genform.evolve(scene_path=str(SHIP_SCENE), generations=1, population=8, algorithm=algorithm)
+    assert result == {"FINISHED"}

@@ -287,3 +287,22 @@ def test_every_ply_genform_writes_opens_in_trimesh(tmp_path):
             edges = mesh.metadata["_ply_raw"]["surface_edge"]["data"]
             assert len(edges) > 0 and set(edges.dtype.names) == {"vertex1", "vertex2", "type"}
             assert edges["vertex1"].max() < len(mesh.vertices)
+
+
+def test_surface_edges_are_the_surfaces_typed_edges_on_the_mesh_points():
+    """`Model.surface_edges()`: a Genr8 surface's typed edges over the same
+    (+y up) points as `mesh()`, each type with its GLB colour; nothing for
+    models without surfaces."""
+    m = genform.load(SAMPLES[".gr8"]).sample(seed=0)
+    points, edges, types, colours = m.surface_edges()
+    assert points.dtype == np.float32 and edges.dtype == np.uint32 and types.dtype == np.int32
+    assert points.shape[1] == 3 and edges.shape == (len(types), 2) and len(types) > 100
+    assert edges.max() < len(points) and (edges[:, 0] != edges[:, 1]).all()
+    # The surface's points are the mesh's (its only geometry), in order.
+    v, _ = m.mesh()
+    np.testing.assert_array_equal(points, v[: len(points)])
+    assert set(colours) == set(types.tolist()) and all(t >= -1 for t in colours)
+    assert all(len(c) == 3 and all(0 <= x <= 1 for x in c) for c in colours.values())
+    assert len(set(colours.values())) == len(colours), "a colour per type"
+    p, e, t, c = genform.load(SAMPLES[".sg"]).sample(seed=0).surface_edges()
+    assert (p.shape, e.shape, t.shape, c) == ((0, 3), (0, 2), (0,), {})

@@ -268,6 +268,37 @@ impl Model {
         Ok((PyArray1::from_vec(py, a.tags).into_any(), a.tag_names))
     }
 
+    /// The surfaces' typed edges (Genr8/HEMLS growth): (positions (N, 3)
+    /// float32, +y up as in `mesh()`, every surface's points one after the
+    /// other; edges (M, 2) uint32 into them; types (M,) int32, -1 for
+    /// untyped; {type: colour as sRGB in [0, 1]} for the types in use, the
+    /// GLB's `edge<N>` materials' colours). Empty arrays without surfaces.
+    #[allow(clippy::type_complexity)]
+    fn surface_edges<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyDict>)> {
+        let scene = genform_export::surfaces_y_up(self.scene());
+        let (mut points, mut edges, mut types) = (Vec::<f32>::new(), Vec::<u32>::new(), Vec::<i32>::new());
+        let colors = PyDict::new(py);
+        for surface in &scene.surfaces {
+            let base = (points.len() / 3) as u32;
+            points.extend(surface.positions.iter().flat_map(|p| p.to_array()));
+            for e in &surface.edges {
+                edges.extend([base + e.a, base + e.b]);
+                let kind = if e.kind == genform_core::SurfaceEdge::UNTYPED { -1 } else { e.kind as i32 };
+                types.push(kind);
+                if !colors.contains(kind)? {
+                    colors.set_item(kind, unit_rgb(genform_export::edge_color(e.kind)))?;
+                }
+            }
+        }
+        let (np, ne) = (points.len() / 3, types.len());
+        let p = PyArray1::from_vec(py, points).reshape([np, 3])?;
+        let e = PyArray1::from_vec(py, edges).reshape([ne, 2])?;
+        Ok((p.into_any(), e.into_any(), PyArray1::from_vec(py, types).into_any(), colors))
+    }
+
     /// The display colour of each group of `face_tags()` (same order), as
     /// sRGB in [0, 1]: the colours of the GLB's materials (tags through the
     /// tag palette, block states through the block palette).

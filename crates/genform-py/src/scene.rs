@@ -56,6 +56,26 @@ fn genome_of(model: &Model) -> PyResult<&genform_core::Genome> {
 
 #[pymethods]
 impl Scene {
+    /// The names of the algorithms that can evolve the scene config at
+    /// `path`, tree or codon scene, its default first (`evolve()`'s
+    /// `algorithm` values: `ga` … `map-elites`, `random` for tree scenes;
+    /// `ge`, `random` for codon scenes).
+    #[staticmethod]
+    fn algorithms_for(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<Vec<&'static str>> {
+        let path = path_arg(path)?;
+        let scene = py.detach(|| genform_app::Scene::load(&path, &[])).or_raise()?;
+        let default = scene.algorithm(None).or_raise()?;
+        let mut names = scene.algorithms();
+        names.sort_by_key(|n| *n != default);
+        Ok(names)
+    }
+
+    /// The names of the algorithms that can evolve this scene, its default first.
+    #[getter]
+    fn algorithms(&self, py: Python<'_>) -> PyResult<Vec<&'static str>> {
+        Scene::algorithms_for(py, &pyo3::types::PyString::new(py, &self.path()).into_any())
+    }
+
     /// The scene file.
     #[getter]
     fn path(&self) -> String {
