@@ -1,6 +1,7 @@
 //! Where a grammar's mesh and footprint files come from: the door that
 //! compiles a grammar knows where its files lie, the compiler does not.
 
+use crate::footprint::{FootprintLot, FootprintSet, LotProps};
 use genform_core::Mesh;
 
 /// Loads the mesh assets a grammar declares with `mesh name = "path";`.
@@ -14,6 +15,27 @@ pub trait AssetResolver {
     /// world `(x, z)` corners per polygon.
     fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
         Err(format!("no footprint files are available here (asked for \"{path}\")"))
+    }
+
+    /// Loads the footprints at `path` with what the file says of each lot
+    /// (its properties, its name in messages), where the origin of the
+    /// local frame lies, and which lots were skipped and why. By default,
+    /// [`AssetResolver::load_footprints`] without properties.
+    fn load_footprint_set(&self, path: &str) -> Result<FootprintSet, String> {
+        let lots = self.load_footprints(path)?;
+        Ok(FootprintSet {
+            lots: lots
+                .into_iter()
+                .enumerate()
+                .map(|(k, corners)| FootprintLot {
+                    corners,
+                    label: format!("footprint {}", k + 1),
+                    props: LotProps { index: k as f64, ..LotProps::default() },
+                })
+                .collect(),
+            origin: None,
+            skipped: Vec::new(),
+        })
     }
 }
 

@@ -87,6 +87,15 @@ pub(crate) struct SlotDecl {
 pub(crate) enum Arg {
     Expr(ExprSrc),
     Str(String, Span),
+    /// `name = value` (only roofs take them): the name and its span, the
+    /// value (an expression or a string; several for a list `[a, b, …]`)
+    /// and whether it was written as a list.
+    Named {
+        name: String,
+        span: Span,
+        value: Vec<Arg>,
+        list: bool,
+    },
 }
 
 impl Arg {
@@ -94,6 +103,7 @@ impl Arg {
         match self {
             Arg::Expr(e) => e.span(),
             Arg::Str(_, s) => *s,
+            Arg::Named { span, .. } => *span,
         }
     }
 }

@@ -7,5 +7,8 @@ pub(crate) const ENV_SX: usize = 0;
 pub(crate) const ENV_DEPTH: usize = 3;
 pub(crate) const ENV_INDEX: usize = 4;
 pub(crate) const ENV_COUNT: usize = 5;
+/// The first of the `lot.*` values ([`crate::LotProps`], in its order).
+pub(crate) const ENV_LOT: usize = 6;
 /// Names of the built-in variables, in env order.
-pub(crate) const BUILTINS: [&str; 6] = ["sx", "sy", "sz", "depth", "index", "count"];
+pub(crate) const BUILTINS: [&str; 11] =
+    ["sx", "sy", "sz", "depth", "index", "count", "lot.height", "lot.min_height", "lot.levels", "lot.use", "lot.index"];

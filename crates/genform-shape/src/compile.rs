@@ -46,6 +46,8 @@ pub(crate) fn compile(
     let mut rules: Vec<Rule> = Vec::new();
     let mut footprints = Vec::new();
     let mut footprints_at = None;
+    let mut footprint_props = Vec::new();
+    let mut footprint_origin = None;
     let mut context: Option<(Mesh, Span)> = None;
     for item in items {
         match item {
@@ -99,19 +101,37 @@ pub(crate) fn compile(
                     continue;
                 }
                 footprints_at = Some(pspan);
-                match assets.load_footprints(&path) {
-                    Ok(polys) if polys.is_empty() => errors.push(
+                match assets.load_footprint_set(&path) {
+                    Ok(set) if set.lots.is_empty() && set.skipped.is_empty() => errors.push(
                         Diagnostic::error(pspan, format!("\"{path}\" holds no footprint"))
                             .with_hint("a GeoJSON file of Polygon or MultiPolygon features, or an OBJ file of faces facing up (+y)"),
                     ),
-                    Ok(polys) => {
-                        for (k, corners) in polys.iter().enumerate() {
-                            match crate::footprint::outline(corners) {
-                                Ok(lot) => footprints.push(lot),
-                                Err(why) => errors
-                                    .push(Diagnostic::error(pspan, format!("footprint {} of \"{path}\" {why}", k + 1))),
+                    Ok(set) => {
+                        let mut skipped = set.skipped;
+                        for lot in &set.lots {
+                            match crate::footprint::outline(&lot.corners) {
+                                Ok(outline) => {
+                                    footprints.push(outline);
+                                    footprint_props.push(lot.props);
+                                }
+                                Err(why) => skipped.push(format!("{} {why}", lot.label)),
                             }
                         }
+                        if footprints.is_empty() {
+                            let first = skipped.first().cloned().unwrap_or_default();
+                            errors.push(Diagnostic::error(
+                                pspan,
+                                format!("\"{path}\" holds no usable footprint ({} skipped; {first})", skipped.len()),
+                            ));
+                        } else {
+                            for why in skipped {
+                                warnings.push(Diagnostic::warning(
+                                    pspan,
+                                    format!("footprints \"{path}\": {why}; the lot is skipped"),
+                                ));
+                            }
+                        }
+                        footprint_origin = set.origin;
                     }
                     Err(msg) => errors.push(
                         Diagnostic::error(pspan, format!("cannot load footprints from \"{path}\": {msg}"))
@@ -274,8 +294,11 @@ pub(crate) fn compile(
         check,
         occlusion,
         footprints,
+        footprint_props,
+        footprint_origin,
         context,
         start_lot: None,
+        start_props: Default::default(),
         limits_at,
         color_tags,
         base_tags,

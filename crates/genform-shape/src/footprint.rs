@@ -13,6 +13,54 @@ use crate::polygon::area2;
 use glam::DVec2;
 use std::sync::Arc;
 
+/// What a footprint file says of one lot, read in a grammar as `lot.height`,
+/// `lot.min_height`, `lot.levels`, `lot.use` and `lot.index` (0 where the
+/// file says nothing, and in runs on no footprint).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LotProps {
+    /// Height in metres (OSM `height`).
+    pub height: f64,
+    /// Height of the lowest floor's bottom in metres (OSM `min_height`).
+    pub min_height: f64,
+    /// Storeys above ground (OSM `building:levels`).
+    pub levels: f64,
+    /// Use class of OSM `building`: 0 unknown or `yes`, 1 residential, 2
+    /// commercial, 3 industrial, 4 civic, 5 outbuilding.
+    pub use_class: f64,
+    /// The lot's number in its file (features from 0).
+    pub index: f64,
+}
+
+impl LotProps {
+    /// The values in the env order of the `lot.*` built-ins.
+    pub(crate) fn to_array(self) -> [f64; 5] {
+        [self.height, self.min_height, self.levels, self.use_class, self.index]
+    }
+}
+
+/// One lot of a footprint file.
+#[derive(Clone, Debug)]
+pub struct FootprintLot {
+    /// World `(x, z)` corners, either winding.
+    pub corners: Vec<[f64; 2]>,
+    /// Its name in messages (`feature 12 ("way/123")`).
+    pub label: String,
+    /// What the file says of it.
+    pub props: LotProps,
+}
+
+/// The lots of a footprint file.
+#[derive(Clone, Debug, Default)]
+pub struct FootprintSet {
+    /// The lots, in file order.
+    pub lots: Vec<FootprintLot>,
+    /// Where the world origin lies in the file's coordinates, when the
+    /// reader moved it (projected or far-off footprints).
+    pub origin: Option<String>,
+    /// The lots left out, each with why.
+    pub skipped: Vec<String>,
+}
+
 /// Most corners of one footprint (as for `lot`).
 pub const MAX_CORNERS: usize = 1024;
 
@@ -48,13 +96,26 @@ impl ShapeGrammar {
     /// winding): sampling and expressing start on that lot. An invalid
     /// footprint is an error saying why.
     pub fn on_footprint(&self, corners: &[[f64; 2]]) -> Result<ShapeGrammar, String> {
+        self.on_footprint_with(corners, LotProps::default())
+    }
+
+    /// [`ShapeGrammar::on_footprint`] with the lot's properties, which its
+    /// rules read as `lot.height`, `lot.levels`, ….
+    pub fn on_footprint_with(&self, corners: &[[f64; 2]], props: LotProps) -> Result<ShapeGrammar, String> {
         let lot = outline(corners)?;
-        Ok(ShapeGrammar { start_lot: Some(lot), ..self.clone() })
+        Ok(ShapeGrammar { start_lot: Some(lot), start_props: props, ..self.clone() })
     }
 
     /// The grammar set on its `k`-th declared footprint.
     pub fn on_declared_footprint(&self, k: usize) -> Option<ShapeGrammar> {
         let lot = self.footprints.get(k)?.clone();
-        Some(ShapeGrammar { start_lot: Some(lot), ..self.clone() })
+        let props = self.footprint_props.get(k).copied().unwrap_or_default();
+        Some(ShapeGrammar { start_lot: Some(lot), start_props: props, ..self.clone() })
+    }
+
+    /// Where the world origin of the declared footprints lies in their
+    /// file's coordinates, when the reader moved it.
+    pub fn footprint_origin(&self) -> Option<&str> {
+        self.footprint_origin.as_deref()
     }
 }

@@ -179,6 +179,34 @@ pub(crate) fn pyramid_mesh(foot: &[DVec2], h: f64) -> Mesh {
     to_mesh("taper", &pos, tris)
 }
 
+/// The frustum over a counter-clockwise polygon (in the xy plane): its top
+/// the polygon scaled by `s` (0 < s ≤ 1) about its area centroid, `h`
+/// above; the base facing −z, one quad per edge. Empty for a degenerate
+/// polygon or `h` = 0.
+pub(crate) fn frustum_mesh(foot: &[DVec2], h: f64, s: f64) -> Mesh {
+    let a2 = area2(foot);
+    if foot.len() < 3 || a2 <= 0.0 || h <= 0.0 {
+        return Mesh { name: "taper".into(), ..Mesh::default() };
+    }
+    let c = centroid(foot);
+    let n = foot.len() as u32;
+    let mut pos: Vec<DVec3> = foot.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    pos.extend(foot.iter().map(|p| {
+        let q = c + (*p - c) * s;
+        DVec3::new(q.x, q.y, h)
+    }));
+    let base: Vec<Vec3> = pos[..foot.len()].iter().map(|p| p.as_vec3()).collect();
+    let cap = triangulate_polygon(&base);
+    let mut tris: Vec<[u32; 3]> = cap.iter().map(|t| [t[2], t[1], t[0]]).collect();
+    tris.extend(cap.iter().map(|t| [t[0] + n, t[1] + n, t[2] + n]));
+    for i in 0..n {
+        let j = (i + 1) % n;
+        tris.push([i, j, j + n]);
+        tris.push([i, j + n, i + n]);
+    }
+    to_mesh("taper", &pos, tris)
+}
+
 /// Most corners of a roof footprint.
 pub(crate) const MAX_ROOF_CORNERS: usize = 256;
 
@@ -221,8 +249,10 @@ impl Plane {
     }
 }
 
-/// The roof planes of `kind` over a convex counter-clockwise footprint.
-fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64) -> Vec<Plane> {
+/// The roof planes of `kind` over a convex counter-clockwise footprint;
+/// `dir` (a unit vector) turns a gable's ridge along it, or a shed's slope
+/// up it.
+fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64, dir: Option<DVec2>) -> Vec<Plane> {
     let n = p.len();
     let (lo, hi) = bbox(p).unwrap_or_default();
     // Inward unit normal of edge i and its base point.
@@ -258,6 +288,16 @@ fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64) -> Vec<Plane> {
                     })
                 })
                 .collect()
+        }
+        RoofKind::Gable if let Some(r) = dir => {
+            let m = DVec2::new(-r.y, r.x);
+            let (lo, hi) =
+                p.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| (a.min(m.dot(*q)), b.max(m.dot(*q))));
+            vec![Plane { g: m * t, c: -t * lo }, Plane { g: -m * t, c: t * hi }]
+        }
+        RoofKind::Shed if let Some(u) = dir => {
+            let lo = p.iter().map(|q| u.dot(*q)).fold(f64::INFINITY, f64::min);
+            vec![Plane { g: u * t, c: -t * lo }]
         }
         RoofKind::Gable => {
             let along_x = hi.x - lo.x >= hi.y - lo.y;
@@ -398,16 +438,121 @@ fn skeleton_roof(f: &[DVec2], t: f64) -> Result<Mesh, String> {
 /// counter-clockwise seen from outside and share their corners exactly, so
 /// the mesh is closed (every edge used once each way).
 pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f64) -> Result<Mesh, String> {
+    let opts = RoofOpts { overhang: vec![overhang; foot.len()], ridge: None, ends: None, gables: false };
+    roof_meshes(foot, kind, angle, &opts).map(|(m, _)| m)
+}
+
+/// How a roof is laid on its footprint (edge `i` runs from corner `i` to
+/// `i + 1`).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct RoofOpts {
+    /// The overhang of each edge (≥ 0).
+    pub overhang: Vec<f64>,
+    /// The edge a gable's ridge runs along, or a shed's slope rises from
+    /// (its eaves); `None`: along the longer side, or up +y.
+    pub ridge: Option<usize>,
+    /// The overhang of the gable ends (gable and shed: the edges more across
+    /// the ridge than along it), in place of `overhang` there.
+    pub ends: Option<f64>,
+    /// Whether the gable walls that lie in the footprint's edges (where
+    /// those have no overhang) form a mesh of their own.
+    pub gables: bool,
+}
+
+/// A footprint grown by `d[i]` outwards along each edge `i` (mitred
+/// corners; a step between parallel neighbours of different overhangs).
+fn offset_edges(p: &[DVec2], d: &[f64]) -> Vec<DVec2> {
+    let n = p.len();
+    let line = |i: usize| {
+        let (a, b) = (p[i], p[(i + 1) % n]);
+        let dir = (b - a).normalize_or_zero();
+        (a + DVec2::new(dir.y, -dir.x) * d[i], dir)
+    };
+    let mut q: Vec<DVec2> = Vec::with_capacity(n + 2);
+    for (i, &corner) in p.iter().enumerate() {
+        let (p0, d0) = line((i + n - 1) % n);
+        let (p1, d1) = line(i);
+        let cr = d0.perp_dot(d1);
+        if cr.abs() <= 1e-12 {
+            q.push(p0 + d0 * (corner - p0).dot(d0));
+            q.push(p1);
+        } else {
+            q.push(p0 + d0 * ((p1 - p0).perp_dot(d1) / cr));
+        }
+    }
+    let (lo, hi) = bbox(&q).unwrap_or_default();
+    let eps = 1e-12 * (hi - lo).length();
+    q.dedup_by(|a, b| a.distance(*b) <= eps);
+    while q.len() > 1 && q[0].distance(q[q.len() - 1]) <= eps {
+        q.pop();
+    }
+    q
+}
+
+/// The mesh of the triangles `tris` of `pos`, without the unused points.
+fn compact_mesh(name: &str, pos: &[DVec3], tris: &[[u32; 3]]) -> Mesh {
+    let mut map = vec![u32::MAX; pos.len()];
+    let mut used = Vec::new();
+    let tris = tris
+        .iter()
+        .map(|t| {
+            t.map(|i| {
+                if map[i as usize] == u32::MAX {
+                    map[i as usize] = used.len() as u32;
+                    used.push(pos[i as usize]);
+                }
+                map[i as usize]
+            })
+        })
+        .collect();
+    to_mesh(name, &used, tris)
+}
+
+/// The roof of [`roof_mesh`] laid as `opts` says, and the gable walls
+/// apart when `opts.gables` (else an empty mesh).
+pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &RoofOpts) -> Result<(Mesh, Mesh), String> {
     let name = kind.name();
+    let no_walls = || Mesh { name: "gable".into(), ..Mesh::default() };
+    if opts.overhang.len() != foot.len() {
+        return Err(format!("`{name}`: {} overhangs for {} edges", opts.overhang.len(), foot.len()));
+    }
+    if let Some(&o) = opts.overhang.iter().chain(&opts.ends).find(|o| !(**o >= 0.0 && o.is_finite())) {
+        return Err(format!("`{name}`: the overhang must be a finite number ≥ 0, found {o}"));
+    }
+    // The ridge's direction and the gable ends.
+    let n = foot.len();
+    let dir_of = |i: usize| (foot[(i + 1) % n] - foot[i]).normalize_or_zero();
+    let dir = opts.ridge.filter(|&i| i < n).map(|i| match kind {
+        RoofKind::Shed => dir_of(i).perp(),
+        _ => dir_of(i),
+    });
+    let mut overhangs = opts.overhang.clone();
+    if let Some(e) = opts.ends.filter(|_| matches!(kind, RoofKind::Gable | RoofKind::Shed)) {
+        let r = match (kind, dir) {
+            (RoofKind::Shed, Some(u)) => u.perp(),
+            (_, Some(r)) => r,
+            (RoofKind::Shed, None) => DVec2::X,
+            _ => {
+                let (lo, hi) = bbox(foot).unwrap_or_default();
+                if hi.x - lo.x >= hi.y - lo.y { DVec2::X } else { DVec2::Y }
+            }
+        };
+        for (i, o) in overhangs.iter_mut().enumerate() {
+            let d = dir_of(i);
+            if d.dot(r).abs() < d.perp_dot(r).abs() {
+                *o = e;
+            }
+        }
+    }
+    let uniform = overhangs.iter().all(|o| *o == overhangs[0]);
+    let overhang = if uniform { overhangs.first().copied().unwrap_or(0.0) } else { 0.0 };
     if !(angle > 0.0 && angle < 90.0) {
         return Err(format!("`{name}`: the slope angle must lie strictly between 0 and 90 degrees, found {angle}"));
     }
-    if !(overhang >= 0.0 && overhang.is_finite()) {
-        return Err(format!("`{name}`: the overhang must be a finite number ≥ 0, found {overhang}"));
-    }
     if foot.len() < 3 || area2(foot) <= 0.0 {
-        return Ok(Mesh { name: "roof".into(), ..Mesh::default() });
+        return Ok((Mesh { name: "roof".into(), ..Mesh::default() }, no_walls()));
     }
+    let grow = |p: &[DVec2]| if uniform { offset_miter(p, overhang) } else { offset_edges(p, &overhangs) };
     if foot.len() > MAX_ROOF_CORNERS {
         return Err(format!(
             "`{name}`: a roof footprint has at most {MAX_ROOF_CORNERS} corners, found {} (building the roof is cubic in them)",
@@ -421,16 +566,17 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
                  footprint into convex parts"
             ));
         }
-        let f = offset_miter(foot, overhang);
+        let f = grow(foot);
         if f.len() < 3 || !is_simple(&f) || area2(&f) <= 0.0 {
+            let o = overhangs.iter().copied().fold(0.0, f64::max);
             return Err(format!(
-                "`{name}`: an overhang of {overhang} makes this concave footprint's outline cross itself; use a smaller one"
+                "`{name}`: an overhang of {o} makes this concave footprint's outline cross itself; use a smaller one"
             ));
         }
-        return skeleton_roof(&f, angle.to_radians().tan());
+        return Ok((skeleton_roof(&f, angle.to_radians().tan())?, no_walls()));
     }
-    let f = offset_miter(foot, overhang);
-    let planes = roof_planes(&f, kind, angle.to_radians().tan());
+    let f = grow(foot);
+    let planes = roof_planes(&f, kind, angle.to_radians().tan(), dir);
     let (lo, hi) = bbox(&f).unwrap_or_default();
     let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
     let eps = 1e-9 * scale;
@@ -438,6 +584,13 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
     let mut weld = Weld { pts: Vec::new(), eps };
     for q in &f {
         weld.id(*q);
+    }
+    if opts.gables {
+        // The footprint's corners on the outline split its edges where the
+        // overhang changes, so that the gable walls end at the façade.
+        for q in foot {
+            weld.id(*q);
+        }
     }
     // Top regions: where each plane is the lowest.
     let mut regions: Vec<(usize, Vec<usize>)> = Vec::new();
@@ -488,15 +641,26 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
     let ring = full_ring(&pts, &corners, eps);
     let cf = centroid(&f);
     fan(&mut pos, &ring, DVec3::new(cf.x, cf.y, 0.0), true, &mut tris);
-    // Walls: between the bottom ring and the roof along each edge.
+    // Walls: between the bottom ring and the roof along each edge; with
+    // `gables` those in the footprint's edges go to `walls`.
+    let in_foot = |m: DVec2| {
+        (0..foot.len()).any(|i| {
+            let (a, b) = (foot[i], foot[(i + 1) % foot.len()]);
+            let d = b - a;
+            let s = ((m - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+            (a + d * s).distance(m) <= 1e-7 * scale
+        })
+    };
+    let mut walls: Vec<[u32; 3]> = Vec::new();
     for k in 0..ring.len() {
         let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
         let (ta, tb) = (top[a], top[b]);
+        let out = if opts.gables && in_foot((pts[a] + pts[b]) * 0.5) { &mut walls } else { &mut tris };
         if tb != b {
-            tris.push([a as u32, b as u32, tb as u32]);
+            out.push([a as u32, b as u32, tb as u32]);
         }
         if ta != a {
-            tris.push([a as u32, tb as u32, ta as u32]);
+            out.push([a as u32, tb as u32, ta as u32]);
         }
     }
     // Roof faces, each with every point on its edges.
@@ -509,7 +673,10 @@ pub(crate) fn roof_mesh(foot: &[DVec2], kind: RoofKind, angle: f64, overhang: f6
         let ring: Vec<usize> = r.iter().map(|&k| top[k]).collect();
         fan(&mut pos, &ring, DVec3::new(c2.x, c2.y, planes[*i].at(c2).max(0.0)), false, &mut tris);
     }
-    Ok(to_mesh("roof", &pos, tris))
+    if walls.is_empty() {
+        return Ok((to_mesh("roof", &pos, tris), no_walls()));
+    }
+    Ok((compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls)))
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ pub(crate) mod occlusion;
 mod pieces;
 mod scope_geom;
 
-use crate::builtins::{ENV_COUNT, ENV_DEPTH, ENV_INDEX, ENV_SX};
+use crate::builtins::{ENV_COUNT, ENV_DEPTH, ENV_INDEX, ENV_LOT, ENV_SX};
 use crate::fast_expr::Fast;
 use crate::grammar::ShapeGrammar;
 use crate::program::*;
@@ -407,7 +407,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             Op::Extrude(e) => self.extrude(rule, e)?,
             Op::Taper { height, span } => self.taper(rule, height, span)?,
             Op::Shape(_) => self.shape(rule)?,
-            Op::Roof { kind, args, span } => self.roof(rule, kind, args, span)?,
+            op @ Op::Roof { .. } => self.roof(rule, op)?,
             Op::CompBegin { kind, args, first, n, span } => self.comp_begin(rule, kind, args, first, n, span)?,
             Op::CompArm { arm, end } => self.comp_arm(arm, end),
             Op::CompNext { arm, body } => self.comp_next(arm, body),
@@ -651,6 +651,7 @@ fn enter<'g>(
     st.env[env + ENV_DEPTH] = depth as f64;
     st.env[env + ENV_INDEX] = 0.0;
     st.env[env + ENV_COUNT] = 1.0;
+    st.env[env + ENV_LOT..env + ENV_LOT + 5].copy_from_slice(&g.start_props.to_array());
     let counters = st.counters.len();
     st.counters.extend(std::iter::repeat_n(0, rule.slots.len()));
     (Frame { sym, gene, pc: 0, depth, env, counters }, rule)

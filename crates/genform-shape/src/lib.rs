@@ -45,6 +45,7 @@ use genform_core::{
 };
 
 pub use assets::{AssetResolver, NoAssets};
+pub use footprint::{FootprintLot, FootprintSet, LotProps};
 pub use grammar::ShapeGrammar;
 
 impl Generator for ShapeGrammar {

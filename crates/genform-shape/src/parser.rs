@@ -561,11 +561,23 @@ impl<'a> Parser<'a> {
             let mut args = Vec::new();
             if !self.is(&Tok::RParen) {
                 loop {
-                    if let Tok::Str(s) = &self.tok.kind {
-                        let s = s.clone();
-                        args.push(Arg::Str(s, self.bump().span));
+                    if let Some(name) = self.named_arg() {
+                        let span = self.bump().span;
+                        self.expect(Tok::Eq, "after the name of a named argument")?;
+                        let list = self.eat(&Tok::LBracket);
+                        let mut value = Vec::new();
+                        loop {
+                            value.push(self.plain_arg()?);
+                            if !list || !self.eat(&Tok::Comma) {
+                                break;
+                            }
+                        }
+                        if list {
+                            self.expect(Tok::RBracket, "to close the list")?;
+                        }
+                        args.push(Arg::Named { name, span, value, list });
                     } else {
-                        args.push(Arg::Expr(self.expr()?));
+                        args.push(self.plain_arg()?);
                     }
                     if !self.eat(&Tok::Comma) {
                         break;
@@ -578,6 +590,23 @@ impl<'a> Parser<'a> {
             None
         };
         Ok((target, args))
+    }
+
+    /// The name of a named argument `name = value` starting here (one `=`,
+    /// not `==`).
+    fn named_arg(&self) -> Option<String> {
+        let Tok::Ident(name) = &self.tok.kind else { return None };
+        let rest = self.src[self.tok.span.end as usize..].trim_start();
+        (rest.starts_with('=') && !rest.starts_with("==")).then(|| name.clone())
+    }
+
+    /// A string or an expression argument.
+    fn plain_arg(&mut self) -> PResult<Arg> {
+        if let Tok::Str(s) = &self.tok.kind {
+            let s = s.clone();
+            return Ok(Arg::Str(s, self.bump().span));
+        }
+        Ok(Arg::Expr(self.expr()?))
     }
 
     fn split(&mut self) -> PResult<Stmt> {
@@ -673,6 +702,10 @@ impl<'a> Parser<'a> {
                 Arg::Expr(e) => exprs.push(e),
                 Arg::Str(_, span) => {
                     let d = Diagnostic::error(span, format!("`{}` takes numbers, not a string", target.name));
+                    return Err(self.error(d));
+                }
+                Arg::Named { span, .. } => {
+                    let d = Diagnostic::error(span, format!("`{}` takes no named arguments", target.name));
                     return Err(self.error(d));
                 }
             }

@@ -145,6 +145,21 @@ pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
     found.ok_or(known)
 }
 
+/// `ridge` of [`Op::Roof`] given as an edge index (else 0, along the
+/// longer side, or a side's class bit).
+pub(crate) const RIDGE_INDEX: u8 = 0x80;
+
+/// The class bit of an edge side `front`, `back`, `left` or `right`.
+pub(crate) fn edge_side(name: &str) -> Option<u8> {
+    match name {
+        "front" => Some(FACE_FRONT),
+        "back" => Some(FACE_BACK),
+        "left" => Some(FACE_LEFT),
+        "right" => Some(FACE_RIGHT),
+        _ => None,
+    }
+}
+
 /// The face classes a `comp(f)` selector names.
 pub(crate) fn face_selector(name: &str) -> Option<u8> {
     let side = SIDE;
@@ -232,18 +247,29 @@ pub(crate) enum Op {
     },
     /// `extrude(h)`: polygon scope → mass.
     Extrude(u32),
-    /// `taper(h)`: the pyramid of height `h` over a polygon scope.
+    /// `taper(h, s)`: the pyramid (`s` = 0) or frustum of height `h` over a
+    /// polygon scope, its top the polygon scaled by `s` about its centroid;
+    /// `s` at `height + 1` (zero when not written).
     Taper {
         height: u32,
         span: u32,
     },
     /// `shape;`: emits the scope's geometry (`span` for errors).
     Shape(u32),
-    /// `roof_*(angle, overhang)`: angle and overhang at `args`, `args + 1`.
+    /// `roof_*(angle, overhang, …)`: angle, overhang, ridge edge index and
+    /// gable-end overhang at `args` to `args + 3`, then `n` per-edge
+    /// overhangs. `ridge`: 0 along the longer side, a side's class bit, or
+    /// `RIDGE_INDEX` (the edge index expression); `ends`: whether the
+    /// gable-end overhang is given; `gables`: the tag of the gable walls
+    /// (`u32::MAX`: they stay roof).
     Roof {
         kind: u8,
+        ridge: u8,
+        ends: bool,
         args: u32,
+        n: u32,
         span: u32,
+        gables: u32,
     },
     /// Computes the pieces of a component split (`CompKind as u8`; its
     /// arguments are the expressions from `args`) and the arm of each,

@@ -452,3 +452,136 @@ proptest::proptest! {
         }
     }
 }
+
+/// World vertices of mesh instance `k`.
+fn world_points(s: &Scene, k: usize) -> Vec<Vec3> {
+    let Primitive::Mesh(m) = s.instances[k].primitive else { panic!("{:?}", s.instances[k].primitive) };
+    let t = s.instances[k].transform;
+    s.meshes[m as usize].positions.iter().map(|p| t.transform_point3(*p)).collect()
+}
+
+/// Four terraced houses 6 m wide along the street (world +z) and 10 m
+/// deep, with gable roofs `roof` on their top faces.
+fn terrace(roof: &str) -> Scene {
+    scene(&format!(
+        "A {{ lot(24, 10); split(x) {{ 6: H | 6: H | 6: H | 6: H }} }}
+         H {{ extrude(6); comp(f) {{ side: {{ tag(\"wall\"); shape; }} | top: {{ tag(\"roof\"); {roof} }} }} }}"
+    ))
+}
+
+#[test]
+fn terraced_gables_turn_their_ridge_to_the_street() {
+    for roof in [
+        "roof_gable(40, 0.5, ridge = front, ends = 0, gables = \"wall\");",
+        "roof_gable(40, ridge = 0, overhang = [0.5, 0, 0.5, 0], gables = \"wall\");",
+        "roof_gable(40, overhang = 0.5, ridge = back, ends = 0, gables = \"wall\");",
+    ] {
+        let s = terrace(roof);
+        let tag = |name: &str| s.tags.iter().position(|t| t == name).unwrap() as u32;
+        let (roof_tag, wall_tag) = (tag("roof"), tag("wall"));
+        let roofs: Vec<usize> = (0..s.instances.len()).filter(|&k| s.instances[k].tag == roof_tag).collect();
+        assert_eq!(roofs.len(), 4, "{roof}");
+        for &k in &roofs {
+            let p = world_points(&s, k);
+            let cx = p.iter().map(|q| q.x).sum::<f32>() / p.len() as f32;
+            let x0 = -12.0 + 6.0 * ((cx + 12.0) / 6.0).floor();
+            // No overhang at the party walls, 0.5 at the street and back.
+            assert!(p.iter().all(|q| q.x >= x0 - 1e-4 && q.x <= x0 + 6.0 + 1e-4), "{roof}: {p:?}");
+            let (zlo, zhi) = p.iter().fold((f32::MAX, f32::MIN), |(a, b), q| (a.min(q.z), b.max(q.z)));
+            assert!((zlo + 5.5).abs() < 1e-4 && (zhi - 5.5).abs() < 1e-4, "{roof}: {zlo} {zhi}");
+            // The ridge: the highest points, a segment along the street.
+            let top = p.iter().map(|q| q.y).fold(f32::MIN, f32::max);
+            let ridge: Vec<Vec3> = p.iter().copied().filter(|q| q.y > top - 1e-4).collect();
+            let (rlo, rhi) = ridge.iter().fold((f32::MAX, f32::MIN), |(a, b), q| (a.min(q.x), b.max(q.x)));
+            assert!(ridge.iter().all(|q| q.z.abs() < 1e-4), "{roof}: {ridge:?}");
+            assert!((rlo - x0).abs() < 1e-4 && (rhi - x0 - 6.0).abs() < 1e-4, "{roof}: {ridge:?}");
+            assert!((top - 6.0 - 5.5 * 40f32.to_radians().tan()).abs() < 1e-3, "{roof}: {top}");
+        }
+        // The gable triangles: walls in the party-wall planes, within the
+        // façades, on top of the mass.
+        let gables: Vec<usize> = (0..s.instances.len())
+            .filter(|&k| s.instances[k].tag == wall_tag && matches!(s.instances[k].primitive, Primitive::Mesh(_)))
+            .collect();
+        assert_eq!(gables.len(), 4, "{roof}");
+        for &k in &gables {
+            let p = world_points(&s, k);
+            let cx = p.iter().map(|q| q.x).sum::<f32>() / p.len() as f32;
+            let x0 = -12.0 + 6.0 * ((cx + 12.0) / 6.0).floor();
+            assert!(p.iter().all(|q| q.z.abs() <= 5.0 + 1e-4 && q.y >= 6.0 - 1e-4), "{roof}: {p:?}");
+            let Primitive::Mesh(m) = s.instances[k].primitive else { unreachable!() };
+            let mut area = 0.0;
+            for t in &s.meshes[m as usize].triangles {
+                let [a, b, c] = t.map(|i| p[i as usize]);
+                // Each triangle in a party wall's plane.
+                assert!([a, b, c].iter().all(|q| (q.x - a.x).abs() < 1e-4), "{roof}: {a} {b} {c}");
+                assert!((a.x - x0).abs() < 1e-4 || (a.x - x0 - 6.0).abs() < 1e-4, "{roof}: {a} {x0}");
+                area += (b - a).cross(c - a).length() / 2.0;
+            }
+            // The gables over the two 10 m walls: the roof rises from the
+            // eaves 0.5 m out, so each is 0.5 tan 40° high at the façades
+            // and 5.5 tan 40° at the ridge: 10 · 3 tan 40° each.
+            assert!((area - 60.0 * 40f32.to_radians().tan()).abs() < 1e-3, "{roof}: {area}");
+        }
+        // The roof and its gables together close the solid: a prism of
+        // 6 m over a triangle 11 m wide per house.
+        let vol: f32 = roofs.iter().chain(&gables).map(|&k| world_volume(&s, k)).sum();
+        let want = 4.0 * 6.0 * 11.0 * 5.5 * 40f32.to_radians().tan() / 2.0;
+        assert!((vol - want).abs() < 1e-2, "{roof}: {vol} {want}");
+    }
+}
+
+#[test]
+fn roof_ridge_overhangs_and_gables() {
+    // Without a ridge the 6 × 10 plot's ridge runs along its depth.
+    let s = terrace("roof_gable(40);");
+    let p = world_points(&s, s.instances.iter().position(|i| matches!(i.primitive, Primitive::Mesh(_))).unwrap());
+    let top = p.iter().map(|q| q.y).fold(f32::MIN, f32::max);
+    let ridge: Vec<&Vec3> = p.iter().filter(|q| q.y > top - 1e-4).collect();
+    assert!(ridge.iter().any(|q| q.z > 4.9) && ridge.iter().any(|q| q.z < -4.9), "{ridge:?}");
+    // A shed with its eaves at the back edge rises towards the front.
+    let s = scene("A { lot(10, 6); extrude(4); comp(f) { top: roof_shed(45, ridge = back) } }");
+    let p = world_points(&s, 0);
+    let top = p.iter().map(|q| q.y).fold(f32::MIN, f32::max);
+    assert!((top - 10.0).abs() < 1e-4 && p.iter().filter(|q| q.y > top - 1e-4).all(|q| (q.z - 3.0).abs() < 1e-4));
+    // A hip roof with one overhang per edge.
+    let s = scene("A { lot(10, 6); roof_hip(45, overhang = [1, 0, 0, 0]); }");
+    let p = world_points(&s, 0);
+    let (zlo, zhi) = p.iter().fold((f32::MAX, f32::MIN), |(a, b), q| (a.min(q.z), b.max(q.z)));
+    assert!((zhi - 4.0).abs() < 1e-4 && (zlo + 3.0).abs() < 1e-4, "{zlo} {zhi}");
+    // Errors.
+    for (src, msg) in [
+        ("A { lot(2, 2); roof_gable(30, ridge = 4); }", "from 0 to 3"),
+        ("A { lot(2, 2); roof_gable(30, overhang = [1, 2]); }", "2 values, the polygon 4 edges"),
+    ] {
+        let e = try_scene(src).err().unwrap().to_string();
+        assert!(e.contains(msg), "{src}: {e}");
+    }
+    for (src, msg) in [
+        ("A { lot(2, 2); roof_hip(30, ridge = front); }", "takes no argument `ridge`"),
+        ("A { lot(2, 2); roof_gable(30, 1, overhang = 2); }", "given twice"),
+        ("A { lot(2, 2); roof_gable(30, gables = 1); }", "takes a quoted tag"),
+        ("A { lot(2, 2); extrude(width = 2); }", "no named arguments"),
+    ] {
+        let file = SourceFile::new("t.sg", src);
+        let e = match compile(&file, &NoAssets) {
+            Ok(_) => panic!("{src} compiled"),
+            Err(d) => d.short(),
+        };
+        assert!(e.contains(msg), "{src}: {e}");
+    }
+}
+
+#[test]
+fn taper_with_a_top_scale_raises_a_frustum() {
+    // On the 10 × 6 top face: a frustum 5 high, its top 5 × 3 over the
+    // centre; volume h/3 · (A + √(A·a) + a) = 5/3 · (60 + 30 + 15).
+    let s = scene("A { lot(10, 6); extrude(4); comp(f) { top: taper(5, 0.5) } }");
+    let p = world_points(&s, 0);
+    let top: Vec<&Vec3> = p.iter().filter(|q| (q.y - 9.0).abs() < 1e-4).collect();
+    assert_eq!(top.len(), 4);
+    assert!(top.iter().all(|q| (q.x.abs() - 2.5).abs() < 1e-4 && (q.z.abs() - 1.5).abs() < 1e-4), "{top:?}");
+    let vol = world_volume(&s, 0);
+    assert!((vol - 175.0).abs() < 1e-3, "{vol}");
+    let e = try_scene("A { lot(2, 2); taper(1, 2); }").err().unwrap().to_string();
+    assert!(e.contains("from 0 to 1"), "{e}");
+}

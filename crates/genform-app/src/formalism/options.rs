@@ -268,9 +268,9 @@ pub static SAMPLE_OPTIONS: &[SampleOption] = &[
         value_name: "LOTS.geojson|LOTS.obj",
         kind: ValueKind::InputFile,
         default: None,
-        help: "Shape grammars (.sg): derive once per lot of this GeoJSON file (Polygon and MultiPolygon features, \
-               metres) or OBJ file (faces facing up), lot k with seed SEED + k, instead of the `footprints` the \
-               grammar declares.",
+        help: "Shape grammars (.sg): derive once per lot of this GeoJSON file (Polygon and MultiPolygon features; \
+               longitude/latitude per RFC 7946, EPSG:3857 or metres, built around a local origin) or OBJ file \
+               (faces facing up), lot k with seed SEED + k, instead of the `footprints` the grammar declares.",
         studio: true,
         set: |r, v| r.footprints = Some(v.path()),
     },

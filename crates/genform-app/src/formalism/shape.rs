@@ -34,29 +34,72 @@ impl Formalism for ShapeGrammars {
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
-        let grammar = compile_file(path, |file| genform_shape::compile(file, &FileAssets::beside(path)))?;
+        let assets = ShapeAssets(FileAssets::beside(path), path.parent().unwrap_or(Path::new(".")).to_path_buf());
+        let grammar = compile_file(path, |file| genform_shape::compile(file, &assets))?;
         Ok(Box::new(grammar))
     }
 }
 
+/// The grammar file's assets, its footprints read with their properties,
+/// their local origin and the lots skipped ([`crate::footprints::read_lots`]).
+struct ShapeAssets(FileAssets, std::path::PathBuf);
+
+impl genform_shape::AssetResolver for ShapeAssets {
+    fn load_mesh(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {
+        genform_shape::AssetResolver::load_mesh(&self.0, path)
+    }
+
+    fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
+        genform_shape::AssetResolver::load_footprints(&self.0, path)
+    }
+
+    fn load_footprint_set(&self, path: &str) -> Result<genform_shape::FootprintSet, String> {
+        crate::footprints::read_lots(&self.1.join(path)).map_err(|e| format!("{e:#}"))
+    }
+}
+
+/// The lots a sample derives on, and where their origin lies.
+struct Lots {
+    grammars: Vec<ShapeGrammar>,
+    origin: Option<String>,
+}
+
 /// The grammar set on each footprint of `--footprints`, else on each it
-/// declares; empty when there are none.
-fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Vec<ShapeGrammar>> {
+/// declares; empty when there are none. A lot the grammar cannot stand on
+/// is skipped with a warning naming it; a file with no usable lot is an
+/// error.
+fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Lots> {
     match &request.footprints {
         Some(path) => {
-            let lots = crate::footprints::read_footprints(path)?;
-            if lots.is_empty() {
-                anyhow::bail!(
-                    "{} holds no footprint (a GeoJSON Polygon or MultiPolygon, or an OBJ face facing up)",
-                    path.display()
-                );
+            let set = crate::footprints::read_lots(path)?;
+            let mut skipped = set.skipped;
+            let mut grammars = Vec::with_capacity(set.lots.len());
+            for lot in &set.lots {
+                match g.on_footprint_with(&lot.corners, lot.props) {
+                    Ok(on) => grammars.push(on),
+                    Err(why) => skipped.push(format!("{} {why}", lot.label)),
+                }
             }
-            let on = |(k, c): (usize, &Vec<[f64; 2]>)| {
-                g.on_footprint(c).map_err(|why| anyhow::anyhow!("{}: footprint {} {why}", path.display(), k + 1))
-            };
-            lots.iter().enumerate().map(on).collect()
+            if grammars.is_empty() {
+                match skipped.first() {
+                    Some(why) => {
+                        anyhow::bail!("{} holds no usable footprint ({} skipped; {why})", path.display(), skipped.len())
+                    }
+                    None => anyhow::bail!(
+                        "{} holds no footprint (a GeoJSON Polygon or MultiPolygon, or an OBJ face facing up)",
+                        path.display()
+                    ),
+                }
+            }
+            for why in &skipped {
+                crate::notes::warn(&format!("warning: {}: {why}; the lot is skipped", path.display()));
+            }
+            Ok(Lots { grammars, origin: set.origin })
         }
-        None => Ok((0..g.footprints().len()).filter_map(|k| g.on_declared_footprint(k)).collect()),
+        None => Ok(Lots {
+            grammars: (0..g.footprints().len()).filter_map(|k| g.on_declared_footprint(k)).collect(),
+            origin: g.footprint_origin().map(str::to_string),
+        }),
     }
 }
 
@@ -102,7 +145,7 @@ impl LoadedGrammar for ShapeGrammar {
     fn sample(&self, request: &SampleRequest) -> Result<Box<dyn Sample>> {
         check_file_limits(self, request)?;
         let lots = on_lots(self, request)?;
-        if !lots.is_empty() {
+        if !lots.grammars.is_empty() {
             return sample_on_lots(self, &lots, request);
         }
         let limits = request.limits.apply(self.limits());
@@ -158,7 +201,10 @@ impl LoadedGrammar for ShapeGrammar {
 }
 
 /// One derivation per lot, lot `k` with seed `seed + k`, into one scene.
-fn sample_on_lots(g: &ShapeGrammar, lots: &[ShapeGrammar], request: &SampleRequest) -> Result<Box<dyn Sample>> {
+/// The summary names the origin when the footprints were moved to a local
+/// one (the scene has no place for it: exporters write what it holds).
+fn sample_on_lots(g: &ShapeGrammar, on: &Lots, request: &SampleRequest) -> Result<Box<dyn Sample>> {
+    let lots = &on.grammars;
     if request.genome_out.is_some() {
         anyhow::bail!(
             "--genome-out saves one genome, and each of the {} footprints has its own: sample one lot (a grammar \
@@ -178,8 +224,9 @@ fn sample_on_lots(g: &ShapeGrammar, lots: &[ShapeGrammar], request: &SampleReque
     }
     let (n, seed) = (lots.len(), request.seed);
     let primitives = scene.instances.len() + scene.polygons.len();
+    let origin = on.origin.as_ref().map_or(String::new(), |o| format!(", origin at {o}"));
     let summary = format!(
-        "{} seed {seed}: {n} footprints (seeds {seed}–{}), {genes} genes, {primitives} primitives",
+        "{} seed {seed}: {n} footprints (seeds {seed}–{}), {genes} genes, {primitives} primitives{origin}",
         g.name(),
         seed.wrapping_add(n as u64 - 1)
     );

@@ -258,7 +258,7 @@ fn random_error(span: Span) -> Diagnostic {
 
 /// Why a name cannot be declared by the user, if it cannot.
 pub(crate) fn reserved(name: &str) -> Option<&'static str> {
-    if BUILTINS.contains(&name) {
+    if BUILTINS.contains(&name) || name == "lot" {
         Some("a built-in variable")
     } else if EXPR_CONSTANTS.contains(&name) {
         Some("a built-in constant")

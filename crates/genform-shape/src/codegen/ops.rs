@@ -29,6 +29,10 @@ impl SymbolCx<'_> {
                     self.err(*span, format!("`{name}` takes numbers, not a string"));
                     return None;
                 }
+                Arg::Named { span, .. } => {
+                    self.err(*span, format!("`{name}` takes no named arguments"));
+                    return None;
+                }
             }
         }
         Some(out)
@@ -100,7 +104,7 @@ impl SymbolCx<'_> {
                         Some("z") => 2,
                         _ => 3,
                     },
-                    Arg::Str(..) => 3,
+                    _ => 3,
                 };
                 if axis == 3 {
                     let d = Diagnostic::error(
@@ -194,11 +198,15 @@ impl SymbolCx<'_> {
                 self.code.push(Op::Extrude(e[0]));
             }
             "taper" => {
-                if args.len() != 1 {
-                    self.arity(name, span, "taper(height)", args.len());
+                if args.is_empty() || args.len() > 2 {
+                    self.arity(name, span, "taper(height)` or `taper(height, top_scale)", args.len());
                     return;
                 }
                 let Some(e) = self.expr_args(name, args) else { return };
+                if e.len() == 1 {
+                    let zero = self.g.zero.clone();
+                    self.exprs.push(Expr::new(zero, Vec::new(), span));
+                }
                 self.emits = true;
                 let at = self.span_index(span);
                 self.code.push(Op::Taper { height: e[0], span: at });
@@ -212,26 +220,7 @@ impl SymbolCx<'_> {
                 let at = self.span_index(span);
                 self.code.push(Op::Shape(at));
             }
-            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" => {
-                if args.is_empty() || args.len() > 2 {
-                    self.arity(name, span, &format!("{name}(angle)` or `{name}(angle, overhang)"), args.len());
-                    return;
-                }
-                let Some(e) = self.expr_args(name, args) else { return };
-                if e.len() == 1 {
-                    let zero = self.g.zero.clone();
-                    self.exprs.push(Expr::new(zero, Vec::new(), span));
-                }
-                self.emits = true;
-                let kind = match name {
-                    "roof_gable" => 0,
-                    "roof_hip" => 1,
-                    "roof_pyramid" => 2,
-                    _ => 3,
-                };
-                let at = self.span_index(span);
-                self.code.push(Op::Roof { kind, args: e[0], span: at });
-            }
+            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" => self.roof(name, span, args),
             "mesh" | "insert" => {
                 let Some(m) = Self::bare(args).map(str::to_string) else {
                     self.arity(name, span, &format!("{name}(name)"), args.len());
@@ -293,6 +282,113 @@ impl SymbolCx<'_> {
         if let Some(g) = graph {
             self.code.push(Op::Invoke { slot: g, args: first, nargs: args.len() as u32, site });
         }
+    }
+}
+
+impl SymbolCx<'_> {
+    /// `roof_*(angle, overhang, ridge = …, ends = …, overhang = […],
+    /// gables = "tag")`: expressions angle, overhang, ridge edge index and
+    /// gable-end overhang (zero when not given) from `args`, then the
+    /// per-edge overhangs.
+    fn roof(&mut self, name: &str, span: Span, args: &[Arg]) {
+        let form = format!("{name}(angle)` or `{name}(angle, overhang)");
+        let (pos, named): (Vec<&Arg>, Vec<&Arg>) = args.iter().partition(|a| !matches!(a, Arg::Named { .. }));
+        if pos.is_empty() || pos.len() > 2 {
+            self.arity(name, span, &form, pos.len());
+            return;
+        }
+        let (mut ridge, mut ridge_e, mut ends, mut list, mut scalar, mut gables) =
+            (0u8, None, None, None::<Vec<ExprSrc>>, None, u32::MAX);
+        for a in &named {
+            let Arg::Named { name: key, span: at, value, list: is_list } = a else { continue };
+            let one = match (value.as_slice(), is_list) {
+                ([Arg::Expr(e)], false) => Some(e),
+                _ => None,
+            };
+            match key.as_str() {
+                "ridge" if name == "roof_gable" || name == "roof_shed" => match one {
+                    Some(e) => match e.bare.as_deref().and_then(crate::program::edge_side) {
+                        Some(side) => ridge = side,
+                        None => {
+                            ridge = crate::program::RIDGE_INDEX;
+                            ridge_e = Some(e.clone());
+                        }
+                    },
+                    None => self.err(*at, "`ridge` takes a side (`front`, `back`, `left`, `right`) or an edge index"),
+                },
+                "ends" if name == "roof_gable" || name == "roof_shed" => match one {
+                    Some(e) => ends = Some(e.clone()),
+                    None => self.err(*at, "`ends` takes one number: the overhang at the gable ends"),
+                },
+                "overhang" => {
+                    let exprs: Option<Vec<ExprSrc>> = value
+                        .iter()
+                        .map(|v| match v {
+                            Arg::Expr(e) => Some(e.clone()),
+                            _ => None,
+                        })
+                        .collect();
+                    match (exprs, is_list) {
+                        (Some(v), true) => list = Some(v),
+                        (Some(v), false) if pos.len() == 1 => scalar = v.into_iter().next(),
+                        (Some(_), false) => self.err(*at, "the overhang is given twice"),
+                        (None, _) => {
+                            self.err(*at, "`overhang` takes a number or a list `[d0, d1, …]` of numbers, one per edge")
+                        }
+                    }
+                }
+                "gables" => match value.as_slice() {
+                    [Arg::Str(t, _)] if !is_list => gables = self.g.intern_tag(t),
+                    _ => self.err(*at, "`gables` takes a quoted tag, e.g. `gables = \"wall\"`"),
+                },
+                _ => {
+                    let d = Diagnostic::error(*at, format!("`{name}` takes no argument `{key}`")).with_hint(
+                        if name == "roof_gable" || name == "roof_shed" {
+                            "its named arguments are `ridge`, `ends`, `overhang` and `gables`"
+                        } else {
+                            "its named arguments are `overhang` and `gables`"
+                        },
+                    );
+                    self.errors.push(d);
+                }
+            }
+        }
+        if list.is_some() && pos.len() == 2 {
+            self.err(span, "the overhang is given twice (as the second argument and as a list)");
+        }
+        let Some(e) = self.expr_args(name, &pos.iter().map(|a| (*a).clone()).collect::<Vec<_>>()) else { return };
+        let zero = |c: &mut Self| {
+            let z = c.g.zero.clone();
+            c.exprs.push(Expr::new(z, Vec::new(), span));
+        };
+        match (pos.len(), &scalar) {
+            (1, Some(x)) => {
+                self.expr(x);
+            }
+            (1, None) => zero(self),
+            _ => {}
+        }
+        for x in [&ridge_e, &ends] {
+            match x {
+                Some(x) => {
+                    self.expr(x);
+                }
+                None => zero(self),
+            }
+        }
+        let n = list.as_ref().map_or(0, Vec::len) as u32;
+        for x in list.iter().flatten() {
+            self.expr(x);
+        }
+        self.emits = true;
+        let kind = match name {
+            "roof_gable" => 0,
+            "roof_hip" => 1,
+            "roof_pyramid" => 2,
+            _ => 3,
+        };
+        let at = self.span_index(span);
+        self.code.push(Op::Roof { kind, ridge, ends: ends.is_some(), args: e[0], n, span: at, gables });
     }
 }
 

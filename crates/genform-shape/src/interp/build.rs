@@ -179,9 +179,13 @@ impl<'g, M: Mode> Interp<'g, M> {
         Ok(())
     }
 
-    /// `roof_*(angle, overhang)` on a polygon scope: a closed roof solid on
-    /// the polygon, rising along its +z.
-    pub(super) fn roof(&mut self, rule: &'g RuleCode, kind: u8, args: u32, span: u32) -> Result<(), Stop> {
+    /// `roof_*(angle, overhang, …)` on a polygon scope: a closed roof solid
+    /// on the polygon, rising along its +z (see [`Op::Roof`] for the named
+    /// arguments). Edge `i` of the scope's polygon runs from its corner `i`
+    /// to `i + 1`; with `gables` the gable walls in the polygon's edges are
+    /// emitted apart, with that tag.
+    pub(super) fn roof(&mut self, rule: &'g RuleCode, op: Op) -> Result<(), Stop> {
+        let Op::Roof { kind, ridge, ends, args, n, span, gables } = op else { return Ok(()) };
         let kind = [RoofKind::Gable, RoofKind::Hip, RoofKind::Pyramid, RoofKind::Shed][kind as usize & 3];
         let angle = self.num(rule, args, "a roof angle")?;
         let overhang = self.num(rule, args + 1, "a roof overhang")?;
@@ -199,19 +203,88 @@ impl<'g, M: Mode> Interp<'g, M> {
                 ));
             }
         };
-        let mesh: Mesh =
-            geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
-        self.emit_on_polygon(mesh)
+        if ridge == 0 && !ends && n == 0 && gables == u32::MAX {
+            let mesh: Mesh =
+                geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
+            return self.emit_on_polygon(mesh);
+        }
+        // The polygon counter-clockwise, and where each of the scope's
+        // edges went.
+        let s = self.cur.size;
+        let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
+        let m = foot.len();
+        if m < 3 {
+            return Ok(());
+        }
+        let reversed = area2(&foot) < 0.0;
+        if reversed {
+            foot.reverse();
+        }
+        let edge = |i: usize| if reversed { (2 * m - 2 - i) % m } else { i };
+        let mut per_edge = vec![overhang; m];
+        if n > 0 {
+            if n as usize != m {
+                return Err(self.fail_at(
+                    at,
+                    format!("`{}`: the overhang list has {n} values, the polygon {m} edges", kind.name()),
+                ));
+            }
+            for i in 0..m {
+                per_edge[edge(i)] = self.num(rule, args + 4 + i as u32, "a roof overhang")?;
+            }
+        }
+        let ridge_edge = match ridge {
+            0 => None,
+            crate::program::RIDGE_INDEX => {
+                let v = self.num(rule, args + 2, "a ridge edge index")?;
+                if v.fract() != 0.0 || v < 0.0 || v >= m as f64 {
+                    return Err(self.fail_at(
+                        at,
+                        format!(
+                            "`{}`: the ridge edge index must be a whole number from 0 to {}, found {v}",
+                            kind.name(),
+                            m - 1
+                        ),
+                    ));
+                }
+                Some(edge(v as usize))
+            }
+            side => (0..m).map(edge).find(|&j| super::pieces::edge_class(foot[(j + 1) % m] - foot[j]) == side),
+        };
+        if ridge != 0 && ridge_edge.is_none() {
+            let name = ["front", "back", "left", "right"][(ridge.trailing_zeros() as usize).min(3)];
+            return Err(self.fail_at(at, format!("`{}`: the polygon has no `{name}` edge for the ridge", kind.name())));
+        }
+        let ends = if ends { Some(self.num(rule, args + 3, "a gable-end overhang")?) } else { None };
+        let opts = geom::RoofOpts { overhang: per_edge, ridge: ridge_edge, ends, gables: gables != u32::MAX };
+        let (mesh, walls) = geom::roof_meshes(&foot, kind, angle, &opts).map_err(|m| self.fail_at(at, m))?;
+        self.emit_on_polygon(mesh)?;
+        if !walls.triangles.is_empty() {
+            let tag = std::mem::replace(&mut self.cur.tag, gables);
+            let r = self.emit_on_polygon(walls);
+            self.cur.tag = tag;
+            r?;
+        }
+        Ok(())
     }
 
     /// `taper(h)` on a polygon scope: the pyramid over the polygon with its
     /// apex `h` above the polygon's centroid (CGA's `taper`), a closed
-    /// solid emitted like a roof. On a concave polygon whose centroid does
+    /// solid emitted like a roof; `taper(h, s)` the frustum whose top is
+    /// the polygon scaled by `s` about its centroid, `h` above it. On a concave polygon whose centroid does
     /// not see every edge the sides cross, as in CGA.
     pub(super) fn taper(&mut self, rule: &'g RuleCode, e: u32, span: u32) -> Result<(), Stop> {
         let at = rule.spans[span as usize];
         let (g, h) = self.polygon_height(rule, e, at, "taper", "a taper height")?;
-        let mesh = geom::pyramid_mesh(&self.absolute_foot(g), h);
+        let top = self.num(rule, e + 1, "a taper's top scale")?;
+        if !(0.0..=1.0).contains(&top) {
+            return Err(self.fail_at(at, format!("a taper's top scale must lie from 0 to 1, found {top}")));
+        }
+        let mesh = if top == 0.0 {
+            geom::pyramid_mesh(&self.absolute_foot(g), h)
+        } else {
+            geom::frustum_mesh(&self.absolute_foot(g), h, top)
+        };
         self.emit_on_polygon(mesh)
     }
 

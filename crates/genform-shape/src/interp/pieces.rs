@@ -32,7 +32,7 @@ pub(super) enum PieceGeom {
 pub(super) type Piece = (u8, ScopeState, PieceGeom);
 
 /// The class of an edge running along `d` (counter-clockwise polygon).
-fn edge_class(d: DVec2) -> u8 {
+pub(super) fn edge_class(d: DVec2) -> u8 {
     let out = DVec2::new(d.y, -d.x);
     if out.y.abs() >= out.x.abs() {
         if out.y < 0.0 { FACE_FRONT } else { FACE_BACK }

@@ -1,0 +1,127 @@
+//! End-to-end tests of real footprints: a district of Prague (Bubeneč,
+//! 407 cadastral plots shipped with momepy, see
+//! `crates/genform-app/tests/data/bubenec/README.md`) read as RFC 7946
+//! longitude/latitude, as UTM metres and as EPSG:3857 builds centred on a
+//! local origin and at the same size; lots the grammar cannot stand on
+//! are skipped with a warning; the grammar reads each lot's properties.
+
+mod common;
+
+use common::{genform, ok, root, s};
+use std::path::Path;
+
+/// The `v` lines of the OBJ file at `path` as `[x, y, z]`.
+fn vertices(path: &Path) -> Vec<[f64; 3]> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|v| {
+            let c: Vec<f64> = v.split_whitespace().take(3).map(|x| x.parse().unwrap()).collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect()
+}
+
+fn size(vs: &[[f64; 3]]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    for (i, o) in out.iter_mut().enumerate() {
+        let (lo, hi) = vs.iter().fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(v[i]), b.max(v[i])));
+        *o = hi - lo;
+    }
+    out
+}
+
+#[test]
+fn a_real_district_builds_centred_and_the_same_size_in_degrees_and_in_metres() {
+    let tmp = tempfile::tempdir().unwrap();
+    let block = root().join("examples/shape/city_block.sg");
+    let data = root().join("crates/genform-app/tests/data/bubenec");
+    let mut sizes = Vec::new();
+    for (file, origin) in [
+        ("plots_lonlat.geojson", "°N"),
+        ("plots_utm33n.geojson", "of urn:ogc:def:crs:EPSG::32633"),
+        ("plots_3857.geojson", "(read from EPSG:3857)"),
+    ] {
+        let out = format!("{file}.obj");
+        let run = ok(tmp.path(), &["sample", s(&block), "--footprints", s(&data.join(file)), "--out", &out]);
+        let err = run.stderr();
+        let skipped = err.matches("the lot is skipped").count();
+        assert!(err.contains(&format!("{} footprints (seeds 0–", 407 - skipped)), "{}", run.show());
+        assert!(skipped <= 4, "few lots skipped: {}", run.show());
+        assert!(err.contains("origin at") && err.contains(origin), "{}", run.show());
+        let vs = vertices(&tmp.path().join(&out));
+        let far = vs.iter().map(|v| v[0].abs().max(v[2].abs())).fold(0.0, f64::max);
+        assert!(far < 2000.0, "{file}: centred on a local origin, yet a vertex lies {far} m away");
+        sizes.push((file, size(&vs)));
+    }
+    let (_, lonlat) = sizes[0];
+    assert!(lonlat[0] > 300.0 && lonlat[2] > 300.0, "a district hundreds of metres across: {lonlat:?}");
+    for (file, sz) in &sizes[1..] {
+        for i in [0, 2] {
+            let ratio = sz[i] / lonlat[i];
+            assert!((ratio - 1.0).abs() < 0.01, "{file}: axis {i} is {ratio} times the lon/lat model's");
+        }
+    }
+}
+
+#[test]
+fn a_bad_lot_is_skipped_with_a_warning_and_a_file_without_a_good_one_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let block = root().join("examples/shape/city_block.sg");
+    let lots = r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"name": "good"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[0, 0], [10, 0], [10, 8], [0, 8], [0, 0]]]}},
+        {"type": "Feature", "id": "way/42", "properties": {}, "geometry": {"type": "Polygon",
+         "coordinates": [[[20, 0], [24, 4], [24, 0], [20, 4], [20, 0]]]}},
+        {"type": "Feature", "properties": {"name": "short"}, "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1]]]}}]}"#;
+    std::fs::write(tmp.path().join("lots.geojson"), lots).unwrap();
+    let run = ok(tmp.path(), &["sample", s(&block), "--footprints", "lots.geojson", "--out", "m.obj"]);
+    let err = run.stderr();
+    assert!(err.contains("1 footprints (seeds 0–0)"), "{}", run.show());
+    assert!(err.contains("feature 2 (\"way/42\") crosses itself"), "{}", run.show());
+    assert!(err.contains("feature 3 (\"short\"): an outer ring of 2 corners"), "{}", run.show());
+    let bad = r#"{"type": "Feature", "properties": {}, "geometry": {"type": "Polygon",
+         "coordinates": [[[20, 0], [24, 4], [24, 0], [20, 4], [20, 0]]]}}"#;
+    std::fs::write(tmp.path().join("bad.geojson"), bad).unwrap();
+    let fail = genform(tmp.path(), &["sample", s(&block), "--footprints", "bad.geojson"]).fails();
+    assert!(
+        fail.stderr().contains("no usable footprint") && fail.stderr().contains("crosses itself"),
+        "{}",
+        fail.show()
+    );
+}
+
+#[test]
+fn the_grammar_reads_each_lots_height_levels_and_use() {
+    let tmp = tempfile::tempdir().unwrap();
+    // OSM-style properties: one lot 12.5 m tall, one of 4 levels (3 m
+    // each), one garage (use 5) of neither: 2.5 m.
+    let lots = r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {"height": "12.5", "building": "apartments"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[13.4000, 52.5200], [13.4001, 52.5200], [13.4001, 52.5201], [13.4000, 52.5201], [13.4000, 52.5200]]]}},
+        {"type": "Feature", "properties": {"building:levels": 4}, "geometry": {"type": "Polygon",
+         "coordinates": [[[13.4003, 52.5200], [13.4004, 52.5200], [13.4004, 52.5201], [13.4003, 52.5201], [13.4003, 52.5200]]]}},
+        {"type": "Feature", "properties": {"building": "garage"}, "geometry": {"type": "Polygon",
+         "coordinates": [[[13.4006, 52.5200], [13.4007, 52.5200], [13.4007, 52.5201], [13.4006, 52.5201], [13.4006, 52.5200]]]}}]}"#;
+    std::fs::write(tmp.path().join("lots.geojson"), lots).unwrap();
+    let grammar = r#"grammar "osm";
+axiom Lot;
+footprints "lots.geojson";
+Lot {
+    extrude(lot.height > 0 ? lot.height : lot.levels > 0 ? lot.levels * 3 : lot.use == 5 ? 2.5 : 9);
+    shape;
+}
+"#;
+    std::fs::write(tmp.path().join("osm.sg"), grammar).unwrap();
+    let run = ok(tmp.path(), &["sample", "osm.sg", "--out", "m.obj"]);
+    assert!(run.stderr().contains("3 footprints"), "{}", run.show());
+    let vs = vertices(&tmp.path().join("m.obj"));
+    // Lots lie west to east, about 20 m apart: each one's top by its x.
+    let mut tops = [0.0f64; 3];
+    for v in &vs {
+        let k = ((v[0] + 24.0) / 20.0).floor().clamp(0.0, 2.0) as usize;
+        tops[k] = tops[k].max(v[1]);
+    }
+    assert_eq!(tops.map(|t| (t * 100.0).round() / 100.0), [12.5, 12.0, 2.5], "{}", run.show());
+}
