@@ -29,13 +29,13 @@ pub struct ShapeGrammar {
     /// The occluders of `context "…";`.
     pub(crate) context: Arc<[Placed]>,
     /// What the file says of each of `footprints`.
-    pub(crate) footprint_props: Vec<crate::footprint::LotProps>,
+    pub(crate) footprint_props: Vec<crate::lot_props::LotProps>,
     /// Where the local origin of `footprints` lies, in the file's terms.
     pub(crate) footprint_origin: Option<String>,
     /// The lot runs start on ([`ShapeGrammar::on_footprint`]).
     pub(crate) start_lot: Option<Arc<[DVec2]>>,
     /// The `lot.*` values of runs (all 0 without a footprint).
-    pub(crate) start_props: crate::footprint::LotProps,
+    pub(crate) start_props: crate::lot_props::LotProps,
     /// Where the `limits` item sets genes, depth and primitives.
     pub(crate) limits_at: [Option<Span>; 3],
     /// Per `color(…)` colour, the tag each tag becomes.

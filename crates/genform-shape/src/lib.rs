@@ -32,6 +32,7 @@ mod geom;
 mod grammar;
 mod interp;
 mod lexer;
+mod lot_props;
 mod parser;
 mod polygon;
 mod program;

@@ -6,7 +6,8 @@ use genform_core::genome::{GenePos, Link};
 use genform_core::{Generator, LimitKind, Mesh, Primitive};
 use glam::{Mat3, Vec3};
 
-fn grammar(src: &str) -> ShapeGrammar {
+/// `src` compiled (panics with the diagnostics when it does not compile).
+pub(crate) fn grammar(src: &str) -> ShapeGrammar {
     let file = SourceFile::new("t.sg", src);
     match compile(&file, &NoAssets) {
         Ok((g, _)) => g,

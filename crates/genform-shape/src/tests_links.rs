@@ -6,18 +6,11 @@
 //! out.
 
 use super::*;
+use crate::tests::grammar;
 use genform_core::Primitive;
 use genform_core::genome::Link;
 use glam::Vec3;
 use std::collections::BTreeMap;
-
-fn grammar(src: &str) -> ShapeGrammar {
-    let file = SourceFile::new("t.sg", src);
-    match compile(&file, &NoAssets) {
-        Ok((g, _)) => g,
-        Err(d) => panic!("{}", d.short()),
-    }
-}
 
 /// Samples with `seed`, checks the genome and expresses it.
 fn run(g: &ShapeGrammar, seed: u64) -> (Genome, Scene) {
