@@ -154,7 +154,7 @@ fn options_of_another_formalism_are_refused_by_the_table() {
     assert!(!tmp.path().join("x.glb").exists());
     let koch = root().join("examples/graph/koch.gg.yaml");
     let err = genform(tmp.path(), &["sample", s(&koch), "--genome-out", "g.json"]).fails().stderr();
-    assert!(err.contains("--genome-out applies to shape grammars (.sg) and L-systems (.ls) only"), "{err}");
+    assert!(err.contains("--genome-out applies to shape grammars (.sg) and L-systems (.ls .lpy) only"), "{err}");
 }
 
 #[test]
@@ -207,7 +207,7 @@ fn unknown_grammar_extensions_list_every_formalism() {
     let tmp = tempfile::tempdir().unwrap();
     std::fs::write(tmp.path().join("house.dae"), "").unwrap();
     let err = genform(tmp.path(), &["info", "house.dae"]).fails().stderr();
-    for want in [".sg (shape grammar)", ".ls (L-system)", ".bsg (box-split grammar)", ".gg.yaml (graph grammar)"] {
+    for want in [".sg (shape grammar)", ".ls .lpy (L-system)", ".bsg (box-split grammar)", ".gg.yaml (graph grammar)"] {
         assert!(err.contains(want), "missing {want:?} in {err}");
     }
 }

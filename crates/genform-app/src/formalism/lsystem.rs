@@ -24,7 +24,7 @@ impl Formalism for LSystems {
     }
 
     fn extensions(&self) -> &'static [&'static str] {
-        &[".ls"]
+        &[".ls", ".lpy"]
     }
 
     fn sample_options(&self) -> &'static [&'static str] {
@@ -36,8 +36,12 @@ impl Formalism for LSystems {
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
-        let system =
-            Arc::new(compile_file(path, |file| genform_lsystem::compile_with_assets(file, &FileAssets::beside(path)))?);
+        // `.lpy`: L-Py files, the pure L-system subset (docs/lsystem.md).
+        let lpy = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("lpy"));
+        let system = Arc::new(compile_file(path, |file| match lpy {
+            true => genform_lsystem::compile_lpy_with_assets(file, &FileAssets::beside(path)),
+            false => genform_lsystem::compile_with_assets(file, &FileAssets::beside(path)),
+        })?);
         Ok(Box::new(LsFile { path: path.to_path_buf(), system }))
     }
 }
