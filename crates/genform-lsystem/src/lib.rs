@@ -35,6 +35,7 @@ mod body;
 mod compile;
 mod context;
 mod derive;
+mod entry;
 mod generator;
 pub mod lpy;
 mod rules;
@@ -50,53 +51,10 @@ mod tests;
 pub use alphabet::{Alphabet, Command, Sym, SymbolInfo};
 pub use compile::LSystem;
 pub use derive::DeriveError;
+pub use entry::{compile, compile_with_assets};
 pub use generator::{GeneratorError, LsGenerator};
 pub use lpy::{compile_lpy, compile_lpy_with_assets};
 pub use settings::{Heading, Settings, View};
 pub use string::ModuleString;
 pub use surface::{NoSurfaceAssets, SurfaceAssets};
 pub use turtle::{TurtleEnd, TurtleError};
-
-use genform_core::{Diagnostics, SourceFile};
-
-/// Compiles a `.ls` file. Returns the system and its warnings, or every
-/// error found. `surface` declarations are errors (no files are read); use
-/// [`compile_with_assets`] to load them.
-pub fn compile(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics> {
-    compile_with_assets(file, &NoSurfaceAssets)
-}
-
-/// Compiles a `.ls` file, loading the meshes of its `surface name =
-/// "path"` declarations through `assets`.
-pub fn compile_with_assets(
-    file: &SourceFile,
-    assets: &dyn SurfaceAssets,
-) -> Result<(LSystem, Diagnostics), Diagnostics> {
-    let (parsed, errors) = syntax::parse(&file.text);
-    let mut diags = Diagnostics::new(file.clone());
-    if !errors.is_empty() {
-        for e in errors {
-            diags.push(e);
-        }
-        return Err(diags);
-    }
-    match compile::compile(&parsed, assets) {
-        Ok((mut system, warnings)) => {
-            system.source = Some(file.clone());
-            if system.settings.name.is_empty() {
-                let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
-                system.settings.name = stem.unwrap_or_default().trim_end_matches(".ls").to_string();
-            }
-            for w in warnings {
-                diags.push(w);
-            }
-            Ok((system, diags))
-        }
-        Err(errors) => {
-            for e in errors {
-                diags.push(e);
-            }
-            Err(diags)
-        }
-    }
-}

@@ -27,7 +27,8 @@
 //! …) are one module each and draw as their one-character aliases.
 
 use crate::alphabet::Command;
-use crate::{LSystem, SurfaceAssets};
+use crate::compile::LSystem;
+use crate::surface::SurfaceAssets;
 use genform_core::{Diagnostic, Diagnostics, SourceFile, Span};
 use glam::DVec3;
 
@@ -631,7 +632,7 @@ fn rule(out: &mut Out, errors: &mut Vec<Diagnostic>, body: &str, at: usize, k: u
 
 /// Compiles an L-Py file (the subset above) into an [`LSystem`].
 pub fn compile_lpy(file: &SourceFile) -> Result<(LSystem, Diagnostics), Diagnostics> {
-    compile_lpy_with_assets(file, &crate::NoSurfaceAssets)
+    compile_lpy_with_assets(file, &crate::surface::NoSurfaceAssets)
 }
 
 /// [`compile_lpy`], loading surface meshes through `assets`.
@@ -655,7 +656,7 @@ pub fn compile_lpy_with_assets(
             diags.push(t.map_diagnostic(item));
         }
     };
-    match crate::compile_with_assets(&ls, assets) {
+    match crate::entry::compile_with_assets(&ls, assets) {
         Ok((mut system, warnings)) => {
             for w in t.warnings.iter().cloned() {
                 diags.push(w);
