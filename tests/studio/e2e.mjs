@@ -456,6 +456,10 @@ async function main() {
     await screenshot('run');
   });
 
+  await step('run: the memory the server\'s runs hold is shown', async () => {
+    await waitFor('the memory line', () => /^Memory: .+ of .+ held/.test(document.querySelector('[data-testid="run-memory"]').textContent), null, 30_000);
+  });
+
   await step('run: a reload follows the last run, with its final gallery', async () => {
     const id = await page.getAttribute(byId('run-status'), 'data-run-id');
     await page.reload();

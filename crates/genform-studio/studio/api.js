@@ -57,6 +57,9 @@ export const modelUrl = (id, ext, download = false) => `/api/models/${enc(id)}.$
 
 /** Every run this server knows (running and finished), newest last. */
 export const runs = () => request('GET', '/api/runs');
+
+/** GET /api/status: the server's memory budget, what its runs and breeding sessions hold, runs going. */
+export const status = () => request('GET', '/api/status');
 /** Starts a run: `{scene, algorithm, seed, generations?, budget?}` → `{id, folder}`. */
 export const startRun = (body) => request('POST', '/api/runs', body);
 /** The run's snapshot: status, generation, stats, steering log, criteria, files. */

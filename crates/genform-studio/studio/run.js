@@ -38,6 +38,7 @@ export function mount(section) {
   const files = h('ul', { class: 'files', testid: 'run-files' });
   const folder = h('p', { class: 'muted', testid: 'run-folder' });
   const error = h('p', { class: 'error', testid: 'run-error', hidden: true });
+  const memory = h('p', { class: 'muted', testid: 'run-memory', title: 'the memory budget every run and breeding session on this server shares (--max-memory)' });
 
   const side = h('aside', { class: 'side' },
     h('h2', { text: 'New run' }),
@@ -46,6 +47,7 @@ export function mount(section) {
     h('div', { class: 'grid2' }, field('Seed', seed), field('Generations', generations)),
     field('Budget', budget, 'stops at whichever comes first'),
     h('div', { class: 'actions' }, start),
+    memory,
     h('h2', { text: 'Watched run' }),
     field('Runs on this server', previous),
     h('div', { class: 'row' }, status),
@@ -75,7 +77,7 @@ export function mount(section) {
   gallery = new Gallery(bottom);
   bottom.append(targetPanel);
   els = { scene, algorithm, seed, generations, budget, start, pause, resume, stop, previous, status, stats, files, folder,
-    error, targetImg, targetTitle, targetPanel, criteriaHost, criteriaTitle };
+    error, targetImg, targetTitle, targetPanel, criteriaHost, criteriaTitle, memory };
 
   on('entries', fillScenes);
   if (store.entries.length) fillScenes();
@@ -118,8 +120,33 @@ function fillAlgorithms() {
   setChildren(els.algorithm, algorithms.map((a) => h('option', { value: a, text: a })));
 }
 
+/** Bytes as people read them (powers of 1024, as the server's messages). */
+function bytes(n) {
+  const units = ['B', 'KiB', 'MiB', 'GiB', 'TiB'];
+  let v = n;
+  let u = 0;
+  while (v >= 1024 && u < units.length - 1) {
+    v /= 1024;
+    u++;
+  }
+  return u ? `${v.toFixed(1)} ${units[u]}` : `${v} B`;
+}
+
+/** Shows the server's memory budget and what is held of it. */
+async function refreshMemory() {
+  try {
+    const { memory } = await api.status();
+    const held = memory.holders ? ` by ${memory.holders} run${memory.holders === 1 ? '' : 's'} or session${memory.holders === 1 ? '' : 's'}` : '';
+    els.memory.textContent = `Memory: ${bytes(memory.in_use)} of ${bytes(memory.budget)} held${held}`;
+    els.memory.dataset.inUse = String(memory.in_use);
+  } catch {
+    /* a convenience, like the run list */
+  }
+}
+
 async function refreshRunList() {
   if (!els) return null;
+  refreshMemory();
   try {
     const list = await api.runs();
     const keep = watching || '';
