@@ -50,11 +50,24 @@ fn a_real_district_builds_centred_and_the_same_size_in_degrees_and_in_metres() {
         assert!(err.contains(&format!("{} footprints (seeds 0–", 407 - skipped)), "{}", run.show());
         assert!(skipped <= 4, "few lots skipped: {}", run.show());
         assert!(err.contains("origin at") && err.contains(origin), "{}", run.show());
+        // The origin travels with the model: an OBJ comment, GLB `asset.extras`.
+        let obj = std::fs::read_to_string(tmp.path().join(&out)).unwrap();
+        let comment = obj.lines().nth(1).unwrap_or_default();
+        assert!(comment.starts_with("# origin: ") && comment.contains(origin), "{file}: {comment}");
         let vs = vertices(&tmp.path().join(&out));
         let far = vs.iter().map(|v| v[0].abs().max(v[2].abs())).fold(0.0, f64::max);
         assert!(far < 2000.0, "{file}: centred on a local origin, yet a vertex lies {far} m away");
         sizes.push((file, size(&vs)));
     }
+    // The GLB's JSON chunk (after the 12-byte header and its own 8) holds
+    // the origin in the asset's extras.
+    ok(tmp.path(), &["sample", s(&block), "--footprints", s(&data.join("plots_lonlat.geojson")), "--out", "d.glb"]);
+    let glb = std::fs::read(tmp.path().join("d.glb")).unwrap();
+    let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + len]).unwrap();
+    let origin = json["asset"]["extras"]["origin"].as_str().unwrap_or_default();
+    assert!(origin.contains("°N") && origin.contains("WGS 84"), "{}", json["asset"]);
+    assert!(gltf::Gltf::from_slice(&glb).is_ok(), "still a glTF a reader opens");
     let (_, lonlat) = sizes[0];
     assert!(lonlat[0] > 300.0 && lonlat[2] > 300.0, "a district hundreds of metres across: {lonlat:?}");
     for (file, sz) in &sizes[1..] {

@@ -96,7 +96,7 @@ pub fn write_glb_with(scene: &Scene, tess: Tessellation, granularity: Granularit
     doc.polylines(scene);
     doc.blocks(scene);
     doc.surfaces(scene);
-    doc.finish()
+    doc.finish(scene.origin.as_deref())
 }
 
 impl Doc {
@@ -523,10 +523,15 @@ impl Doc {
 
     /// The GLB container: header, JSON chunk (space padded), BIN chunk
     /// (zero padded, left out when empty).
-    fn finish(mut self) -> Vec<u8> {
+    fn finish(mut self, origin: Option<&str>) -> Vec<u8> {
         self.bin.resize(self.bin.len().next_multiple_of(4), 0);
         let mut root = Map::new();
-        root.insert("asset".into(), json!({"version": "2.0", "generator": "genform"}));
+        let mut asset = json!({"version": "2.0", "generator": "genform"});
+        if let Some(o) = origin {
+            // Where the model's (0, 0, 0) lies in the data it was built on.
+            asset["extras"] = json!({ "origin": o });
+        }
+        root.insert("asset".into(), asset);
         let mut put = |key: &str, items: Vec<Value>| {
             if !items.is_empty() {
                 root.insert(key.into(), Value::Array(items));

@@ -130,6 +130,9 @@ fn write(scene: &Scene, tess: Tessellation, granularity: Granularity, mtl: Optio
     let shapes = Shapes::new(scene, tess);
     let mut out = String::with_capacity(64 + scene.instances.len() * 400);
     out.push_str("# genform\n");
+    if let Some(origin) = &scene.origin {
+        let _ = writeln!(out, "# origin: {}", origin.replace('\n', " "));
+    }
     let mut mats = Materials { on: mtl.is_some(), list: Vec::new() };
     if let Some(file) = mtl {
         let _ = writeln!(out, "mtllib {file}");

@@ -69,6 +69,14 @@ pub fn write_ply(scene: &Scene, tess: Tessellation) -> Vec<u8> {
          property list {} int vertex_indices\n",
         if wide { "int" } else { "uchar" }
     );
+    if let Some(origin) = &scene.origin {
+        // A comment line after `comment genform`, where readers skip it.
+        header = header.replacen(
+            "comment genform\n",
+            &format!("comment genform\ncomment origin: {}\n", origin.replace('\n', " ")),
+            1,
+        );
+    }
     if !scene.surfaces.is_empty() {
         let edges: usize = scene.surfaces.iter().map(|s| s.edges.len()).sum();
         header.push_str(&format!(

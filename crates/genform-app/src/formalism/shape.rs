@@ -201,8 +201,8 @@ impl LoadedGrammar for ShapeGrammar {
 }
 
 /// One derivation per lot, lot `k` with seed `seed + k`, into one scene.
-/// The summary names the origin when the footprints were moved to a local
-/// one (the scene has no place for it: exporters write what it holds).
+/// When the footprints were moved to a local origin, the summary names it
+/// and so does the scene (GLB `asset.extras`, OBJ and PLY comments).
 fn sample_on_lots(g: &ShapeGrammar, on: &Lots, request: &SampleRequest) -> Result<Box<dyn Sample>> {
     let lots = &on.grammars;
     if request.genome_out.is_some() {
@@ -224,6 +224,7 @@ fn sample_on_lots(g: &ShapeGrammar, on: &Lots, request: &SampleRequest) -> Resul
     }
     let (n, seed) = (lots.len(), request.seed);
     let primitives = scene.instances.len() + scene.polygons.len();
+    scene.origin = on.origin.clone();
     let origin = on.origin.as_ref().map_or(String::new(), |o| format!(", origin at {o}"));
     let summary = format!(
         "{} seed {seed}: {n} footprints (seeds {seed}–{}), {genes} genes, {primitives} primitives{origin}",

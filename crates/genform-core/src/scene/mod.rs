@@ -137,6 +137,11 @@ pub struct Scene {
     /// Context geometry previews draw faintly; not part of the model (no
     /// exporter writes it into a model file, no scorer sees it).
     pub guides: Vec<crate::surface::Guide>,
+    /// Where the model's origin lies in the data it was built on, in words
+    /// (e.g. geographic footprints' tangent point "50.1°N 14.4°E (WGS 84;
+    /// …)"), for formats with a place for it: GLB `asset.extras.origin`,
+    /// an OBJ and a PLY comment. `None`: the data's own origin.
+    pub origin: Option<String>,
 }
 
 impl Scene {
