@@ -42,6 +42,12 @@ fn identity(path: &Path) -> Option<FileId> {
     }
 }
 
+/// Whether `a` and `b` are the same existing file (links followed, any
+/// spelling).
+pub(crate) fn same_file(a: &Path, b: &Path) -> bool {
+    identity(a).is_some_and(|id| identity(b) == Some(id))
+}
+
 /// One file a command read.
 #[derive(Clone, Debug)]
 struct Input {
@@ -85,7 +91,7 @@ thread_local! {
 /// Keeps a session in force on this thread; the one before comes back
 /// when it is dropped.
 pub struct SessionGuard {
-    previous: Option<Option<Arc<Session>>>,
+    _restore: Restore,
     session: Arc<Session>,
 }
 
@@ -96,9 +102,13 @@ impl SessionGuard {
     }
 }
 
-impl Drop for SessionGuard {
+/// Puts the session that was in force back when dropped (`None`: a
+/// joined session, nothing to put back).
+struct Restore(Option<Option<Arc<Session>>>);
+
+impl Drop for Restore {
     fn drop(&mut self) {
-        if let Some(previous) = self.previous.take() {
+        if let Some(previous) = self.0.take() {
             CURRENT.with(|c| *c.borrow_mut() = previous);
         }
     }
@@ -112,11 +122,11 @@ pub fn session() -> SessionGuard {
     CURRENT.with(|c| {
         let mut current = c.borrow_mut();
         match &*current {
-            Some(s) => SessionGuard { previous: None, session: s.clone() },
+            Some(s) => SessionGuard { _restore: Restore(None), session: s.clone() },
             None => {
                 let s = Arc::new(Session::default());
                 *current = Some(s.clone());
-                SessionGuard { previous: Some(None), session: s }
+                SessionGuard { _restore: Restore(Some(None)), session: s }
             }
         }
     })
@@ -127,7 +137,7 @@ pub fn session() -> SessionGuard {
 pub fn fresh_session() -> SessionGuard {
     let session = Arc::new(Session::default());
     let previous = CURRENT.with(|c| c.borrow_mut().replace(session.clone()));
-    SessionGuard { previous: Some(previous), session }
+    SessionGuard { _restore: Restore(Some(previous)), session }
 }
 
 /// The session in force on this thread, to hand to worker threads.
@@ -139,7 +149,7 @@ pub fn current() -> Option<Arc<Session>> {
 /// command).
 pub fn within<T>(session: &Option<Arc<Session>>, f: impl FnOnce() -> T) -> T {
     let previous = CURRENT.with(|c| std::mem::replace(&mut *c.borrow_mut(), session.clone()));
-    let _restore = SessionGuard { previous: Some(previous), session: Arc::new(Session::default()) };
+    let _restore = Restore(Some(previous));
     f()
 }
 

@@ -181,8 +181,8 @@ impl LoadedGrammar for BoxFile {
             Some(path) => {
                 let World { files: regions, paths, mut missing } = load_world(path, read_min, read_max)?;
                 if let Some(out) = out.filter(|_| to_region) {
-                    let same = |p: &Path| p.canonicalize().ok();
-                    if same(out).is_some() && paths.iter().any(|p| same(p) == same(out)) {
+                    // By the gate's identity, in every door, session or not.
+                    if paths.iter().any(|p| crate::gate::same_file(p, out)) {
                         bail!(
                             "--out {} is the observed region itself; write into a copy (another path)",
                             out.display()
