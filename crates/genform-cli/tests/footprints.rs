@@ -138,3 +138,27 @@ Lot {
     }
     assert_eq!(tops.map(|t| (t * 100.0).round() / 100.0), [12.5, 12.0, 2.5], "{}", run.show());
 }
+
+#[test]
+fn hip_roofs_stand_on_every_lot_of_the_district_with_and_without_an_overhang() {
+    // 407 real plots of 4–49 corners, some with slivers and notches
+    // narrower than the overhang: every lot gets its roof. (Plot 190 once
+    // stopped the skeleton; an overhang of 0.3 once made plot 4's outline
+    // cross itself; both used to stop the whole district.)
+    let tmp = tempfile::tempdir().unwrap();
+    let data = root().join("crates/genform-app/tests/data/bubenec/plots_lonlat.geojson");
+    for overhang in ["0", "0.3", "1.5"] {
+        let grammar = format!(
+            "grammar \"hips\";\naxiom Lot;\nfootprints \"{}\";\nLot {{ extrude(6); shape; comp(f) {{ top: {{ roof_hip(30, {overhang}); }} }} }}\n",
+            data.display().to_string().replace('\\', "/")
+        );
+        std::fs::write(tmp.path().join("hips.sg"), grammar).unwrap();
+        let run = ok(tmp.path(), &["sample", "hips.sg", "--out", "d.obj"]);
+        assert!(run.stderr().contains("407 footprints") && run.stderr().contains("814 primitives"), "{}", run.show());
+        assert!(!run.stderr().contains("skipped"), "{}", run.show());
+        // Roofs rise above the 6 m walls, and no higher than half the
+        // widest plot (≈ 150 m) at 30°.
+        let top = vertices(&tmp.path().join("d.obj")).iter().map(|v| v[1]).fold(f64::MIN, f64::max);
+        assert!(top > 6.0 && top < 6.0 + 90.0, "overhang {overhang}: roof top {top}");
+    }
+}

@@ -552,7 +552,17 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
     if foot.len() < 3 || area2(foot) <= 0.0 {
         return Ok((Mesh { name: "roof".into(), ..Mesh::default() }, no_walls()));
     }
-    let grow = |p: &[DVec2]| if uniform { offset_miter(p, overhang) } else { offset_edges(p, &overhangs) };
+    // Mitred corners, or where those would cross (an overhang wider than
+    // a notch), the outside wavefront that closes the notch.
+    let grow = |p: &[DVec2]| -> Result<Vec<DVec2>, String> {
+        let f = if uniform { offset_miter(p, overhang) } else { offset_edges(p, &overhangs) };
+        if f.len() >= 3 && is_simple(&f) && area2(&f) > 0.0 {
+            return Ok(f);
+        }
+        crate::skeleton::grow(p, &overhangs)?.filter(|f| f.len() >= 3 && is_simple(f)).ok_or_else(|| {
+            format!("`{name}`: the overhangs of this footprint could not be laid out (nearly touching edges?)")
+        })
+    };
     if foot.len() > MAX_ROOF_CORNERS {
         return Err(format!(
             "`{name}`: a roof footprint has at most {MAX_ROOF_CORNERS} corners, found {} (building the roof is cubic in them)",
@@ -566,16 +576,10 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
                  footprint into convex parts"
             ));
         }
-        let f = grow(foot);
-        if f.len() < 3 || !is_simple(&f) || area2(&f) <= 0.0 {
-            let o = overhangs.iter().copied().fold(0.0, f64::max);
-            return Err(format!(
-                "`{name}`: an overhang of {o} makes this concave footprint's outline cross itself; use a smaller one"
-            ));
-        }
+        let f = grow(foot)?;
         return Ok((skeleton_roof(&f, angle.to_radians().tan())?, no_walls()));
     }
-    let f = grow(foot);
+    let f = grow(foot)?;
     let planes = roof_planes(&f, kind, angle.to_radians().tan(), dir);
     let (lo, hi) = bbox(&f).unwrap_or_default();
     let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
@@ -901,7 +905,16 @@ mod tests {
             DVec2::new(0.0, 4.0),
         ];
         assert!(roof_mesh(&notch, RoofKind::Hip, 30.0, 0.0).is_ok());
-        assert!(roof_mesh(&notch, RoofKind::Hip, 30.0, 1.0).unwrap_err().contains("smaller one"));
+        // An overhang wider than the notch closes it: the mitred outline
+        // would cross itself, the outside wavefront fills the notch, and
+        // the roof is the hip over the grown 7 × 6 rectangle.
+        let closed = roof_mesh(&notch, RoofKind::Hip, 30.0, 1.0).unwrap();
+        assert!(is_closed(&closed));
+        let (lo, hi) = closed.bounds().unwrap();
+        assert_eq!((lo.x, lo.y, hi.x, hi.y), (-1.0, -1.0, 6.0, 5.0));
+        assert!(
+            (volume(&closed) - volume(&roof_mesh(&rect(7.0, 6.0), RoofKind::Hip, 30.0, 0.0).unwrap())).abs() < 1e-4
+        );
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 90.0, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, f64::NAN, 0.0).is_err());
         assert!(roof_mesh(&rect(1.0, 1.0), RoofKind::Hip, 30.0, -1.0).is_err());
