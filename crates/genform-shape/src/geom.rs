@@ -400,13 +400,95 @@ fn ear_clip_all(p: &[DVec2], eps: f64) -> Vec<[usize; 3]> {
 /// footprint from its straight skeleton: each edge's face rises at slope
 /// `t`, the footprint closes the solid from below.
 fn skeleton_roof(f: &[DVec2], t: f64) -> Result<Mesh, String> {
+    skeleton_roofs(f, t, None, false).map(|(roof, _)| roof)
+}
+
+/// The wing ends among the edges of the straight skeleton of the
+/// counter-clockwise polygon `c` (`faces` of welded `pts`): an edge between
+/// convex corners whose face is a triangle ending one ridge that runs into
+/// the edge (and, with `ridge`, lies across that direction). Per edge:
+/// the apex `m`, the ridge's other node `r`, and how far along `r → m`
+/// the ridge meets the edge.
+fn wing_ends(
+    c: &[DVec2],
+    faces: &[Vec<usize>],
+    pts: &[DVec2],
+    ridge: Option<DVec2>,
+    eps: f64,
+) -> Vec<Option<(usize, usize, f64)>> {
+    let k = c.len();
+    let convex = |i: usize| (c[i] - c[(i + k - 1) % k]).perp_dot(c[(i + 1) % k] - c[i]) > 0.0;
+    let on = |id: usize| faces.iter().filter(|fc| fc.contains(&id)).count();
+    (0..k)
+        .map(|e| {
+            let (prev, next) = ((e + k - 1) % k, (e + 1) % k);
+            if k < 4 || !(convex(e) && convex(next)) || faces[e].len() != 3 {
+                return None;
+            }
+            let m = faces[e][2];
+            // The ridge: the other node the faces on both sides share.
+            let &r = faces[prev].iter().find(|&&id| id != m && faces[next].contains(&id))?;
+            if on(m) != 3 || pts[r].distance(pts[m]) <= 8.0 * eps {
+                return None;
+            }
+            let (a, b) = (pts[faces[e][0]], pts[faces[e][1]]);
+            let dr = pts[m] - pts[r];
+            let along_edge = |v: DVec2| v.normalize_or_zero().dot((b - a).normalize_or_zero()).abs();
+            if along_edge(dr) > 0.5 || ridge.is_some_and(|rd| along_edge(rd) > std::f64::consts::FRAC_1_SQRT_2) {
+                return None;
+            }
+            let den = dr.perp_dot(b - a);
+            if den.abs() <= 1e-12 * dr.length() * (b - a).length() {
+                return None;
+            }
+            let s = (a - pts[r]).perp_dot(b - a) / den;
+            let along = (pts[r] + dr * s - a).dot(b - a) / (b - a).length_squared();
+            (s >= 1.0 && along > 1e-6 && along < 1.0 - 1e-6).then_some((m, r, s))
+        })
+        .collect()
+}
+
+/// Which edges of the counter-clockwise polygon `foot` a gable roof over
+/// it ends in (its skeleton's [`wing_ends`]): where `ends =` applies.
+fn gable_end_edges(foot: &[DVec2], ridge: Option<DVec2>) -> Result<Vec<bool>, String> {
+    let sk = crate::skeleton::skeleton(foot, None)?;
+    let (lo, hi) = bbox(foot).unwrap_or_default();
+    let eps = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
+    let mut weld = Weld { pts: Vec::new(), eps: 8.0 * eps };
+    let faces: Vec<Vec<usize>> = sk.faces.iter().map(|fc| fc.iter().map(|q| weld.id(*q)).collect()).collect();
+    let ends = wing_ends(&sk.corners, &faces, &weld.pts, ridge, eps);
+    let k = sk.corners.len();
+    // The skeleton dropped corners on straight runs: a footprint edge is
+    // an end when its midpoint lies on an end edge.
+    Ok((0..foot.len())
+        .map(|i| {
+            let mid = (foot[i] + foot[(i + 1) % foot.len()]) * 0.5;
+            (0..k).any(|e| {
+                let (a, b) = (sk.corners[e], sk.corners[(e + 1) % k]);
+                let s = (mid - a).dot(b - a) / (b - a).length_squared();
+                ends[e].is_some()
+                    && (0.0..=1.0).contains(&s)
+                    && (mid - a).perp_dot((b - a).normalize()).abs() <= 8.0 * eps
+            })
+        })
+        .collect())
+}
+
+/// The roof of [`skeleton_roof`]; with `gables` a gable roof instead: the
+/// hip's triangle over each wing's end (an edge between convex corners
+/// whose face is a triangle ending one ridge, the ridge running into the
+/// edge; with `Some(direction)`, only edges across it) is stood upright in
+/// the edge's plane, its apex moved out along the ridge to the edge — as
+/// the weighted skeleton with that edge standing still would put it. Unless `apart`, the gable
+/// walls are part of the roof and the second mesh is empty.
+fn skeleton_roofs(f: &[DVec2], t: f64, gables: Option<Option<DVec2>>, apart: bool) -> Result<(Mesh, Mesh), String> {
     let sk = crate::skeleton::skeleton(f, None)?;
     let (lo, hi) = bbox(f).unwrap_or_default();
     let eps = 1e-9 * (hi - lo).length().max(f64::MIN_POSITIVE);
     let mut weld = Weld { pts: Vec::new(), eps: 8.0 * eps };
     let corners: Vec<usize> = sk.corners.iter().map(|q| weld.id(*q)).collect();
-    let faces: Vec<Vec<usize>> = sk.faces.iter().map(|fc| fc.iter().map(|q| weld.id(*q)).collect()).collect();
-    let pts = weld.pts.clone();
+    let mut faces: Vec<Vec<usize>> = sk.faces.iter().map(|fc| fc.iter().map(|q| weld.id(*q)).collect()).collect();
+    let mut pts = weld.pts.clone();
     // Height: the distance from a face's edge line, the same on every face
     // a point is on.
     let k = sk.corners.len();
@@ -418,17 +500,57 @@ fn skeleton_roof(f: &[DVec2], t: f64) -> Result<Mesh, String> {
             h[id] = (dir.perp_dot(pts[id] - a) * t).max(0.0);
         }
     }
+    let mut upright = vec![false; k];
+    if let Some(ridge) = gables {
+        // Every apex first, from the hip as it is; then the moves.
+        let ends = wing_ends(&sk.corners, &faces, &pts, ridge, eps);
+        let mut moved = Vec::new();
+        for (e, end) in ends.into_iter().enumerate() {
+            if let Some((m, r, s)) = end {
+                let id = pts.len() + moved.len();
+                moved.push((pts[r] + (pts[m] - pts[r]) * s, h[r] + (h[m] - h[r]) * s));
+                for fc in [(e + k - 1) % k, e, (e + 1) % k] {
+                    for x in faces[fc].iter_mut().filter(|x| **x == m) {
+                        *x = id;
+                    }
+                }
+                // The old apex is nobody's now: keep it off every ring.
+                upright[e] = true;
+                pts[m] = DVec2::NAN;
+            }
+        }
+        for (p, z) in moved {
+            pts.push(p);
+            h.push(z);
+        }
+    }
     let pos: Vec<DVec3> = pts.iter().zip(&h).map(|(p, z)| DVec3::new(p.x, p.y, *z)).collect();
     let mut tris: Vec<[u32; 3]> = Vec::new();
-    for fc in &faces {
+    let mut walls: Vec<[u32; 3]> = Vec::new();
+    for (e, fc) in faces.iter().enumerate() {
+        if upright[e] {
+            let wall = [fc[0] as u32, fc[1] as u32, fc[2] as u32];
+            if apart {
+                walls.push(wall)
+            } else {
+                tris.push(wall)
+            }
+            continue;
+        }
         let ring = full_ring(&pts, fc, 8.0 * eps);
         let flat: Vec<DVec2> = ring.iter().map(|&i| pts[i]).collect();
         tris.extend(ear_clip_all(&flat, eps).into_iter().map(|t| t.map(|i| ring[i] as u32)));
     }
-    let ring = full_ring(&pts, &corners, 8.0 * eps);
+    // The eaves: only points at height 0 can lie on the footprint's edges
+    // (a gable's apex stands above one).
+    let eaves: Vec<DVec2> = pts.iter().zip(&h).map(|(p, z)| if *z > 0.0 { DVec2::NAN } else { *p }).collect();
+    let ring = full_ring(&eaves, &corners, 8.0 * eps);
     let flat: Vec<DVec2> = ring.iter().map(|&i| pts[i]).collect();
     tris.extend(ear_clip_all(&flat, eps).into_iter().map(|t| [t[2], t[1], t[0]].map(|i| ring[i] as u32)));
-    Ok(to_mesh("roof", &pos, tris))
+    if gables.is_none() {
+        return Ok((to_mesh("roof", &pos, tris), Mesh { name: "gable".into(), ..Mesh::default() }));
+    }
+    Ok((compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls)))
 }
 
 /// The closed roof solid over a convex counter-clockwise footprint in the
@@ -537,9 +659,19 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
                 if hi.x - lo.x >= hi.y - lo.y { DVec2::X } else { DVec2::Y }
             }
         };
+        // On a concave footprint the ends are its wings' ends.
+        let wings = if kind == RoofKind::Gable && foot.len() >= 4 && !is_convex(foot) && area2(foot) > 0.0 {
+            Some(gable_end_edges(foot, dir)?)
+        } else {
+            None
+        };
         for (i, o) in overhangs.iter_mut().enumerate() {
             let d = dir_of(i);
-            if d.dot(r).abs() < d.perp_dot(r).abs() {
+            let end = match &wings {
+                Some(w) => w[i],
+                None => d.dot(r).abs() < d.perp_dot(r).abs(),
+            };
+            if end {
                 *o = e;
             }
         }
@@ -570,14 +702,16 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
         ));
     }
     if !is_convex(foot) {
-        if kind != RoofKind::Hip {
-            return Err(format!(
-                "`{name}` needs a convex footprint; on a concave one (an L or U) use `roof_hip`, or split the \
-                 footprint into convex parts"
-            ));
-        }
         let f = grow(foot)?;
-        return Ok((skeleton_roof(&f, angle.to_radians().tan())?, no_walls()));
+        let t = angle.to_radians().tan();
+        return match kind {
+            RoofKind::Hip => Ok((skeleton_roof(&f, t)?, no_walls())),
+            RoofKind::Gable => skeleton_roofs(&f, t, Some(dir), opts.gables),
+            _ => Err(format!(
+                "`{name}` needs a convex footprint; on a concave one (an L or U) use `roof_hip` or `roof_gable`, \
+                 or split the footprint into convex parts"
+            )),
+        };
     }
     let f = grow(foot)?;
     let planes = roof_planes(&f, kind, angle.to_radians().tan(), dir);
@@ -871,6 +1005,47 @@ mod tests {
         }
     }
 
+    #[test]
+    fn gable_roofs_on_concave_footprints_stand_their_wing_ends_upright() {
+        // Over each wing end of width w, a gable adds to the hip the
+        // prism's half-end (w²t/4 · w/2) less the hip's pyramid (w³t/12):
+        // w³t/24. The L's two ends are 4 wide, the U's two 3 wide.
+        use crate::skeleton::fixtures;
+        let t = 30f64.to_radians().tan();
+        for (foot, w, ridge) in [(fixtures::l_arms_4(), 4.0f64, 2.0), (fixtures::u_legs_3(), 3.0, 2.0)] {
+            let hip = roof_mesh(&foot, RoofKind::Hip, 30.0, 0.0).unwrap();
+            let gable = roof_mesh(&foot, RoofKind::Gable, 30.0, 0.0).unwrap();
+            assert!(is_closed(&gable), "{foot:?}");
+            let more = volume(&gable) - volume(&hip);
+            assert!((more - 2.0 * w.powi(3) * t / 24.0).abs() < 1e-5, "{more}");
+            assert!((max_z(&gable) as f64 - ridge * t).abs() < 1e-5);
+            // Apart, the two gables are upright triangles in the wing
+            // ends' planes, up to the ridge.
+            let opts = RoofOpts { overhang: vec![0.0; foot.len()], gables: true, ..RoofOpts::default() };
+            let (roof, walls) = roof_meshes(&foot, RoofKind::Gable, 30.0, &opts).unwrap();
+            assert_eq!(walls.triangles.len(), 2);
+            for tri in &walls.triangles {
+                let [a, b, c] = tri.map(|i| walls.positions[i as usize].as_dvec3());
+                assert!((b - a).cross(c - a).normalize().z.abs() < 1e-6, "upright");
+                assert!((c.z - w / 2.0 * t).abs() < 1e-5, "apex at the ridge: {c}");
+            }
+            assert_eq!(roof.triangles.len() + 2, gable.triangles.len());
+        }
+        // With eaves overhanging 0.5 and `ends = 0`, the L's gables stand
+        // flush in its wing ends (x = 10, y = 10), not out at the eaves.
+        let foot = fixtures::l_arms_4();
+        let opts = RoofOpts { overhang: vec![0.5; 6], ends: Some(0.0), gables: true, ..RoofOpts::default() };
+        let (_, walls) = roof_meshes(&foot, RoofKind::Gable, 30.0, &opts).unwrap();
+        assert_eq!(walls.triangles.len(), 2);
+        for tri in &walls.triangles {
+            let ps = tri.map(|i| walls.positions[i as usize]);
+            assert!(
+                ps.iter().all(|p| (p.x - 10.0).abs() < 1e-4) || ps.iter().all(|p| (p.y - 10.0).abs() < 1e-4),
+                "{ps:?}"
+            );
+        }
+    }
+
     proptest::proptest! {
         /// Hip roofs on random star-shaped (mostly concave) footprints are
         /// closed solids no higher than the footprint's inradius allows.
@@ -892,7 +1067,7 @@ mod tests {
     #[test]
     fn hostile_roofs_are_errors_or_empty() {
         let l = l_shape();
-        assert!(roof_mesh(&l, RoofKind::Gable, 30.0, 0.0).unwrap_err().contains("use `roof_hip`"));
+        assert!(roof_mesh(&l, RoofKind::Shed, 30.0, 0.0).unwrap_err().contains("use `roof_hip` or `roof_gable`"));
         // An overhang that folds the notch of an L over itself.
         let notch = vec![
             DVec2::new(0.0, 0.0),

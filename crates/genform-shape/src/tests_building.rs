@@ -240,7 +240,7 @@ fn hostile_building_operations_fail_clearly() {
         ("A { lot(2, 2); roof_hip(95); }", "between 0 and 90"),
         ("A { roof_gable(30); }", "needs a polygon scope"),
         ("A { lot(2, 2); comp(f) { top: shape } }", "needs a mass"),
-        ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_gable(30); }", "use `roof_hip`"),
+        ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_shed(30); }", "use `roof_hip` or `roof_gable`"),
         ("A { taper(3); }", "needs a polygon scope"),
         ("A { lot(2, 2); taper(-1); }", "must be ≥ 0"),
     ];
@@ -248,8 +248,9 @@ fn hostile_building_operations_fail_clearly() {
         let e = try_scene(src).unwrap_err().to_string();
         assert!(e.contains(want) && e.contains("t.sg:1:"), "{src}: {e}");
     }
-    // The same L takes a hip roof (through its straight skeleton).
+    // The same L takes a hip or a gable roof (through its straight skeleton).
     assert_eq!(scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_hip(30); }").meshes.len(), 1);
+    assert_eq!(scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_gable(30); }").meshes.len(), 1);
     // A zero extrusion is an empty mass: nothing, and no faces.
     let s = scene("A { lot(2, 2); extrude(0); shape; comp(f) { all: shape } }");
     assert!(s.is_empty());
