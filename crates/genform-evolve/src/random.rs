@@ -103,4 +103,51 @@ mod tests {
         });
         assert_eq!(a.population(), b.population());
     }
+
+    /// `--evaluations N` with the GA's count: random search runs whole
+    /// batches of the population size until it has at least N, so at a
+    /// count the batches divide it matches the GA exactly, and otherwise
+    /// gets less than one batch more, never fewer. Every objective call is
+    /// counted, and another seed draws other genomes.
+    #[test]
+    fn the_driver_stops_it_at_the_gas_evaluation_count() {
+        use crate::config::GaConfig;
+        use crate::ga::Ga;
+        use crate::run::{Stop, run};
+        use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+        let ga_config = GaConfig {
+            population: 10,
+            elitism: Some(2),
+            initial_length: [3, 20],
+            max_length: 40,
+            ..GaConfig::default()
+        };
+        let objective = ShipToy { target: 12 };
+        let cancel = AtomicBool::new(false);
+        for generations in [5, 6] {
+            let mut ga = Ga::new(&ship(), &Limits::default(), ga_config.clone(), 4).unwrap();
+            let stop = Stop { generations: Some(generations), budget: None, evaluations: None, cancel: &cancel };
+            run(&mut ga, &objective, &stop, |_, _| {}).unwrap();
+            let wanted = ga.evaluations();
+            assert_eq!(wanted, 10 + generations as u64 * 8);
+
+            let calls = AtomicU64::new(0);
+            let counting = crate::objective::FnObjective(|g: &Genome| {
+                calls.fetch_add(1, Ordering::Relaxed);
+                objective.evaluate(g, &mut ())
+            });
+            let mut random = RandomSearch::new(&ship(), &Limits::default(), RandomConfig::like(&ga_config), 4).unwrap();
+            let stop = Stop { generations: None, budget: None, evaluations: Some(wanted), cancel: &cancel };
+            let summary = run(&mut random, &counting, &stop, |_, _| {}).unwrap();
+            assert_eq!(summary.evaluations, wanted.div_ceil(10) * 10, "{generations} GA generations");
+            assert_eq!(calls.load(Ordering::Relaxed), summary.evaluations);
+            assert!(summary.evaluations - wanted < 10);
+        }
+        let [mut a, mut b] = [1, 2]
+            .map(|seed| RandomSearch::new(&ship(), &Limits::default(), RandomConfig::like(&ga_config), seed).unwrap());
+        a.step(&objective);
+        b.step(&objective);
+        assert_ne!(a.population(), b.population(), "seeds 1 and 2 draw the same genomes");
+    }
 }
