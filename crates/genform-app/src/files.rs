@@ -31,9 +31,11 @@ pub fn write_model(scene: &Scene, path: &Path) -> Result<Vec<PathBuf>> {
 /// [`write_model`] with explicit export options.
 ///
 /// An OBJ gets its materials (the tag colours) in a `.mtl` file of the
-/// same stem beside it, named relative in its `mtllib` line; both go
-/// through [`write_atomic`], the library first, so the OBJ never names a
-/// library that is not there.
+/// same stem beside it, named relative in its `mtllib` line, and the
+/// images of textured tags beside it too (`STEM.TEXTURE.png`, named by
+/// the library's `map_Kd`); all go through [`write_atomic`], the images
+/// and the library first, so the OBJ never names a file that is not
+/// there.
 pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> Result<Vec<PathBuf>> {
     let format = output_format(path)?;
     let context = || format!("cannot export {}", path.display());
@@ -41,9 +43,19 @@ pub fn write_model_with(scene: &Scene, path: &Path, options: &ExportOptions) -> 
         let mtl = path.with_extension("mtl");
         let name = mtl.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let (obj, library) = genform_export::export_obj_with_mtl(scene, options, &name).with_context(context)?;
+        // The images its materials name, beside it (each through the gate:
+        // none may replace a file the command read).
+        let mut images = Vec::new();
+        for (file, png) in genform_export::obj_texture_files(scene, &name) {
+            let image = path.with_file_name(file);
+            write_atomic(&image, png)?;
+            images.push(image);
+        }
         write_atomic(&mtl, &library)?;
         write_atomic(path, &obj)?;
-        return Ok(vec![path.to_path_buf(), mtl]);
+        let mut written = vec![path.to_path_buf(), mtl];
+        written.extend(images);
+        return Ok(written);
     }
     // Straight into the file: a large drawing is never held whole.
     let mut refused = None;

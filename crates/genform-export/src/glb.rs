@@ -2,11 +2,12 @@
 
 use crate::granularity::Granularity;
 use crate::minecraft::{block_color, block_meshes};
-use crate::palette::{edge_color, edge_type_name, srgb_to_linear, tag_color};
+use crate::palette::{edge_color, edge_type_name, explicit_color, srgb_to_linear, tag_color};
 use crate::shapes::{Shapes, tag_name};
 use crate::stl::face_normal;
+use crate::uv::{face_axes, texture_coords};
 use genform_core::blocks::BlockState;
-use genform_core::scene::{Instance, Polygon, Scene, TagId, Tessellation, triangulate_polygon};
+use genform_core::scene::{Instance, Polygon, Scene, TagId, Tessellation, TextureId, triangulate_polygon};
 use glam::{Affine3A, DMat4, Mat4, Vec3};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, HashMap};
@@ -21,6 +22,11 @@ const UNSIGNED_INT: u32 = 5125;
 pub const Z_UP_TO_Y_UP: [f32; 4] = [-std::f32::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f32::consts::FRAC_1_SQRT_2];
 
 const MODE_LINES: u32 = 1;
+/// Sampler values: `REPEAT` wrapping, `LINEAR` magnification,
+/// `LINEAR_MIPMAP_LINEAR` minification.
+const REPEAT: u32 = 10497;
+const LINEAR: u32 = 9729;
+const LINEAR_MIPMAP_LINEAR: u32 = 9987;
 
 /// Writes `scene` as binary glTF 2.0 (a `.glb` file), split into nodes
 /// by [`Granularity::Auto`]; see [`write_glb_with`].
@@ -60,11 +66,22 @@ pub fn write_glb(scene: &Scene, tess: Tessellation) -> Vec<u8> {
 /// [`Granularity::PerTag`]: the same triangles, one mesh and node per tag,
 /// named by the tag, in tag order.
 ///
+/// Textured tags ([`Scene::texture_of`]) have their texture coordinates
+/// projected from world positions onto each face's plane (`u` along its
+/// horizontal, `v` up its slope, in world units from the world's origin
+/// divided by the image's size; horizontal faces take world x and z), so
+/// their instances are always in world space: in
+/// [`Granularity::Instanced`] they go into `baked`.
+///
 /// In every mode:
 /// - Polylines go into the mesh `polylines` as `LINES` primitives
 ///   (stroke widths are not kept).
 /// - One material per tag: base color from [`crate::tag_color`] (converted to
-///   linear), metallic 0, roughness 0.8.
+///   linear), metallic 0, roughness 0.8. A textured tag's material has the
+///   image as its `baseColorTexture` (the PNG embedded in the binary chunk,
+///   one `image` per texture, one sampler repeating both ways) and a base
+///   colour of white, or of the tag's `#rrggbb` (which tints the image);
+///   its primitives have `TEXCOORD_0`.
 /// - Block grids ([`Scene::blocks`]) as greedy meshes
 ///   ([`crate::minecraft::mesh_blocks`]) in world space: one mesh and node
 ///   per block state, named by the state (`minecraft:oak_stairs[facing=east]`);
@@ -113,6 +130,10 @@ impl Doc {
             match placement(&inst.transform) {
                 Placement::Skip => continue,
                 Placement::Bake => world_triangles(shapes, i, inst, baked.entry(inst.tag).or_default()),
+                // World-anchored texture coordinates are not shared.
+                Placement::Node(_) if scene.texture_of(inst.tag).is_some() => {
+                    world_triangles(shapes, i, inst, baked.entry(inst.tag).or_default())
+                }
                 Placement::Node(matrix) => {
                     let s = shapes.of_instance[i];
                     let data = *shape_data[s as usize].get_or_insert_with(|| {
@@ -170,10 +191,7 @@ impl Doc {
         }
         let mut prims: Vec<(TagId, Value)> = Vec::new();
         for (&(tag, double_sided), t) in &tris {
-            if let Some([pos, nrm, idx]) = self.flat_geometry(t.iter().copied()) {
-                let material = self.material(scene, tag, double_sided);
-                let prim =
-                    json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material});
+            if let Some(prim) = self.tag_primitive(scene, tag, double_sided, t) {
                 prims.push((tag, prim));
             }
         }
@@ -287,6 +305,12 @@ struct Doc {
     material_of: HashMap<(TagId, bool), usize>,
     block_material_of: HashMap<String, usize>,
     edge_material_of: HashMap<u32, usize>,
+    textured_material_of: HashMap<(TagId, bool), usize>,
+    /// Scene texture → glTF texture.
+    texture_of: HashMap<TextureId, usize>,
+    images: Vec<Value>,
+    samplers: Vec<Value>,
+    textures: Vec<Value>,
 }
 
 impl Doc {
@@ -392,16 +416,126 @@ impl Doc {
     fn world_mesh(&mut self, scene: &Scene, name: &str, tris: &BTreeMap<TagId, Vec<Flat>>, double_sided: bool) {
         let mut prims = Vec::new();
         for (&tag, t) in tris {
-            if let Some([pos, nrm, idx]) = self.flat_geometry(t.iter().copied()) {
-                let material = self.material(scene, tag, double_sided);
-                prims.push(json!({
-                    "attributes": {"POSITION": pos, "NORMAL": nrm},
-                    "indices": idx,
-                    "material": material,
-                }));
-            }
+            prims.extend(self.tag_primitive(scene, tag, double_sided, t));
         }
         self.named_mesh_node(name, prims);
+    }
+
+    /// The primitive of `tag`'s world-space triangles `tris` with its
+    /// material: flat-shaded, with texture coordinates when the tag is
+    /// textured. `None` when no triangle is left.
+    fn tag_primitive(&mut self, scene: &Scene, tag: TagId, double_sided: bool, tris: &[Flat]) -> Option<Value> {
+        let textured = scene.tag_textures.iter().find(|(t, _)| *t == tag).map(|&(_, x)| x);
+        if let Some(texture) = textured.filter(|&x| (x as usize) < scene.textures.len()) {
+            let size = scene.textures[texture as usize].size;
+            let [pos, nrm, uv, idx] = self.textured_geometry(tris.iter().copied(), size)?;
+            let material = self.textured_material(scene, tag, texture, double_sided);
+            return Some(json!({
+                "attributes": {"POSITION": pos, "NORMAL": nrm, "TEXCOORD_0": uv},
+                "indices": idx,
+                "material": material,
+            }));
+        }
+        let [pos, nrm, idx] = self.flat_geometry(tris.iter().copied())?;
+        let material = self.material(scene, tag, double_sided);
+        Some(json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material}))
+    }
+
+    /// [`Doc::flat_geometry`] with texture coordinates: each vertex's
+    /// world position projected onto its face's plane ([`crate::uv`]) in
+    /// copies of an image covering `size` world units; `v` negated, since
+    /// glTF's runs down the image.
+    fn textured_geometry(&mut self, tris: impl Iterator<Item = Flat>, size: [f32; 2]) -> Option<[usize; 4]> {
+        let (mut pos, mut nrm, mut uvs, mut idx) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        // The coordinates follow from position and normal: welding on both
+        // shares exactly the vertices whose coordinates agree.
+        let mut weld: rustc_hash::FxHashMap<([u32; 3], [u32; 3]), u32> = Default::default();
+        for (t, n) in tris {
+            if n == Vec3::ZERO || !t.iter().all(|p| p.is_finite()) {
+                continue;
+            }
+            let axes = face_axes(n);
+            for p in t {
+                let key = (p.to_array().map(f32::to_bits), n.to_array().map(f32::to_bits));
+                let v = *weld.entry(key).or_insert_with(|| {
+                    let [u, v] = texture_coords(p, axes, size);
+                    pos.push(p);
+                    nrm.push(n);
+                    // `+ 0.0` folds −0 so equal coordinates have equal bits.
+                    uvs.push([u + 0.0, -v + 0.0]);
+                    (pos.len() - 1) as u32
+                });
+                idx.push(v);
+            }
+        }
+        if idx.is_empty() {
+            return None;
+        }
+        let p = self.vec3(&pos, true);
+        let n = self.vec3(&nrm, false);
+        let mut bytes = Vec::with_capacity(uvs.len() * 8);
+        for c in uvs.iter().flatten() {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+        let view = self.view(&bytes, ARRAY_BUFFER);
+        self.accessors.push(json!({"bufferView": view, "componentType": FLOAT, "count": uvs.len(), "type": "VEC2"}));
+        let uv = self.accessors.len() - 1;
+        Some([p, n, uv, self.indices(&idx, pos.len())])
+    }
+
+    /// The material of textured `tag` (double-sided or not), added on first
+    /// use: [`Doc::material`]'s, with the image as base colour texture and
+    /// a white base colour unless the tag names a `#rrggbb`.
+    fn textured_material(&mut self, scene: &Scene, tag: TagId, texture: TextureId, double_sided: bool) -> usize {
+        if let Some(&m) = self.textured_material_of.get(&(tag, double_sided)) {
+            return m;
+        }
+        let index = self.texture(scene, texture);
+        let name = scene.tags.get(tag as usize).cloned().unwrap_or_else(|| format!("tag{tag}"));
+        let rgb = explicit_color(&name)
+            .map(|c| c.map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0))
+            .unwrap_or([1.0; 3]);
+        let mut mat = json!({
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
+                "baseColorTexture": {"index": index},
+                "metallicFactor": 0.0,
+                "roughnessFactor": 0.8,
+            },
+        });
+        if double_sided {
+            mat["doubleSided"] = true.into();
+            mat["name"] = format!("{name} (double-sided)").into();
+        }
+        self.materials.push(mat);
+        self.textured_material_of.insert((tag, double_sided), self.materials.len() - 1);
+        self.materials.len() - 1
+    }
+
+    /// The glTF texture of scene texture `texture`, added on first use: its
+    /// PNG as an image in the binary chunk, the one repeating sampler.
+    fn texture(&mut self, scene: &Scene, texture: TextureId) -> usize {
+        if let Some(&t) = self.texture_of.get(&texture) {
+            return t;
+        }
+        let tex = &scene.textures[texture as usize];
+        // An image's bufferView has no target (it is not vertex data).
+        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        self.views.push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": tex.png.len()}));
+        self.bin.extend_from_slice(&tex.png);
+        self.images.push(json!({"name": tex.name, "bufferView": self.views.len() - 1, "mimeType": "image/png"}));
+        if self.samplers.is_empty() {
+            self.samplers.push(json!({
+                "magFilter": LINEAR,
+                "minFilter": LINEAR_MIPMAP_LINEAR,
+                "wrapS": REPEAT,
+                "wrapT": REPEAT,
+            }));
+        }
+        self.textures.push(json!({"name": tex.name, "sampler": 0, "source": self.images.len() - 1}));
+        self.texture_of.insert(texture, self.textures.len() - 1);
+        self.textures.len() - 1
     }
 
     /// The polylines as one mesh of `LINES` primitives, one per tag.
@@ -543,6 +677,9 @@ impl Doc {
         put("nodes", self.nodes);
         put("meshes", self.meshes);
         put("materials", self.materials);
+        put("textures", self.textures);
+        put("images", self.images);
+        put("samplers", self.samplers);
         put("accessors", self.accessors);
         put("bufferViews", self.views);
         if !self.bin.is_empty() {
@@ -959,6 +1096,70 @@ mod tests {
             let ((a, b), (c, d)) = (bounds(other), bounds(tris));
             assert!(a.abs_diff_eq(c, 1e-4) && b.abs_diff_eq(d, 1e-4), "{name}");
         }
+    }
+
+    #[test]
+    fn textured_tags_embed_their_image_and_carry_world_texture_coordinates() {
+        let s = test_scenes::textured_wall();
+        for granularity in [Granularity::Instanced, Granularity::Merged, Granularity::PerTag] {
+            let glb = write_glb_with(&s, Tessellation::default(), granularity);
+            // An independent reader sees the image, the sampler and the coordinates.
+            let (doc, buffers, _) = gltf::import_slice(&glb).expect("a valid GLB");
+            let image = doc.images().next().expect("one image");
+            assert_eq!(doc.images().count(), 1);
+            let gltf::image::Source::View { view, mime_type } = image.source() else { panic!("embedded") };
+            assert_eq!(mime_type, "image/png");
+            assert_eq!(&buffers[0][view.offset()..view.offset() + view.length()], &s.textures[0].png[..]);
+            let sampler = doc.textures().next().unwrap().sampler();
+            assert_eq!(sampler.wrap_s(), gltf::texture::WrappingMode::Repeat);
+            assert_eq!(sampler.wrap_t(), gltf::texture::WrappingMode::Repeat);
+            let mut front = Vec::new();
+            let mut plain = 0;
+            for mesh in doc.meshes() {
+                for prim in mesh.primitives() {
+                    let material = prim.material();
+                    let reader = prim.reader(|b| Some(&buffers[b.index()]));
+                    let textured = material.pbr_metallic_roughness().base_color_texture().is_some();
+                    assert_eq!(textured, material.name().unwrap().starts_with("wall"), "{granularity}");
+                    let Some(uv) = reader.read_tex_coords(0) else {
+                        assert!(!textured);
+                        plain += 1;
+                        continue;
+                    };
+                    assert_eq!(
+                        material.pbr_metallic_roughness().base_color_factor(),
+                        [1.0; 4],
+                        "white: the image as it is"
+                    );
+                    let uv: Vec<[f32; 2]> = uv.into_f32().collect();
+                    let pos: Vec<[f32; 3]> = reader.read_positions().unwrap().collect();
+                    let nrm: Vec<[f32; 3]> = reader.read_normals().unwrap().collect();
+                    for ((p, n), t) in pos.iter().zip(&nrm).zip(&uv) {
+                        if n[2] > 0.99 && p[2].abs() < 1e-6 {
+                            front.push((*p, *t));
+                        }
+                    }
+                }
+            }
+            assert_eq!(plain, 1, "{granularity}: the untextured box keeps its plain primitive");
+            // The front of both pieces: u = x / 2 m, v = −y / 1 m (glTF's v runs
+            // down the image), the shared edge at x = 1.5 with one value.
+            assert!(front.len() >= 6, "{granularity}: {front:?}");
+            for (p, t) in &front {
+                assert!((t[0] - p[0] / 2.0).abs() < 1e-5 && (t[1] + p[1]).abs() < 1e-5, "{p:?} → {t:?}");
+            }
+            assert!(front.iter().any(|(p, _)| (p[0] - 1.5).abs() < 1e-6));
+        }
+    }
+
+    #[test]
+    fn scenes_without_textures_write_no_texture_coordinates() {
+        let glb = write_glb(&test_scenes::mixed(), Tessellation::default());
+        let (json, _) = parse(&glb);
+        for key in ["images", "textures", "samplers"] {
+            assert!(json.get(key).is_none(), "{key}");
+        }
+        assert!(!String::from_utf8_lossy(&glb).contains("TEXCOORD_0"));
     }
 
     #[test]

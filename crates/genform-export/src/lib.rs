@@ -4,7 +4,9 @@
 //! no file I/O. The formats:
 //!
 //! - [`Format::Obj`]: Wavefront OBJ text ([`write_obj`]); with a material
-//!   library (`.mtl`) of the tag colours through [`export_obj_with_mtl`].
+//!   library (`.mtl`) of the tag colours through [`export_obj_with_mtl`]
+//!   (and, for textured tags, `map_Kd` naming the images
+//!   [`obj_texture_files`] lists for the caller to write beside it).
 //! - [`Format::Glb`]: binary glTF 2.0 ([`write_glb`]).
 //! - [`Format::Ply`]: binary little-endian PLY, a triangle soup plus the
 //!   surfaces' polygons and typed edges ([`write_ply`]).
@@ -41,6 +43,12 @@
 //! (one mesh per block state); region files are read and written by
 //! [`minecraft::read_terrain`] and [`minecraft::write_region`].
 //!
+//! Textured tags ([`Scene::texture_of`]) get texture coordinates projected
+//! from world positions onto each face's plane (`uv`): GLB embeds the
+//! images as base-colour textures, OBJ writes `vt` and `map_Kd`; the other
+//! formats show the tag's colour. Scenes without textures are written
+//! exactly as before textures existed.
+//!
 //! All output is deterministic: the same scene gives the same bytes.
 //! [`export`] checks the scene first (missing mesh assets, non-finite
 //! coordinates, nothing to write) and reports an [`ExportError`]; the
@@ -62,6 +70,7 @@ mod shapes;
 mod stl;
 mod surfaces;
 mod svg;
+mod uv;
 
 use genform_core::scene::{Primitive, Scene, Tessellation};
 use std::fmt;
@@ -72,7 +81,7 @@ pub use drawing::{HAIRLINE_SHARE, drawing_geometry};
 pub use glb::{write_glb, write_glb_with};
 pub use granularity::{AUTO_MERGE_ABOVE, Granularity};
 pub use import::{ImportError, MAX_IMPORT_TRIANGLES, MeshFileError, MeshFormat, read_mesh, read_mesh_file};
-pub use obj::{write_obj, write_obj_materials, write_obj_with};
+pub use obj::{obj_texture_file, write_obj, write_obj_materials, write_obj_with};
 pub use palette::{edge_color, tag_color};
 pub use ply::write_ply;
 pub use render::{
@@ -333,6 +342,17 @@ pub fn export_obj_with_mtl(
     Ok((obj.into_bytes(), mtl.into_bytes()))
 }
 
+/// The image files the material library `mtl_file` of
+/// [`export_obj_with_mtl`] names (`map_Kd`), to be written beside it:
+/// one per texture a tag of `scene` shows, as (file name
+/// ([`obj_texture_file`]), PNG bytes), in texture order. Empty for a
+/// scene without textures.
+pub fn obj_texture_files<'s>(scene: &'s Scene, mtl_file: &str) -> Vec<(String, &'s [u8])> {
+    let used = |k: usize| scene.tag_textures.iter().any(|&(_, x)| x as usize == k);
+    let textures = scene.textures.iter().enumerate().filter(|&(k, _)| used(k));
+    textures.map(|(_, t)| (obj_texture_file(mtl_file, t), t.png.as_slice())).collect()
+}
+
 /// [`export`] written to `sink`: the same bytes, but an SVG drawing goes
 /// out piece by piece instead of as one text (a graph grammar's drawing
 /// of a million shapes would otherwise be held whole). Nothing is written
@@ -459,6 +479,47 @@ fn check_geometry(scene: &Scene, format: Format, tess: Tessellation) -> Result<(
 pub(crate) mod test_scenes {
     use genform_core::scene::{Instance, Polygon, Polyline, Primitive, Scene};
     use glam::{Affine3A, Quat, Vec3};
+
+    /// A `w` × `h` RGB PNG file of a reddish gradient.
+    pub fn tiny_png(w: u32, h: u32) -> Vec<u8> {
+        let mut out = Vec::new();
+        let mut enc = png::Encoder::new(&mut out, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        let mut writer = enc.write_header().unwrap();
+        let data: Vec<u8> = (0..w * h).flat_map(|i| [150, (i * 7 % 64) as u8, 40]).collect();
+        writer.write_image_data(&data).unwrap();
+        writer.finish().unwrap();
+        out
+    }
+
+    /// A wall in the plane z = 0 facing +z, 4 m wide and 3 m high, split
+    /// at x = 1.5 into two flat boxes (tag `wall`, textured with a 2 × 1 m
+    /// `brick`), and a box tagged `plain` beside it.
+    pub fn textured_wall() -> Scene {
+        use genform_core::scene::Texture;
+        let mut s = Scene::new();
+        let wall = s.tag("wall");
+        let plain = s.tag("plain");
+        let brick = std::sync::Arc::new(Texture::from_png("brick", tiny_png(4, 2), [2.0, 1.0]).unwrap());
+        s.set_texture(wall, &brick);
+        let piece = |x0: f32, x1: f32| Instance {
+            transform: Affine3A::from_scale_rotation_translation(
+                Vec3::new(x1 - x0, 3.0, 0.1),
+                Quat::IDENTITY,
+                Vec3::new((x0 + x1) / 2.0, 1.5, -0.05),
+            ),
+            primitive: Primitive::Box,
+            tag: wall,
+        };
+        s.instances.push(piece(0.0, 1.5));
+        s.instances.push(piece(1.5, 4.0));
+        s.instances.push(Instance {
+            transform: Affine3A::from_translation(Vec3::new(8.0, 0.5, 0.0)),
+            primitive: Primitive::Box,
+            tag: plain,
+        });
+        s
+    }
 
     /// `n` unit boxes in a row along x, tagged `hull`.
     pub fn boxes(n: usize) -> Scene {

@@ -1,9 +1,11 @@
 //! Wavefront OBJ text.
 
 use crate::granularity::Granularity;
-use crate::palette::tag_color;
+use crate::palette::{explicit_color, tag_color};
 use crate::shapes::{Shapes, tag_name};
-use genform_core::scene::{Scene, TagId, Tessellation};
+use crate::stl::face_normal;
+use crate::uv::{face_axes, polygon_normal, texture_coords};
+use genform_core::scene::{Scene, TagId, Tessellation, Texture};
 use glam::Vec3;
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -46,8 +48,10 @@ pub fn write_obj(scene: &Scene, tess: Tessellation) -> String {
 /// polygons (`f`, counter-clockwise from the front, not triangulated),
 /// then its edges as two-point `l` lines, one group per edge type in
 /// ascending order, `g <tag>_surface<k>_edges_type<N>`, untyped edges last
-/// in `g <tag>_surface<k>_edges_untyped`. Guides are left out. No normals,
-/// texture coordinates or materials ([`write_obj_materials`] adds them). Numbers are printed with at most 6
+/// in `g <tag>_surface<k>_edges_untyped`. Guides are left out. No normals
+/// and no materials ([`write_obj_materials`] adds them); texture
+/// coordinates only on the faces of textured tags (as
+/// [`write_obj_materials`] says). Numbers are printed with at most 6
 /// decimals, trailing zeros trimmed, so the text is identical from run to
 /// run.
 ///
@@ -71,6 +75,14 @@ pub fn write_obj_with(scene: &Scene, tess: Tessellation, granularity: Granularit
 /// the colour as displayed (sRGB, 0–1, 4 decimals; MTL names no colour
 /// space and most viewers show `Kd` as given), `Ka` 0, `Ks` 0, `d` 1,
 /// `illum 1` (diffuse only).
+///
+/// A textured tag ([`Scene::texture_of`]) gets texture coordinates (`vt`,
+/// one per face corner, projected from world positions onto the face's
+/// plane as for GLB ([`crate::write_glb_with`]), `v` up) on its faces (`f v/vt …`) and
+/// `map_Kd` naming the image's file beside the OBJ
+/// ([`obj_texture_file`]), with `Kd` white or the tag's `#rrggbb` (which
+/// tints it). Writing the image files is the caller's
+/// ([`crate::obj_texture_files`]).
 pub fn write_obj_materials(
     scene: &Scene,
     tess: Tessellation,
@@ -80,20 +92,36 @@ pub fn write_obj_materials(
     write(scene, tess, granularity, Some(mtl_file))
 }
 
-/// Materials in first-use order, written as `usemtl` lines when on.
-struct Materials {
-    on: bool,
-    list: Vec<(String, [u8; 3])>,
+/// The name of the file beside an OBJ that its material library
+/// `mtl_file` names for `texture` (`map_Kd`): the library's stem, the
+/// texture's name, `.png` (`house.mtl` → `house.brick.png`), so models
+/// written side by side keep their images apart and none replaces the
+/// grammar's own image.
+pub fn obj_texture_file(mtl_file: &str, texture: &Texture) -> String {
+    let stem = mtl_file.strip_suffix(".mtl").unwrap_or(mtl_file);
+    format!("{stem}.{}.png", texture.name)
 }
 
-impl Materials {
+/// Materials in first-use order, written as `usemtl` lines when on.
+struct Materials<'a> {
+    /// The library's file name, when materials are on.
+    mtl: Option<&'a str>,
+    /// Name, colour, image file (`map_Kd`).
+    list: Vec<(String, [u8; 3], Option<String>)>,
+}
+
+impl Materials<'_> {
     /// `usemtl name`, adding the material on first use.
     fn use_(&mut self, out: &mut String, name: &str, rgb: [u8; 3]) {
-        if !self.on {
+        self.use_with(out, name, rgb, None);
+    }
+
+    fn use_with(&mut self, out: &mut String, name: &str, rgb: [u8; 3], map: Option<String>) {
+        if self.mtl.is_none() {
             return;
         }
-        if !self.list.iter().any(|(n, _)| n == name) {
-            self.list.push((name.to_string(), rgb));
+        if !self.list.iter().any(|(n, _, _)| n == name) {
+            self.list.push((name.to_string(), rgb, map));
         }
         let _ = writeln!(out, "usemtl {name}");
     }
@@ -101,20 +129,29 @@ impl Materials {
     fn tag(&mut self, out: &mut String, scene: &Scene, tag: TagId) {
         // `#` starts a comment in many MTL readers: `leaf#3a7d23` → `leaf_3a7d23`.
         let name = tag_name(scene, tag).replace('#', "_");
-        let rgb = tag_color(scene.tags.get(tag as usize).map_or("", String::as_str));
-        self.use_(out, &name, rgb);
+        let full = scene.tags.get(tag as usize).map_or("", String::as_str);
+        match (scene.texture_of(tag), self.mtl) {
+            (Some(t), Some(mtl)) => {
+                let rgb = explicit_color(full).unwrap_or([255; 3]);
+                self.use_with(out, &name, rgb, Some(obj_texture_file(mtl, t)));
+            }
+            _ => self.use_(out, &name, tag_color(full)),
+        }
     }
 
     /// The `.mtl` text.
     fn library(&self) -> String {
         let mut out = String::from("# genform\n");
-        for (name, rgb) in &self.list {
+        for (name, rgb, map) in &self.list {
             let _ = writeln!(out, "newmtl {name}");
             out.push_str("Kd");
             for c in rgb {
                 let _ = write!(out, " {}", trimmed(f32::from(*c) / 255.0, 4));
             }
             out.push_str("\nKa 0 0 0\nKs 0 0 0\nd 1\nillum 1\n");
+            if let Some(file) = map {
+                let _ = writeln!(out, "map_Kd {file}");
+            }
         }
         out
     }
@@ -133,24 +170,31 @@ fn write(scene: &Scene, tess: Tessellation, granularity: Granularity, mtl: Optio
     if let Some(origin) = &scene.origin {
         let _ = writeln!(out, "# origin: {}", origin.replace('\n', " "));
     }
-    let mut mats = Materials { on: mtl.is_some(), list: Vec::new() };
+    let mut mats = Materials { mtl, list: Vec::new() };
     if let Some(file) = mtl {
         let _ = writeln!(out, "mtllib {file}");
     }
-    // OBJ indices are 1-based and global.
+    // OBJ indices are 1-based and global (`vt` have their own).
     let mut next = 1usize;
+    let mut next_vt = 1usize;
     let polygons = || scene.polygons.iter().enumerate().filter(|(_, p)| p.points.len() >= 3);
     let mode = granularity.resolve(scene.instances.len() + scene.polygons.len());
     if mode == Granularity::Instanced {
         for (i, inst) in scene.instances.iter().enumerate() {
             let _ = writeln!(out, "o {}_{i}", tag_name(scene, inst.tag));
             mats.tag(&mut out, scene, inst.tag);
-            instance(&mut out, &mut next, &shapes, scene, i);
+            match scene.texture_of(inst.tag) {
+                Some(t) => textured_instance(&mut out, [&mut next, &mut next_vt], &shapes, scene, i, t.size),
+                None => instance(&mut out, &mut next, &shapes, scene, i),
+            }
         }
         for (k, p) in polygons() {
             let _ = writeln!(out, "o {}_polygon{k}", tag_name(scene, p.tag));
             mats.tag(&mut out, scene, p.tag);
-            run(&mut out, &mut next, 'f', &p.points);
+            match scene.texture_of(p.tag) {
+                Some(t) => textured_polygon(&mut out, [&mut next, &mut next_vt], &p.points, t.size),
+                None => run(&mut out, &mut next, 'f', &p.points),
+            }
         }
     } else {
         // Per tag: its instances and polygons, each in scene order.
@@ -168,11 +212,19 @@ fn write(scene: &Scene, tess: Tessellation, granularity: Granularity, mtl: Optio
         for (tag, (instances, polys)) in by_tag {
             let _ = writeln!(out, "{} {}", if merged { 'g' } else { 'o' }, tag_name(scene, tag));
             mats.tag(&mut out, scene, tag);
+            let texture = scene.texture_of(tag).map(|t| t.size);
             for i in instances {
-                instance(&mut out, &mut next, &shapes, scene, i);
+                match texture {
+                    Some(size) => textured_instance(&mut out, [&mut next, &mut next_vt], &shapes, scene, i, size),
+                    None => instance(&mut out, &mut next, &shapes, scene, i),
+                }
             }
             for k in polys {
-                run(&mut out, &mut next, 'f', &scene.polygons[k].points);
+                let points = &scene.polygons[k].points;
+                match texture {
+                    Some(size) => textured_polygon(&mut out, [&mut next, &mut next_vt], points, size),
+                    None => run(&mut out, &mut next, 'f', points),
+                }
             }
         }
     }
@@ -240,6 +292,67 @@ fn instance(out: &mut String, next: &mut usize, shapes: &Shapes, scene: &Scene, 
         let _ = writeln!(out, "f {a} {b} {c}");
     }
     *next += mesh.positions.len();
+}
+
+/// [`instance`] with texture coordinates: one `vt` per triangle corner,
+/// projected onto the triangle's plane ([`crate::uv`]), in copies of an
+/// image covering `size` world units.
+fn textured_instance(
+    out: &mut String,
+    [next, next_vt]: [&mut usize; 2],
+    shapes: &Shapes,
+    scene: &Scene,
+    i: usize,
+    size: [f32; 2],
+) {
+    let inst = &scene.instances[i];
+    let mesh = shapes.of(i);
+    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| inst.transform.transform_point3(p)).collect();
+    for &p in &world {
+        vertex(out, p);
+    }
+    let flip = inst.transform.matrix3.determinant() < 0.0;
+    for t in &mesh.triangles {
+        let t = if flip { [t[0], t[2], t[1]] } else { *t };
+        let corners = t.map(|v| world[v as usize]);
+        let axes = face_axes(face_normal(corners));
+        for p in corners {
+            texture_vertex(out, texture_coords(p, axes, size));
+        }
+        let [a, b, c] = t.map(|v| *next + v as usize);
+        let vt = *next_vt;
+        let _ = writeln!(out, "f {a}/{vt} {b}/{} {c}/{}", vt + 1, vt + 2);
+        *next_vt += 3;
+    }
+    *next += mesh.positions.len();
+}
+
+/// A polygon as one face `f v/vt …` with texture coordinates projected
+/// onto its plane.
+fn textured_polygon(out: &mut String, [next, next_vt]: [&mut usize; 2], points: &[Vec3], size: [f32; 2]) {
+    let axes = face_axes(polygon_normal(points));
+    for &p in points {
+        vertex(out, p);
+    }
+    for &p in points {
+        texture_vertex(out, texture_coords(p, axes, size));
+    }
+    out.push('f');
+    for k in 0..points.len() {
+        let _ = write!(out, " {}/{}", *next + k, *next_vt + k);
+    }
+    out.push('\n');
+    *next += points.len();
+    *next_vt += points.len();
+}
+
+/// A `vt u v` line.
+fn texture_vertex(out: &mut String, [u, v]: [f32; 2]) {
+    out.push_str("vt ");
+    number(out, u);
+    out.push(' ');
+    number(out, v);
+    out.push('\n');
 }
 
 /// `points` as vertices and one element over them all: `f` (an n-gon) or
@@ -494,5 +607,53 @@ mod tests {
         assert_eq!(kd("hull"), hull.map(|c| (f32::from(c) / 255.0 * 1e4).round() / 1e4));
         assert_eq!(kd("edge1"), crate::edge_color(1).map(|c| (f32::from(c) / 255.0 * 1e4).round() / 1e4));
         assert!(models.iter().all(|m| m.mesh.material_id.is_some()), "every part has a material");
+    }
+
+    #[test]
+    fn textured_tags_get_texture_coordinates_and_map_kd() {
+        let s = test_scenes::textured_wall();
+        for granularity in [Granularity::Instanced, Granularity::PerTag, Granularity::Merged] {
+            let (obj, mtl) = write_obj_materials(&s, Tessellation::default(), granularity, "house.mtl");
+            assert!(mtl.contains("newmtl wall\nKd 1 1 1\n") && mtl.contains("map_Kd house.brick.png\n"), "{mtl}");
+            assert_eq!(mtl.matches("map_Kd").count(), 1, "the plain box has none");
+            // Two textured boxes: 12 triangles each, one `vt` per corner.
+            assert_eq!(count(&obj, "vt "), 2 * 12 * 3, "{granularity}");
+            let vs: Vec<Vec3> = obj
+                .lines()
+                .filter_map(|l| l.strip_prefix("v "))
+                .map(|l| {
+                    let c: Vec<f32> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                    Vec3::new(c[0], c[1], c[2])
+                })
+                .collect();
+            let vts: Vec<[f32; 2]> = obj
+                .lines()
+                .filter_map(|l| l.strip_prefix("vt "))
+                .map(|l| {
+                    let c: Vec<f32> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+                    [c[0], c[1]]
+                })
+                .collect();
+            // Every corner on the front (z = 0) has u = x / 2, v = y / 1.
+            let mut front = 0;
+            for l in obj.lines().filter(|l| l.starts_with("f ") && l.contains('/')) {
+                let corners: Vec<(usize, usize)> = l[2..]
+                    .split(' ')
+                    .map(|c| c.split_once('/').map(|(v, t)| (v.parse().unwrap(), t.parse().unwrap())).unwrap())
+                    .collect();
+                if corners.iter().all(|&(v, _)| vs[v - 1].z.abs() < 1e-6) {
+                    for (v, t) in corners {
+                        let (p, uv) = (vs[v - 1], vts[t - 1]);
+                        assert!((uv[0] - p.x / 2.0).abs() < 1e-5 && (uv[1] - p.y).abs() < 1e-5, "{p} → {uv:?}");
+                        front += 1;
+                    }
+                }
+            }
+            assert_eq!(front, 2 * 2 * 3, "{granularity}: two front quads of two triangles");
+        }
+        assert_eq!(
+            crate::obj_texture_files(&s, "house.mtl"),
+            vec![("house.brick.png".to_string(), &s.textures[0].png[..])]
+        );
     }
 }

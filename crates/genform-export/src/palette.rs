@@ -103,7 +103,7 @@ pub(crate) fn lighten(c: [u8; 3], amount: f32) -> [u8; 3] {
 }
 
 /// The `#rrggbb` a name ends with, if any.
-fn explicit_color(name: &str) -> Option<[u8; 3]> {
+pub(crate) fn explicit_color(name: &str) -> Option<[u8; 3]> {
     let hex = name.len().checked_sub(7).and_then(|i| name.get(i..))?.strip_prefix('#')?;
     if !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;

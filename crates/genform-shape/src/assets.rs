@@ -1,4 +1,4 @@
-//! Where a grammar's mesh and footprint files come from: the door that
+//! Where a grammar's mesh, texture and footprint files come from: the door that
 //! compiles a grammar knows where its files lie, the compiler does not.
 
 use crate::footprint::{FootprintLot, FootprintSet, LotProps};
@@ -10,6 +10,14 @@ pub trait AssetResolver {
     /// CLI resolves it relative to the grammar file). The error message is
     /// shown to the user next to the path.
     fn load_mesh(&self, path: &str) -> Result<Mesh, String>;
+
+    /// Reads the image file at `path` of `texture("…")`, exactly as written
+    /// in the `.sg` file (the CLI resolves it relative to the grammar file,
+    /// like meshes): its bytes, which the compiler checks are a PNG file.
+    /// The error message is shown to the user next to the path.
+    fn load_texture(&self, path: &str) -> Result<Vec<u8>, String> {
+        Err(format!("no texture files are available here (asked for \"{path}\")"))
+    }
 
     /// Loads the footprints at `path` (`footprints "…";`): one list of
     /// world `(x, z)` corners per polygon.

@@ -37,6 +37,8 @@ pub(crate) fn compile(
         tags_given: Vec::new(),
         query_tags: Vec::new(),
         colors: Vec::new(),
+        textures: Vec::new(),
+        textured: Vec::new(),
         zero,
     };
 
@@ -241,6 +243,7 @@ pub(crate) fn compile(
         None => Arc::new([]),
     };
     g.check_query_tags(&mut errors);
+    let textures = load_textures(&g.textures, assets, &mut errors);
     let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
     let name = name.or(stem).unwrap_or_else(|| "grammar".into());
     let graph = GeneratorGraph { name: name.clone(), symbols: specs, root: root.unwrap_or(0) };
@@ -279,8 +282,11 @@ pub(crate) fn compile(
     }
 
     let occlusion = codes.iter().any(|r| r.exprs.iter().any(|e| !e.queries.is_empty()));
+    let texture_names: Vec<String> = textures.iter().map(|t| t.name.clone()).collect();
+    g.textured_tags(&texture_names);
     let color_tags = g.color_tags();
     let base_tags = if occlusion { g.base_tags() } else { Vec::new() };
+    let (texture_tags, tag_textures) = g.texture_tables(textures.len());
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
     let check = crate::genome_check::GenomeCheck::new(&graph);
     let grammar = ShapeGrammar {
@@ -302,8 +308,57 @@ pub(crate) fn compile(
         limits_at,
         color_tags,
         base_tags,
+        textures,
+        texture_tags,
+        tag_textures,
     };
     Ok((grammar, finish(file, Vec::new(), warnings)))
+}
+
+/// Reads the images of `texture(…)` through `assets`, each named by its
+/// file stem (letters, digits, `_` and `-`; numbered when two files share
+/// one); a file that cannot be read or is no PNG is an error at its path.
+fn load_textures(
+    uses: &[crate::codegen::TextureUse],
+    assets: &dyn AssetResolver,
+    errors: &mut Vec<Diagnostic>,
+) -> Vec<Arc<genform_core::scene::Texture>> {
+    let mut out: Vec<Arc<genform_core::scene::Texture>> = Vec::new();
+    for u in uses {
+        let stem = std::path::Path::new(&u.path).file_stem().map(|s| s.to_string_lossy().into_owned());
+        let stem: String = stem
+            .unwrap_or_default()
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() || c == '-' { c } else { '_' })
+            .collect();
+        let stem = if stem.is_empty() { "texture".to_string() } else { stem };
+        let mut name = stem.clone();
+        let mut n = 1;
+        while out.iter().any(|t| t.name == name) {
+            n += 1;
+            name = format!("{stem}{n}");
+        }
+        let size = u.size.map(|v| v as f32);
+        let loaded =
+            assets.load_texture(&u.path).and_then(|bytes| genform_core::scene::Texture::from_png(&name, bytes, size));
+        match loaded {
+            Ok(t) => out.push(Arc::new(t)),
+            Err(msg) => {
+                errors.push(
+                    Diagnostic::error(u.span, format!("cannot load the texture \"{}\": {msg}", u.path))
+                        .with_hint("texture paths are relative to the grammar file; textures are PNG images"),
+                );
+                // A stand-in keeps the indices of later textures.
+                out.push(Arc::new(genform_core::scene::Texture {
+                    name,
+                    png: Vec::new(),
+                    pixels: [1, 1],
+                    size: [1.0, 1.0],
+                }));
+            }
+        }
+    }
+    out
 }
 
 /// Sorts by position, drops duplicates (template instances report the same

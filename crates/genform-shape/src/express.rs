@@ -41,7 +41,7 @@ impl Mode for ExpressMode<'_> {
     fn emit(&mut self, g: &ShapeGrammar, transform: Affine3A, prim: Primitive, tag: u32) {
         let t = tag as usize;
         if self.tags[t] == UNSEEN {
-            self.tags[t] = self.scene.tag(&g.tags[t]);
+            self.intern(g, t);
         }
         let primitive = match prim {
             Primitive::Mesh(m) => {
@@ -80,9 +80,19 @@ impl ExpressMode<'_> {
     fn scene_tag(&mut self, g: &ShapeGrammar, tag: u32) -> u32 {
         let t = tag as usize;
         if self.tags[t] == UNSEEN {
-            self.tags[t] = self.scene.tag(&g.tags[t]);
+            self.intern(g, t);
         }
         self.tags[t]
+    }
+
+    /// Adds grammar tag `t` to the scene, with its texture if it has one.
+    #[cold]
+    fn intern(&mut self, g: &ShapeGrammar, t: usize) {
+        let id = self.scene.tag(&g.tags[t]);
+        self.tags[t] = id;
+        if let Some(&Some(k)) = g.tag_textures.get(t) {
+            self.scene.set_texture(id, &g.textures[k as usize]);
+        }
     }
 }
 

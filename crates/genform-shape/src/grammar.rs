@@ -42,6 +42,12 @@ pub struct ShapeGrammar {
     pub(crate) color_tags: Vec<Vec<u32>>,
     /// Each tag's tag without a colour (kept when occlusion queries ask).
     pub(crate) base_tags: Vec<u32>,
+    /// The images of `texture(…)`.
+    pub(crate) textures: Vec<Arc<genform_core::scene::Texture>>,
+    /// Per texture, the tag each tag becomes under `texture(…)`.
+    pub(crate) texture_tags: Vec<Vec<u32>>,
+    /// Each tag's texture (empty when there are no textures).
+    pub(crate) tag_textures: Vec<Option<u32>>,
 }
 
 impl ShapeGrammar {

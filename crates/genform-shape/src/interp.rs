@@ -361,6 +361,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             }
             Op::Tag(t) => self.cur.tag = t,
             Op::Color(k) => self.cur.tag = self.g.color_tags[k as usize][self.cur.tag as usize],
+            Op::Texture(k) => self.cur.tag = self.g.texture_tags[k as usize][self.cur.tag as usize],
             Op::Let(idx, e) => {
                 let v = self.eval(rule, e)?;
                 self.st.env[self.top.env + idx as usize] = v;

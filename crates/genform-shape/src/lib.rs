@@ -80,3 +80,5 @@ mod tests;
 mod tests_building;
 #[cfg(test)]
 mod tests_links;
+#[cfg(test)]
+mod tests_texture;

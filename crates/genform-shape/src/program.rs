@@ -203,6 +203,9 @@ pub(crate) enum Op {
     /// `color("#rrggbb")`: the current tag with that colour (index into
     /// the grammar's colours; see `ShapeGrammar::color_tags`).
     Color(u32),
+    /// `texture("file", w, h)`: the current tag with that texture (index
+    /// into the grammar's textures; see `ShapeGrammar::texture_tags`).
+    Texture(u32),
     /// Stores an expression's value in an env slot.
     Let(u32, u32),
     Emit(Prim),

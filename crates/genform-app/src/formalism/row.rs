@@ -281,7 +281,22 @@ impl genform_shape::AssetResolver for FileAssets {
     fn load_footprints(&self, path: &str) -> Result<Vec<Vec<[f64; 2]>>, String> {
         crate::footprints::read_footprints(&self.base.join(path)).map_err(|e| format!("{e:#}"))
     }
+
+    fn load_texture(&self, path: &str) -> Result<Vec<u8>, String> {
+        let file = self.base.join(path);
+        crate::gate::admit_path(&file).map_err(|e| format!("{e:#}"))?;
+        // Checked before reading: every model written embeds or copies it.
+        if let Ok(meta) = std::fs::metadata(&file)
+            && meta.len() > MAX_TEXTURE_BYTES
+        {
+            return Err(format!("the file is {} MB, more than a texture may be (64 MB)", meta.len() >> 20));
+        }
+        crate::gate::read_bytes(&file, "texture").map_err(|e| format!("{e:#}"))
+    }
 }
+
+/// The largest texture file a grammar may name.
+const MAX_TEXTURE_BYTES: u64 = 64 << 20;
 
 impl genform_lsystem::SurfaceAssets for FileAssets {
     fn load_mesh(&self, path: &str) -> Result<genform_core::scene::Mesh, String> {

@@ -53,6 +53,10 @@ impl genform_shape::AssetResolver for ShapeAssets {
         genform_shape::AssetResolver::load_footprints(&self.0, path)
     }
 
+    fn load_texture(&self, path: &str) -> Result<Vec<u8>, String> {
+        genform_shape::AssetResolver::load_texture(&self.0, path)
+    }
+
     fn load_footprint_set(&self, path: &str) -> Result<genform_shape::FootprintSet, String> {
         crate::footprints::read_lots(&self.1.join(path)).map_err(|e| format!("{e:#}"))
     }

@@ -14,6 +14,7 @@
 //! - `polylines`: [`Polylines`], every stroke's points in one array;
 //! - `triangulate`: [`triangulate_polygon`], ear clipping of planar polygons;
 //! - `primitive`: [`Primitive`], the built-in unit shapes;
+//! - `texture`: [`Texture`], a PNG image with its size in the world;
 //! - `tessellate`: [`Tessellation`] and [`unit_mesh`], which
 //!   [`Scene::for_each_triangle`] (here) walks the triangles with.
 
@@ -24,12 +25,14 @@ mod primitive;
 mod tessellate;
 #[cfg(test)]
 mod tests;
+mod texture;
 mod triangulate;
 
 pub use mesh::{Mesh, MeshId, TagId};
 pub use polylines::{Polyline, Polylines};
 pub use primitive::Primitive;
 pub use tessellate::{Tessellation, unit_mesh};
+pub use texture::{Texture, TextureId};
 pub use triangulate::triangulate_polygon;
 
 use glam::Affine3A;
@@ -142,6 +145,12 @@ pub struct Scene {
     /// …)"), for formats with a place for it: GLB `asset.extras.origin`,
     /// an OBJ and a PLY comment. `None`: the data's own origin.
     pub origin: Option<String>,
+    /// Images shown by textured tags ([`Scene::tag_textures`]), each once.
+    pub textures: Vec<Arc<Texture>>,
+    /// Which tags show which texture: (tag, index into
+    /// [`Scene::textures`]), a tag at most once, in the order they were
+    /// set. Other tags show their flat colour.
+    pub tag_textures: Vec<(TagId, TextureId)>,
 }
 
 impl Scene {
@@ -161,6 +170,8 @@ impl Scene {
         self.shapes2d.clear();
         self.surfaces.clear();
         self.guides.clear();
+        self.textures.clear();
+        self.tag_textures.clear();
     }
 
     /// The id of tag `name`, interning it on first use.
@@ -179,6 +190,28 @@ impl Scene {
         }
         self.meshes.push(mesh.clone());
         (self.meshes.len() - 1) as MeshId
+    }
+
+    /// Gives `tag` the texture `texture` (replacing one it had), adding
+    /// the texture on first use (by pointer identity).
+    pub fn set_texture(&mut self, tag: TagId, texture: &Arc<Texture>) {
+        let id = match self.textures.iter().position(|t| Arc::ptr_eq(t, texture)) {
+            Some(i) => i as TextureId,
+            None => {
+                self.textures.push(texture.clone());
+                (self.textures.len() - 1) as TextureId
+            }
+        };
+        match self.tag_textures.iter_mut().find(|(t, _)| *t == tag) {
+            Some(p) => p.1 = id,
+            None => self.tag_textures.push((tag, id)),
+        }
+    }
+
+    /// The texture `tag` shows, if it has one.
+    pub fn texture_of(&self, tag: TagId) -> Option<&Texture> {
+        let (_, id) = self.tag_textures.iter().find(|(t, _)| *t == tag)?;
+        self.textures.get(*id as usize).map(|t| &**t)
     }
 
     /// Whether nothing was emitted.

@@ -25,6 +25,7 @@ pub(crate) const OPS: &[&str] = &[
     "scale",
     "tag",
     "color",
+    "texture",
     "box",
     "cylinder",
     "cone",
@@ -76,6 +77,14 @@ impl Globals {
     }
 }
 
+/// One texture of `texture("file", w, h)`: the file as written, where,
+/// and the size of one copy of the image in world units.
+pub(crate) struct TextureUse {
+    pub path: String,
+    pub span: Span,
+    pub size: [f64; 2],
+}
+
 /// A source rule as the compiler sees it.
 pub(crate) struct RuleInfo {
     pub name: String,
@@ -100,6 +109,12 @@ pub(crate) struct Globals {
     pub query_tags: Vec<(String, String, Span)>,
     /// The colours of `color(…)`, `#rrggbb` in lower case.
     pub colors: Vec<String>,
+    /// The textures of `texture(…)`, each (file, size) once, in order of
+    /// first use.
+    pub textures: Vec<TextureUse>,
+    /// Tags of textured shapes (`wall@brick`): the name, the tag without
+    /// the texture (`wall`) and the texture; see [`Globals::textured_tags`].
+    pub textured: Vec<(String, String, u32)>,
     /// `0` compiled once, standing in for expressions that failed.
     pub zero: Program,
 }
@@ -133,6 +148,67 @@ impl Globals {
         self.tag_id(name)
     }
 
+    /// Makes the tags of textured shapes, before [`Globals::color_tags`]
+    /// (so that every textured tag gets its coloured variants): for every
+    /// tag `name` or `name#rrggbb` and every texture, `name@<texture>` (or
+    /// `name@<texture>#rrggbb`), `names` being the textures' short names.
+    /// Nothing when no rule says `texture(…)`, so grammars without
+    /// textures keep exactly their tags.
+    pub fn textured_tags(&mut self, names: &[String]) {
+        if names.is_empty() {
+            return;
+        }
+        let tags = self.tags.clone();
+        for t in &tags {
+            let plain = base_tag(t);
+            let colour = &t[plain.len()..];
+            for (k, n) in names.iter().enumerate() {
+                let textured = format!("{plain}@{n}");
+                if !self.textured.iter().any(|(x, _, _)| *x == textured) {
+                    self.textured.push((textured.clone(), plain.to_string(), k as u32));
+                }
+                self.intern_tag(&format!("{textured}{colour}"));
+            }
+        }
+    }
+
+    /// Once every tag is made: for each texture, the tag each tag becomes
+    /// under `texture(…)` (the same name, colour kept, that texture instead
+    /// of any other), and each tag's texture. Adds no tag: a name that is
+    /// missing (a tag only occlusion queries name) maps to itself.
+    pub fn texture_tables(&self, textures: usize) -> (Vec<Vec<u32>>, Vec<Option<u32>>) {
+        if textures == 0 {
+            return (Vec::new(), Vec::new());
+        }
+        let parts = |t: &str| -> (String, Option<u32>, String) {
+            let b = base_tag(t);
+            let colour = t[b.len()..].to_string();
+            match self.textured.iter().find(|(x, _, _)| x == b) {
+                Some((_, plain, k)) => (plain.clone(), Some(*k), colour),
+                None => (b.to_string(), None, colour),
+            }
+        };
+        let split: Vec<_> = self.tags.iter().map(|t| parts(t)).collect();
+        let of = split.iter().map(|(_, k, _)| *k).collect();
+        let table = (0..textures)
+            .map(|k| {
+                let k = k as u32;
+                split
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (plain, _, colour))| {
+                        let want = match self.textured.iter().find(|(_, p, x)| p == plain && *x == k) {
+                            Some((name, _, _)) => format!("{name}{colour}"),
+                            None => return i as u32,
+                        };
+                        self.tags.iter().position(|t| *t == want).map_or(i as u32, |j| j as u32)
+                    })
+                    .collect()
+            })
+            .collect();
+        (table, of)
+    }
+
     /// For each colour of `color(…)`, the tag each tag becomes: its name
     /// without a `#rrggbb` suffix, then the colour (exporters colour a tag
     /// named `name#rrggbb` exactly so). Interns what it needs.
@@ -153,10 +229,14 @@ impl Globals {
         colors.iter().map(|c| all.iter().map(|b| self.tag_id(&format!("{b}{c}"))).collect()).collect()
     }
 
-    /// Each tag's tag without a colour suffix (itself when it has none),
-    /// which occlusion queries name.
+    /// Each tag's tag without a colour suffix or texture (itself when it
+    /// has neither), which occlusion queries name.
     pub fn base_tags(&mut self) -> Vec<u32> {
-        let bases: Vec<String> = self.tags.iter().map(|t| base_tag(t).to_string()).collect();
+        let plain = |b: &str| match self.textured.iter().find(|(x, _, _)| x == b) {
+            Some((_, p, _)) => p.clone(),
+            None => b.to_string(),
+        };
+        let bases: Vec<String> = self.tags.iter().map(|t| plain(base_tag(t))).collect();
         bases.iter().map(|b| self.tag_id(b)).collect()
     }
 

@@ -148,6 +148,7 @@ impl SymbolCx<'_> {
                     self.errors.push(d);
                 }
             },
+            "texture" => self.texture(span, args),
             "box" | "cylinder" | "cone" | "sphere" => {
                 if !args.is_empty() {
                     self.arity(name, span, &format!("{name};"), args.len());
@@ -393,6 +394,62 @@ impl SymbolCx<'_> {
 }
 
 /// `#rrggbb`: six hex digits after a hash.
+impl SymbolCx<'_> {
+    /// `texture("file.png")` or `texture("file.png", w, h)`: w and h, the
+    /// size of one copy of the image in world units (1 by default), must
+    /// be known when the grammar is compiled, since the texture belongs to
+    /// the tag.
+    fn texture(&mut self, span: Span, args: &[Arg]) {
+        const FORM: &str =
+            "write `texture(\"brick.png\")` or `texture(\"brick.png\", 2, 1)` (one copy of the image covers 2 × 1 m)";
+        let Some(Arg::Str(path, pspan)) = args.first() else {
+            let at = args.first().map_or(span, Arg::span);
+            self.errors.push(Diagnostic::error(at, "`texture` takes a quoted PNG file first").with_hint(FORM));
+            return;
+        };
+        let mut size = [1.0, 1.0];
+        match &args[1..] {
+            [] => {}
+            [Arg::Expr(w), Arg::Expr(h)] => {
+                for (k, (e, what)) in [(w, "a texture's width"), (h, "a texture's height")].into_iter().enumerate() {
+                    match self.eval_const(e, what) {
+                        Some(v) if v > 0.0 && v <= 1.0e6 => size[k] = v,
+                        Some(v) => {
+                            let d = Diagnostic::error(
+                                e.span(),
+                                format!("{what} must be above 0 (and at most 1e6), found {v}"),
+                            )
+                            .with_hint("the size is that of one copy of the image, in world units (metres)");
+                            self.errors.push(d);
+                            return;
+                        }
+                        None => return,
+                    }
+                }
+            }
+            rest => {
+                let at = rest.first().map_or(span, Arg::span);
+                let d = Diagnostic::error(at, "`texture` takes a file, then no size or a width and a height")
+                    .with_hint(FORM);
+                self.errors.push(d);
+                return;
+            }
+        }
+        if path.is_empty() {
+            self.errors.push(Diagnostic::error(*pspan, "the texture file is empty").with_hint(FORM));
+            return;
+        }
+        let k = match self.g.textures.iter().position(|t| t.path == *path && t.size == size) {
+            Some(k) => k,
+            None => {
+                self.g.textures.push(TextureUse { path: path.clone(), span: *pspan, size });
+                self.g.textures.len() - 1
+            }
+        };
+        self.code.push(Op::Texture(k as u32));
+    }
+}
+
 fn is_hex_color(c: &str) -> bool {
     c.len() == 7 && c.starts_with('#') && c[1..].bytes().all(|b| b.is_ascii_hexdigit())
 }
