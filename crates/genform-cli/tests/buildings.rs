@@ -155,3 +155,25 @@ fn a_facade_invoked_for_every_wall_decorates_every_wall_and_replays() {
     let (a, b) = (primitives(&all), primitives(&one));
     assert!(a > 2 * b, "{a} primitives on every wall, {b} on the front only");
 }
+
+#[test]
+fn an_inset_that_leaves_nothing_is_a_warning_naming_its_place_once_per_district() {
+    // Three 4 × 2 lots, each inset by 1.5: nothing is left inside any of
+    // them. The sample still succeeds, and says so once with the count.
+    let tmp = tempfile::tempdir().unwrap();
+    let lots = r#"{"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [4, 0], [4, 2], [0, 2], [0, 0]]]}},
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[10, 0], [14, 0], [14, 2], [10, 2], [10, 0]]]}},
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[20, 0], [24, 0], [24, 2], [20, 2], [20, 0]]]}}]}"#;
+    std::fs::write(tmp.path().join("lots.geojson"), lots).unwrap();
+    let grammar = "grammar \"inset\";\naxiom Lot;\nfootprints \"lots.geojson\";\nLot {\n    offset(-1.5) { inside: { extrude(3); shape; } | border: { shape; } }\n}\n";
+    std::fs::write(tmp.path().join("inset.sg"), grammar).unwrap();
+    let run = ok(tmp.path(), &["sample", "inset.sg", "--out", "m.obj"]);
+    let warning = run.stderr().lines().find(|l| l.contains("leaves nothing inside")).map(str::to_string);
+    let warning = warning.unwrap_or_else(|| panic!("no warning\n{}", run.show()));
+    assert!(
+        warning.starts_with("warning: ") && warning.contains("inset.sg:5:5") && warning.ends_with("(3 times)"),
+        "{warning}"
+    );
+    assert_eq!(run.stderr().matches("leaves nothing inside").count(), 1, "{}", run.show());
+}

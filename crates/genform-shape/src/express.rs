@@ -73,6 +73,10 @@ impl Mode for ExpressMode<'_> {
     fn limit(&self, kind: LimitKind, limits: &Limits) -> Stop {
         ExpressError::Limit { kind, limit: kind.value(limits) }.into()
     }
+
+    fn note(&mut self, text: String) {
+        self.scene.note(text);
+    }
 }
 
 impl ExpressMode<'_> {

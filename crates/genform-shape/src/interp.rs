@@ -72,6 +72,10 @@ pub(crate) trait Mode {
     fn emit_mesh(&mut self, g: &ShapeGrammar, transform: Affine3A, mesh: genform_core::Mesh, tag: u32);
     /// What hitting a limit means in this mode.
     fn limit(&self, kind: LimitKind, limits: &Limits) -> Stop;
+    /// Records that the run left something out, and why (expression keeps
+    /// it in the scene; sampling drops it, the expression that follows
+    /// sees the same).
+    fn note(&mut self, _text: String) {}
 }
 
 /// One running gene (its scope is kept apart: see [`Stacks::caller_scopes`]).

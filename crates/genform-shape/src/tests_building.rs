@@ -233,6 +233,22 @@ fn taper_raises_a_pyramid_on_the_top_face() {
 }
 
 #[test]
+fn what_is_left_out_is_noted_with_its_place_and_reason() {
+    // An inset past the middle leaves `inside` nothing: noted once per
+    // run, however often it happens, with the place and the inset.
+    let s = scene("A { lot(4, 2); offset(-1.5) { inside: { extrude(1); shape; } | border: shape } }");
+    assert_eq!(s.notes.len(), 1, "{:?}", s.notes);
+    let (text, n) = &s.notes[0];
+    assert!(text.starts_with("t.sg:1:") && text.contains("`offset(-1.5)` leaves nothing inside") && *n == 1, "{text}");
+    // An inset that leaves something, or no `inside` arm: nothing to note.
+    assert!(scene("A { lot(4, 2); offset(-0.5) { inside: { extrude(1); shape; } | border: shape } }").notes.is_empty());
+    assert!(scene("A { lot(4, 2); offset(-1.5) { border: shape } }").notes.is_empty());
+    // A roof on a piece with no area: noted, not silently missing.
+    let s = scene("A { lot(4, 2); split(x) { 0: { roof_hip(30); } | 1r: { roof_hip(30); } } }");
+    assert!(s.notes.iter().any(|(t, _)| t.contains("`roof_hip`: the polygon has no area here")), "{:?}", s.notes);
+}
+
+#[test]
 fn hostile_building_operations_fail_clearly() {
     let cases = [
         ("A { extrude(2); }", "needs a polygon scope"),

@@ -321,6 +321,15 @@ pub(crate) fn sample_genome(generator: &dyn Generator, request: &SampleRequest, 
     Ok(sampled.genome)
 }
 
+/// Shows what the generator left out of `scene`, and why, as warnings
+/// (each once, with how often it happened).
+pub(crate) fn warn_left_out(scene: &genform_core::Scene) {
+    for (text, n) in &scene.notes {
+        let times = if *n > 1 { format!(" ({n} times)") } else { String::new() };
+        crate::notes::warn(&format!("warning: {text}{times}"));
+    }
+}
+
 /// The error of [`LoadedGrammar::into_generator`] for a grammar without a
 /// generator graph.
 pub(crate) fn no_generator(path: &Path, why: &str) -> anyhow::Error {

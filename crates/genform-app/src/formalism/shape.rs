@@ -155,6 +155,7 @@ impl LoadedGrammar for ShapeGrammar {
         let limits = request.limits.apply(self.limits());
         let genome = sample_genome(self, request, &limits)?;
         let scene = express(self, &genome, &limits)?;
+        super::row::warn_left_out(&scene);
         let summary = format!("{} seed {}: {}", self.name(), request.seed, genome_summary(&scene, &genome));
         Ok(Box::new(SceneSample { scene, summary, genome: Some(genome) }))
     }
@@ -226,6 +227,7 @@ fn sample_on_lots(g: &ShapeGrammar, on: &Lots, request: &SampleRequest) -> Resul
             .with_context(|| format!("footprint {}: cannot build the model", k + 1))?;
         genes += genome.len();
     }
+    super::row::warn_left_out(&scene);
     let (n, seed) = (lots.len(), request.seed);
     let primitives = scene.instances.len() + scene.polygons.len();
     scene.origin = on.origin.clone();

@@ -151,7 +151,16 @@ pub struct Scene {
     /// [`Scene::textures`]), a tag at most once, in the order they were
     /// set. Other tags show their flat colour.
     pub tag_textures: Vec<(TagId, TextureId)>,
+    /// What the generator left out and why (an inset that left nothing, a
+    /// roof on a polygon without area), each with how often it happened,
+    /// at most [`MAX_NOTES`] distinct ones: the door shows them as
+    /// warnings after a sample. Exporters ignore them.
+    pub notes: Vec<(String, u32)>,
 }
+
+/// How many distinct [`Scene::notes`] a scene keeps (repeats of a kept
+/// note are still counted).
+pub const MAX_NOTES: usize = 32;
 
 impl Scene {
     /// An empty scene.
@@ -172,6 +181,18 @@ impl Scene {
         self.guides.clear();
         self.textures.clear();
         self.tag_textures.clear();
+        self.notes.clear();
+    }
+
+    /// Records that the generator left something out: `text` says what
+    /// and why (with its place in the grammar). A repeated note is
+    /// counted, not repeated.
+    pub fn note(&mut self, text: String) {
+        if let Some((_, n)) = self.notes.iter_mut().find(|(t, _)| *t == text) {
+            *n += 1;
+        } else if self.notes.len() < MAX_NOTES {
+            self.notes.push((text, 1));
+        }
     }
 
     /// The id of tag `name`, interning it on first use.

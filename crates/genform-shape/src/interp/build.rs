@@ -66,6 +66,15 @@ impl<'g, M: Mode> Interp<'g, M> {
         ExpressError::Eval(format!("{loc}: rule `{sym}`: {msg}")).into()
     }
 
+    /// Notes at `span` that the run left something out (`msg` says what
+    /// and why), placed as [`Self::fail_at`] places errors.
+    pub(super) fn note_at(&mut self, span: genform_core::Span, msg: &str) {
+        let sym = &self.g.graph.symbols[self.top.sym as usize].name;
+        let loc = self.g.file.location(span.start);
+        let text = format!("{loc}: rule `{sym}`: {msg}");
+        self.mode.note(text);
+    }
+
     /// `lot(w, d)` or `lot(x0, z0, …)`: a polygon scope in the current
     /// scope's xz plane through its centre (absolute units), its +z up
     /// along the current +y, its x along the current x.
@@ -206,6 +215,9 @@ impl<'g, M: Mode> Interp<'g, M> {
         if ridge == 0 && !ends && n == 0 && gables == u32::MAX {
             let mesh: Mesh =
                 geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
+            if mesh.triangles.is_empty() {
+                self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
+            }
             return self.emit_on_polygon(mesh);
         }
         // The polygon counter-clockwise, and where each of the scope's
@@ -214,6 +226,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
         let m = foot.len();
         if m < 3 {
+            self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
             return Ok(());
         }
         let reversed = area2(&foot) < 0.0;
@@ -258,6 +271,9 @@ impl<'g, M: Mode> Interp<'g, M> {
         let ends = if ends { Some(self.num(rule, args + 3, "a gable-end overhang")?) } else { None };
         let opts = geom::RoofOpts { overhang: per_edge, ridge: ridge_edge, ends, gables: gables != u32::MAX };
         let (mesh, walls) = geom::roof_meshes(&foot, kind, angle, &opts).map_err(|m| self.fail_at(at, m))?;
+        if mesh.triangles.is_empty() {
+            self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
+        }
         self.emit_on_polygon(mesh)?;
         if !walls.triangles.is_empty() {
             let tag = std::mem::replace(&mut self.cur.tag, gables);

@@ -143,6 +143,16 @@ impl<'g, M: Mode> Interp<'g, M> {
                     for f in &inset.fronts {
                         out.extend(self.piece(PIECE_REST, f, DVec2::X));
                     }
+                    if inset.fronts.is_empty() && taken & PIECE_REST != 0 {
+                        self.note_at(
+                            at,
+                            &format!(
+                                "`offset({d})` leaves nothing inside this polygon (an inset of {} reaches past its \
+                                 middle), so `inside` gets no piece",
+                                -d
+                            ),
+                        );
+                    }
                     // `corners` is already clean, so the skeleton's edges are its edges.
                     for ((face, a), dir) in faces.iter().zip(&corners).zip(&dirs) {
                         let n = dir.perp();
