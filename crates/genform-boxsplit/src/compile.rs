@@ -312,6 +312,7 @@ impl Compiler<'_> {
         let side = match side.name.as_str() {
             "above" => Side::Above,
             "below" => Side::Below,
+            "rooted" => Side::Rooted,
             _ => Side::Beside,
         };
         let names: Vec<&str> = members.iter().map(|m| m.name.as_str()).collect();

@@ -220,8 +220,10 @@ impl BoxGrammar {
     /// Derives the axiom in the box `min..max_exclusive`, observing `world`
     /// (cells it does not cover, or leaves unset, count as air; `None`: all
     /// air). Every random choice comes from `choices`; the same choices give
-    /// the same result. The grammar's `support` declarations then look at
-    /// the world one cell beyond the box too: pass a world that covers it.
+    /// the same result. The grammar's `support` declarations, and the
+    /// connection states of placed fences, panes, walls and stairs (as the
+    /// game computes them), then look at the world one cell beyond the box
+    /// too: pass a world that covers it.
     pub fn derive<C: Draws + ?Sized>(
         &self,
         world: Option<&BlockGrid>,
@@ -276,6 +278,9 @@ impl BoxGrammar {
         if !self.supports.is_empty() {
             e.stats.unsupported = crate::support::settle(&self.supports, world, &mut blocks);
         }
+        // Fences, panes, walls and stairs take the states the game would
+        // give them, in the world as it now will be.
+        crate::connect::connect(world, &mut blocks);
         let stats = e.stats;
         let trace = e.trace.take().map(|mut events| {
             events.push(TraceEvent::Done { applications: stats.applications, backtracks: stats.backtracks });

@@ -88,6 +88,11 @@ pub(crate) enum Side {
     /// A solid block beside it (one of the four horizontal neighbours) that
     /// is not a member: linings and walls that must lean on something.
     Beside,
+    /// Connected bodies of members (trees: logs and leaves) that a
+    /// derivation cut are kept only while they still stand on the ground;
+    /// a body left floating is removed whole, or, where it reaches beyond
+    /// the box, spared (the derivation's changes to it are given back).
+    Rooted,
 }
 
 /// `support SIDE members;`: blocks of `ty` are kept only where the side holds.

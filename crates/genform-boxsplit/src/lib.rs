@@ -32,6 +32,7 @@
 //! ```
 
 mod compile;
+mod connect;
 mod derive;
 mod dialect;
 mod formula;

@@ -38,7 +38,7 @@ pub(crate) enum Item {
     AllowUnknownBlocks(Span),
     Group(Ident, Vec<Ident>),
     Material(Ident, Vec<MixEntry>),
-    /// `support above|below|beside members;`: the side and the members.
+    /// `support above|below|beside|rooted members;`: the side and the members.
     Support(Ident, Vec<Ident>),
     Let(Ident, Ast),
     Rule(RuleSyn),
@@ -94,7 +94,7 @@ const DECLARATIONS: &[&str] =
     &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "support", "let"];
 
 /// The sides a `support` declaration names.
-pub(crate) const SUPPORT_SIDES: &[&str] = &["above", "below", "beside"];
+pub(crate) const SUPPORT_SIDES: &[&str] = &["above", "below", "beside", "rooted"];
 
 /// Deepest nesting of split children accepted (formulas have the core
 /// parser's own limit).
@@ -325,10 +325,10 @@ impl<'a> Parser<'a> {
             }
             "support" => {
                 self.bump();
-                let side = self.ident("`above`, `below` or `beside` after `support`")?;
+                let side = self.ident("`above`, `below`, `beside` or `rooted` after `support`")?;
                 if !SUPPORT_SIDES.contains(&side.name.as_str()) {
-                    return Err(Diagnostic::error(side.span, format!("`support {}`: expected `above`, `below` or `beside`", side.name))
-                        .with_hint("`support above lantern[hanging=true];` keeps a block only under a solid one, `below` only on one, `beside` only next to one"));
+                    return Err(Diagnostic::error(side.span, format!("`support {}`: expected `above`, `below`, `beside` or `rooted`", side.name))
+                        .with_hint("`support above lantern[hanging=true];` keeps a block only under a solid one, `below` only on one, `beside` only next to one; `rooted` keeps a tree only while it stands"));
                 }
                 let mut members = vec![self.block("a block, a block type, a group or a material")?];
                 while self.tok.tok == Tok::Comma {

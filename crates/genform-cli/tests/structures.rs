@@ -10,9 +10,19 @@
 //!   dug out;
 //! - no tunnel lining block stands where the terrain was not solid with
 //!   nothing solid on either side across the tunnel;
+//! - no tree is left floating: every connected body of wood (logs, stems)
+//!   rests on ground, as before the structure, counted in a larger read of
+//!   the region than the box;
+//! - every fence is joined (`east=true`, …) to the fences beside it, as
+//!   the game would show it;
 //! - every footpath post reaches ground (neither air nor water) below it,
 //!   and where the path crosses water at least one post goes down to the
 //!   bed.
+//!
+//! `block_states_survive_every_minecraft_format` writes stairs, slabs,
+//! doors, ladders, trapdoors, lanterns, logs and fences to `.mca`,
+//! `.schem` and `.litematic` and reads each back with a reader of its own
+//! (fastnbt values, flate2, the bit packing decoded here).
 //!
 //! `GENFORM_STRUCTURES_EXAMPLES=DIR` measures the grammars of another
 //! folder instead (for before/after numbers) and only prints.
@@ -40,6 +50,7 @@ const FASTANVIL: &str = "fastanvil-1.19.4";
 /// place to go.
 const CASES: &[Case] = &[
     Case { grammar: "tunnel", region: PRISMARINE, corners: None },
+    // Through an oak at (39, 64..69, 21) whose crown reaches out of the box.
     Case { grammar: "tunnel", region: PRISMARINE, corners: Some([30, 63, 20, 60, 66, 24]) },
     Case { grammar: "tunnel", region: FASTANVIL, corners: Some([2, 61, 30, 40, 64, 34]) },
     Case { grammar: "footpath", region: FASTANVIL, corners: None },
@@ -58,6 +69,13 @@ struct Counts {
     posts_without_ground: usize,
     posts_through_water: usize,
     water_columns: usize,
+    /// Placed fences, and sides of them towards another fence that are not
+    /// `true` (the game joins them).
+    fences: usize,
+    fence_sides_unjoined: usize,
+    /// Wood blocks in bodies that rest on nothing, before and after.
+    floating_trees_before: usize,
+    floating_trees_after: usize,
 }
 
 fn at(g: &BlockGrid, p: IVec3) -> BlockState {
@@ -78,6 +96,62 @@ fn hangs(b: &BlockState) -> bool {
 
 fn stands(b: &BlockState) -> bool {
     matches!(b.id(), "lantern" | "soul_lantern") && prop(b, "hanging") != Some("true") || b.id() == "torch"
+}
+
+fn tree(b: &BlockState) -> bool {
+    let id = b.id();
+    ["_log", "_wood", "_leaves", "_mushroom_block"].iter().any(|s| id.ends_with(s))
+        || matches!(id, "mushroom_stem" | "mangrove_roots" | "cocoa" | "bee_nest")
+}
+
+/// A tree's wood: what holds a tree up (leaves resting on a slope do not).
+fn wood(b: &BlockState) -> bool {
+    let id = b.id();
+    id.ends_with("_log") || id.ends_with("_wood") || matches!(id, "mushroom_stem" | "mangrove_roots")
+}
+
+/// Wood blocks in `g` (read over `min..max`) whose 26-connected body of
+/// wood rests on nothing: no member stands on a solid block that is not a
+/// tree block,
+/// and none lies on the bottom layer or on a side or the top of the read
+/// (a body there may stand outside it).
+fn floating_trees(g: &BlockGrid, original: &BlockGrid, min: IVec3, max: IVec3) -> usize {
+    let inside = |p: IVec3| p.cmpge(min).all() && p.cmplt(max).all();
+    let mut seen = std::collections::HashSet::new();
+    let mut floating = 0;
+    for y in min.y..max.y {
+        for z in min.z..max.z {
+            for x in min.x..max.x {
+                let start = IVec3::new(x, y, z);
+                if !wood(&at(g, start)) || !seen.insert(start) {
+                    continue;
+                }
+                let (mut body, mut stack, mut holds, mut grown) = (0, vec![start], false, false);
+                while let Some(p) = stack.pop() {
+                    body += 1;
+                    grown |= at(g, p) == at(original, p);
+                    let below = at(g, p - IVec3::Y);
+                    let edge = p.y == min.y
+                        || p.x == min.x
+                        || p.z == min.z
+                        || p.x == max.x - 1
+                        || p.z == max.z - 1
+                        || p.y == max.y - 1;
+                    holds |= edge || solid(&below) && !tree(&below);
+                    for d in (0..27).map(|i| IVec3::new(i % 3 - 1, i / 9 - 1, (i / 3) % 3 - 1)) {
+                        let q = p + d;
+                        if inside(q) && wood(&at(g, q)) && seen.insert(q) {
+                            stack.push(q);
+                        }
+                    }
+                }
+                if !holds && grown {
+                    floating += body;
+                }
+            }
+        }
+    }
+    floating
 }
 
 const LINING: &[&str] = &["stone_bricks", "mossy_stone_bricks", "cracked_stone_bricks"];
@@ -103,6 +177,16 @@ fn measure(grammar: &str, before: &BlockGrid, after: &BlockGrid, min: IVec3, max
                 }
                 if placed && stands(&a) && !solid(&down) {
                     c.unsupported_standing += 1;
+                }
+                if placed && a.id().ends_with("_fence") {
+                    c.fences += 1;
+                    for (side, d) in
+                        [("north", IVec3::NEG_Z), ("east", IVec3::X), ("south", IVec3::Z), ("west", IVec3::NEG_X)]
+                    {
+                        if at(after, p + d).id().ends_with("_fence") && prop(&a, side) != Some("true") {
+                            c.fence_sides_unjoined += 1;
+                        }
+                    }
                 }
                 if grammar == "tunnel" && placed && LINING.contains(&a.id()) && !solid(&b) {
                     let free = !solid(&at(after, p + across)) && !solid(&at(after, p - across));
@@ -178,7 +262,13 @@ fn shipped_structures_hang_stand_and_lean_on_something() {
         let (rmin, rmax) = (min - IVec3::ONE, max + IVec3::ONE);
         let before = read_terrain(std::slice::from_ref(&original), rmin, rmax).unwrap();
         let after = read_terrain(std::slice::from_ref(&copy), rmin, rmax).unwrap();
-        let c = measure(case.grammar, &before, &after, min, max);
+        let mut c = measure(case.grammar, &before, &after, min, max);
+        // Trees reach well beyond the box: read more of the region for them.
+        let (tmin, tmax) = (min - IVec3::new(8, 8, 8), max + IVec3::new(8, 16, 8));
+        let wide_before = read_terrain(std::slice::from_ref(&original), tmin, tmax).unwrap();
+        let wide_after = read_terrain(std::slice::from_ref(&copy), tmin, tmax).unwrap();
+        c.floating_trees_before = floating_trees(&wide_before, &wide_before, tmin, tmax);
+        c.floating_trees_after = floating_trees(&wide_after, &wide_before, tmin, tmax);
         let label = format!("{} on {} box {:?}", case.grammar, case.region, corners);
         eprintln!(
             "{label}: {c:?} ({:.0} ms, {} {})",
@@ -195,6 +285,8 @@ fn shipped_structures_hang_stand_and_lean_on_something() {
         bad(c.unsupported_standing > 0, "standing blocks with nothing below");
         bad(c.floating_loose > 0, "snow or plants floating over a dug cell");
         bad(c.lining_free > 0, "free-standing lining");
+        bad(c.floating_trees_after > c.floating_trees_before, "trees left floating");
+        bad(c.fence_sides_unjoined > 0, "fences not joined to the fences beside them");
         bad(c.posts_without_ground > 0, "posts that do not reach the ground");
         if case.grammar == "footpath" && c.water_columns > 0 {
             bad(c.posts_through_water == 0, "no post goes down through the water");
@@ -215,4 +307,257 @@ fn declared_box(grammar: &std::path::Path) -> [i32; 6] {
     let inner = line.trim_start_matches("box ").split(';').next().unwrap();
     let v: Vec<i32> = inner.split(',').map(|t| t.trim().parse().unwrap()).collect();
     [v[0], v[1], v[2], v[3], v[4], v[5]]
+}
+
+/// Columns of the block-state grammar, west to east: (bottom, top) as the
+/// grammar writes them.
+const STATE_COLUMNS: &[(&str, &str)] = &[
+    (
+        "oak_stairs[facing=east,half=bottom,shape=straight,waterlogged=false]",
+        "oak_stairs[facing=west,half=top,shape=straight,waterlogged=false]",
+    ),
+    ("stone_slab[type=bottom,waterlogged=false]", "stone_slab[type=top,waterlogged=false]"),
+    (
+        "oak_door[facing=south,half=lower,hinge=left,open=false,powered=false]",
+        "oak_door[facing=south,half=upper,hinge=left,open=false,powered=false]",
+    ),
+    ("ladder[facing=north,waterlogged=false]", "ladder[facing=north,waterlogged=false]"),
+    (
+        "oak_trapdoor[facing=east,half=top,open=true,powered=false,waterlogged=false]",
+        "spruce_trapdoor[facing=west,half=bottom,open=false,powered=false,waterlogged=false]",
+    ),
+    ("lantern[hanging=false,waterlogged=false]", "soul_lantern[hanging=true,waterlogged=false]"),
+    ("oak_log[axis=x]", "birch_log[axis=z]"),
+    ("oak_fence", "oak_fence"),
+    ("oak_fence", "oak_fence"),
+];
+
+/// What each column holds once written: the fences with the connections
+/// the game would give them (west onto the log or the other fence).
+fn expected_state(column: usize, top: bool) -> String {
+    let (bottom, upper) = STATE_COLUMNS[column];
+    let written = if top { upper } else { bottom };
+    match column {
+        7 => "oak_fence[east=true,north=false,south=false,west=true]".into(),
+        8 => "oak_fence[east=false,north=false,south=false,west=true]".into(),
+        _ => written.to_string(),
+    }
+}
+
+/// `name[k=v,…]` from an NBT palette entry (`Name`, `Properties`), the
+/// properties sorted.
+fn entry_state(entry: &fastnbt::Value) -> String {
+    use fastnbt::Value;
+    let Value::Compound(m) = entry else { panic!("palette entry is not a compound") };
+    let Some(Value::String(name)) = m.get("Name") else { panic!("palette entry without Name") };
+    let mut props: Vec<String> = match m.get("Properties") {
+        Some(Value::Compound(p)) => p
+            .iter()
+            .map(|(k, v)| match v {
+                Value::String(v) => format!("{k}={v}"),
+                other => panic!("property {k} is {other:?}"),
+            })
+            .collect(),
+        _ => Vec::new(),
+    };
+    props.sort();
+    let id = name.strip_prefix("minecraft:").unwrap_or(name);
+    if props.is_empty() { id.to_string() } else { format!("{id}[{}]", props.join(",")) }
+}
+
+/// A `[k=v,…]` state string without its namespace, properties sorted.
+fn plain(state: &str) -> String {
+    let state = state.strip_prefix("minecraft:").unwrap_or(state);
+    match state.split_once('[') {
+        Some((id, rest)) => {
+            let mut props: Vec<&str> = rest.trim_end_matches(']').split(',').collect();
+            props.sort();
+            format!("{id}[{}]", props.join(","))
+        }
+        None => state.to_string(),
+    }
+}
+
+fn compound<'a>(v: &'a fastnbt::Value, key: &str) -> &'a std::collections::HashMap<String, fastnbt::Value> {
+    match v {
+        fastnbt::Value::Compound(m) => match m.get(key) {
+            Some(fastnbt::Value::Compound(c)) => c,
+            other => panic!("{key} is {other:?}"),
+        },
+        _ => panic!("not a compound"),
+    }
+}
+
+fn gunzip(bytes: &[u8]) -> fastnbt::Value {
+    use std::io::Read;
+    let mut raw = Vec::new();
+    flate2::read::GzDecoder::new(bytes).read_to_end(&mut raw).unwrap();
+    fastnbt::from_bytes(&raw).unwrap()
+}
+
+/// Sponge schematic: palette name → index, varint data, x fastest, then z, then y.
+fn read_schem_states(bytes: &[u8]) -> (IVec3, std::collections::HashMap<IVec3, String>) {
+    use fastnbt::Value;
+    let root = gunzip(bytes);
+    let Value::Compound(top) = &root else { panic!() };
+    // v2 at the root; v3 under `Schematic`.
+    let m = match top.get("Schematic") {
+        Some(Value::Compound(m)) => m,
+        _ => top,
+    };
+    let num = |k: &str| match m.get(k) {
+        Some(Value::Short(v)) => *v as u16 as i32,
+        other => panic!("{k} is {other:?}"),
+    };
+    let (w, l) = (num("Width"), num("Length"));
+    let Some(Value::IntArray(off)) = m.get("Offset") else { panic!("no Offset") };
+    let origin = IVec3::new(off[0], off[1], off[2]);
+    let (palette, data) = match (m.get("Palette"), m.get("BlockData")) {
+        (Some(Value::Compound(p)), Some(Value::ByteArray(d))) => (p, d),
+        _ => panic!("no Palette/BlockData"),
+    };
+    let mut names = std::collections::HashMap::new();
+    for (k, v) in palette {
+        let Value::Int(i) = v else { panic!() };
+        names.insert(*i as u32, plain(k));
+    }
+    let (mut cells, mut i, mut value, mut shift) = (std::collections::HashMap::new(), 0i32, 0u32, 0);
+    for &b in data.iter() {
+        let b = b as u8;
+        value |= u32::from(b & 0x7f) << shift;
+        shift += 7;
+        if b & 0x80 == 0 {
+            let p = IVec3::new(i % w, i / (w * l), (i / w) % l);
+            cells.insert(origin + p, names[&value].clone());
+            (i, value, shift) = (i + 1, 0, 0);
+        }
+    }
+    (origin, cells)
+}
+
+/// Litematica: each region's palette and its tightly packed indices
+/// (entries may span two longs), x fastest, then z, then y.
+fn read_litematic_states(bytes: &[u8]) -> std::collections::HashMap<IVec3, String> {
+    use fastnbt::Value;
+    let root = gunzip(bytes);
+    let regions = compound(&root, "Regions");
+    let mut cells = std::collections::HashMap::new();
+    for region in regions.values() {
+        let Value::Compound(r) = region else { panic!() };
+        let xyz = |k: &str| {
+            let Some(Value::Compound(c)) = r.get(k) else { panic!("{k}") };
+            let g = |a: &str| match c.get(a) {
+                Some(Value::Int(v)) => *v,
+                other => panic!("{a} is {other:?}"),
+            };
+            IVec3::new(g("x"), g("y"), g("z"))
+        };
+        let (pos, size) = (xyz("Position"), xyz("Size"));
+        let Some(Value::List(palette)) = r.get("BlockStatePalette") else { panic!("palette") };
+        let Some(Value::LongArray(longs)) = r.get("BlockStates") else { panic!("BlockStates") };
+        let bits = (usize::BITS - (palette.len() - 1).leading_zeros()).max(2) as usize;
+        let n = size.abs();
+        for i in 0..(n.x * n.y * n.z) as usize {
+            let start = i * bits;
+            let (word, off) = (start / 64, start % 64);
+            let mut v = (longs[word] as u64) >> off;
+            if off + bits > 64 {
+                v |= (longs[word + 1] as u64) << (64 - off);
+            }
+            let v = (v & ((1u64 << bits) - 1)) as usize;
+            let i = i as i32;
+            let p = IVec3::new(i % n.x, i / (n.x * n.z), (i / n.x) % n.z);
+            cells.insert(pos + p, entry_state(&palette[v]));
+        }
+    }
+    cells
+}
+
+/// A region file's blocks in `min..max`: the chunk table, zlib chunks,
+/// sections with their palettes and aligned packing (4 bits at least).
+fn read_region_states(bytes: &[u8], min: IVec3, max: IVec3) -> std::collections::HashMap<IVec3, String> {
+    use fastnbt::Value;
+    use std::io::Read;
+    let mut cells = std::collections::HashMap::new();
+    for cz in min.z.div_euclid(16)..=(max.z - 1).div_euclid(16) {
+        for cx in min.x.div_euclid(16)..=(max.x - 1).div_euclid(16) {
+            let slot = 4 * ((cx & 31) + (cz & 31) * 32) as usize;
+            let sector = u32::from_be_bytes([0, bytes[slot], bytes[slot + 1], bytes[slot + 2]]) as usize;
+            let at = sector * 4096;
+            let len = u32::from_be_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
+            assert_eq!(bytes[at + 4], 2, "zlib chunk");
+            let mut raw = Vec::new();
+            flate2::read::ZlibDecoder::new(&bytes[at + 5..at + 4 + len]).read_to_end(&mut raw).unwrap();
+            let chunk: Value = fastnbt::from_bytes(&raw).unwrap();
+            let Value::Compound(c) = &chunk else { panic!() };
+            let Some(Value::List(sections)) = c.get("sections") else { panic!("sections") };
+            for section in sections {
+                let Value::Compound(s) = section else { panic!() };
+                let sy = match s.get("Y") {
+                    Some(Value::Byte(y)) => i32::from(*y),
+                    other => panic!("Y is {other:?}"),
+                };
+                if sy * 16 + 15 < min.y || sy * 16 >= max.y {
+                    continue;
+                }
+                let states = compound(section, "block_states");
+                let Some(Value::List(palette)) = states.get("palette") else { panic!("palette") };
+                let bits = (usize::BITS - (palette.len().max(2) - 1).leading_zeros()).max(4) as usize;
+                for i in 0..4096usize {
+                    let v = match states.get("data") {
+                        Some(Value::LongArray(d)) => {
+                            let per = 64 / bits;
+                            ((d[i / per] as u64 >> ((i % per) * bits)) & ((1u64 << bits) - 1)) as usize
+                        }
+                        _ => 0,
+                    };
+                    let i = i as i32;
+                    let p = IVec3::new(cx * 16 + i % 16, sy * 16 + i / 256, cz * 16 + (i / 16) % 16);
+                    if p.cmpge(min).all() && p.cmplt(max).all() {
+                        cells.insert(p, entry_state(&palette[v]));
+                    }
+                }
+            }
+        }
+    }
+    cells
+}
+
+#[test]
+fn block_states_survive_every_minecraft_format() {
+    let tmp = tempfile::tempdir().unwrap();
+    let n = STATE_COLUMNS.len();
+    let columns: Vec<String> =
+        STATE_COLUMNS.iter().map(|(b, t)| format!("split y [1, 1] {{ fill {b}, fill {t} }}")).collect();
+    let grammar = format!(
+        "box 2, 100, 3, {}, 101, 3;\nA {{ split x [{}] {{ {} }} }}\n",
+        2 + n - 1,
+        vec!["1"; n].join(", "),
+        columns.join(", ")
+    );
+    std::fs::write(tmp.path().join("states.bsg"), grammar).unwrap();
+    let world = root().join("examples/terrain").join(PRISMARINE).join("r.0.0.mca");
+    let (min, max) = (IVec3::new(2, 100, 3), IVec3::new(2 + n as i32, 102, 4));
+    let mut read: Vec<(&str, std::collections::HashMap<IVec3, String>)> = Vec::new();
+    for out in ["r.0.0.mca", "states.schem", "states.litematic"] {
+        common::ok(tmp.path(), &["sample", "states.bsg", "--world", s(&world), "--out", out]);
+        let bytes = std::fs::read(tmp.path().join(out)).unwrap();
+        let cells = if out.ends_with(".mca") {
+            read_region_states(&bytes, min, max)
+        } else if out.ends_with(".schem") {
+            read_schem_states(&bytes).1
+        } else {
+            // Litematica keeps no world position: its cells are relative to the box.
+            read_litematic_states(&bytes).into_iter().map(|(p, b)| (p + min, b)).collect()
+        };
+        read.push((out, cells));
+    }
+    for (out, cells) in &read {
+        for (x, column) in (0..n).zip(min.x..) {
+            for (top, y) in [(false, min.y), (true, min.y + 1)] {
+                let p = IVec3::new(column, y, min.z);
+                assert_eq!(cells.get(&p).map(String::as_str), Some(expected_state(x, top).as_str()), "{out} at {p}");
+            }
+        }
+    }
 }

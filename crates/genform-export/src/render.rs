@@ -1,6 +1,6 @@
 //! A small software rasterizer for PNG previews.
 
-use crate::minecraft::{BlockMesh, block_color, block_meshes};
+use crate::minecraft::{BlockMesh, block_color, shaped_block_meshes};
 use crate::palette::{GuideRole, edge_color, guide_color, lighten, linear_to_srgb, srgb_to_linear, tag_color};
 use crate::shapes::Shapes;
 use genform_core::scene::{Mesh, Primitive, Scene, Tessellation, triangulate_polygon};
@@ -301,7 +301,7 @@ fn guide_points(g: &genform_core::surface::Guide) -> Vec<Vec3> {
 /// drawn alone but in the frame of the last.
 pub fn fitted_camera(scene: &Scene, width: u32, height: u32) -> Camera {
     let shapes = Shapes::new(scene, Tessellation::default());
-    let blocks = block_meshes(scene);
+    let blocks = shaped_block_meshes(scene);
     auto_camera(scene, &shapes, &blocks, &[], width.max(1) as f32 / height.max(1) as f32)
 }
 
@@ -309,7 +309,7 @@ pub fn fitted_camera(scene: &Scene, width: u32, height: u32) -> Camera {
 /// side).
 fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, ghosts: &[Mesh], tess: Tessellation, ss: usize) {
     let shapes = Shapes::new(scene, tess);
-    let blocks = block_meshes(scene);
+    let blocks = shaped_block_meshes(scene);
     let camera = camera.unwrap_or_else(|| auto_camera(scene, &shapes, &blocks, ghosts, r.w as f32 / r.h as f32));
     let view = View::new(&camera, r.w, r.h);
     let colors: Vec<[f32; 3]> = scene.tags.iter().map(|t| tag_color(t).map(srgb_to_linear)).collect();
@@ -336,6 +336,8 @@ fn draw_scene(r: &mut Raster, scene: &Scene, camera: Option<Camera>, ghosts: &[M
         }
     }
     // Block meshes are closed where seen from outside: cull back faces.
+    // Slabs, stairs, doors, panes, fences and the like are drawn in their
+    // shapes (`shaped_block_meshes`), other blocks as whole cubes.
     for m in &blocks {
         let color = block_color(&m.state).map(srgb_to_linear);
         verts.clear();

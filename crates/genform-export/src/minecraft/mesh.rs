@@ -183,6 +183,281 @@ pub(crate) fn block_meshes(scene: &Scene) -> Vec<BlockMesh> {
     out
 }
 
+/// The block meshes of every grid of `scene` as [`block_meshes`], with the
+/// blocks that are not full cubes drawn in their shapes (see
+/// [`block_boxes`]): slabs half high, stairs as a slab and a step, doors,
+/// trapdoors and ladders as thin panels, panes, bars, fences and walls as
+/// posts with arms to their connections, lanterns, torches, chains,
+/// carpets and snow layers small. For previews: the other formats keep
+/// whole cubes.
+pub(crate) fn shaped_block_meshes(scene: &Scene) -> Vec<BlockMesh> {
+    let mut out: Vec<BlockMesh> = Vec::new();
+    for grid in &scene.blocks {
+        let boxes: Vec<Option<Vec<[Vec3; 2]>>> = grid.palette.iter().map(block_boxes).collect();
+        let mut meshes = if boxes.iter().any(Option::is_some) {
+            // The full cubes without the shaped cells: those hide nothing
+            // and are drawn box by box below.
+            let mut cubes = grid.clone();
+            for c in &mut cubes.cells {
+                if boxes.get(*c as usize).is_some_and(Option::is_some) {
+                    *c = BlockGrid::UNSET;
+                }
+            }
+            let mut meshes = mesh_blocks(&cubes);
+            let n = grid.size.as_ivec3();
+            for (i, &c) in grid.cells.iter().enumerate() {
+                let Some(Some(parts)) = boxes.get(c as usize) else { continue };
+                let i = i as i32;
+                let corner = (grid.origin + glam::IVec3::new(i % n.x, i / (n.x * n.z), (i / n.x) % n.z)).as_vec3();
+                let state = &grid.palette[c as usize];
+                let at = match meshes.iter().position(|m| &m.state == state) {
+                    Some(at) => at,
+                    None => {
+                        let mesh = Mesh { name: state.to_string(), ..Mesh::default() };
+                        meshes.push(BlockMesh { state: state.clone(), mesh, normals: Vec::new() });
+                        meshes.len() - 1
+                    }
+                };
+                let m = &mut meshes[at];
+                for &[lo, hi] in parts {
+                    push_box(&mut m.mesh, &mut m.normals, corner + lo, corner + hi);
+                }
+            }
+            meshes
+        } else {
+            mesh_blocks(grid)
+        };
+        for m in meshes.drain(..) {
+            match out.iter_mut().find(|o| o.state == m.state) {
+                Some(o) => {
+                    let b = o.mesh.positions.len() as u32;
+                    o.mesh.positions.extend_from_slice(&m.mesh.positions);
+                    o.mesh.triangles.extend(m.mesh.triangles.iter().map(|t| t.map(|v| v + b)));
+                    o.normals.extend_from_slice(&m.normals);
+                }
+                None => out.push(m),
+            }
+        }
+    }
+    out
+}
+
+/// A closed box from `lo` to `hi`: 6 quads, counter-clockwise from outside.
+fn push_box(mesh: &mut Mesh, normals: &mut Vec<Vec3>, lo: Vec3, hi: Vec3) {
+    for d in 0..3 {
+        let (u, v) = ((d + 1) % 3, (d + 2) % 3);
+        for positive in [true, false] {
+            let at = |i: bool, j: bool| {
+                let mut p = [0.0f32; 3];
+                p[d] = if positive { hi[d] } else { lo[d] };
+                p[u] = if i { hi[u] } else { lo[u] };
+                p[v] = if j { hi[v] } else { lo[v] };
+                Vec3::from_array(p)
+            };
+            let corners = if positive {
+                [at(false, false), at(true, false), at(true, true), at(false, true)]
+            } else {
+                [at(false, false), at(false, true), at(true, true), at(true, false)]
+            };
+            let mut n = [0.0f32; 3];
+            n[d] = if positive { 1.0 } else { -1.0 };
+            let b = mesh.positions.len() as u32;
+            mesh.positions.extend_from_slice(&corners);
+            normals.extend_from_slice(&[Vec3::from_array(n); 4]);
+            mesh.triangles.push([b, b + 1, b + 2]);
+            mesh.triangles.push([b, b + 2, b + 3]);
+        }
+    }
+}
+
+/// A horizontal direction's unit step (x, z), from a `facing` value.
+fn facing(state: &BlockState) -> Option<(f32, f32)> {
+    match prop(state, "facing")? {
+        "north" => Some((0.0, -1.0)),
+        "south" => Some((0.0, 1.0)),
+        "east" => Some((1.0, 0.0)),
+        "west" => Some((-1.0, 0.0)),
+        _ => None,
+    }
+}
+
+fn prop<'a>(state: &'a BlockState, key: &str) -> Option<&'a str> {
+    state.properties.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+}
+
+/// The part of the unit cell within `t` (in 16ths) of side `(dx, dz)`, over
+/// heights `y0..y1` (16ths).
+fn side_panel((dx, dz): (f32, f32), t: f32, y0: f32, y1: f32) -> [Vec3; 2] {
+    let (t, y0, y1) = (t / 16.0, y0 / 16.0, y1 / 16.0);
+    let (x0, x1) = if dx > 0.0 {
+        (1.0 - t, 1.0)
+    } else if dx < 0.0 {
+        (0.0, t)
+    } else {
+        (0.0, 1.0)
+    };
+    let (z0, z1) = if dz > 0.0 {
+        (1.0 - t, 1.0)
+    } else if dz < 0.0 {
+        (0.0, t)
+    } else {
+        (0.0, 1.0)
+    };
+    [Vec3::new(x0, y0, z0), Vec3::new(x1, y1, z1)]
+}
+
+/// A box in 16ths of a block.
+fn px(x0: f32, y0: f32, z0: f32, x1: f32, y1: f32, z1: f32) -> [Vec3; 2] {
+    [Vec3::new(x0, y0, z0) / 16.0, Vec3::new(x1, y1, z1) / 16.0]
+}
+
+/// A centred post of width `w` (16ths) from `y0` to `y1`, with arms of
+/// width `aw` at heights `arms` towards each side whose property is
+/// connected (`true`, `low`, `tall`; a wall's `tall` arm runs to `tall_top`).
+fn post_and_arms(
+    state: &BlockState,
+    w: f32,
+    y0: f32,
+    y1: f32,
+    aw: f32,
+    arms: &[(f32, f32)],
+    tall_top: f32,
+) -> Vec<[Vec3; 2]> {
+    let (p0, p1) = (8.0 - w / 2.0, 8.0 + w / 2.0);
+    let (a0, a1) = (8.0 - aw / 2.0, 8.0 + aw / 2.0);
+    let mut v = Vec::new();
+    if y1 > y0 {
+        v.push(px(p0, y0, p0, p1, y1, p1));
+    }
+    for (side, (dx, dz)) in [("north", (0, -1)), ("south", (0, 1)), ("east", (1, 0)), ("west", (-1, 0))] {
+        let value = prop(state, side).unwrap_or("false");
+        if matches!(value, "false" | "none") {
+            continue;
+        }
+        for &(b, t) in arms {
+            let t = if value == "tall" { tall_top } else { t };
+            let (x0, x1) = match dx {
+                1 => (p1.min(a1), 16.0),
+                -1 => (0.0, p0.max(a0)),
+                _ => (a0, a1),
+            };
+            let (z0, z1) = match dz {
+                1 => (p1.min(a1), 16.0),
+                -1 => (0.0, p0.max(a0)),
+                _ => (a0, a1),
+            };
+            v.push(px(x0, b, z0, x1, t, z1));
+        }
+    }
+    v
+}
+
+/// The boxes (in the unit cell) that draw a block that is not a full cube,
+/// or `None` for a full cube. The shapes follow the game's outlines
+/// closely enough for a preview.
+pub(crate) fn block_boxes(state: &BlockState) -> Option<Vec<[Vec3; 2]>> {
+    let id = state.id();
+    let top = prop(state, "half") == Some("top") || prop(state, "type") == Some("top");
+    if id.ends_with("_slab") {
+        return match prop(state, "type") {
+            Some("double") => None,
+            _ if top => Some(vec![px(0.0, 8.0, 0.0, 16.0, 16.0, 16.0)]),
+            _ => Some(vec![px(0.0, 0.0, 0.0, 16.0, 8.0, 16.0)]),
+        };
+    }
+    if id.ends_with("_stairs") {
+        let (base, step) = if top { ((8.0, 16.0), (0.0, 8.0)) } else { ((0.0, 8.0), (8.0, 16.0)) };
+        let mut v = vec![px(0.0, base.0, 0.0, 16.0, base.1, 16.0)];
+        let f = facing(state).unwrap_or((0.0, -1.0));
+        // Counter-clockwise (left) and clockwise (right) of the facing.
+        let left = (f.1, -f.0);
+        let right = (-f.1, f.0);
+        // Quarters of the step: (side a, side b) both half-cell panels.
+        let quarter = |a: (f32, f32), b: (f32, f32)| {
+            let [lo_a, hi_a] = side_panel(a, 8.0, step.0, step.1);
+            let [lo_b, hi_b] = side_panel(b, 8.0, step.0, step.1);
+            [lo_a.max(lo_b), hi_a.min(hi_b)]
+        };
+        let back = (-f.0, -f.1);
+        match prop(state, "shape").unwrap_or("straight") {
+            "outer_left" => v.push(quarter(f, left)),
+            "outer_right" => v.push(quarter(f, right)),
+            "inner_left" => v.extend([side_panel(f, 8.0, step.0, step.1), quarter(back, left)]),
+            "inner_right" => v.extend([side_panel(f, 8.0, step.0, step.1), quarter(back, right)]),
+            _ => v.push(side_panel(f, 8.0, step.0, step.1)),
+        }
+        return Some(v);
+    }
+    let open = prop(state, "open") == Some("true");
+    if id.ends_with("_door") {
+        let f = facing(state).unwrap_or((0.0, -1.0));
+        let side = if !open {
+            (-f.0, -f.1)
+        } else if prop(state, "hinge") == Some("right") {
+            (f.1, -f.0)
+        } else {
+            (-f.1, f.0)
+        };
+        return Some(vec![side_panel(side, 3.0, 0.0, 16.0)]);
+    }
+    if id.ends_with("_trapdoor") {
+        if open {
+            let f = facing(state).unwrap_or((0.0, -1.0));
+            return Some(vec![side_panel((-f.0, -f.1), 3.0, 0.0, 16.0)]);
+        }
+        return Some(vec![if top { px(0.0, 13.0, 0.0, 16.0, 16.0, 16.0) } else { px(0.0, 0.0, 0.0, 16.0, 3.0, 16.0) }]);
+    }
+    if id == "ladder" {
+        let f = facing(state).unwrap_or((0.0, -1.0));
+        return Some(vec![side_panel((-f.0, -f.1), 2.0, 0.0, 16.0)]);
+    }
+    if id.ends_with("glass_pane") || id == "iron_bars" {
+        return Some(post_and_arms(state, 2.0, 0.0, 16.0, 2.0, &[(0.0, 16.0)], 16.0));
+    }
+    if id.ends_with("_fence_gate") {
+        let f = facing(state).unwrap_or((0.0, -1.0));
+        return Some(vec![if f.0 == 0.0 {
+            px(0.0, 5.0, 7.0, 16.0, 16.0, 9.0)
+        } else {
+            px(7.0, 5.0, 0.0, 9.0, 16.0, 16.0)
+        }]);
+    }
+    if id.ends_with("_fence") {
+        return Some(post_and_arms(state, 4.0, 0.0, 16.0, 2.0, &[(6.0, 9.0), (12.0, 15.0)], 15.0));
+    }
+    if id.ends_with("_wall") && !id.contains("_wall_") && id != "wall_torch" {
+        let post = if prop(state, "up") == Some("false") { 0.0 } else { 16.0 };
+        return Some(post_and_arms(state, 8.0, 0.0, post, 6.0, &[(0.0, 14.0)], 16.0));
+    }
+    if id.ends_with("lantern") && !id.ends_with("jack_o_lantern") && id != "sea_lantern" {
+        let hanging = prop(state, "hanging") == Some("true");
+        let (y0, y1) = if hanging { (1.0, 8.0) } else { (0.0, 7.0) };
+        let mut v = vec![px(5.0, y0, 5.0, 11.0, y1, 11.0), px(6.0, y1, 6.0, 10.0, y1 + 2.0, 10.0)];
+        if hanging {
+            v.push(px(7.0, y1 + 2.0, 7.0, 9.0, 16.0, 9.0));
+        }
+        return Some(v);
+    }
+    if id == "chain" {
+        return Some(vec![match prop(state, "axis") {
+            Some("x") => px(0.0, 7.0, 7.0, 16.0, 9.0, 9.0),
+            Some("z") => px(7.0, 7.0, 0.0, 9.0, 9.0, 16.0),
+            _ => px(7.0, 0.0, 7.0, 9.0, 16.0, 9.0),
+        }]);
+    }
+    if matches!(id, "torch" | "soul_torch" | "redstone_torch") {
+        return Some(vec![px(7.0, 0.0, 7.0, 9.0, 10.0, 9.0)]);
+    }
+    if id.ends_with("_carpet") || id.ends_with("_pressure_plate") {
+        return Some(vec![px(0.0, 0.0, 0.0, 16.0, 1.0, 16.0)]);
+    }
+    if id == "snow" {
+        let layers: f32 = prop(state, "layers").and_then(|l| l.parse().ok()).unwrap_or(1.0);
+        return Some(vec![px(0.0, 0.0, 0.0, 16.0, 2.0 * layers.clamp(1.0, 8.0), 16.0)]);
+    }
+    None
+}
+
 /// Whether some grid of `scene` has a block that is drawn (set, not air):
 /// then its meshes are not empty (the drawn block farthest along +x shows
 /// its +x face).
@@ -305,5 +580,39 @@ mod tests {
         let v = volume(&m);
         let blocks = g.set_count() as f32;
         assert!((v - blocks).abs() < 1e-2 * blocks, "{v} vs {blocks}");
+    }
+
+    fn shaped(states: &[&str]) -> Vec<BlockMesh> {
+        let mut g = BlockGrid::new(IVec3::ZERO, UVec3::new(states.len() as u32, 1, 1));
+        for (x, s) in (0..).zip(states) {
+            g.set(IVec3::new(x, 0, 0), &BlockState::parse(s).unwrap());
+        }
+        let mut scene = Scene::default();
+        scene.blocks.push(g);
+        shaped_block_meshes(&scene)
+    }
+
+    #[test]
+    fn previews_draw_blocks_in_their_shapes() {
+        let v = |s: &str| volume(&shaped(&[s]));
+        assert!((v("stone_slab[type=bottom]") - 0.5).abs() < 1e-4);
+        assert!((v("stone_slab[type=double]") - 1.0).abs() < 1e-4);
+        assert!((v("oak_stairs[facing=east,half=bottom,shape=straight]") - 0.75).abs() < 1e-4);
+        assert!((v("oak_stairs[facing=east,half=top,shape=outer_left]") - 0.625).abs() < 1e-4);
+        assert!((v("oak_stairs[facing=east,half=top,shape=inner_right]") - 0.875).abs() < 1e-4);
+        assert!((v("oak_door[facing=north,half=lower,hinge=left,open=false]") - 3.0 / 16.0).abs() < 1e-4);
+        assert!(v("oak_fence[east=true,north=false,south=false,west=false]") < 0.2);
+        assert!(v("glass_pane[east=false,north=false,south=false,west=false]") < 0.02);
+        // A straight stairs facing east has its step on the east half, on top.
+        let m = shaped(&["oak_stairs[facing=east,half=bottom,shape=straight]"]);
+        let top = m[0].mesh.positions.iter().filter(|p| p.y == 1.0).map(|p| p.x).fold(f32::INFINITY, f32::min);
+        assert_eq!(top, 0.5);
+        // A closed door facing north stands at the south edge of its cell.
+        let m = shaped(&["oak_door[facing=north,half=lower,hinge=left,open=false]"]);
+        let (lo, hi) = m[0].mesh.bounds().unwrap();
+        assert_eq!((lo.z, hi.z), (13.0 / 16.0, 1.0));
+        // Full blocks next to a slab still show the face towards it.
+        let m = shaped(&["stone", "stone_slab[type=bottom]"]);
+        assert!((volume(&m) - 1.5).abs() < 1e-4);
     }
 }

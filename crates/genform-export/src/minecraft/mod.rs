@@ -36,7 +36,7 @@ pub use error::MinecraftError;
 pub use grid::merge_grids;
 pub use litematic::{read_litematic, write_litematic};
 pub use mesh::{BlockMesh, mesh_blocks};
-pub(crate) use mesh::{block_meshes, for_each_block_triangle, has_drawn_blocks};
+pub(crate) use mesh::{block_meshes, for_each_block_triangle, has_drawn_blocks, shaped_block_meshes};
 pub use region::{RegionFile, read_terrain, region_coords, region_file_name, regions_for_box, write_region};
 pub use schem::{SchemVersion, read_schem, write_schem};
 pub(crate) use tiles::{flat_grid, render_tiles};
