@@ -16,7 +16,17 @@ pub(crate) struct ScopeState {
     /// The scope's polygon or mass in the interpreter's geometry arena, or
     /// [`NO_GEOM`] for a plain box scope.
     pub geom: u32,
+    /// How many emitted surfaces lie under this scope: `shape` counts one
+    /// up, and the scopes made after it (faces, pieces, splits) inherit
+    /// the count, so a polygon emitted on a face of an emitted mass, or on
+    /// an emitted polygon, is lifted off it ([`LIFT`] per layer) instead
+    /// of z-fighting it.
+    pub layer: u8,
 }
+
+/// How far (model units, metres in buildings) a polygon emitted on an
+/// emitted surface is lifted along its normal, per layer beneath it.
+pub(crate) const LIFT: f64 = 0.005;
 
 /// `ScopeState::geom` of a plain box scope.
 pub(crate) const NO_GEOM: u32 = u32::MAX;
@@ -31,7 +41,8 @@ pub(crate) fn axis_vec(axis: u8) -> DVec3 {
 
 impl ScopeState {
     /// The unit scope at the origin (the axiom's scope).
-    pub const UNIT: ScopeState = ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tag: 0, geom: NO_GEOM };
+    pub const UNIT: ScopeState =
+        ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tag: 0, geom: NO_GEOM, layer: 0 };
 
     /// Moves in the local frame (rotation only; size is not applied).
     #[inline]

@@ -233,6 +233,24 @@ fn taper_raises_a_pyramid_on_the_top_face() {
 }
 
 #[test]
+fn polygons_emitted_on_emitted_surfaces_are_lifted_off_them() {
+    // A 4 × 2 lot extruded 3 and emitted; its top face emitted on it, and
+    // an inset of that face on the face: 5 mm, then 10 mm above the roof
+    // of the mass, instead of in its plane (where they would z-fight).
+    let s = scene("A { lot(4, 2); extrude(3); shape; comp(f) { top: { shape; offset(-0.5) { inside: shape } } } }");
+    let heights: Vec<f32> = s.polygons.iter().map(|p| p.points.iter().map(|q| q.y).fold(f32::MIN, f32::max)).collect();
+    assert_eq!(heights.len(), 2);
+    assert!((heights[0] - 3.005).abs() < 1e-5 && (heights[1] - 3.010).abs() < 1e-5, "{heights:?}");
+    // On a mass never emitted, its faces lie in its planes.
+    let s = scene("A { lot(4, 2); extrude(3); comp(f) { top: shape } }");
+    assert!(s.polygons[0].points.iter().all(|q| (q.y - 3.0).abs() < 1e-6), "{:?}", s.polygons[0].points);
+    // A wall of an emitted mass: lifted outwards, along its normal.
+    let s = scene("A { lot(4, 2); extrude(3); shape; comp(f) { front: shape } }");
+    let z: Vec<f32> = s.polygons[0].points.iter().map(|q| q.z).collect();
+    assert!(z.iter().all(|z| (z.abs() - 1.005).abs() < 1e-5), "{z:?}");
+}
+
+#[test]
 fn what_is_left_out_is_noted_with_its_place_and_reason() {
     // An inset past the middle leaves `inside` nothing: noted once per
     // run, however often it happens, with the place and the inset.

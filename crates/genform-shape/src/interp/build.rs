@@ -17,7 +17,7 @@ use crate::ast::CompKind;
 use crate::geom::{self, RoofKind};
 use crate::polygon::{area2, bbox};
 use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP};
-use crate::scope::NO_GEOM;
+use crate::scope::{LIFT, NO_GEOM};
 use genform_core::scene::Mesh;
 use glam::{DAffine3, DMat3, DVec2};
 
@@ -155,7 +155,16 @@ impl<'g, M: Mode> Interp<'g, M> {
 
     /// `shape;`: a box scope emits its box, a polygon scope its polygon, a
     /// mass its closed prism (a box when the footprint fills the scope).
+    /// Everything made on the scope after it lies on what it emitted.
     pub(super) fn shape(&mut self, rule: &'g RuleCode) -> Result<(), Stop> {
+        self.emit_shape(rule)?;
+        self.cur.layer = self.cur.layer.saturating_add(1);
+        Ok(())
+    }
+
+    /// The emission of [`Self::shape`]; a polygon on emitted surfaces is
+    /// lifted off them along its normal.
+    fn emit_shape(&mut self, rule: &'g RuleCode) -> Result<(), Stop> {
         let Some(g) = self.geom_of(self.cur.geom) else {
             return self.emit(rule, Prim::Box);
         };
@@ -165,10 +174,11 @@ impl<'g, M: Mode> Interp<'g, M> {
         match g.kind {
             GeomKind::Polygon => {
                 let (f, s) = (self.cur.frame, self.cur.size);
+                let lift = f.transform_vector3(DVec3::Z).normalize_or_zero() * (LIFT * f64::from(self.cur.layer));
                 let pts: Vec<glam::Vec3> = self
                     .points(g)
                     .iter()
-                    .map(|q| f.transform_point3(DVec3::new(q.x * s.x, q.y * s.y, 0.0)).as_vec3())
+                    .map(|q| (f.transform_point3(DVec3::new(q.x * s.x, q.y * s.y, 0.0)) + lift).as_vec3())
                     .collect();
                 self.count_emission()?;
                 if !pts.iter().all(|p| p.is_finite()) {
@@ -461,7 +471,8 @@ impl<'g, M: Mode> Interp<'g, M> {
                 let m = DMat3::from_cols(DVec3::new(d.x, 0.0, d.y), DVec3::Y, DVec3::new(nrm.x, 0.0, nrm.y));
                 let mid = (a + b) * 0.5;
                 let f = frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, 0.0, mid.y));
-                let scope = ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tag, geom: NO_GEOM };
+                let scope =
+                    ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tag, geom: NO_GEOM, layer: self.cur.layer };
                 faces.push((class, scope, PieceGeom::Square));
             }
         }
@@ -487,7 +498,13 @@ impl<'g, M: Mode> Interp<'g, M> {
                 // The face centre in the mass's frame.
                 let centre = axes * DVec3::new(c.x, c.y, 0.0) + DVec3::new(0.0, y, 0.0);
                 let f = frame * DAffine3::from_mat3_translation(axes, centre);
-                let scope = ScopeState { frame: f, size: DVec3::new(size.x, size.y, 0.0), tag, geom: NO_GEOM };
+                let scope = ScopeState {
+                    frame: f,
+                    size: DVec3::new(size.x, size.y, 0.0),
+                    tag,
+                    geom: NO_GEOM,
+                    layer: self.cur.layer,
+                };
                 faces.push((class, scope, PieceGeom::Polygon(p)));
             }
         }

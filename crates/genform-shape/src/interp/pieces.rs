@@ -73,7 +73,13 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         let unit = local.iter().map(|q| (*q - c) / size).collect();
         let frame = self.frame_along(x, x * c.x + y * c.y);
-        let scope = ScopeState { frame, size: DVec3::new(size.x, size.y, 0.0), tag: self.cur.tag, geom: NO_GEOM };
+        let scope = ScopeState {
+            frame,
+            size: DVec3::new(size.x, size.y, 0.0),
+            tag: self.cur.tag,
+            geom: NO_GEOM,
+            layer: self.cur.layer,
+        };
         Some((class, scope, PieceGeom::Polygon(unit)))
     }
 
@@ -124,7 +130,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                     let size = DVec3::new(a.distance(b), 0.0, 0.0);
                     out.push((
                         edge_class(d),
-                        ScopeState { frame, size, tag: self.cur.tag, geom: NO_GEOM },
+                        ScopeState { frame, size, tag: self.cur.tag, geom: NO_GEOM, layer: self.cur.layer },
                         PieceGeom::Line,
                     ));
                 }
