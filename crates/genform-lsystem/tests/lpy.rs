@@ -137,21 +137,241 @@ fn plantgl_start_frame() {
 fn python_outside_the_subset_is_an_error_at_its_position() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lpy/fibonacci.lpy");
     let text = std::fs::read_to_string(path).unwrap();
+    // test/fibonacci.lpy: `I(k) >> I(i)I(j)` (L-Py's new right context)
+    // and `backward()` in a decomposition body.
     let Err(d) = compile_lpy(&SourceFile::new("fibonacci.lpy", text)) else { panic!("fibonacci.lpy compiled") };
     let first = &d.items[0];
-    assert_eq!(d.file.location(first.span.unwrap().start), "fibonacci.lpy:15:2");
-    assert!(first.message.contains("a Python assignment in a production body"), "{}", first.message);
-    assert!(first.hints[0].contains("L-Py (the Python package) runs it"));
+    assert_eq!(d.file.location(first.span.unwrap().start), "fibonacci.lpy:13:6");
+    assert!(first.message.contains("new-context operator `>>` is not read"), "{}", first.message);
+    let python = d.items.iter().find(|i| i.message.contains("backward")).expect("backward() refused");
+    assert_eq!(d.file.location(python.span.unwrap().start), "fibonacci.lpy:28:3");
+    assert!(python.hints[0].contains("L-Py (the Python package) runs it"));
     let cases = [
-        ("import random\nAxiom: A\n", "1:1", "the Python import `import random`"),
-        ("Axiom: A\nproduction:\nA :\n  if True:\n    produce B\n", "4:3", "a Python `if`"),
-        ("Axiom: A\nproduction:\nA :\n  nproduce B\n  produce C\n", "4:3", "`nproduce`"),
-        ("Axiom: A\ndef StartEach():\n  pass\n", "2:1", "a Python function `def StartEach`"),
+        ("import numpy\nAxiom: A\n", "1:1", "the Python import `import numpy`"),
+        ("Axiom: A\nproduction:\nA :\n  for i in range(3):\n    nproduce B\n", "4:3", "a Python `for` loop"),
+        ("Axiom: A\nproduction:\nA :\n  global g\n  produce C\n", "4:3", "the Python `global` in a production body"),
+        ("Axiom: A\ndef EndEach(lstring):\n  assert len(lstring) == 1\n", "2:1", "reads the derived string"),
+        ("Axiom: A\nproduction:\nA --> B(x[0])\n", "3:10", "a Python subscript"),
+        ("Axiom: A\nproduction:\nA --> Label('x')\n", "3:13", "a Python string"),
+        ("Axiom: A\nproduction:\nA --> B(Vector3(1,0,0))\n", "3:9", "the Python call `Vector3(…)`"),
         ("Axiom: A\nproduction:\nA >> B --> C\n", "3:3", "new-context operator `>>`"),
     ];
     for (text, at, what) in cases {
         let e = compile_text(text).unwrap_err();
         assert!(e.contains(&format!("t.lpy:{at}")) && e.contains(what), "{text:?}: {e}");
+    }
+}
+
+/// The values of the modules named `name`, first parameter each.
+fn values(system: &LSystem, s: &ModuleString, name: &str) -> Vec<f64> {
+    let syms: Vec<_> = system.alphabet.named(name).collect();
+    s.modules(&system.alphabet).filter(|(m, p)| syms.contains(m) && !p.is_empty()).map(|(_, p)| p[0]).collect()
+}
+
+#[test]
+fn pascal_triangles_derive_the_binomial_row() {
+    // Both files grow row 10 of Pascal's triangle from U(1) in 10 steps
+    // (contexts `U(x) < U(y)`, and `E` separators in the second).
+    let binomial = |n: u64, k: u64| (0..k).fold(1u64, |c, i| c * (n - i) / (i + 1));
+    let row: Vec<f64> = (0..=10).map(|k| binomial(10, k) as f64).collect();
+    for name in ["pascaltriangle1.lpy", "pascaltriangle2.lpy"] {
+        let p = load(name);
+        assert_eq!(values(&p, &derive(&p), "U"), row, "{name}");
+    }
+}
+
+#[test]
+fn fibonacci_numbers_come_from_a_two_module_left_context() {
+    // `I(j)I(k) < I(i)` with a decomposition `A(i) → I(1)A(i-1)` and
+    // `derivation length: nbValue+1`: the Fibonacci numbers F(1)..F(20),
+    // ending with 6765, the number L-Py's test_fibonacci.py asserts.
+    let f = load("13-fibonacci.lpy");
+    assert_eq!(f.settings.derivation, 21);
+    let mut want = vec![1.0, 1.0];
+    while want.len() < 20 {
+        want.push(want[want.len() - 1] + want[want.len() - 2]);
+    }
+    let got = values(&f, &derive(&f), "I");
+    assert_eq!(got, want);
+    assert_eq!(got.last(), Some(&6765.0));
+}
+
+#[test]
+fn if_bodies_and_constants_match_a_recurrence() {
+    // ABOP Fig. 1.37b: `G(x,t): if t == 0: produce G(x*p,2) +(a) G(x*h,1)
+    // -(2*a) G(x*h,1) +(a) G(x*q,0) / else: produce G(x,t-1)`. Modules
+    // grown by one G(t) in n steps, counted independently:
+    fn grown(t: u32, n: u32) -> u64 {
+        match (t, n) {
+            (_, 0) => 1,
+            (0, n) => grown(2, n - 1) + 2 * grown(1, n - 1) + grown(0, n - 1) + 3,
+            (t, n) => grown(t - 1, n - 1),
+        }
+    }
+    let g = load("lsystem-fig1.37b.lpy");
+    let s = derive(&g);
+    // The axiom `_(0.002) -(90) G(1,0)`.
+    assert_eq!(s.len() as u64, 2 + grown(0, 10));
+    assert_eq!(s.len(), 6681);
+    // h = (p*q) ** 0.5 with p = 0.3, q = 0.7: the first step's lengths.
+    let first = g.derive(1, &mut Rng::from_seed(1)).unwrap();
+    let h = (0.3f64 * 0.7).sqrt();
+    assert_eq!(values(&g, &first, "G"), vec![0.3, h, h, 0.7]);
+}
+
+#[test]
+fn doubling_curves_count_their_segments() {
+    // Dragon curve: X → X+YF+, Y → -FX-Y from FX: 2^n F after n = 10 steps.
+    let d = load("dragoncurve.lpy");
+    assert_eq!(count(&d, &derive(&d), "F"), 1 << 10);
+    // Cantor set: F(x) → F(x/3) f(x/3) F(x/3), 5 steps: 2^5 pieces of 3^-5.
+    let c = load("cantorset.lpy");
+    let s = derive(&c);
+    let f = values(&c, &s, "F");
+    assert_eq!(f.len(), 32);
+    assert!(f.iter().all(|x| (x - 3f64.powi(-5)).abs() < 1e-15));
+    assert_eq!(count(&c, &s, "f"), 31);
+}
+
+#[test]
+fn module_aliases_draw_as_their_module() {
+    // test/extension/alias.lpy: `module A = F`, A(x) --> A(x+1), 5 steps.
+    let a = load("alias.lpy");
+    let s = derive(&a);
+    assert_eq!(s.display(&a.alphabet, true), "A(6)");
+    let sym = a.alphabet.named("A").next().unwrap();
+    assert_eq!(a.alphabet.command(sym), genform_lsystem::Command::Draw);
+}
+
+#[test]
+fn python_bodies_hooks_and_random_draws_read() {
+    // Nested `if` blocks, `random.random()`, `min`, `**` (10-random-tree),
+    // hooks assigning a global and `from random import *`
+    // (11a-markov-1stem), hooks, `%` and long bodies (ex_lsystem1): all
+    // derive, and the same seed gives the same string.
+    for name in ["10-random-tree.lpy", "11a-markov-1stem.lpy", "ex_lsystem1.lpy"] {
+        let system = load(name);
+        let a = derive(&system);
+        let b = derive(&system);
+        assert_eq!(a.display(&system.alphabet, true), b.display(&system.alphabet, true), "{name}");
+        assert!(a.len() > 1, "{name}");
+    }
+    // Markov chain: I[M(x)]A(1-x) or IB(1-x); each step adds one I.
+    let m = load("11a-markov-1stem.lpy");
+    let s = derive(&m);
+    assert_eq!(count(&m, &s, "I"), 99, "one I per step after S(1) → A|B");
+    assert_eq!(count(&m, &s, "A") + count(&m, &s, "B"), 1);
+}
+
+/// The derived string of an inline `.lpy` text, seed 1.
+fn run(text: &str) -> String {
+    let s = compile_text(text).unwrap_or_else(|e| panic!("{e}"));
+    derive(&s).display(&s.alphabet, true)
+}
+
+#[test]
+fn the_python_subset_keeps_python_meaning() {
+    // Precedence, `//`, `%` (divisor's sign), `**`, chained comparisons,
+    // ternaries, True/False, n-ary max, int().
+    let text = "x = 7\nAxiom: A(-7)\nderivation length: 1\nproduction:\n\
+                A(a) --> B(x // 2, a % 3, -2 ** 2, 1 < x <= 7, 3 if a > 0 else 4, not a < 0, max(1, x, 3), int(-2.5))\n";
+    assert_eq!(run(text), "B(3,2,-4,1,4,0,7,-2)");
+    // Small functions are written out at each call, `if`/`return` included.
+    let text = "def f(a, b):\n  c = a * b\n  if c > 10:\n    return c\n  return -c\n\
+                def g(t): return f(t, 2) + 1\nAxiom: A(3) A(6)\nderivation length: 1\nproduction:\nA(t) --> B(g(t))\n";
+    assert_eq!(run(text), "B(-5)B(13)");
+    // getIterationNb() is the step being made (0 first).
+    let text = "Axiom: A\nderivation length: 3\nproduction:\nA --> N(getIterationNb()) A\n";
+    assert_eq!(run(text), "N(0)N(1)N(2)A");
+}
+
+#[test]
+fn multi_statement_branches_and_nproduce() {
+    // Branches of several statements, `elif`, nested `if`, locals,
+    // augmented assignment, `nproduce` and `produce *`.
+    let text = "Axiom: A(0) A(1) A(2) A(3)\nderivation length: 1\nproduction:\nA(x) :\n\
+                \ty = x * 10\n\tif x == 0:\n\t\ty += 1\n\t\tnproduce N(y)\n\t\tproduce M\n\
+                \telif x == 1:\n\t\tif y > 5:\n\t\t\tproduce *\n\telse:\n\t\tnproduce P(y)\n\
+                \t\ty = y - 1\n\t\tnproduce P(y)\n";
+    assert_eq!(run(text), "N(1)MP(20)P(19)P(30)P(29)");
+}
+
+#[test]
+fn hooks_assign_globals_and_groups_switch() {
+    // `def EndEach(): global n; n += 1` makes `n` a global; the
+    // production reads it at every step.
+    let text = "n = 0\ndef EndEach():\n  global n\n  n += 1\nAxiom: A\nderivation length: 3\n\
+                production:\nA --> N(n) A\n";
+    assert_eq!(run(text), "N(0)N(1)N(2)A");
+    // A hook's branch of several statements (a hidden global records the
+    // branch).
+    let text = "n = 0\nm = 0\ndef EndEach():\n  global n, m\n  if n < 2:\n    n += 1\n    m += 10\n  else:\n\
+                \x20   m = -1\nAxiom: A\nderivation length: 4\nproduction:\nA --> N(n, m) A\n";
+    assert_eq!(run(text), "N(0,0)N(1,10)N(2,20)N(2,-1)A");
+    // `useGroup` in StartEach alternates groups 1 and 2; group 0 always
+    // applies.
+    let text = "def StartEach():\n  if getIterationNb() % 2 == 0: useGroup(1)\n  else: useGroup(2)\n\
+                Axiom: A C\nderivation length: 4\nproduction:\nC --> C c\ngroup 1:\nA --> B\n\
+                group 2:\nB --> A\nendgroup\n";
+    assert_eq!(run(text), "ACcccc");
+    // Without `useGroup`, only group 0 is active.
+    let text = "Axiom: A\nderivation length: 2\nproduction:\ngroup 1:\nA --> B\nendgroup\nA --> C\n";
+    assert_eq!(run(text), "C");
+}
+
+#[test]
+fn random_draws_come_from_the_one_stream() {
+    // `random()`, `uniform`, `gauss`, `randint` map onto the `.ls` random
+    // functions: same seed, same values; draws in range.
+    let text = "from random import *\nimport random as rd\nseed(3)\nAxiom: A\nderivation length: 1\n\
+                production:\nA --> R(random(), uniform(2, 3), rd.randint(1, 6), gauss(0, 1))\n";
+    let s = compile_text(text).unwrap();
+    let a = derive(&s);
+    let v: Vec<f64> = a.modules(&s.alphabet).flat_map(|(_, p)| p.to_vec()).collect();
+    assert!((0.0..1.0).contains(&v[0]) && (2.0..3.0).contains(&v[1]), "{v:?}");
+    assert!(v[2].fract() == 0.0 && (1.0..=6.0).contains(&v[2]), "{v:?}");
+    assert!(v[3].is_finite());
+    assert_eq!(a.display(&s.alphabet, true), derive(&s).display(&s.alphabet, true));
+    // `seed(…)` is a warning: genform's seed decides.
+    let (_, w) = compile_lpy(&SourceFile::new("t.lpy", text)).unwrap();
+    assert!(w.items.iter().any(|d| d.message.contains("`seed(…)` is not followed")));
+}
+
+#[test]
+fn editor_scalars_and_empty_axioms() {
+    let text = "Axiom: A(N)\nderivation length: 1\nproduction:\nA(x) --> A(x + 1)\nendlsystem\n\
+                def __initialiseContext__(context):\n\tscalars = [('N', 'Integer', 5, 0, 9), ('B', 'Bool', True)]\n\
+                \tcontext[\"__scalars__\"] = scalars\n";
+    assert_eq!(run(text), "A(6)");
+    let s = compile_text("Axiom: \nderivation length: 2\nproduction:\nA --> B\n").unwrap();
+    assert_eq!(s.axiom.len(), 0);
+    assert_eq!(derive(&s).len(), 0);
+    // No `Axiom:` at all (a part L-Py composes into another L-system).
+    let s = compile_text("derivation length: 1\nproduction:\nI(d) --> S(d)\n").unwrap();
+    assert_eq!(derive(&s).len(), 0);
+}
+
+#[test]
+fn no_prefix_of_a_file_panics() {
+    // Every prefix of the copied files (cut at every 3rd character)
+    // compiles or fails with located errors.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lpy");
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_none_or(|x| x != "lpy") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        let cuts: Vec<usize> = text.char_indices().map(|(i, _)| i).step_by(3).collect();
+        for k in cuts {
+            let file = SourceFile::new("cut.lpy", &text[..k]);
+            match compile_lpy(&file) {
+                Ok((s, _)) => {
+                    let _ = s.derive_limited(3, &mut Rng::from_seed(1), 2000, |_, _| {});
+                }
+                Err(d) => assert!(d.items.iter().all(|i| i.span.is_some()), "{}", d.render(false)),
+            }
+        }
     }
 }
 
@@ -163,15 +383,22 @@ fn ls_errors_point_into_the_lpy_text() {
     assert!(e.contains("unknown name `y`") && e.contains("t.lpy:4:21"), "{e}");
 }
 
-/// Runs the reader over every `.lpy` file under `LPY_CORPUS` and counts
-/// the outcomes (`LPY_CORPUS=/path/to/lpy cargo test -p genform-lsystem
-/// --test lpy corpus -- --ignored --nocapture`).
+/// Runs the reader over every `.lpy` file under `LPY_CORPUS` (a copy of
+/// L-Py's repository, or its `.lpy` files with their paths), derives
+/// every file it reads, and classifies the rest by their errors; with
+/// `LPY_TABLE=docs/lpy-files.md` it writes the table of all files:
+///
+/// ```sh
+/// LPY_CORPUS=/path/to/lpy LPY_TABLE=docs/lpy-files.md \
+///   cargo test -p genform-lsystem --test lpy corpus -- --ignored --nocapture
+/// ```
 #[test]
 #[ignore]
 fn corpus() {
     let Ok(root) = std::env::var("LPY_CORPUS") else { return };
+    let root = std::path::PathBuf::from(root);
     let mut files = Vec::new();
-    let mut stack = vec![std::path::PathBuf::from(root)];
+    let mut stack = vec![root.clone()];
     while let Some(d) = stack.pop() {
         for e in std::fs::read_dir(&d).unwrap() {
             let p = e.unwrap().path();
@@ -183,26 +410,90 @@ fn corpus() {
         }
     }
     files.sort();
-    let (mut ok, mut outside, mut other) = (0, 0, 0);
+    let mut rows = Vec::new();
+    let mut counts = std::collections::BTreeMap::<&str, usize>::new();
     for p in &files {
+        let rel = p.strip_prefix(&root).unwrap_or(p).display().to_string();
         let text = String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
-        match compile_lpy(&SourceFile::new(p.display().to_string(), text)) {
-            Ok(_) => {
-                ok += 1;
-                println!("OK {}", p.display());
-            }
+        let (kind, detail) = match compile_lpy(&SourceFile::new(rel.clone(), text.clone())) {
+            Ok((system, _)) => match system.derive(system.settings.derivation, &mut Rng::from_seed(1)) {
+                Ok(s) => ("read", format!("{} steps, {} modules", system.settings.derivation, s.len())),
+                Err(e) => ("derivation error", e.to_string()),
+            },
             Err(d) => {
-                let first = &d.items[0];
-                let loc = first.span.map(|s| d.file.location(s.start)).unwrap_or_default();
-                if first.message.contains("Python outside the pure") {
-                    outside += 1;
-                    println!("OUTSIDE {} {loc}: {}", p.display(), first.message);
-                } else {
-                    other += 1;
-                    println!("OTHER {} {loc}: {}", p.display(), first.message);
+                let located = |i: &genform_core::Diagnostic| {
+                    let loc = i.span.map(|s| d.file.location(s.start)).unwrap_or_default();
+                    let loc = loc.rsplit_once(".lpy:").map_or(loc.clone(), |(_, l)| l.to_string());
+                    let msg = i.message.replace(": Python outside the subset genform reads from .lpy files", "");
+                    format!("{loc}: {msg}")
+                };
+                let python = d.items.iter().find(|i| i.message.contains("Python outside the subset"));
+                let editor = d.items.iter().find(|i| {
+                    i.message.starts_with("unknown name `")
+                        && text.contains("__initialiseContext__")
+                        && i.message
+                            .split('`')
+                            .nth(1)
+                            .is_some_and(|n| text.contains(&format!("'{n}'")) || text.contains(&format!("\"{n}\"")))
+                });
+                match (python, editor) {
+                    (Some(i), _) => ("Python", located(i)),
+                    (None, Some(i)) => ("editor", located(i)),
+                    (None, None) => ("L-Py feature", located(&d.items[0])),
                 }
             }
-        }
+        };
+        *counts.entry(kind).or_default() += 1;
+        println!("{kind}\t{rel}\t{detail}");
+        rows.push((rel, kind, detail));
     }
-    println!("files {} ok {ok} outside {outside} other {other}", files.len());
+    println!("files {} {counts:?}", files.len());
+    if let Ok(out) = std::env::var("LPY_TABLE") {
+        let mut md = String::from(
+            "# L-Py's `.lpy` files and genform's reader\n\n\
+             Generated by the ignored test `corpus` of `crates/genform-lsystem/tests/lpy.rs` over the \\\n\
+             `.lpy` files of openalea/lpy at commit 4a365a3 (see docs/lsystem.md, *Reading L-Py files*):\n\n\
+             ```sh\n\
+             LPY_CORPUS=/path/to/lpy LPY_TABLE=docs/lpy-files.md \\\n  \
+             cargo test -p genform-lsystem --test lpy corpus -- --ignored --nocapture\n\
+             ```\n\n\
+             - **read**: translated, compiled and derived (its `derivation length`, seed 1) by the Rust reader;\n\
+             - **Python**: needs Python outside the subset (the first such construct; L-Py, the Python package, runs it);\n\
+             - **editor**: uses a curve, patch or function that L-Py's editor stores in the file's \\\n  \
+             `__initialiseContext__` (genform reads only the editor's scalars);\n\
+             - **L-Py feature**: no Python beyond the subset, but an L-system construct the `.ls` language lacks \\\n  \
+             (several modules as the strict predecessor, `<<`/`>>` contexts, `*`/`or(…)` patterns) or another error.\n\n",
+        );
+        md.push_str(&format!("Of {} files: ", files.len()));
+        let parts: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
+        md.push_str(&parts.join(", "));
+        md.push_str(".\n\n| file | outcome | detail |\n|---|---|---|\n");
+        for (rel, kind, detail) in &rows {
+            let detail = detail.replace('|', "\\|").replace('\n', " ");
+            md.push_str(&format!("| `{rel}` | {kind} | {detail} |\n"));
+        }
+        std::fs::write(out, md).unwrap();
+    }
+}
+
+/// Prints the `.ls` translation of the file `LPY_FILE` (`LPY_FILE=x.lpy
+/// cargo test -p genform-lsystem --test lpy show -- --ignored --nocapture`).
+#[test]
+#[ignore]
+fn show() {
+    let Ok(path) = std::env::var("LPY_FILE") else { return };
+    let text = String::from_utf8_lossy(&std::fs::read(&path).unwrap()).into_owned();
+    match genform_lsystem::lpy::translate(&text) {
+        Ok(t) => println!("{}", t.text),
+        Err(e) => println!("{e:?}"),
+    }
+    match compile_lpy(&SourceFile::new(path, text)) {
+        Ok((system, w)) => {
+            println!("{}", w.render(false));
+            let s = derive(&system);
+            let text = s.display(&system.alphabet, true);
+            println!("{} modules: {}", s.len(), text.chars().take(600).collect::<String>());
+        }
+        Err(d) => println!("{}", d.render(false)),
+    }
 }
