@@ -137,11 +137,13 @@ pub(crate) enum CompKind {
     ShapeU,
     /// `shapeO(front, right, back, left)`: a ring of four bands and the courtyard.
     ShapeO,
+    /// `comp(v)`: the corners of a polygon.
+    Vertices,
 }
 
 impl CompKind {
     /// Every kind, indexed by `kind as usize`.
-    pub const ALL: [CompKind; 7] = [
+    pub const ALL: [CompKind; 8] = [
         CompKind::Faces,
         CompKind::Edges,
         CompKind::Offset,
@@ -149,6 +151,7 @@ impl CompKind {
         CompKind::ShapeL,
         CompKind::ShapeU,
         CompKind::ShapeO,
+        CompKind::Vertices,
     ];
 
     /// The operation as written, and the arguments it takes.
@@ -161,6 +164,7 @@ impl CompKind {
             CompKind::ShapeL => ("shapeL", 2),
             CompKind::ShapeU => ("shapeU", 3),
             CompKind::ShapeO => ("shapeO", 4),
+            CompKind::Vertices => ("comp(v)", 0),
         }
     }
 

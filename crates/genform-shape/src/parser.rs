@@ -641,20 +641,25 @@ impl<'a> Parser<'a> {
         Ok(Stmt::Split { axis, pieces })
     }
 
-    /// `comp(f) { front: A | side | top: { ... } | ... }` and `comp(e) { … }`.
+    /// `comp(f) { front: A | side | top: { ... } | ... }`, `comp(e) { … }` and
+    /// `comp(v) { … }`.
     fn comp(&mut self) -> PResult<Stmt> {
         let span = self.bump().span;
         self.expect(Tok::LParen, "after `comp`")?;
         let kind = match &self.tok.kind {
             Tok::Ident(s) if s == "f" => CompKind::Faces,
             Tok::Ident(s) if s == "e" => CompKind::Edges,
+            Tok::Ident(s) if s == "v" => CompKind::Vertices,
             _ => {
                 let d = Diagnostic::error(
                     self.tok.span,
-                    format!("expected `f` (faces) or `e` (edges) in `comp`, found {}", self.tok.kind.describe()),
+                    format!(
+                        "expected `f` (faces), `e` (edges) or `v` (vertices) in `comp`, found {}",
+                        self.tok.kind.describe()
+                    ),
                 )
                 .with_hint(
-                    "`comp(f)` takes the faces of a mass, `comp(e)` the edges of a polygon; vertices are not built",
+                    "`comp(f)` takes the faces of a mass, `comp(e)` the edges of a polygon, `comp(v)` its corners",
                 );
                 return Err(self.error(d));
             }

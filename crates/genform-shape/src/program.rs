@@ -120,7 +120,7 @@ pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
         CompKind::Faces => {
             (face_selector(name), "front, back, left, right, top, bottom, side, vertical, horizontal, all")
         }
-        CompKind::Edges => (edge(name), "front, back, left, right, side, all"),
+        CompKind::Edges | CompKind::Vertices => (edge(name), "front, back, left, right, side, all"),
         CompKind::Offset => (
             match name {
                 "inside" => Some(PIECE_REST),

@@ -233,6 +233,44 @@ fn taper_raises_a_pyramid_on_the_top_face() {
 }
 
 #[test]
+fn comp_v_gives_each_corner_its_scope_classed_by_where_it_points() {
+    // A column on every corner of a 4 × 2 lot, centred on the corner.
+    let s = scene("A { lot(4, 2); comp(v) { all: { size(0.4, 0.4, 3); box; } } }");
+    let mut at: Vec<(i32, i32)> = s
+        .instances
+        .iter()
+        .map(|i| {
+            let c = i.transform.translation;
+            ((c.x * 10.0).round() as i32, (c.z * 10.0).round() as i32)
+        })
+        .collect();
+    at.sort();
+    assert_eq!(at, [(-20, -10), (-20, 10), (20, -10), (20, 10)]);
+    // Each column is 0.4 wide, 3 high, and stands in the lot's plane.
+    for i in &s.instances {
+        let (scale, _, t) = i.transform.to_scale_rotation_translation();
+        let mut dims = scale.abs().to_array();
+        dims.sort_by(f32::total_cmp);
+        assert!(
+            (dims[0] - 0.4).abs() < 1e-5 && (dims[1] - 0.4).abs() < 1e-5 && (dims[2] - 3.0).abs() < 1e-5,
+            "{scale}"
+        );
+        assert!(t.y.abs() < 1e-5, "{t}");
+    }
+    // An L's six corners, each classed by its outward bisector (the
+    // reflex one's points into the notch); diagonal ones count as front or
+    // back, as a wall at 45° does: the four at z ≥ 2, the two at z = 0.
+    let l = |arm: &str| {
+        let src = format!(
+            "A {{ lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); comp(v) {{ {arm}: {{ size(0.2, 0.2, 1); box; }} }} }}"
+        );
+        scene(&src).instances.iter().map(|i| i.transform.translation.z).collect::<Vec<f32>>()
+    };
+    assert_eq!(l("all").len(), 6);
+    assert!(l("front").len() == 4 && l("back").len() == 2 && l("left").is_empty(), "{:?} {:?}", l("front"), l("back"));
+}
+
+#[test]
 fn polygons_emitted_on_emitted_surfaces_are_lifted_off_them() {
     // A 4 × 2 lot extruded 3 and emitted; its top face emitted on it, and
     // an inset of that face on the face: 5 mm, then 10 mm above the roof

@@ -786,7 +786,7 @@ impl<'a> SymbolCx<'a> {
                         CompKind::ShapeL => "shapeL(front, left)",
                         CompKind::ShapeU => "shapeU(front, left, right)",
                         CompKind::ShapeO => "shapeO(front, right, back, left)",
-                        CompKind::Faces | CompKind::Edges => name,
+                        CompKind::Faces | CompKind::Edges | CompKind::Vertices => name,
                     };
                     self.arity(name, *span, form, args.len());
                 }

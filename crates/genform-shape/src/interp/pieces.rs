@@ -135,6 +135,27 @@ impl<'g, M: Mode> Interp<'g, M> {
                     ));
                 }
             }
+            CompKind::Vertices => {
+                // Each corner, its x along the edge leaving it, classed by
+                // the way it points (its outward bisector).
+                for i in 0..k {
+                    let (din, dout) = (dirs[(i + k - 1) % k], dirs[i]);
+                    let bisector = DVec2::new(din.y, -din.x) + DVec2::new(dout.y, -dout.x);
+                    let bisector = if bisector.length_squared() > 1e-24 { bisector } else { din };
+                    let frame = self.frame_along(dout, corners[i]);
+                    out.push((
+                        edge_class(bisector.perp()),
+                        ScopeState {
+                            frame,
+                            size: DVec3::ZERO,
+                            tag: self.cur.tag,
+                            geom: NO_GEOM,
+                            layer: self.cur.layer,
+                        },
+                        PieceGeom::Line,
+                    ));
+                }
+            }
             CompKind::Offset => {
                 let d = v[0];
                 if d < 0.0 {
