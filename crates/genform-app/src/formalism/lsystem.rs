@@ -36,7 +36,7 @@ impl Formalism for LSystems {
     }
 
     fn load(&self, path: &Path) -> Result<Box<dyn LoadedGrammar>> {
-        // `.lpy`: L-Py files, the pure L-system subset (docs/lsystem.md).
+        // `.lpy`: L-Py files, in the subset the Rust reader translates (docs/lsystem.md).
         let lpy = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("lpy"));
         let system = Arc::new(compile_file(path, |file| match lpy {
             true => genform_lsystem::compile_lpy_with_assets(file, &FileAssets::beside(path)),
