@@ -66,9 +66,9 @@ def _model_from_genome(path: str, genome: str, limits: tuple[int, int, int]) -> 
 
 
 def __getattr__(name: str):
-    # `genform.ray` imports Ray only when used.
-    if name == "ray":
+    # `genform.ray` imports Ray only when used; `genform.lpy` is L-Py's files with Python.
+    if name in ("ray", "lpy"):
         import importlib
 
-        return importlib.import_module(".ray", __name__)
+        return importlib.import_module("." + name, __name__)
     raise AttributeError(f"module 'genform' has no attribute {name!r}")

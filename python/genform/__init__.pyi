@@ -12,6 +12,7 @@ from typing import Any, Callable, Mapping, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+from . import lpy as lpy
 from . import ray as ray
 
 __version__: str

@@ -1,0 +1,372 @@
+"""genform.lpy: L-Py files with real Python, checked against what L-Py's
+own tests assert (data/lpy/README.md says where each file and assert comes
+from)."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from genform.lpy import LpyError, LpyUnsupported, Lstring, Lsystem, Module, PlantGLUnavailable
+
+DATA = Path(__file__).parent / "data" / "lpy"
+LPYTEST = sorted((DATA / "lpytest").glob("*.lpy"))
+
+
+@pytest.fixture(autouse=True)
+def _in_tmp_dir(monkeypatch, tmp_path):
+    # Some files write beside themselves (import_with_module_in_name.lpy).
+    monkeypatch.chdir(tmp_path)
+
+
+def lsys(code: str) -> Lsystem:
+    l = Lsystem()
+    l.setCode(code)
+    return l
+
+
+# ---------------------------------------------------- L-Py's test_*.py asserts
+
+
+def test_fibonacci_backward_with_new_right_context():
+    # test/test_fibonacci.py
+    a = Lsystem(DATA / "fibonacci.lpy").iterate()
+    assert a[2][0] == 6765
+    assert a[3][0] == 4181
+    assert a[21][0] == 1
+
+
+def test_nproduce():
+    # test/test_nproduce.py
+    l = Lsystem(DATA / "test_nproduce.lpy")
+    res = l.derive(1)
+    assert len(res) == 2 and res[1].name == "B"
+    res = l.derive(res, 1, 1)
+    assert len(res) == 1 and res[0].name == "C"
+    res = l.derive(res, 2, 1)
+    assert len(res) == 1 and res[0].name == "D"
+    res = l.derive(res, 3, 1)
+    assert len(res) == 0
+
+
+def test_multiline_produce():
+    # test/test_multiline_produce.py (its End asserts len(lstring) == 3)
+    s = Lsystem(DATA / "test_multiline_produce.lpy").iterate()
+    assert str(s) == "BCAD"
+
+
+def test_groups():
+    # test/test_group.py: the file's hooks assert the group switches.
+    s = Lsystem(DATA / "test_group.lpy").iterate()
+    assert len(s) > 0
+
+
+def test_simple_matching_and_produce_star():
+    s = Lsystem(DATA / "test_simple_matching.lpy").iterate()
+    # I(5) counts down to I(0), which `produce *` erases.
+    assert str(s) == ""
+
+
+@pytest.mark.parametrize("path", LPYTEST, ids=[p.name for p in LPYTEST])
+@pytest.mark.filterwarnings("ignore:File generated but cannot be imported")
+def test_lpytest_files_iterate(path):
+    # test/test_lpytest.py: every file of test/lpytest iterates without error.
+    Lsystem(path).iterate()
+
+
+def test_diese_bug_is_refused():
+    # test/test_lpytest.py::test_diese_bug: `#(` in an lstring must fail.
+    with pytest.raises(LpyError, match="#"):
+        Lsystem(DATA / "diese_bug.lpy").iterate()
+
+
+def test_axiom_of_declared_module():
+    # test/test_simple_lsystem.py
+    l = lsys("module AA\nAxiom: AA\n")
+    assert len(l.axiom) == 1
+
+
+# Embedded L-systems of L-Py's test/test_matching.py (default matching mode).
+BEGIN = """
+matched = False
+
+def StartEach():
+    global matched
+    matched = False
+
+
+def EndEach():
+  assert matched
+"""
+
+MATCHING = {
+    "mod_with_no_arg": """
+Axiom : A
+production:
+A(x) :
+    assert False and "Wrong matching. Match mod with two args with pattern of mod with one arg"
+A :
+    global matched
+    matched = True
+""",
+    "mod_with_onearg": """
+Axiom : A(3)
+production:
+A :
+    assert False and "Wrong matching. Match mod with one arg with pattern of mod without arg"
+A(x) :
+    global matched
+    matched = True
+    assert x == 3 and "Wrong argument values"
+""",
+    "mod_with_twoargs": """
+
+Axiom : A(3,4)
+
+production:
+
+A :
+    raise Exception("Wrong matching. Match mod with two args with pattern of mod without arg")
+A(x) :
+    raise Exception("Wrong matching. Match mod with two args with pattern of mod with one arg")
+
+A(x,y) :
+    global matched
+    matched = True
+    assert x == 3 and y == 4 and "Wrong argument values"
+
+""",
+    "mod_with_valuearg": """
+Axiom : A(3)
+production:
+A :
+    raise Exception("Wrong matching. Match mod with one arg with pattern of mod without arg")
+A(3) :
+    global matched
+    matched = True
+    produce
+A(x) :
+    raise Exception("Wrong matching. Should have prefer pattern with value")
+""",
+    "mod_with_stararg": """
+Axiom : A(3)
+production:
+A :
+    raise Exception("Wrong matching. Match mod with one arg with pattern of mod without arg")
+A(*args) :
+    global matched
+    matched = True
+    assert len(args) == 1 and args[0] == 3 and "Bad value for *args. Got %s instead of [3]." %str(args)
+""",
+    "mod_with_stararg_for_zero": """
+Axiom : A
+production:
+A(*args) :
+    global matched
+    matched = True
+    assert len(args) == 0
+""",
+    "left_context": """
+Axiom : BA
+production:
+B < A :
+    global matched
+    matched = True
+""",
+    "left_context_with_param": """
+Axiom : C(1)B(2)A(3)
+production:
+C(x)B(y) < A(z) :
+    assert x == 1 and y == 2 and z == 3 and "Wrong argument values"
+    global matched
+    matched = True
+""",
+    "right_context": """
+Axiom : AB
+production:
+A > B :
+    global matched
+    matched = True
+""",
+    "right_context_with_params": """
+Axiom : A(1)B(2)C(3)
+production:
+A(x) > B(y)C(z) :
+    assert x == 1 and y == 2 and z == 3 and "Wrong argument values"
+    global matched
+    matched = True
+""",
+    "new_left_context": """
+Axiom : BA
+production:
+B --> C
+C << A :
+    global matched
+    matched = True
+""",
+    "new_right_context": """
+def Start(): backward()
+Axiom : AB
+production:
+B --> C
+A >> C :
+    global matched
+    matched = True
+""",
+}
+
+
+@pytest.mark.parametrize("name", sorted(MATCHING))
+def test_lpy_matching(name):
+    lsys(BEGIN + MATCHING[name]).iterate()
+
+
+def test_a_failing_match_is_caught():
+    # The harness above catches a rule that never matches.
+    with pytest.raises(AssertionError):
+        lsys(BEGIN + "Axiom: A\nproduction:\nB :\n    global matched\n    matched = True\n").iterate()
+
+
+# ------------------------------------------------------------ genform's side
+
+
+def test_string_prints_as_lpy_prints():
+    s = lsys("Axiom: A(1)B(2.5)[C]\n").axiom
+    assert str(s) == "A(1)B(2.5)[C]"
+    assert s == "A(1)B(2.5)[C]"
+    assert s[0].name == "A" and s[0][0] == 1 and len(s) == 5
+    assert isinstance(s, Lstring) and isinstance(s[1], Module)
+
+
+def test_hooks_stop_and_iteration_number():
+    code = """
+count = 0
+def EndEach(lstring):
+    global count
+    count = len(lstring)
+    if getIterationNb() == 3:
+        Stop()
+Axiom: A
+derivation length: 10
+production:
+A --> AB
+"""
+    l = lsys(code)
+    s = l.derive()
+    # Steps 0..3 ran, then Stop().
+    assert str(s) == "ABBBB" and l.count == 5
+
+
+def test_python_body_loops_and_nproduce():
+    code = """
+Axiom: A(3)
+derivation length: 1
+production:
+A(n):
+    for i in range(n):
+        nproduce B(i)
+    produce C
+"""
+    assert str(lsys(code).derive()) == "B(0)B(1)B(2)C"
+
+
+def test_context_skips_branches_and_ignore():
+    code = """
+Axiom: A[B]+C
+derivation length: 1
+ignore: +
+production:
+A > C --> X
+"""
+    assert str(lsys(code).derive()) == "X[B]+C"
+
+
+def test_cut_applies_at_the_next_step():
+    s = Lsystem(DATA / "ex_lsystem3.lpy").iterate()
+    text = str(s)
+    assert text.startswith("_(0.1)F(1)[-(60)F(0.3)][+(60)F(0.3)]")
+    # `%` produced in the last step stays (L-Py cuts when it next rewrites).
+    assert "%" in text
+
+
+def test_init_block_curves_run_without_plantgl():
+    l = Lsystem(DATA / "lpytest" / "test_function.lpy")
+    # The editor's functions: NURBS curves read as x -> y.
+    f = l.laterallength
+    assert abs(f(0.0) - 0.0311437) < 1e-3 and abs(f(1.0) - 0.434594) < 1e-3
+    assert 0.0 < l.nodelength(0.5) < 0.25
+    s = l.iterate()
+    # x grows by 0.01 until it passes 1.0 (after 100 steps in floating point).
+    assert s.count("A") == 1 and s.count("F") == 3 * 100
+
+
+def test_init_block_scalars_and_materials():
+    l = Lsystem(DATA / "06b-dev-inflo-archi.lpy")
+    assert l.materials[0] == (90, 180, 30)
+    assert "colors: #5ab41e" in l.ls_text(l.axiom)
+    assert len(l.iterate()) > 100
+
+
+def test_plantgl_geometry_is_refused_clearly():
+    code = "from openalea.plantgl.all import *\nx = Cylinder(1, 2)\nAxiom: A\n"
+    with pytest.raises(PlantGLUnavailable, match="Cylinder"):
+        lsys(code)
+
+
+def test_unsupported_patterns_name_the_line():
+    with pytest.raises(LpyUnsupported, match="line 3"):
+        lsys("Axiom: A\nproduction:\nx(A) --> B\n")
+
+
+def test_random_draws_are_seeded():
+    code = "from random import random\nAxiom: A\nderivation length: 3\nproduction:\nA --> A(random())\n"
+    a = Lsystem(None, seed=7)
+    a.setCode(code)
+    b = Lsystem(None, seed=7)
+    b.setCode(code)
+    assert str(a.derive()) == str(b.derive())
+
+
+def test_model_is_drawn_to_every_format(tmp_path):
+    l = Lsystem(DATA / "fibonacci.lpy")
+    l.iterate()
+    m = l.model()
+    assert m.triangle_count() > 0
+    for ext in ("svg", "glb", "obj"):
+        written = m.save(tmp_path / f"fib.{ext}")
+        assert written and os.path.getsize(written[0]) > 0
+    # The interpretation rules drew I(i) as f F [ … ]; `@L` labels are left out.
+    assert l.ls_text().count("F(0.9)") == 20
+
+
+def test_turtle_queries_fill_positions():
+    code = """
+Axiom: F(2)+(90)F(3)?P(0,0,0)
+derivation length: 1
+production:
+?P(x,y,z) --> Q(round(x, 6), round(y, 6), round(z, 6))
+"""
+    # PlantGL's frame: heading +z, left -y; `+` turns towards left.
+    assert str(lsys(code).derive()).endswith("Q(0.0,-3.0,2.0)")
+
+
+def test_runaway_strings_stop_with_an_error():
+    l = lsys("Axiom: A\nderivation length: 30\nproduction:\nA --> AA\n")
+    l.max_modules = 1000
+    with pytest.raises(LpyError, match="more than 1000 modules"):
+        l.derive()
+
+
+def test_rule_errors_name_the_lpy_line():
+    l = lsys("Axiom: A(0)\nproduction:\nA(x):\n    y = 1 / x\n    produce A(y)\n")
+    with pytest.raises(ZeroDivisionError) as e:
+        l.derive()
+    assert any(f.lineno == 4 and f.filename == "<lpy>" for f in __import__("traceback").extract_tb(e.value.__traceback__))
+
+
+def test_module_attribute():
+    import genform
+
+    assert genform.lpy.Lsystem is Lsystem
