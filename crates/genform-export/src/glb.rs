@@ -395,20 +395,27 @@ impl Doc {
         }
         let name = scene.tags.get(tag as usize).cloned().unwrap_or_else(|| format!("tag{tag}"));
         let rgb = tag_color(&name).map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0);
-        let mut mat = json!({
-            "name": name,
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
-                "metallicFactor": 0.0,
-                "roughnessFactor": 0.8,
-            },
-        });
+        let m = self.push_material(&name, rgb, None, double_sided);
+        self.material_of.insert((tag, double_sided), m);
+        m
+    }
+
+    /// Adds the material `name` of base colour `rgb` (linear), with the
+    /// texture `texture` as its base colour texture if any; returns its
+    /// index.
+    fn push_material(&mut self, name: &str, rgb: [f64; 3], texture: Option<usize>, double_sided: bool) -> usize {
+        let mut pbr = json!({"baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0]});
+        if let Some(index) = texture {
+            pbr["baseColorTexture"] = json!({"index": index});
+        }
+        pbr["metallicFactor"] = 0.0.into();
+        pbr["roughnessFactor"] = 0.8.into();
+        let mut mat = json!({"name": name, "pbrMetallicRoughness": pbr});
         if double_sided {
             mat["doubleSided"] = true.into();
             mat["name"] = format!("{name} (double-sided)").into();
         }
         self.materials.push(mat);
-        self.material_of.insert((tag, double_sided), self.materials.len() - 1);
         self.materials.len() - 1
     }
 
@@ -495,22 +502,9 @@ impl Doc {
         let rgb = explicit_color(&name)
             .map(|c| c.map(|c| f64::from((srgb_to_linear(c) * 10_000.0).round()) / 10_000.0))
             .unwrap_or([1.0; 3]);
-        let mut mat = json!({
-            "name": name,
-            "pbrMetallicRoughness": {
-                "baseColorFactor": [rgb[0], rgb[1], rgb[2], 1.0],
-                "baseColorTexture": {"index": index},
-                "metallicFactor": 0.0,
-                "roughnessFactor": 0.8,
-            },
-        });
-        if double_sided {
-            mat["doubleSided"] = true.into();
-            mat["name"] = format!("{name} (double-sided)").into();
-        }
-        self.materials.push(mat);
-        self.textured_material_of.insert((tag, double_sided), self.materials.len() - 1);
-        self.materials.len() - 1
+        let m = self.push_material(&name, rgb, Some(index), double_sided);
+        self.textured_material_of.insert((tag, double_sided), m);
+        m
     }
 
     /// The glTF texture of scene texture `texture`, added on first use: its

@@ -163,21 +163,26 @@ fn merge(mask: &mut [u32], nu: usize, nv: usize, mut emit: impl FnMut(u32, u32, 
     }
 }
 
+/// Adds `m` to `out`: joined to the mesh of its state, or as a new one.
+fn join_mesh(out: &mut Vec<BlockMesh>, m: BlockMesh) {
+    match out.iter_mut().find(|o| o.state == m.state) {
+        Some(o) => {
+            let b = o.mesh.positions.len() as u32;
+            o.mesh.positions.extend_from_slice(&m.mesh.positions);
+            o.mesh.triangles.extend(m.mesh.triangles.iter().map(|t| t.map(|v| v + b)));
+            o.normals.extend_from_slice(&m.normals);
+        }
+        None => out.push(m),
+    }
+}
+
 /// The block meshes of every grid of `scene`, one per distinct state
 /// (grids' meshes of the same state joined), in first-seen order.
 pub(crate) fn block_meshes(scene: &Scene) -> Vec<BlockMesh> {
     let mut out: Vec<BlockMesh> = Vec::new();
     for grid in &scene.blocks {
         for m in mesh_blocks(grid) {
-            match out.iter_mut().find(|o| o.state == m.state) {
-                Some(o) => {
-                    let b = o.mesh.positions.len() as u32;
-                    o.mesh.positions.extend_from_slice(&m.mesh.positions);
-                    o.mesh.triangles.extend(m.mesh.triangles.iter().map(|t| t.map(|v| v + b)));
-                    o.normals.extend_from_slice(&m.normals);
-                }
-                None => out.push(m),
-            }
+            join_mesh(&mut out, m);
         }
     }
     out
@@ -228,15 +233,7 @@ pub(crate) fn shaped_block_meshes(scene: &Scene) -> Vec<BlockMesh> {
             mesh_blocks(grid)
         };
         for m in meshes.drain(..) {
-            match out.iter_mut().find(|o| o.state == m.state) {
-                Some(o) => {
-                    let b = o.mesh.positions.len() as u32;
-                    o.mesh.positions.extend_from_slice(&m.mesh.positions);
-                    o.mesh.triangles.extend(m.mesh.triangles.iter().map(|t| t.map(|v| v + b)));
-                    o.normals.extend_from_slice(&m.normals);
-                }
-                None => out.push(m),
-            }
+            join_mesh(&mut out, m);
         }
     }
     out
