@@ -287,6 +287,15 @@ pub(crate) fn compile(
     let color_tags = g.color_tags();
     let base_tags = if occlusion { g.base_tags() } else { Vec::new() };
     let (texture_tags, tag_textures) = g.texture_tables(textures.len());
+    if g.tags.len() > crate::scope::MAX_TAGS {
+        // Tags share a word with the scope's layer (`ScopeState::tagged`).
+        let n = g.tags.len();
+        errors.push(
+            Diagnostic::error(Span::default(), format!("the grammar makes {n} tags (with its colours and textures)"))
+                .with_hint(format!("at most {} tags are possible; use fewer tags or colours", crate::scope::MAX_TAGS)),
+        );
+        return Err(finish(file, errors, warnings));
+    }
     let meshes = g.meshes.into_iter().map(|(_, m)| m).collect();
     let check = crate::genome_check::GenomeCheck::new(&graph);
     let grammar = ShapeGrammar {

@@ -230,7 +230,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             stacks.placed.extend_from_slice(&g.context);
         }
         let (top, rule) = enter(g, mode.genome(), &mut stacks, GenePos(0), 0, 0);
-        let cur = ScopeState { tag: rule.tag, ..ScopeState::UNIT };
+        let cur = ScopeState { tagged: rule.tag, ..ScopeState::UNIT };
         let units = (limits.max_primitives as u64).saturating_add(limits.max_genes as u64);
         Interp {
             g,
@@ -363,9 +363,9 @@ impl<'g, M: Mode> Interp<'g, M> {
                 }
                 self.cur.size = s;
             }
-            Op::Tag(t) => self.cur.tag = t,
-            Op::Color(k) => self.cur.tag = self.g.color_tags[k as usize][self.cur.tag as usize],
-            Op::Texture(k) => self.cur.tag = self.g.texture_tags[k as usize][self.cur.tag as usize],
+            Op::Tag(t) => self.cur.set_tag(t),
+            Op::Color(k) => self.cur.set_tag(self.g.color_tags[k as usize][self.cur.tag() as usize]),
+            Op::Texture(k) => self.cur.set_tag(self.g.texture_tags[k as usize][self.cur.tag() as usize]),
             Op::Let(idx, e) => {
                 let v = self.eval(rule, e)?;
                 self.st.env[self.top.env + idx as usize] = v;
@@ -572,7 +572,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             Prim::Mesh(m) => Primitive::Mesh(m),
         };
         let t = self.count_emission()?;
-        self.mode.emit(self.g, t, prim, self.cur.tag);
+        self.mode.emit(self.g, t, prim, self.cur.tag());
         Ok(())
     }
 
@@ -619,7 +619,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         // The callee starts in the caller's scope; only the tag changes.
         self.st.frames.push(std::mem::replace(&mut self.top, callee));
         self.st.caller_scopes.push(self.cur);
-        self.cur.tag = rule.tag;
+        self.cur.set_tag(rule.tag);
         self.rule = rule;
         Ok(())
     }

@@ -12,17 +12,18 @@ use glam::{Affine3A, DAffine3, DMat3, DVec3, Vec3A};
 pub(crate) struct ScopeState {
     pub frame: DAffine3,
     pub size: DVec3,
-    pub tag: u32,
+    /// The tag (low 24 bits, [`ScopeState::tag`]) and the layer (high 8,
+    /// [`ScopeState::layer`]) in one word: the scope is copied for every
+    /// piece, and a separate byte made it 136 bytes instead of 128 (2–8 %
+    /// on building derivations).
+    pub tagged: u32,
     /// The scope's polygon or mass in the interpreter's geometry arena, or
     /// [`NO_GEOM`] for a plain box scope.
     pub geom: u32,
-    /// How many emitted surfaces lie under this scope: `shape` counts one
-    /// up, and the scopes made after it (faces, pieces, splits) inherit
-    /// the count, so a polygon emitted on a face of an emitted mass, or on
-    /// an emitted polygon, is lifted off it ([`LIFT`] per layer) instead
-    /// of z-fighting it.
-    pub layer: u8,
 }
+
+/// How many tags a grammar may have (they share a word with the layer).
+pub(crate) const MAX_TAGS: usize = 1 << 24;
 
 /// How far (model units, metres in buildings) a polygon emitted on an
 /// emitted surface is lifted along its normal, per layer beneath it.
@@ -41,8 +42,37 @@ pub(crate) fn axis_vec(axis: u8) -> DVec3 {
 
 impl ScopeState {
     /// The unit scope at the origin (the axiom's scope).
-    pub const UNIT: ScopeState =
-        ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tag: 0, geom: NO_GEOM, layer: 0 };
+    pub const UNIT: ScopeState = ScopeState { frame: DAffine3::IDENTITY, size: DVec3::ONE, tagged: 0, geom: NO_GEOM };
+
+    /// The scope's tag.
+    #[inline]
+    pub fn tag(&self) -> u32 {
+        self.tagged & 0x00FF_FFFF
+    }
+
+    /// Sets the tag, keeping the layer.
+    #[inline]
+    pub fn set_tag(&mut self, tag: u32) {
+        self.tagged = (self.tagged & 0xFF00_0000) | (tag & 0x00FF_FFFF);
+    }
+
+    /// How many emitted surfaces lie under this scope: `shape` counts one
+    /// up, and the scopes made after it (faces, pieces, splits) inherit
+    /// the count, so a polygon emitted on a face of an emitted mass, or on
+    /// an emitted polygon, is lifted off it ([`LIFT`] per layer) instead
+    /// of z-fighting it.
+    #[inline]
+    pub fn layer(&self) -> u32 {
+        self.tagged >> 24
+    }
+
+    /// Counts one more emitted surface under the scope (at most 255).
+    #[inline]
+    pub fn add_layer(&mut self) {
+        if self.layer() < 255 {
+            self.tagged += 1 << 24;
+        }
+    }
 
     /// Moves in the local frame (rotation only; size is not applied).
     #[inline]

@@ -158,7 +158,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// Everything made on the scope after it lies on what it emitted.
     pub(super) fn shape(&mut self, rule: &'g RuleCode) -> Result<(), Stop> {
         self.emit_shape(rule)?;
-        self.cur.layer = self.cur.layer.saturating_add(1);
+        self.cur.add_layer();
         Ok(())
     }
 
@@ -174,7 +174,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         match g.kind {
             GeomKind::Polygon => {
                 let (f, s) = (self.cur.frame, self.cur.size);
-                let lift = f.transform_vector3(DVec3::Z).normalize_or_zero() * (LIFT * f64::from(self.cur.layer));
+                let lift = f.transform_vector3(DVec3::Z).normalize_or_zero() * (LIFT * f64::from(self.cur.layer()));
                 let pts: Vec<glam::Vec3> = self
                     .points(g)
                     .iter()
@@ -184,7 +184,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 if !pts.iter().all(|p| p.is_finite()) {
                     return Err(self.placement_overflow());
                 }
-                self.mode.emit_polygon(self.g, pts, self.cur.tag);
+                self.mode.emit_polygon(self.g, pts, self.cur.tag());
             }
             GeomKind::Mass => {
                 if is_unit_square(self.points(g)) {
@@ -192,7 +192,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 }
                 let mesh = geom::prism_mesh(self.points(g));
                 let t = self.count_emission()?;
-                self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
+                self.mode.emit_mesh(self.g, t, mesh, self.cur.tag());
             }
         }
         Ok(())
@@ -286,9 +286,10 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         self.emit_on_polygon(mesh)?;
         if !walls.triangles.is_empty() {
-            let tag = std::mem::replace(&mut self.cur.tag, gables);
+            let tag = self.cur.tag();
+            self.cur.set_tag(gables);
             let r = self.emit_on_polygon(walls);
-            self.cur.tag = tag;
+            self.cur.set_tag(tag);
             r?;
         }
         Ok(())
@@ -360,7 +361,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         if !t.is_finite() {
             return Err(self.placement_overflow());
         }
-        self.mode.emit_mesh(self.g, t, mesh, self.cur.tag);
+        self.mode.emit_mesh(self.g, t, mesh, self.cur.tag());
         Ok(())
     }
 
@@ -449,7 +450,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         };
         let s = self.cur.size;
         let frame = self.cur.frame;
-        let tag = self.cur.tag;
+        let tagged = self.cur.tagged;
         let abs: Vec<DVec2> = foot.iter().map(|q| DVec2::new(q.x * s.x, q.y * s.z)).collect();
         let mut faces = Vec::new();
         if abs.len() >= 3 && s.y != 0.0 {
@@ -471,8 +472,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 let m = DMat3::from_cols(DVec3::new(d.x, 0.0, d.y), DVec3::Y, DVec3::new(nrm.x, 0.0, nrm.y));
                 let mid = (a + b) * 0.5;
                 let f = frame * DAffine3::from_mat3_translation(m, DVec3::new(mid.x, 0.0, mid.y));
-                let scope =
-                    ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tag, geom: NO_GEOM, layer: self.cur.layer };
+                let scope = ScopeState { frame: f, size: DVec3::new(l, s.y, 0.0), tagged, geom: NO_GEOM };
                 faces.push((class, scope, PieceGeom::Square));
             }
         }
@@ -498,13 +498,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 // The face centre in the mass's frame.
                 let centre = axes * DVec3::new(c.x, c.y, 0.0) + DVec3::new(0.0, y, 0.0);
                 let f = frame * DAffine3::from_mat3_translation(axes, centre);
-                let scope = ScopeState {
-                    frame: f,
-                    size: DVec3::new(size.x, size.y, 0.0),
-                    tag,
-                    geom: NO_GEOM,
-                    layer: self.cur.layer,
-                };
+                let scope = ScopeState { frame: f, size: DVec3::new(size.x, size.y, 0.0), tagged, geom: NO_GEOM };
                 faces.push((class, scope, PieceGeom::Polygon(p)));
             }
         }

@@ -40,7 +40,7 @@ impl Placed {
         // (mirrored scopes): the box is the same.
         let dirs = cols.map(|c| c.normalize_or_zero());
         let half = [0, 1, 2].map(|i| (scope.size[i] * cols[i].length()).abs() * 0.5);
-        Placed { centre: scope.frame.translation, dirs, half, tag: scope.tag, gene }
+        Placed { centre: scope.frame.translation, dirs, half, tag: scope.tag(), gene }
     }
 
     /// The world-axis boxes of a context mesh (`context "…";`): one per

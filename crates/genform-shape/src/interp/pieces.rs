@@ -73,13 +73,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         let unit = local.iter().map(|q| (*q - c) / size).collect();
         let frame = self.frame_along(x, x * c.x + y * c.y);
-        let scope = ScopeState {
-            frame,
-            size: DVec3::new(size.x, size.y, 0.0),
-            tag: self.cur.tag,
-            geom: NO_GEOM,
-            layer: self.cur.layer,
-        };
+        let scope = ScopeState { frame, size: DVec3::new(size.x, size.y, 0.0), tagged: self.cur.tagged, geom: NO_GEOM };
         Some((class, scope, PieceGeom::Polygon(unit)))
     }
 
@@ -130,7 +124,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                     let size = DVec3::new(a.distance(b), 0.0, 0.0);
                     out.push((
                         edge_class(d),
-                        ScopeState { frame, size, tag: self.cur.tag, geom: NO_GEOM, layer: self.cur.layer },
+                        ScopeState { frame, size, tagged: self.cur.tagged, geom: NO_GEOM },
                         PieceGeom::Line,
                     ));
                 }
@@ -145,13 +139,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                     let frame = self.frame_along(dout, corners[i]);
                     out.push((
                         edge_class(bisector.perp()),
-                        ScopeState {
-                            frame,
-                            size: DVec3::ZERO,
-                            tag: self.cur.tag,
-                            geom: NO_GEOM,
-                            layer: self.cur.layer,
-                        },
+                        ScopeState { frame, size: DVec3::ZERO, tagged: self.cur.tagged, geom: NO_GEOM },
                         PieceGeom::Line,
                     ));
                 }
