@@ -160,7 +160,9 @@ impl CompKind {
             CompKind::Faces => ("comp(f)", 0),
             CompKind::Edges => ("comp(e)", 0),
             CompKind::Offset => ("offset", 1),
-            CompKind::Setback => ("setback", 1),
+            // The distance, then the front, back, left and right edges'
+            // (the parser fills in the distance where a side is not named).
+            CompKind::Setback => ("setback", 5),
             CompKind::ShapeL => ("shapeL", 2),
             CompKind::ShapeU => ("shapeU", 3),
             CompKind::ShapeO => ("shapeO", 4),

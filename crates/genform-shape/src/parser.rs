@@ -702,6 +702,9 @@ impl<'a> Parser<'a> {
     /// arguments must be numbers.
     fn comp_call(&mut self, kind: CompKind, target: SymRef, args: Option<Vec<Arg>>) -> PResult<Stmt> {
         let mut exprs = Vec::new();
+        // `setback(d, front = …, back = …, left = …, right = …)`: the
+        // distance of each side's edges, `d` where not given.
+        let mut sides: [Option<ExprSrc>; 4] = [None, None, None, None];
         for a in args.unwrap_or_default() {
             match a {
                 Arg::Expr(e) => exprs.push(e),
@@ -709,11 +712,43 @@ impl<'a> Parser<'a> {
                     let d = Diagnostic::error(span, format!("`{}` takes numbers, not a string", target.name));
                     return Err(self.error(d));
                 }
+                Arg::Named { name, span, mut value, list } if kind == CompKind::Setback => {
+                    let Some(k) = ["front", "back", "left", "right"].iter().position(|s| *s == name) else {
+                        let d = Diagnostic::error(span, format!("`setback` has no argument `{name}`")).with_hint(
+                            "its named arguments are the sides' distances: `front`, `back`, `left`, `right`",
+                        );
+                        return Err(self.error(d));
+                    };
+                    let one = if list || value.len() != 1 { None } else { value.pop() };
+                    let Some(Arg::Expr(e)) = one else {
+                        let d =
+                            Diagnostic::error(span, format!("`{name}` takes one number: the distance of those edges"));
+                        return Err(self.error(d));
+                    };
+                    if sides[k].replace(e).is_some() {
+                        let d = Diagnostic::error(span, format!("`{name}` is given twice"));
+                        return Err(self.error(d));
+                    }
+                }
                 Arg::Named { span, .. } => {
                     let d = Diagnostic::error(span, format!("`{}` takes no named arguments", target.name));
                     return Err(self.error(d));
                 }
             }
+        }
+        if kind == CompKind::Setback {
+            if exprs.len() != 1 {
+                let d = Diagnostic::error(
+                    target.span,
+                    format!("wrong number of arguments for `setback`: found {}", exprs.len()),
+                )
+                .with_hint(
+                    "write `setback(distance)` or `setback(distance, front = …, back = …, left = …, right = …)`",
+                );
+                return Err(self.error(d));
+            }
+            let d = exprs[0].clone();
+            exprs.extend(sides.into_iter().map(|s| s.unwrap_or_else(|| d.clone())));
         }
         self.comp_block(target.span, kind, exprs)
     }

@@ -408,6 +408,28 @@ fn setbacks_strips_and_remainder() {
 }
 
 #[test]
+fn setbacks_by_side_cut_their_corners_from_corner_to_corner() {
+    // A 10 × 8 lot set back 3 at the front, 2 at the back and 1 at the
+    // sides: the remainder is 8 × 3; the front strip a trapezoid from the
+    // 10 m edge to the remainder's 8 m one, 3 deep (27), the back one 2
+    // deep (18), each side strip 1 wide from 8 m down to 3 m (5.5).
+    let src = "A { lot(10, 8); setback(1, front = 3, back = 2) { front: { tag(\"f\"); shape; } | back: { tag(\"b\"); shape; } \
+               | side: { tag(\"s\"); shape; } | remainder: { tag(\"r\"); shape; } } }";
+    let near = |got: Vec<f32>, want: &[f32]| {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-4), "{got:?} vs {want:?}");
+    };
+    near(tagged_areas(src, "r"), &[24.0]);
+    near(tagged_areas(src, "f"), &[27.0]);
+    near(tagged_areas(src, "b"), &[18.0]);
+    near(tagged_areas(src, "s"), &[5.5, 5.5]);
+    // Without named sides, as before: one distance for all.
+    let same =
+        "A { lot(10, 8); setback(1, front = 1) { all: { tag(\"s\"); shape; } | remainder: { tag(\"r\"); shape; } } }";
+    near(tagged_areas(same, "r"), &[48.0]);
+}
+
+#[test]
 fn l_u_and_o_shapes() {
     let shape = |op: &str| {
         let src = format!(

@@ -205,10 +205,16 @@ impl<'g, M: Mode> Interp<'g, M> {
                 }
             }
             CompKind::Setback => {
-                let d = v[0];
-                if d < 0.0 {
+                if let Some(d) = v.iter().find(|d| d.is_nan() || **d < 0.0) {
                     return Err(self.fail_at(at, format!("`setback`: the distance must be ≥ 0, found {d}")));
                 }
+                // Each edge's distance by its side (all `v[0]` unless named).
+                let dist = |i: usize| match edge_class(dirs[i]) {
+                    FACE_FRONT => v[1],
+                    FACE_BACK => v[2],
+                    FACE_LEFT => v[3],
+                    _ => v[4],
+                };
                 // The selected edges, one per line (collinear edges share a strip).
                 let line = |i: usize| (dirs[i].perp(), dirs[i].perp().dot(corners[i]));
                 let mut sel: Vec<usize> = Vec::new();
@@ -224,9 +230,13 @@ impl<'g, M: Mode> Interp<'g, M> {
                 }
                 for (si, &i) in sel.iter().enumerate() {
                     let (n, c) = line(i);
+                    let d = dist(i);
                     // Inside the band, and nearer this edge's line than any
-                    // other selected one's (the corner between two strips is
-                    // cut along the bisector; ties go to the earlier edge).
+                    // other selected one's, in units of each band's depth
+                    // (the corner between two strips is cut along the line
+                    // from the polygon's corner to the remainder's; the
+                    // bisector when the depths agree; ties go to the
+                    // earlier edge).
                     let mut strip = clip(&corners, n, c + d);
                     for (sj, &j) in sel.iter().enumerate() {
                         if sj == si || strip.is_empty() {
@@ -234,14 +244,19 @@ impl<'g, M: Mode> Interp<'g, M> {
                         }
                         let (m, e) = line(j);
                         let bias = if sj < si { -eps } else { eps };
-                        strip = clip(&strip, n - m, c - e + bias);
+                        let dj = dist(j);
+                        strip = if dj == d || d == 0.0 || dj == 0.0 {
+                            clip(&strip, n - m, c - e + bias)
+                        } else {
+                            clip(&strip, n * dj - m * d, c * dj - e * d + bias * d.max(dj))
+                        };
                     }
                     out.extend(self.piece(edge_class(dirs[i]), &strip, dirs[i]));
                 }
                 let mut rest = corners.clone();
                 for &i in &sel {
                     let (n, c) = line(i);
-                    rest = clip(&rest, -n, -(c + d));
+                    rest = clip(&rest, -n, -(c + dist(i)));
                 }
                 out.extend(self.piece(PIECE_REST, &rest, DVec2::X));
             }
