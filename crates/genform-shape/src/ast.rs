@@ -217,6 +217,10 @@ pub(crate) enum Stmt {
     Split {
         axis: Axis,
         pieces: Vec<Piece>,
+        /// `splitArea`: the sizes are areas of the polygon, not lengths.
+        area: bool,
+        /// The `split` / `splitArea` word.
+        span: Span,
     },
     Repeat {
         axis: Axis,

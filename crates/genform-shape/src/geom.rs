@@ -95,6 +95,21 @@ pub(crate) fn clip_slab(p: &[DVec2], axis: usize, lo: f64, hi: f64) -> Vec<DVec2
     clip(&upper, -n, -lo)
 }
 
+/// Where along `axis` (between `-half` and `half`) the part of `p` before
+/// the cut has area `area` (the area grows with the cut: bisection).
+pub(crate) fn cut_at_area(p: &[DVec2], axis: usize, area: f64, half: f64) -> f64 {
+    let (mut lo, mut hi) = (-half, half);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if crate::polygon::area2(&clip_slab(p, axis, -half - 1.0, mid)).abs() / 2.0 < area {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// A counter-clockwise polygon grown outwards by `d` (each edge moved out
 /// by `d`, neighbours' lines intersected: mitred corners). Corners on a
 /// straight run are dropped first. On a concave polygon a large `d` can

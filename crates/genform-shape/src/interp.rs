@@ -395,7 +395,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 self.st.loops.push(Loop::Mirror { axis, second: false, saved });
             }
             Op::MirrorEnd(start) => self.mirror_end(rule, start),
-            Op::SplitBegin { axis, first, n } => self.split_begin(rule, axis, first, n)?,
+            Op::SplitBegin { axis, first, n, span } => self.split_begin(rule, axis, first, n, span)?,
             Op::Piece(k) => {
                 if let Some(&Loop::Split { axis, pieces: first, .. }) = self.st.loops.last() {
                     let (centre, len) = self.st.pieces[first + k as usize];
@@ -466,8 +466,15 @@ impl<'g, M: Mode> Interp<'g, M> {
 
     /// Computes the `n` pieces of a split: absolute sizes first, the rest
     /// shared by the relative ones.
-    fn split_begin(&mut self, rule: &'g RuleCode, axis: u8, first: u32, n: u32) -> Result<(), Stop> {
-        let total = self.cur.size[axis as usize];
+    fn split_begin(&mut self, rule: &'g RuleCode, axis: u8, first: u32, n: u32, span: u32) -> Result<(), Stop> {
+        let (area, axis) = (axis & SPLIT_AREA != 0, axis & !SPLIT_AREA);
+        // `splitArea`: sizes in the polygon's area, cut where the area
+        // before the cut is the pieces' so far.
+        let polygon = if area { Some(self.area_polygon(rule, axis, span)?) } else { None };
+        let total = match &polygon {
+            Some(p) => crate::polygon::area2(p) / 2.0,
+            None => self.cur.size[axis as usize],
+        };
         let base = self.top.env;
         let (index, count) = (self.st.env[base + ENV_INDEX], self.st.env[base + ENV_COUNT]);
         let at = self.st.pieces.len();
@@ -510,6 +517,17 @@ impl<'g, M: Mode> Interp<'g, M> {
             };
             *p = (pos + 0.5 * len, len);
             pos += len;
+        }
+        if let Some(poly) = polygon {
+            let half = 0.5 * self.cur.size[axis as usize];
+            let (mut before, mut cut) = (0.0, -half);
+            for p in &mut self.st.pieces[at..] {
+                before += p.1;
+                let next =
+                    if before >= total { half } else { crate::geom::cut_at_area(&poly, axis as usize, before, half) };
+                *p = (0.5 * (cut + next), (next - cut).max(0.0));
+                cut = next;
+            }
         }
         self.st.loops.push(Loop::Split { axis, pieces: at, index, count });
         self.st.env[base + ENV_COUNT] = n as f64;

@@ -507,7 +507,7 @@ impl<'a> Parser<'a> {
                 let body = self.nested_block()?;
                 Ok(Stmt::Repeat { axis, tile, body })
             }
-            "split" => self.split(),
+            "split" | "splitArea" => self.split(),
             "comp" => self.comp(),
             _ => {
                 let (target, args) = self.call("as a statement")?;
@@ -610,7 +610,8 @@ impl<'a> Parser<'a> {
     }
 
     fn split(&mut self) -> PResult<Stmt> {
-        self.bump();
+        let area = self.is_word("splitArea");
+        let span = self.bump().span;
         self.expect(Tok::LParen, "after `split`")?;
         let axis = self.axis("in `split`")?;
         self.expect(Tok::RParen, "after the split axis")?;
@@ -638,7 +639,7 @@ impl<'a> Parser<'a> {
             }
         }
         self.expect(Tok::RBrace, "to close `split` (pieces are separated by `|`)")?;
-        Ok(Stmt::Split { axis, pieces })
+        Ok(Stmt::Split { axis, pieces, area, span })
     }
 
     /// `comp(f) { front: A | side | top: { ... } | ... }`, `comp(e) { … }` and

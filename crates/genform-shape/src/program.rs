@@ -145,6 +145,10 @@ pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
     found.ok_or(known)
 }
 
+/// The bit of [`Op::SplitBegin`]'s axis that makes it a `splitArea`: the
+/// piece sizes are areas of the scope's polygon.
+pub(crate) const SPLIT_AREA: u8 = 0x80;
+
 /// `ridge` of [`Op::Roof`] given as an edge index (else 0, along the
 /// longer side, or a side's class bit).
 pub(crate) const RIDGE_INDEX: u8 = 0x80;
@@ -233,11 +237,14 @@ pub(crate) enum Op {
     /// After the first pass: restores, reflects and jumps back to the body
     /// start; after the second: restores the scope and goes on.
     MirrorEnd(u32),
-    /// Computes `n` pieces from `pieces[first..first + n]`.
+    /// Computes `n` pieces from `pieces[first..first + n]` (`axis` with
+    /// [`SPLIT_AREA`] set: `splitArea`).
     SplitBegin {
         axis: u8,
         first: u32,
         n: u32,
+        /// Indexes [`RuleCode::spans`].
+        span: u32,
     },
     /// Saves the scope and enters piece `k` (its body ends with `Pop`).
     Piece(u32),

@@ -430,6 +430,26 @@ fn setbacks_by_side_cut_their_corners_from_corner_to_corner() {
 }
 
 #[test]
+fn split_area_cuts_by_area_not_length() {
+    let near = |got: Vec<f32>, want: &[f32]| {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-3), "{got:?} vs {want:?}");
+    };
+    // A 10 × 6 lot: 15 m², the rest, 15 m².
+    let rect = "A { lot(10, 6); splitArea(x) { 15: { tag(\"a\"); shape; } | ~1: { tag(\"b\"); shape; } | 15: { tag(\"a\"); shape; } } }";
+    near(tagged_areas(rect, "a"), &[15.0, 15.0]);
+    near(tagged_areas(rect, "b"), &[30.0]);
+    // A right triangle of legs 10 (50 m²) in halves: the cut stands at
+    // 10 − √50 from the right angle, not at 5.
+    let tri = "A { lot(0, 0, 10, 0, 0, 10); splitArea(x) { 1r: { tag(\"a\"); shape; } | 1r: { tag(\"b\"); shape; } } }";
+    near(tagged_areas(tri, "a"), &[25.0]);
+    near(tagged_areas(tri, "b"), &[25.0]);
+    // Only a polygon scope can be divided by area.
+    let e = try_scene("A { splitArea(x) { 1r: box } }").unwrap_err().to_string();
+    assert!(e.contains("`splitArea` divides a polygon scope") && e.contains("t.sg:1:5"), "{e}");
+}
+
+#[test]
 fn l_u_and_o_shapes() {
     let shape = |op: &str| {
         let src = format!(

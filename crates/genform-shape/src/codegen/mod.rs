@@ -751,7 +751,7 @@ impl<'a> SymbolCx<'a> {
                 self.stmts(body);
                 self.code.push(Op::MirrorEnd(start));
             }
-            Stmt::Split { axis, pieces } => {
+            Stmt::Split { axis, pieces, area, span } => {
                 let first = self.pieces.len() as u32;
                 for p in pieces {
                     let e = self.expr(&p.size);
@@ -762,7 +762,9 @@ impl<'a> SymbolCx<'a> {
                     };
                     self.pieces.push((e, kind));
                 }
-                self.code.push(Op::SplitBegin { axis: axis.index() as u8, first, n: pieces.len() as u32 });
+                let axis = axis.index() as u8 | if *area { SPLIT_AREA } else { 0 };
+                let span = self.span_index(*span);
+                self.code.push(Op::SplitBegin { axis, first, n: pieces.len() as u32, span });
                 for (k, p) in pieces.iter().enumerate() {
                     self.code.push(Op::Piece(k as u32));
                     self.stmts(&p.body);

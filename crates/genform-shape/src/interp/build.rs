@@ -66,6 +66,21 @@ impl<'g, M: Mode> Interp<'g, M> {
         ExpressError::Eval(format!("{loc}: rule `{sym}`: {msg}")).into()
     }
 
+    /// The polygon a `splitArea` along `axis` divides: the scope's, in
+    /// absolute units about the scope's centre.
+    pub(super) fn area_polygon(&self, rule: &'g RuleCode, axis: u8, span: u32) -> Result<Vec<DVec2>, Stop> {
+        match self.geom_of(self.cur.geom) {
+            Some(g) if g.kind == GeomKind::Polygon && axis < 2 => {
+                let s = self.cur.size;
+                Ok(self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect())
+            }
+            _ => Err(self.fail_at(
+                rule.spans[span as usize],
+                "`splitArea` divides a polygon scope (a `lot`, a face from `comp(f)`) along x or y".to_string(),
+            )),
+        }
+    }
+
     /// Notes at `span` that the run left something out (`msg` says what
     /// and why), placed as [`Self::fail_at`] places errors.
     pub(super) fn note_at(&mut self, span: genform_core::Span, msg: &str) {
