@@ -176,20 +176,28 @@ pub(crate) fn prism_mesh(foot: &[DVec2]) -> Mesh {
     to_mesh("mass", &pos, tris)
 }
 
+/// The base of a taper over a counter-clockwise polygon (in the xy plane):
+/// its area centroid, its corners at z = 0 and their triangles facing −z;
+/// `None` for a degenerate polygon or `h` ≤ 0.
+fn taper_base(foot: &[DVec2], h: f64) -> Option<(DVec2, Vec<DVec3>, Vec<[u32; 3]>)> {
+    if foot.len() < 3 || area2(foot) <= 0.0 || h <= 0.0 {
+        return None;
+    }
+    let pos: Vec<DVec3> = foot.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    let base: Vec<Vec3> = pos.iter().map(|p| p.as_vec3()).collect();
+    let cap = triangulate_polygon(&base).into_iter().map(|t| [t[2], t[1], t[0]]).collect();
+    Some((centroid(foot), pos, cap))
+}
+
 /// The pyramid over a counter-clockwise polygon (in the xy plane) with its
 /// apex `h` above the polygon's area centroid: the base facing −z, one
 /// triangle per edge. Empty for a degenerate polygon or `h` = 0.
 pub(crate) fn pyramid_mesh(foot: &[DVec2], h: f64) -> Mesh {
-    let a2 = area2(foot);
-    if foot.len() < 3 || a2 <= 0.0 || h <= 0.0 {
+    let Some((c, mut pos, mut tris)) = taper_base(foot, h) else {
         return Mesh { name: "taper".into(), ..Mesh::default() };
-    }
-    let c = centroid(foot);
+    };
     let n = foot.len() as u32;
-    let mut pos: Vec<DVec3> = foot.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
     pos.push(DVec3::new(c.x, c.y, h));
-    let base: Vec<Vec3> = pos[..foot.len()].iter().map(|p| p.as_vec3()).collect();
-    let mut tris: Vec<[u32; 3]> = triangulate_polygon(&base).into_iter().map(|t| [t[2], t[1], t[0]]).collect();
     tris.extend((0..n).map(|i| [i, (i + 1) % n, n]));
     to_mesh("taper", &pos, tris)
 }
@@ -199,21 +207,17 @@ pub(crate) fn pyramid_mesh(foot: &[DVec2], h: f64) -> Mesh {
 /// above; the base facing −z, one quad per edge. Empty for a degenerate
 /// polygon or `h` = 0.
 pub(crate) fn frustum_mesh(foot: &[DVec2], h: f64, s: f64) -> Mesh {
-    let a2 = area2(foot);
-    if foot.len() < 3 || a2 <= 0.0 || h <= 0.0 {
+    let Some((c, mut pos, mut tris)) = taper_base(foot, h) else {
         return Mesh { name: "taper".into(), ..Mesh::default() };
-    }
-    let c = centroid(foot);
+    };
     let n = foot.len() as u32;
-    let mut pos: Vec<DVec3> = foot.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
     pos.extend(foot.iter().map(|p| {
         let q = c + (*p - c) * s;
         DVec3::new(q.x, q.y, h)
     }));
-    let base: Vec<Vec3> = pos[..foot.len()].iter().map(|p| p.as_vec3()).collect();
-    let cap = triangulate_polygon(&base);
-    let mut tris: Vec<[u32; 3]> = cap.iter().map(|t| [t[2], t[1], t[0]]).collect();
-    tris.extend(cap.iter().map(|t| [t[0] + n, t[1] + n, t[2] + n]));
+    // The top: the base's triangles turned up, on the top's corners.
+    let top: Vec<[u32; 3]> = tris.iter().map(|t| [t[2] + n, t[1] + n, t[0] + n]).collect();
+    tris.extend(top);
     for i in 0..n {
         let j = (i + 1) % n;
         tris.push([i, j, j + n]);

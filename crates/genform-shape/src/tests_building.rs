@@ -444,6 +444,9 @@ fn split_area_cuts_by_area_not_length() {
     let tri = "A { lot(0, 0, 10, 0, 0, 10); splitArea(x) { 1r: { tag(\"a\"); shape; } | 1r: { tag(\"b\"); shape; } } }";
     near(tagged_areas(tri, "a"), &[25.0]);
     near(tagged_areas(tri, "b"), &[25.0]);
+    // The same triangle given clockwise.
+    let cw = "A { lot(0, 0, 0, 10, 10, 0); splitArea(x) { 1r: { tag(\"a\"); shape; } | 1r: { tag(\"b\"); shape; } } }";
+    near(tagged_areas(cw, "a"), &[25.0]);
     // Only a polygon scope can be divided by area.
     let e = try_scene("A { splitArea(x) { 1r: box } }").unwrap_err().to_string();
     assert!(e.contains("`splitArea` divides a polygon scope") && e.contains("t.sg:1:5"), "{e}");

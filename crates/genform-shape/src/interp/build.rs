@@ -67,13 +67,10 @@ impl<'g, M: Mode> Interp<'g, M> {
     }
 
     /// The polygon a `splitArea` along `axis` divides: the scope's, in
-    /// absolute units about the scope's centre.
+    /// absolute units about the scope's centre, counter-clockwise.
     pub(super) fn area_polygon(&self, rule: &'g RuleCode, axis: u8, span: u32) -> Result<Vec<DVec2>, Stop> {
         match self.geom_of(self.cur.geom) {
-            Some(g) if g.kind == GeomKind::Polygon && axis < 2 => {
-                let s = self.cur.size;
-                Ok(self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect())
-            }
+            Some(g) if g.kind == GeomKind::Polygon && axis < 2 => Ok(self.absolute_foot(g)),
             _ => Err(self.fail_at(
                 rule.spans[span as usize],
                 "`splitArea` divides a polygon scope (a `lot`, a face from `comp(f)`) along x or y".to_string(),
@@ -237,22 +234,47 @@ impl<'g, M: Mode> Interp<'g, M> {
                 ));
             }
         };
-        if ridge == 0 && !ends && n == 0 && gables == u32::MAX {
-            let mesh: Mesh =
+        let (mesh, walls) = if ridge == 0 && !ends && n == 0 && gables == u32::MAX {
+            let mesh =
                 geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
-            if mesh.triangles.is_empty() {
-                self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
-            }
-            return self.emit_on_polygon(mesh);
+            (mesh, Mesh::default())
+        } else {
+            self.laid_roof(rule, op, g, kind, [angle, overhang])?
+        };
+        if mesh.triangles.is_empty() {
+            self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
         }
+        self.emit_on_polygon(mesh)?;
+        if !walls.triangles.is_empty() {
+            let tag = self.cur.tag();
+            self.cur.set_tag(gables);
+            let r = self.emit_on_polygon(walls);
+            self.cur.set_tag(tag);
+            r?;
+        }
+        Ok(())
+    }
+
+    /// The roof of [`Self::roof`] laid as its named arguments say (ridge
+    /// edge, overhang per edge, gable ends, gable walls apart), and the
+    /// gable walls; both empty on a polygon of fewer than 3 corners.
+    fn laid_roof(
+        &mut self,
+        rule: &'g RuleCode,
+        op: Op,
+        g: Geom,
+        kind: RoofKind,
+        [angle, overhang]: [f64; 2],
+    ) -> Result<(Mesh, Mesh), Stop> {
+        let Op::Roof { ridge, ends, args, n, span, gables, .. } = op else { return Ok(Default::default()) };
+        let at = rule.spans[span as usize];
         // The polygon counter-clockwise, and where each of the scope's
         // edges went.
         let s = self.cur.size;
         let mut foot: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
         let m = foot.len();
         if m < 3 {
-            self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
-            return Ok(());
+            return Ok(Default::default());
         }
         let reversed = area2(&foot) < 0.0;
         if reversed {
@@ -295,19 +317,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         let ends = if ends { Some(self.num(rule, args + 3, "a gable-end overhang")?) } else { None };
         let opts = geom::RoofOpts { overhang: per_edge, ridge: ridge_edge, ends, gables: gables != u32::MAX };
-        let (mesh, walls) = geom::roof_meshes(&foot, kind, angle, &opts).map_err(|m| self.fail_at(at, m))?;
-        if mesh.triangles.is_empty() {
-            self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
-        }
-        self.emit_on_polygon(mesh)?;
-        if !walls.triangles.is_empty() {
-            let tag = self.cur.tag();
-            self.cur.set_tag(gables);
-            let r = self.emit_on_polygon(walls);
-            self.cur.set_tag(tag);
-            r?;
-        }
-        Ok(())
+        geom::roof_meshes(&foot, kind, angle, &opts).map_err(|m| self.fail_at(at, m))
     }
 
     /// `taper(h)` on a polygon scope: the pyramid over the polygon with its
