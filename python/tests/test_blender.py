@@ -42,7 +42,7 @@ except ImportError as e:
 import addon_utils
 
 import genform
-from conftest import EXAMPLES, ROOT, SHIP_SCENE
+from conftest import EXAMPLES, ROOT, SHIP_SCENE, stage_render
 
 SHIP = EXAMPLES / "shape" / "spaceship.sg"
 BUSH = EXAMPLES / "lsystem" / "bush_3d.ls"
@@ -175,29 +175,7 @@ def test_the_spaceship_renders_in_colour(empty, tmp_path):
     assert bpy.ops.genform.sample(grammar=str(SHIP), seed=SHIP_SEED) == {"FINISHED"}
     obj = bpy.context.view_layer.objects.active
     scene = bpy.context.scene
-    lo = np.min([obj.matrix_world @ v.co for v in obj.data.vertices], axis=0)
-    hi = np.max([obj.matrix_world @ v.co for v in obj.data.vertices], axis=0)
-    centre, radius = (lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2
-    cam_data = bpy.data.cameras.new("cam")
-    cam = bpy.data.objects.new("cam", cam_data)
-    scene.collection.objects.link(cam)
-    from mathutils import Vector
-
-    cam.location = Vector(centre) + Vector((1.2, -1.6, 1.0)) * (1.6 * radius)
-    cam.rotation_euler = (Vector(centre) - cam.location).to_track_quat("-Z", "Y").to_euler()
-    scene.camera = cam
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 4.0
-    sun.rotation_euler = (0.6, 0.2, 0.8)
-    scene.collection.objects.link(sun)
-    engines = {e.identifier for e in bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items}
-    scene.render.engine = "CYCLES" if "CYCLES" in engines else next(e for e in engines if e.startswith("BLENDER_EEVEE"))
-    if scene.render.engine == "CYCLES":
-        scene.cycles.device = "CPU"
-        scene.cycles.samples = 4
-        scene.cycles.use_denoising = False
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 96, 72, 100
-    scene.render.image_settings.file_format = "PNG"
+    stage_render([obj.matrix_world @ v.co for v in obj.data.vertices], (1.92, -2.56, 1.6), 96, 72)
     scene.render.filepath = str(tmp_path / "ship.png")
     bpy.ops.render.render(write_still=True)
     img = bpy.data.images.load(str(tmp_path / "ship.png"))

@@ -33,7 +33,7 @@ except ImportError as e:
     pytest.skip(REASON, allow_module_level=True)
 
 import genform
-from conftest import EXAMPLES
+from conftest import EXAMPLES, stage_render
 
 HOUSE = EXAMPLES / "shape" / "textured_house.sg"
 
@@ -76,28 +76,8 @@ def test_the_textured_house_renders_with_its_textures(tmp_path):
                 images[m.name.removesuffix(" (double-sided)")] = tuple(node.image.size)
     assert images == {"wall@brick": (128, 128), "roof@roof_tiles": (64, 64)}, images
 
-    scene = bpy.context.scene
-    from mathutils import Vector
-
-    pts = np.array([o.matrix_world @ v.co for o in meshes for v in o.data.vertices])
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    centre, radius = (lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2
-    cam = bpy.data.objects.new("cam", bpy.data.cameras.new("cam"))
-    scene.collection.objects.link(cam)
     # Close enough that a brick course covers about two pixels.
-    cam.location = Vector(centre) + Vector((1.0, -1.3, 0.6)) * radius
-    cam.rotation_euler = (Vector(centre) - cam.location).to_track_quat("-Z", "Y").to_euler()
-    scene.camera = cam
-    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", "SUN"))
-    sun.data.energy = 4.0
-    sun.rotation_euler = (0.6, 0.2, 0.8)
-    scene.collection.objects.link(sun)
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 4
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 160, 120, 100
-    scene.render.image_settings.file_format = "PNG"
+    stage_render(np.array([o.matrix_world @ v.co for o in meshes for v in o.data.vertices]), (1.0, -1.3, 0.6), 160, 120)
 
     red, contrast = looks(render(tmp_path / "textured.png"))
     for m in bpy.data.materials:
