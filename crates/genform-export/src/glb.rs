@@ -365,18 +365,40 @@ impl Doc {
     /// normal; triangles with a zero normal (degenerate) dropped. `None`
     /// when nothing is left.
     fn flat_geometry(&mut self, tris: impl Iterator<Item = Flat>) -> Option<[usize; 3]> {
-        let (mut pos, mut nrm, mut idx) = (Vec::new(), Vec::new(), Vec::new());
+        let (pos, nrm, _, idx) = self.welded(tris, None)?;
+        Some([pos, nrm, idx])
+    }
+
+    /// [`Doc::flat_geometry`]'s accessors (positions, normals, indices),
+    /// with texture coordinates when `size` is given: each vertex's world
+    /// position projected onto its face's plane ([`crate::uv`]) in copies
+    /// of an image covering `size` world units; `v` negated, since glTF's
+    /// runs down the image. The coordinates follow from position and
+    /// normal, so welding on both shares exactly the vertices whose
+    /// coordinates agree.
+    fn welded(
+        &mut self,
+        tris: impl Iterator<Item = Flat>,
+        size: Option<[f32; 2]>,
+    ) -> Option<(usize, usize, Option<usize>, usize)> {
+        let (mut pos, mut nrm, mut uvs, mut idx) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         // FxHash: SipHash was a fifth of writing a million-segment drawing.
         let mut weld: rustc_hash::FxHashMap<([u32; 3], [u32; 3]), u32> = Default::default();
         for (t, n) in tris {
             if n == Vec3::ZERO || !t.iter().all(|p| p.is_finite()) {
                 continue;
             }
+            let axes = size.map(|size| (face_axes(n), size));
             for p in t {
                 let key = (p.to_array().map(f32::to_bits), n.to_array().map(f32::to_bits));
                 let v = *weld.entry(key).or_insert_with(|| {
                     pos.push(p);
                     nrm.push(n);
+                    if let Some((axes, size)) = axes {
+                        let [u, v] = texture_coords(p, axes, size);
+                        // `+ 0.0` folds −0 so equal coordinates have equal bits.
+                        uvs.push([u + 0.0, -v + 0.0]);
+                    }
                     (pos.len() - 1) as u32
                 });
                 idx.push(v);
@@ -385,7 +407,19 @@ impl Doc {
         if idx.is_empty() {
             return None;
         }
-        Some([self.vec3(&pos, true), self.vec3(&nrm, false), self.indices(&idx, pos.len())])
+        let p = self.vec3(&pos, true);
+        let n = self.vec3(&nrm, false);
+        let uv = size.map(|_| {
+            let mut bytes = Vec::with_capacity(uvs.len() * 8);
+            for c in uvs.iter().flatten() {
+                bytes.extend_from_slice(&c.to_le_bytes());
+            }
+            let view = self.view(&bytes, ARRAY_BUFFER);
+            self.accessors
+                .push(json!({"bufferView": view, "componentType": FLOAT, "count": uvs.len(), "type": "VEC2"}));
+            self.accessors.len() - 1
+        });
+        Some((p, n, uv, self.indices(&idx, pos.len())))
     }
 
     /// The material index of `tag` (double-sided or not), added on first use.
@@ -435,7 +469,7 @@ impl Doc {
         let textured = scene.tag_textures.iter().find(|(t, _)| *t == tag).map(|&(_, x)| x);
         if let Some(texture) = textured.filter(|&x| (x as usize) < scene.textures.len()) {
             let size = scene.textures[texture as usize].size;
-            let [pos, nrm, uv, idx] = self.textured_geometry(tris.iter().copied(), size)?;
+            let (pos, nrm, uv, idx) = self.welded(tris.iter().copied(), Some(size))?;
             let material = self.textured_material(scene, tag, texture, double_sided);
             return Some(json!({
                 "attributes": {"POSITION": pos, "NORMAL": nrm, "TEXCOORD_0": uv},
@@ -446,48 +480,6 @@ impl Doc {
         let [pos, nrm, idx] = self.flat_geometry(tris.iter().copied())?;
         let material = self.material(scene, tag, double_sided);
         Some(json!({"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material}))
-    }
-
-    /// [`Doc::flat_geometry`] with texture coordinates: each vertex's
-    /// world position projected onto its face's plane ([`crate::uv`]) in
-    /// copies of an image covering `size` world units; `v` negated, since
-    /// glTF's runs down the image.
-    fn textured_geometry(&mut self, tris: impl Iterator<Item = Flat>, size: [f32; 2]) -> Option<[usize; 4]> {
-        let (mut pos, mut nrm, mut uvs, mut idx) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        // The coordinates follow from position and normal: welding on both
-        // shares exactly the vertices whose coordinates agree.
-        let mut weld: rustc_hash::FxHashMap<([u32; 3], [u32; 3]), u32> = Default::default();
-        for (t, n) in tris {
-            if n == Vec3::ZERO || !t.iter().all(|p| p.is_finite()) {
-                continue;
-            }
-            let axes = face_axes(n);
-            for p in t {
-                let key = (p.to_array().map(f32::to_bits), n.to_array().map(f32::to_bits));
-                let v = *weld.entry(key).or_insert_with(|| {
-                    let [u, v] = texture_coords(p, axes, size);
-                    pos.push(p);
-                    nrm.push(n);
-                    // `+ 0.0` folds −0 so equal coordinates have equal bits.
-                    uvs.push([u + 0.0, -v + 0.0]);
-                    (pos.len() - 1) as u32
-                });
-                idx.push(v);
-            }
-        }
-        if idx.is_empty() {
-            return None;
-        }
-        let p = self.vec3(&pos, true);
-        let n = self.vec3(&nrm, false);
-        let mut bytes = Vec::with_capacity(uvs.len() * 8);
-        for c in uvs.iter().flatten() {
-            bytes.extend_from_slice(&c.to_le_bytes());
-        }
-        let view = self.view(&bytes, ARRAY_BUFFER);
-        self.accessors.push(json!({"bufferView": view, "componentType": FLOAT, "count": uvs.len(), "type": "VEC2"}));
-        let uv = self.accessors.len() - 1;
-        Some([p, n, uv, self.indices(&idx, pos.len())])
     }
 
     /// The material of textured `tag` (double-sided or not), added on first
