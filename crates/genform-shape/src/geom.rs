@@ -226,6 +226,13 @@ pub(crate) fn frustum_mesh(foot: &[DVec2], h: f64, s: f64) -> Mesh {
     to_mesh("taper", &pos, tris)
 }
 
+/// A height on a roof, never below the eaves, and +0 there: `f64::max`
+/// may answer −0 for −0 and 0 (it did in debug builds and not in release
+/// ones), which gave the two builds different bytes.
+fn eave_height(h: f64) -> f64 {
+    if h > 0.0 { h } else { 0.0 }
+}
+
 /// Most corners of a roof footprint.
 pub(crate) const MAX_ROOF_CORNERS: usize = 256;
 
@@ -516,7 +523,7 @@ fn skeleton_roofs(f: &[DVec2], t: f64, gables: Option<Option<DVec2>>, apart: boo
         let (a, b) = (sk.corners[e], sk.corners[(e + 1) % k]);
         let dir = (b - a).normalize();
         for &id in fc {
-            h[id] = (dir.perp_dot(pts[id] - a) * t).max(0.0);
+            h[id] = eave_height(dir.perp_dot(pts[id] - a) * t);
         }
     }
     let mut upright = vec![false; k];
@@ -737,7 +744,7 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
     let (lo, hi) = bbox(&f).unwrap_or_default();
     let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
     let eps = 1e-9 * scale;
-    let env = |p: DVec2| planes.iter().map(|pl| pl.at(p)).fold(f64::INFINITY, f64::min).max(0.0);
+    let env = |p: DVec2| eave_height(planes.iter().map(|pl| pl.at(p)).fold(f64::INFINITY, f64::min));
     let mut weld = Weld { pts: Vec::new(), eps };
     for q in &f {
         weld.id(*q);
@@ -828,7 +835,7 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
         }
         let c2 = centroid(&r.iter().map(|&k| pts[k]).collect::<Vec<_>>());
         let ring: Vec<usize> = r.iter().map(|&k| top[k]).collect();
-        fan(&mut pos, &ring, DVec3::new(c2.x, c2.y, planes[*i].at(c2).max(0.0)), false, &mut tris);
+        fan(&mut pos, &ring, DVec3::new(c2.x, c2.y, eave_height(planes[*i].at(c2))), false, &mut tris);
     }
     if walls.is_empty() {
         return Ok((to_mesh("roof", &pos, tris), no_walls()));
