@@ -177,3 +177,40 @@ fn an_inset_that_leaves_nothing_is_a_warning_naming_its_place_once_per_district(
     );
     assert_eq!(run.stderr().matches("leaves nothing inside").count(), 1, "{}", run.show());
 }
+
+#[test]
+fn the_roof_faces_example_glazes_only_the_street_slope_and_walls_its_gables() {
+    let tmp = tempfile::tempdir().unwrap();
+    let g = root().join("examples/shape/roof_faces.sg");
+    for seed in ["0", "1", "2"] {
+        ok(tmp.path(), &["sample", s(&g), "--seed", seed, "--out", "house.obj"]);
+        // Read back by an independent reader: every triangle with its
+        // material and normal.
+        let load = tobj::LoadOptions { triangulate: true, ..Default::default() };
+        let (models, materials) = tobj::load_obj(tmp.path().join("house.obj"), &load).expect("tobj reads the OBJ");
+        let materials = materials.expect("the .mtl");
+        let mut glass = 0;
+        let mut gable_up = 0.0f32;
+        for m in &models {
+            let name = m.mesh.material_id.map(|i| materials[i].name.as_str()).unwrap_or("");
+            let p = &m.mesh.positions;
+            for t in m.mesh.indices.chunks(3) {
+                let v = |k: usize| glam::Vec3::from_slice(&p[3 * t[k] as usize..3 * t[k] as usize + 3]);
+                let n = (v(1) - v(0)).cross(v(2) - v(0)).normalize();
+                // Nothing looks down: the roof's underside is left out.
+                assert!(n.y > -0.5, "seed {seed}: {name} faces down");
+                if name.starts_with("glass") {
+                    // On the slope that faces the street (+z), tilted.
+                    assert!(n.z > 0.4 && n.y > 0.4, "seed {seed}: glass facing {n}");
+                    glass += 1;
+                }
+                if name.starts_with("wall") && n.x.abs() > 0.99 {
+                    // The gables: in the side walls' planes, up to the ridge.
+                    gable_up = [v(0).y, v(1).y, v(2).y].into_iter().fold(gable_up, f32::max);
+                }
+            }
+        }
+        assert!(glass >= 4, "seed {seed}: {glass} glass triangles (two windows or more)");
+        assert!(gable_up > 7.0, "seed {seed}: the gable walls reach {gable_up} m, above the eaves");
+    }
+}

@@ -139,11 +139,14 @@ pub(crate) enum CompKind {
     ShapeO,
     /// `comp(v)`: the corners of a polygon.
     Vertices,
+    /// `roof_hip(30) { top: A | side: B }`, `taper(h) { … }`: the planar
+    /// faces of the solid the operation builds on a polygon.
+    Solid,
 }
 
 impl CompKind {
     /// Every kind, indexed by `kind as usize`.
-    pub const ALL: [CompKind; 8] = [
+    pub const ALL: [CompKind; 9] = [
         CompKind::Faces,
         CompKind::Edges,
         CompKind::Offset,
@@ -152,6 +155,7 @@ impl CompKind {
         CompKind::ShapeU,
         CompKind::ShapeO,
         CompKind::Vertices,
+        CompKind::Solid,
     ];
 
     /// The operation as written, and the arguments it takes.
@@ -167,6 +171,8 @@ impl CompKind {
             CompKind::ShapeU => ("shapeU", 3),
             CompKind::ShapeO => ("shapeO", 4),
             CompKind::Vertices => ("comp(v)", 0),
+            // The roof's (or taper's) own arguments are the operation's.
+            CompKind::Solid => ("roof", 0),
         }
     }
 
@@ -235,6 +241,9 @@ pub(crate) enum Stmt {
         kind: CompKind,
         args: Vec<ExprSrc>,
         arms: Vec<CompArm>,
+        /// The roof or taper whose faces a [`CompKind::Solid`] split takes:
+        /// the operation and its arguments.
+        solid: Option<Box<(SymRef, Vec<Arg>)>>,
     },
     /// `[ ... ]`: the scope is saved before and restored after.
     Scoped(Vec<Stmt>),

@@ -248,6 +248,10 @@ pub(crate) enum RoofKind {
     Pyramid,
     /// One slope rising towards +y.
     Shed,
+    /// CGA's `roofRidge`: two slopes meeting at one ridge along the longer
+    /// side of the bounding box, over any footprint: no hips, no gables
+    /// at wing ends, vertical walls wherever the outline is off the eaves.
+    Ridge,
 }
 
 impl RoofKind {
@@ -258,6 +262,7 @@ impl RoofKind {
             RoofKind::Hip => "roof_hip",
             RoofKind::Pyramid => "roof_pyramid",
             RoofKind::Shed => "roof_shed",
+            RoofKind::Ridge => "roof_ridge",
         }
     }
 }
@@ -315,7 +320,7 @@ fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64, dir: Option<DVec2>) -> Vec<P
                 })
                 .collect()
         }
-        RoofKind::Gable if let Some(r) = dir => {
+        RoofKind::Gable | RoofKind::Ridge if let Some(r) = dir => {
             let m = DVec2::new(-r.y, r.x);
             let (lo, hi) =
                 p.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| (a.min(m.dot(*q)), b.max(m.dot(*q))));
@@ -325,7 +330,7 @@ fn roof_planes(p: &[DVec2], kind: RoofKind, t: f64, dir: Option<DVec2>) -> Vec<P
             let lo = p.iter().map(|q| u.dot(*q)).fold(f64::INFINITY, f64::min);
             vec![Plane { g: u * t, c: -t * lo }]
         }
-        RoofKind::Gable => {
+        RoofKind::Gable | RoofKind::Ridge => {
             let along_x = hi.x - lo.x >= hi.y - lo.y;
             let k = if along_x { 1 } else { 0 };
             let mut g = DVec2::ZERO;
@@ -420,6 +425,197 @@ fn ear_clip_all(p: &[DVec2], eps: f64) -> Vec<[usize; 3]> {
         tris.push([ring[0], ring[k], ring[k + 1]]);
     }
     tris
+}
+
+/// Whether `m` lies on the outline of `foot` (within `tol`).
+fn on_outline(foot: &[DVec2], m: DVec2, tol: f64) -> bool {
+    (0..foot.len()).any(|i| {
+        let (a, b) = (foot[i], foot[(i + 1) % foot.len()]);
+        let d = b - a;
+        let s = ((m - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        (a + d * s).distance(m) <= tol
+    })
+}
+
+/// The shed roof over any simple counter-clockwise footprint `f` (the
+/// footprint `foot` grown by the overhangs): one plane of slope `t` rising
+/// along the unit vector `up` from the lowest corner, the footprint lifted
+/// onto it as the top, vertical walls down each edge. With `apart` the
+/// walls in `foot`'s edges (no overhang there) are the second mesh.
+fn shed_roof(f: &[DVec2], foot: &[DVec2], t: f64, up: DVec2, apart: bool) -> (Mesh, Mesh) {
+    let n = f.len();
+    let (lo, hi) = bbox(f).unwrap_or_default();
+    let scale = (hi - lo).length().max(f64::MIN_POSITIVE);
+    let eps = 1e-9 * scale;
+    let low = f.iter().map(|q| up.dot(*q)).fold(f64::INFINITY, f64::min);
+    let mut pos: Vec<DVec3> = f.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    let top: Vec<usize> = (0..n)
+        .map(|k| {
+            let z = eave_height(t * (up.dot(f[k]) - low));
+            if z > eps {
+                pos.push(DVec3::new(f[k].x, f[k].y, z));
+                pos.len() - 1
+            } else {
+                k
+            }
+        })
+        .collect();
+    let cap = ear_clip_all(f, eps);
+    let mut tris: Vec<[u32; 3]> = cap.iter().map(|c| [c[2], c[1], c[0]].map(|i| i as u32)).collect();
+    tris.extend(cap.iter().map(|c| c.map(|i| top[i] as u32)));
+    let mut walls: Vec<[u32; 3]> = Vec::new();
+    for a in 0..n {
+        let b = (a + 1) % n;
+        let (ta, tb) = (top[a], top[b]);
+        let out = if apart && on_outline(foot, (f[a] + f[b]) * 0.5, 1e-7 * scale) { &mut walls } else { &mut tris };
+        if tb != b {
+            out.push([a as u32, b as u32, tb as u32]);
+        }
+        if ta != a {
+            out.push([a as u32, tb as u32, ta as u32]);
+        }
+    }
+    if walls.is_empty() {
+        return (to_mesh("roof", &pos, tris), Mesh { name: "gable".into(), ..Mesh::default() });
+    }
+    (compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls))
+}
+
+/// The ridge roof over any simple counter-clockwise footprint `f` (the
+/// footprint `foot` grown by the overhangs): two planes of slope `t` rising
+/// across the unit ridge direction `r` from the outline's extremes, the
+/// top the lower of them, vertical walls down each edge (with `apart`,
+/// those in `foot`'s edges are the second mesh). The footprint is
+/// triangulated, every triangle the ridge line crosses cut along it, and
+/// the corners lifted.
+fn ridge_roof(f: &[DVec2], foot: &[DVec2], t: f64, r: DVec2, apart: bool) -> (Mesh, Mesh) {
+    let m = r.perp();
+    let (lo, hi) = f.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| (a.min(m.dot(*q)), b.max(m.dot(*q))));
+    let mid = 0.5 * (lo + hi);
+    let (blo, bhi) = bbox(f).unwrap_or_default();
+    let scale = (bhi - blo).length().max(f64::MIN_POSITIVE);
+    let eps = 1e-9 * scale;
+    let height = |p: DVec2| eave_height(t * (m.dot(p) - lo).min(hi - m.dot(p)));
+    // The outline with a corner wherever it crosses the ridge line.
+    let mut ring: Vec<DVec2> = Vec::with_capacity(f.len() + 4);
+    for i in 0..f.len() {
+        let (a, b) = (f[i], f[(i + 1) % f.len()]);
+        ring.push(a);
+        let (sa, sb) = (m.dot(a) - mid, m.dot(b) - mid);
+        if (sa > eps && sb < -eps) || (sa < -eps && sb > eps) {
+            ring.push(a + (b - a) * (sa / (sa - sb)));
+        }
+    }
+    let n = ring.len();
+    let mut flat = ring.clone();
+    let cap = ear_clip_all(&ring, eps);
+    // Triangles cut along the ridge line; a cut point on an inner edge is
+    // shared by the two triangles on that edge.
+    let mut cuts: std::collections::HashMap<(usize, usize), usize> = std::collections::HashMap::new();
+    let mut top_tris: Vec<[usize; 3]> = Vec::new();
+    for c in &cap {
+        let side: Vec<f64> = c.iter().map(|&i| m.dot(flat[i]) - mid).collect();
+        let lone = (0..3).find(|&k| {
+            let (p, q) = (side[(k + 1) % 3], side[(k + 2) % 3]);
+            (side[k] > eps && p < -eps && q < -eps) || (side[k] < -eps && p > eps && q > eps)
+        });
+        let Some(k) = lone else {
+            // Not crossed, or crossed only through a corner.
+            let s = (0..3).find(|&k| {
+                let (p, q) = (side[(k + 1) % 3], side[(k + 2) % 3]);
+                side[k].abs() <= eps && ((p > eps && q < -eps) || (p < -eps && q > eps))
+            });
+            match s {
+                Some(k) => {
+                    let (a, b, c2) = (c[k], c[(k + 1) % 3], c[(k + 2) % 3]);
+                    let (sb, sc) = (side[(k + 1) % 3], side[(k + 2) % 3]);
+                    let key = (b.min(c2), b.max(c2));
+                    let x = *cuts.entry(key).or_insert_with(|| {
+                        flat.push(flat[b] + (flat[c2] - flat[b]) * (sb / (sb - sc)));
+                        flat.len() - 1
+                    });
+                    top_tris.push([a, b, x]);
+                    top_tris.push([a, x, c2]);
+                }
+                None => top_tris.push(*c),
+            }
+            continue;
+        };
+        let (a, b, c2) = (c[k], c[(k + 1) % 3], c[(k + 2) % 3]);
+        let mut cut = |u: usize, v: usize, su: f64, sv: f64| {
+            *cuts.entry((u.min(v), u.max(v))).or_insert_with(|| {
+                flat.push(flat[u] + (flat[v] - flat[u]) * (su / (su - sv)));
+                flat.len() - 1
+            })
+        };
+        let (sa, sb, sc) = (side[k], side[(k + 1) % 3], side[(k + 2) % 3]);
+        let xb = cut(a, b, sa, sb);
+        let xc = cut(c2, a, sc, sa);
+        top_tris.push([a, xb, xc]);
+        top_tris.push([xb, b, c2]);
+        top_tris.push([xb, c2, xc]);
+    }
+    // Corners: the outline at the eaves (0..n), then the lifted ones.
+    let mut pos: Vec<DVec3> = ring.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    let mut top: Vec<usize> = Vec::with_capacity(flat.len());
+    for (k, p) in flat.iter().enumerate() {
+        let z = height(*p);
+        if k < n && z <= eps {
+            top.push(k);
+        } else {
+            pos.push(DVec3::new(p.x, p.y, z));
+            top.push(pos.len() - 1);
+        }
+    }
+    let mut tris: Vec<[u32; 3]> = cap.iter().map(|c| [c[2], c[1], c[0]].map(|i| i as u32)).collect();
+    tris.extend(top_tris.iter().map(|c| c.map(|i| top[i] as u32)));
+    let mut walls: Vec<[u32; 3]> = Vec::new();
+    for a in 0..n {
+        let b = (a + 1) % n;
+        let (ta, tb) = (top[a], top[b]);
+        let out =
+            if apart && on_outline(foot, (ring[a] + ring[b]) * 0.5, 1e-7 * scale) { &mut walls } else { &mut tris };
+        if tb != b {
+            out.push([a as u32, b as u32, tb as u32]);
+        }
+        if ta != a {
+            out.push([a as u32, tb as u32, ta as u32]);
+        }
+    }
+    if walls.is_empty() {
+        return (compact_mesh("roof", &pos, &tris), Mesh { name: "gable".into(), ..Mesh::default() });
+    }
+    (compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls))
+}
+
+/// The pyramid roof over a concave counter-clockwise footprint that its
+/// area centroid sees whole (a star-shaped one): one triangle from each
+/// edge to the apex above the centroid, as high as slope `t` from the
+/// nearest edge, as on a convex footprint.
+fn star_pyramid(f: &[DVec2], t: f64) -> Result<Mesh, String> {
+    let c = centroid(f);
+    let n = f.len();
+    let reach = (0..n)
+        .map(|i| {
+            let (a, b) = (f[i], f[(i + 1) % n]);
+            let d = (b - a).normalize_or_zero();
+            DVec2::new(-d.y, d.x).dot(c - a)
+        })
+        .fold(f64::INFINITY, f64::min);
+    if reach.is_nan() || reach <= 0.0 {
+        return Err("`roof_pyramid`: the centre of this concave footprint does not see every edge, so the \
+             slopes would cross; use `roof_hip`, or split the footprint into parts"
+            .to_string());
+    }
+    // The base by the ear clipping that keeps every corner, so that each
+    // base edge meets its slope's (the general one may leave a T-junction).
+    let mut pos: Vec<DVec3> = f.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
+    pos.push(DVec3::new(c.x, c.y, t * reach));
+    let (lo, hi) = bbox(f).unwrap_or_default();
+    let mut tris: Vec<[u32; 3]> =
+        ear_clip_all(f, 1e-9 * (hi - lo).length()).iter().map(|c| [c[2], c[1], c[0]].map(|i| i as u32)).collect();
+    tris.extend((0..n as u32).map(|i| [i, (i + 1) % n as u32, n as u32]));
+    Ok(to_mesh("roof", &pos, tris))
 }
 
 /// The hip roof over a simple (possibly concave) counter-clockwise
@@ -675,7 +871,7 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
         _ => dir_of(i),
     });
     let mut overhangs = opts.overhang.clone();
-    if let Some(e) = opts.ends.filter(|_| matches!(kind, RoofKind::Gable | RoofKind::Shed)) {
+    if let Some(e) = opts.ends.filter(|_| matches!(kind, RoofKind::Gable | RoofKind::Shed | RoofKind::Ridge)) {
         let r = match (kind, dir) {
             (RoofKind::Shed, Some(u)) => u.perp(),
             (_, Some(r)) => r,
@@ -733,10 +929,15 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
         return match kind {
             RoofKind::Hip => Ok((skeleton_roof(&f, t)?, no_walls())),
             RoofKind::Gable => skeleton_roofs(&f, t, Some(dir), opts.gables),
-            _ => Err(format!(
-                "`{name}` needs a convex footprint; on a concave one (an L or U) use `roof_hip` or `roof_gable`, \
-                 or split the footprint into convex parts"
-            )),
+            RoofKind::Shed => Ok(shed_roof(&f, foot, t, dir.unwrap_or(DVec2::Y), opts.gables)),
+            RoofKind::Pyramid => star_pyramid(&f, t).map(|m| (m, no_walls())),
+            RoofKind::Ridge => {
+                let r = dir.unwrap_or_else(|| {
+                    let (lo, hi) = bbox(&f).unwrap_or_default();
+                    if hi.x - lo.x >= hi.y - lo.y { DVec2::X } else { DVec2::Y }
+                });
+                Ok(ridge_roof(&f, foot, t, r, opts.gables))
+            }
         };
     }
     let f = grow(foot)?;
@@ -807,14 +1008,7 @@ pub(crate) fn roof_meshes(foot: &[DVec2], kind: RoofKind, angle: f64, opts: &Roo
     fan(&mut pos, &ring, DVec3::new(cf.x, cf.y, 0.0), true, &mut tris);
     // Walls: between the bottom ring and the roof along each edge; with
     // `gables` those in the footprint's edges go to `walls`.
-    let in_foot = |m: DVec2| {
-        (0..foot.len()).any(|i| {
-            let (a, b) = (foot[i], foot[(i + 1) % foot.len()]);
-            let d = b - a;
-            let s = ((m - a).dot(d) / d.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-            (a + d * s).distance(m) <= 1e-7 * scale
-        })
-    };
+    let in_foot = |m: DVec2| on_outline(foot, m, 1e-7 * scale);
     let mut walls: Vec<[u32; 3]> = Vec::new();
     for k in 0..ring.len() {
         let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
@@ -1032,6 +1226,64 @@ mod tests {
     }
 
     #[test]
+    fn shed_roofs_on_concave_footprints_are_one_plane_over_the_footprint() {
+        // The L of three unit squares, rising along +y at 45°: the volume
+        // is the footprint's integral of y (squares at y 0.5, 0.5, 1.5).
+        let m = roof_mesh(&l_shape(), RoofKind::Shed, 45.0, 0.0).unwrap();
+        assert_roof(&m, 2.0, 2.5);
+        // Along the edge `ridge` names, with the walls in the footprint's
+        // edges apart: every triangle lies in one of the two meshes.
+        let opts = RoofOpts { overhang: vec![0.0; 6], ridge: Some(1), ends: None, gables: true };
+        let (roof, walls) = roof_meshes(&l_shape(), RoofKind::Shed, 45.0, &opts).unwrap();
+        assert!(!walls.triangles.is_empty());
+        let mut both = roof.clone();
+        let base = both.positions.len() as u32;
+        both.positions.extend(&walls.positions);
+        both.triangles.extend(walls.triangles.iter().map(|t| t.map(|i| i + base)));
+        // Rising away from edge 1 (x = 2, facing +x), towards −x: height
+        // 2 − x, integrated over the squares centred at x 0.5, 1.5, 0.5.
+        assert!((volume(&both) - 3.5).abs() < 1e-9, "{}", volume(&both));
+        assert!((max_z(&both) - 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn pyramid_roofs_stand_on_concave_footprints_their_centre_sees() {
+        // A plus sign (centre sees every edge): twelve slopes to one apex,
+        // as high as 45° from the nearest edge (0.5 away).
+        let plus: Vec<DVec2> = [
+            (1.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (3.0, 1.0),
+            (3.0, 2.0),
+            (2.0, 2.0),
+            (2.0, 3.0),
+            (1.0, 3.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+            (0.0, 1.0),
+            (1.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y)| DVec2::new(x, y))
+        .collect();
+        let m = roof_mesh(&plus, RoofKind::Pyramid, 45.0, 0.0).unwrap();
+        assert!(is_closed(&m), "{m:?}");
+        assert!((max_z(&m) - 0.5).abs() < 1e-6, "{}", max_z(&m));
+        // A cone over the plus: area 5 · height / 3.
+        assert!((volume(&m) - 5.0 * 0.5 / 3.0).abs() < 1e-6, "{}", volume(&m));
+        // The L of three squares: its centroid sees every edge. A longer
+        // L's does not: a clear error.
+        assert!(is_closed(&roof_mesh(&l_shape(), RoofKind::Pyramid, 45.0, 0.0).unwrap()));
+        let long: Vec<DVec2> = [(0.0, 0.0), (4.0, 0.0), (4.0, 1.0), (1.0, 1.0), (1.0, 4.0), (0.0, 4.0)]
+            .iter()
+            .map(|&(x, y)| DVec2::new(x, y))
+            .collect();
+        let e = roof_mesh(&long, RoofKind::Pyramid, 45.0, 0.0).unwrap_err();
+        assert!(e.contains("does not see every edge"), "{e}");
+    }
+
+    #[test]
     fn gable_roofs_on_concave_footprints_stand_their_wing_ends_upright() {
         // Over each wing end of width w, a gable adds to the hip the
         // prism's half-end (w²t/4 · w/2) less the hip's pyramid (w³t/12):
@@ -1087,13 +1339,36 @@ mod tests {
             proptest::prop_assert!(is_closed(&m));
             proptest::prop_assert!(volume(&m) > 0.0);
             proptest::prop_assert!(max_z(&m) <= 10.0);
+            // Shed and ridge roofs stand on any footprint: closed, and
+            // no higher than their planes (the outline's extent).
+            for kind in [RoofKind::Shed, RoofKind::Ridge] {
+                let m = roof_mesh(&foot, kind, 45.0, 0.0).unwrap();
+                proptest::prop_assert!(is_closed(&m), "{:?}", kind);
+                proptest::prop_assert!(volume(&m) > 0.0);
+                proptest::prop_assert!(max_z(&m) <= 20.0);
+            }
         }
     }
 
     #[test]
+    fn ridge_roofs_lay_one_ridge_over_any_footprint() {
+        // The L of three unit squares, ridge along x at y = 1, 45°: height
+        // min(y, 2 − y), integrated: 0.5 + 0.5 over the bottom squares,
+        // 0.5 over the top one.
+        let m = roof_mesh(&l_shape(), RoofKind::Ridge, 45.0, 0.0).unwrap();
+        assert_roof(&m, 1.0, 1.5);
+        // On a rectangle it is the gable roof.
+        let (r, g) = (rect(4.0, 2.0), RoofKind::Gable);
+        let (a, b) = (roof_mesh(&r, RoofKind::Ridge, 30.0, 0.0).unwrap(), roof_mesh(&r, g, 30.0, 0.0).unwrap());
+        assert!((volume(&a) - volume(&b)).abs() < 1e-9 && (max_z(&a) - max_z(&b)).abs() < 1e-6);
+        // Across the L (ridge = edge 1, along y at x = 1): the same by symmetry.
+        let opts = RoofOpts { overhang: vec![0.0; 6], ridge: Some(1), ends: None, gables: false };
+        let (m, _) = roof_meshes(&l_shape(), RoofKind::Ridge, 45.0, &opts).unwrap();
+        assert_roof(&m, 1.0, 1.5);
+    }
+
+    #[test]
     fn hostile_roofs_are_errors_or_empty() {
-        let l = l_shape();
-        assert!(roof_mesh(&l, RoofKind::Shed, 30.0, 0.0).unwrap_err().contains("use `roof_hip` or `roof_gable`"));
         // An overhang that folds the notch of an L over itself.
         let notch = vec![
             DVec2::new(0.0, 0.0),

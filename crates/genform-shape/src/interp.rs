@@ -149,6 +149,8 @@ pub(crate) struct Stacks {
     pts: Vec<glam::DVec2>,
     /// Faces of open `comp`s: arm and scope.
     faces: Vec<(u32, ScopeState)>,
+    /// The solid a roof or taper built for the face split that follows it.
+    solid: Option<genform_core::scene::Mesh>,
     /// What the run has placed, for occlusion queries (only kept when the
     /// grammar asks them).
     placed: Vec<occlusion::Placed>,
@@ -170,6 +172,7 @@ impl Stacks {
         self.geoms.clear();
         self.pts.clear();
         self.faces.clear();
+        self.solid = None;
         self.placed.clear();
     }
 
@@ -410,7 +413,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             }
             Op::Lot { args, n, span } => self.lot(rule, args, n, span)?,
             Op::Extrude(e) => self.extrude(rule, e)?,
-            Op::Taper { height, span } => self.taper(rule, height, span)?,
+            Op::Taper { height, span, faces } => self.taper(rule, height, span, faces)?,
             Op::Shape(_) => self.shape(rule)?,
             op @ Op::Roof { .. } => self.roof(rule, op)?,
             Op::CompBegin { kind, args, first, n, span } => self.comp_begin(rule, kind, args, first, n, span)?,

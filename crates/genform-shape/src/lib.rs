@@ -40,6 +40,7 @@ mod sample;
 mod scope;
 mod scratch;
 mod skeleton;
+mod solid_faces;
 
 use genform_core::{
     Diagnostics, ExpressError, Generator, GeneratorGraph, Genome, Limits, Rng, Sampled, Scene, SourceFile,

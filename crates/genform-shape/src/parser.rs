@@ -15,6 +15,10 @@ use genform_core::{Diagnostic, Span};
 pub(crate) const MAX_NESTING: usize = 256;
 
 /// Words with a fixed meaning at the start of a top-level item.
+/// The operations that build a solid on a polygon and may be followed by
+/// the arms of its faces.
+const SOLIDS: &[&str] = &["roof_gable", "roof_hip", "roof_pyramid", "roof_shed", "roof_ridge", "taper"];
+
 const HEADER_WORDS: &[&str] = &["grammar", "axiom", "limits", "const", "mesh", "footprints", "context"];
 
 /// Marker for "an error was recorded; recover".
@@ -516,6 +520,14 @@ impl<'a> Parser<'a> {
                 if let Some(kind) = CompKind::of_name(&target.name).filter(|_| self.is(&Tok::LBrace)) {
                     return self.comp_call(kind, target, args);
                 }
+                // `roof_hip(30) { top: A | side: B }`: the roof's faces.
+                if SOLIDS.contains(&target.name.as_str()) && self.is(&Tok::LBrace) {
+                    let mut stmt = self.comp_block(target.span, CompKind::Solid, Vec::new())?;
+                    if let Stmt::Comp { solid, .. } = &mut stmt {
+                        *solid = Some(Box::new((target, args.unwrap_or_default())));
+                    }
+                    return Ok(stmt);
+                }
                 self.expect(Tok::Semi, "after the statement")?;
                 Ok(Stmt::Call { target, args })
             }
@@ -693,10 +705,10 @@ impl<'a> Parser<'a> {
                 }
                 self.bump();
             }
-            return Ok(Stmt::Comp { span, kind, args, arms });
+            return Ok(Stmt::Comp { span, kind, args, arms, solid: None });
         }
         self.expect(Tok::RBrace, &format!("to close `{name}` (arms are separated by `|`)"))?;
-        Ok(Stmt::Comp { span, kind, args, arms })
+        Ok(Stmt::Comp { span, kind, args, arms, solid: None })
     }
 
     /// `offset(d) { … }` and the other splits written like a call: the

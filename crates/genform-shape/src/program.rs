@@ -98,7 +98,7 @@ pub(crate) const FACE_TOP: u8 = 16;
 pub(crate) const FACE_BOTTOM: u8 = 32;
 
 /// The pieces other than faces and edges: `inside` of `offset`,
-/// `remainder` of `setback` and `shapeL/U/O`.
+/// `remainder` of `setback` and `shapeL/U/O`, a roof's vertical faces.
 pub(crate) const PIECE_REST: u8 = 64;
 /// The `shape` of `shapeL/U/O`.
 pub(crate) const PIECE_SHAPE: u8 = 128;
@@ -132,6 +132,16 @@ pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
         CompKind::Setback => (
             if name == "remainder" { Some(PIECE_REST) } else { edge(name) },
             "front, back, left, right, side, all, remainder",
+        ),
+        CompKind::Solid => (
+            match name {
+                "top" => Some(FACE_TOP | SIDE),
+                "side" | "vertical" => Some(PIECE_REST),
+                "bottom" => Some(FACE_BOTTOM),
+                "all" => Some(u8::MAX),
+                _ => edge_side(name),
+            },
+            "top (every face that looks up: slopes and flat tops), side (vertical gable walls), bottom, all, and front, back, left, right (the slopes that face that way)",
         ),
         CompKind::ShapeL | CompKind::ShapeU | CompKind::ShapeO => (
             match name {
@@ -259,10 +269,12 @@ pub(crate) enum Op {
     Extrude(u32),
     /// `taper(h, s)`: the pyramid (`s` = 0) or frustum of height `h` over a
     /// polygon scope, its top the polygon scaled by `s` about its centroid;
-    /// `s` at `height + 1` (zero when not written).
+    /// `s` at `height + 1` (zero when not written). `faces`: the solid is
+    /// kept for the [`CompKind::Solid`] split that follows, not emitted.
     Taper {
         height: u32,
         span: u32,
+        faces: bool,
     },
     /// `shape;`: emits the scope's geometry (`span` for errors).
     Shape(u32),
@@ -271,11 +283,13 @@ pub(crate) enum Op {
     /// overhangs. `ridge`: 0 along the longer side, a side's class bit, or
     /// `RIDGE_INDEX` (the edge index expression); `ends`: whether the
     /// gable-end overhang is given; `gables`: the tag of the gable walls
-    /// (`u32::MAX`: they stay roof).
+    /// (`u32::MAX`: they stay roof). `faces`: the roof is kept for the
+    /// [`CompKind::Solid`] split that follows, not emitted.
     Roof {
         kind: u8,
         ridge: u8,
         ends: bool,
+        faces: bool,
         args: u32,
         n: u32,
         span: u32,

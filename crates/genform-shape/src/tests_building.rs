@@ -312,7 +312,7 @@ fn hostile_building_operations_fail_clearly() {
         ("A { lot(2, 2); roof_hip(95); }", "between 0 and 90"),
         ("A { roof_gable(30); }", "needs a polygon scope"),
         ("A { lot(2, 2); comp(f) { top: shape } }", "needs a mass"),
-        ("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_shed(30); }", "use `roof_hip` or `roof_gable`"),
+        ("A { lot(0, 0, 5, 0, 5, 1, 1, 1, 1, 5, 0, 5); roof_pyramid(30); }", "does not see every edge"),
         ("A { taper(3); }", "needs a polygon scope"),
         ("A { lot(2, 2); taper(-1); }", "must be ≥ 0"),
     ];
@@ -323,6 +323,9 @@ fn hostile_building_operations_fail_clearly() {
     // The same L takes a hip or a gable roof (through its straight skeleton).
     assert_eq!(scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_hip(30); }").meshes.len(), 1);
     assert_eq!(scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_gable(30); }").meshes.len(), 1);
+    // A shed takes any footprint; a pyramid one whose centre sees it whole.
+    assert_eq!(scene("A { lot(0, 0, 3, 0, 3, 2, 1, 2, 1, 3, 0, 3); roof_shed(30); }").meshes.len(), 1);
+    assert_eq!(scene("A { lot(0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2); roof_pyramid(30); }").meshes.len(), 1);
     // A zero extrusion is an empty mass: nothing, and no faces.
     let s = scene("A { lot(2, 2); extrude(0); shape; comp(f) { all: shape } }");
     assert!(s.is_empty());
@@ -702,4 +705,61 @@ fn taper_with_a_top_scale_raises_a_frustum() {
     assert!((vol - 175.0).abs() < 1e-3, "{vol}");
     let e = try_scene("A { lot(2, 2); taper(1, 2); }").err().unwrap().to_string();
     assert!(e.contains("from 0 to 1"), "{e}");
+}
+
+#[test]
+fn a_roofs_faces_are_scopes_for_comp_arms() {
+    // A 10 × 6 gable house: the slopes tiled, the gables as wall, the
+    // underside left out; each face a polygon in its own plane.
+    let s = scene(
+        "A { lot(10, 6); extrude(3); comp(f) { top: { roof_gable(45) { top: { tag(\"tiles\"); shape; } \
+         | side: { tag(\"gable\"); shape; } | bottom: { } } } } }",
+    );
+    let tag = |name: &str| s.tags.iter().position(|t| t == name).unwrap() as u32;
+    assert!(s.instances.is_empty(), "the roof itself is not drawn: {:?}", s.instances);
+    let of = |t: u32| s.polygons.iter().filter(|p| p.tag == t).collect::<Vec<_>>();
+    let (tiles, gables) = (of(tag("tiles")), of(tag("gable")));
+    assert_eq!((tiles.len(), gables.len(), s.polygons.len()), (2, 2, 4));
+    // Slopes 10 long and 3/cos 45° up; gables 6 wide and 3 high.
+    for p in &tiles {
+        assert!((area(&p.points) - 10.0 * 3.0 * 2f32.sqrt()).abs() < 1e-3, "{:?}", p.points);
+        let n = normal(&p.points);
+        assert!((n.y - 45f32.to_radians().cos()).abs() < 1e-4, "{n}");
+    }
+    for p in &gables {
+        assert!((area(&p.points) - 9.0).abs() < 1e-3, "{:?}", p.points);
+        assert!(normal(&p.points).y.abs() < 1e-4 && p.points.iter().all(|q| q.y >= 3.0 - 1e-4));
+    }
+}
+
+#[test]
+fn a_roof_slope_is_selected_by_the_side_it_faces_and_split_like_a_wall() {
+    // Dormer windows on the street-side slope only: x along the eaves,
+    // y up the slope.
+    let s = scene(
+        "A { lot(12, 8); roof_gable(40, ridge = front) { front: { split(x) { ~3: { tag(\"tile\"); shape; } \
+         | 2: { tag(\"dormer\"); shape; } | ~3: { tag(\"tile\"); shape; } } } | top: { tag(\"tile\"); shape; } } }",
+    );
+    let tag = |name: &str| s.tags.iter().position(|t| t == name).unwrap() as u32;
+    let dormers: Vec<_> = s.polygons.iter().filter(|p| p.tag == tag("dormer")).collect();
+    assert_eq!(dormers.len(), 1);
+    let xs = dormers[0].points.iter().map(|q| q.x);
+    let (lo, hi) = xs.fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    assert!((lo + 1.0).abs() < 1e-4 && (hi - 1.0).abs() < 1e-4, "2 m along the eaves, centred: {lo} {hi}");
+    for p in &dormers {
+        // On the slope facing the street (+z in the world, the lot's front).
+        let n = normal(&p.points);
+        assert!(n.z > 0.5 && n.y > 0.5, "{n}");
+    }
+    let back: Vec<_> = s.polygons.iter().filter(|p| normal(&p.points).z < -0.5).collect();
+    assert_eq!(back.len(), 1, "the back slope is one tiled face");
+}
+
+#[test]
+fn a_taper_has_faces_too() {
+    let s = scene("A { lot(4, 4); taper(3, 0.5) { top: { tag(\"t\"); shape; } | bottom: { tag(\"b\"); shape; } } }");
+    // A frustum: four sides and the top look up, the base down.
+    assert_eq!(s.polygons.len(), 6);
+    let up = s.polygons.iter().filter(|p| normal(&p.points).y > 0.0).count();
+    assert_eq!(up, 5);
 }

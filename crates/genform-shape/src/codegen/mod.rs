@@ -42,6 +42,7 @@ pub(crate) const OPS: &[&str] = &[
     "roof_hip",
     "roof_pyramid",
     "roof_shed",
+    "roof_ridge",
 ];
 /// Statement keywords.
 pub(crate) const KEYWORDS: &[&str] =
@@ -431,6 +432,8 @@ pub(crate) struct SymbolCx<'a> {
     comps: Vec<u8>,
     spans: Vec<Span>,
     emits: bool,
+    /// Compiling the roof or taper of a [`CompKind::Solid`] split.
+    solid_faces: bool,
     /// Occlusion queries met so far: call text, env index, query.
     queries: Vec<(String, u32, Query)>,
 }
@@ -463,6 +466,7 @@ impl<'a> SymbolCx<'a> {
             comps: Vec::new(),
             spans: Vec::new(),
             emits: false,
+            solid_faces: false,
             queries: Vec::new(),
         }
     }
@@ -779,7 +783,13 @@ impl<'a> SymbolCx<'a> {
                 self.stmts(body);
                 self.code.push(Op::RepeatNext(start));
             }
-            Stmt::Comp { span, kind, args, arms } => {
+            Stmt::Comp { span, kind, args, arms, solid } => {
+                if let Some(solid) = solid {
+                    // The roof's op keeps its solid for the split's faces.
+                    self.solid_faces = true;
+                    self.op(&solid.0, Some(&solid.1));
+                    self.solid_faces = false;
+                }
                 let (name, want) = kind.name();
                 if args.len() != want {
                     let form = match kind {
@@ -788,7 +798,7 @@ impl<'a> SymbolCx<'a> {
                         CompKind::ShapeL => "shapeL(front, left)",
                         CompKind::ShapeU => "shapeU(front, left, right)",
                         CompKind::ShapeO => "shapeO(front, right, back, left)",
-                        CompKind::Faces | CompKind::Edges | CompKind::Vertices => name,
+                        CompKind::Faces | CompKind::Edges | CompKind::Vertices | CompKind::Solid => name,
                     };
                     self.arity(name, *span, form, args.len());
                 }

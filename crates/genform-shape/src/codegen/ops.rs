@@ -210,7 +210,7 @@ impl SymbolCx<'_> {
                 }
                 self.emits = true;
                 let at = self.span_index(span);
-                self.code.push(Op::Taper { height: e[0], span: at });
+                self.code.push(Op::Taper { height: e[0], span: at, faces: self.solid_faces });
             }
             "shape" => {
                 if !args.is_empty() {
@@ -221,7 +221,7 @@ impl SymbolCx<'_> {
                 let at = self.span_index(span);
                 self.code.push(Op::Shape(at));
             }
-            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" => self.roof(name, span, args),
+            "roof_gable" | "roof_hip" | "roof_pyramid" | "roof_shed" | "roof_ridge" => self.roof(name, span, args),
             "mesh" | "insert" => {
                 let Some(m) = Self::bare(args).map(str::to_string) else {
                     self.arity(name, span, &format!("{name}(name)"), args.len());
@@ -307,7 +307,7 @@ impl SymbolCx<'_> {
                 _ => None,
             };
             match key.as_str() {
-                "ridge" if name == "roof_gable" || name == "roof_shed" => match one {
+                "ridge" if matches!(name, "roof_gable" | "roof_shed" | "roof_ridge") => match one {
                     Some(e) => match e.bare.as_deref().and_then(crate::program::edge_side) {
                         Some(side) => ridge = side,
                         None => {
@@ -317,7 +317,7 @@ impl SymbolCx<'_> {
                     },
                     None => self.err(*at, "`ridge` takes a side (`front`, `back`, `left`, `right`) or an edge index"),
                 },
-                "ends" if name == "roof_gable" || name == "roof_shed" => match one {
+                "ends" if matches!(name, "roof_gable" | "roof_shed" | "roof_ridge") => match one {
                     Some(e) => ends = Some(e.clone()),
                     None => self.err(*at, "`ends` takes one number: the overhang at the gable ends"),
                 },
@@ -344,7 +344,7 @@ impl SymbolCx<'_> {
                 },
                 _ => {
                     let d = Diagnostic::error(*at, format!("`{name}` takes no argument `{key}`")).with_hint(
-                        if name == "roof_gable" || name == "roof_shed" {
+                        if matches!(name, "roof_gable" | "roof_shed" | "roof_ridge") {
                             "its named arguments are `ridge`, `ends`, `overhang` and `gables`"
                         } else {
                             "its named arguments are `overhang` and `gables`"
@@ -386,10 +386,12 @@ impl SymbolCx<'_> {
             "roof_gable" => 0,
             "roof_hip" => 1,
             "roof_pyramid" => 2,
-            _ => 3,
+            "roof_shed" => 3,
+            _ => 4,
         };
         let at = self.span_index(span);
-        self.code.push(Op::Roof { kind, ridge, ends: ends.is_some(), args: e[0], n, span: at, gables });
+        let faces = self.solid_faces;
+        self.code.push(Op::Roof { kind, ridge, ends: ends.is_some(), faces, args: e[0], n, span: at, gables });
     }
 }
 

@@ -16,7 +16,7 @@ use super::*;
 use crate::ast::CompKind;
 use crate::geom::{self, RoofKind};
 use crate::polygon::{area2, bbox};
-use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP};
+use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP, PIECE_REST};
 use crate::scope::{LIFT, NO_GEOM};
 use genform_core::scene::Mesh;
 use glam::{DAffine3, DMat3, DVec2};
@@ -216,8 +216,9 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// to `i + 1`; with `gables` the gable walls in the polygon's edges are
     /// emitted apart, with that tag.
     pub(super) fn roof(&mut self, rule: &'g RuleCode, op: Op) -> Result<(), Stop> {
-        let Op::Roof { kind, ridge, ends, args, n, span, gables } = op else { return Ok(()) };
-        let kind = [RoofKind::Gable, RoofKind::Hip, RoofKind::Pyramid, RoofKind::Shed][kind as usize & 3];
+        let Op::Roof { kind, ridge, ends, faces, args, n, span, gables } = op else { return Ok(()) };
+        let kinds = [RoofKind::Gable, RoofKind::Hip, RoofKind::Pyramid, RoofKind::Shed, RoofKind::Ridge];
+        let kind = kinds[kind as usize % kinds.len()];
         let angle = self.num(rule, args, "a roof angle")?;
         let overhang = self.num(rule, args + 1, "a roof overhang")?;
         let at = rule.spans[span as usize];
@@ -243,6 +244,15 @@ impl<'g, M: Mode> Interp<'g, M> {
         };
         if mesh.triangles.is_empty() {
             self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
+        }
+        if faces {
+            // The gable walls are faces of the solid like the slopes.
+            let mut solid = mesh;
+            let base = solid.positions.len() as u32;
+            solid.positions.extend(walls.positions);
+            solid.triangles.extend(walls.triangles.iter().map(|t| t.map(|i| i + base)));
+            self.st.solid = Some(solid);
+            return Ok(());
         }
         self.emit_on_polygon(mesh)?;
         if !walls.triangles.is_empty() {
@@ -325,7 +335,7 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// solid emitted like a roof; `taper(h, s)` the frustum whose top is
     /// the polygon scaled by `s` about its centroid, `h` above it. On a concave polygon whose centroid does
     /// not see every edge the sides cross, as in CGA.
-    pub(super) fn taper(&mut self, rule: &'g RuleCode, e: u32, span: u32) -> Result<(), Stop> {
+    pub(super) fn taper(&mut self, rule: &'g RuleCode, e: u32, span: u32, faces: bool) -> Result<(), Stop> {
         let at = rule.spans[span as usize];
         let (g, h) = self.polygon_height(rule, e, at, "taper", "a taper height")?;
         let top = self.num(rule, e + 1, "a taper's top scale")?;
@@ -337,6 +347,10 @@ impl<'g, M: Mode> Interp<'g, M> {
         } else {
             geom::frustum_mesh(&self.absolute_foot(g), h, top)
         };
+        if faces {
+            self.st.solid = Some(mesh);
+            return Ok(());
+        }
         self.emit_on_polygon(mesh)
     }
 
@@ -431,6 +445,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         let kind = CompKind::ALL[kind as usize % CompKind::ALL.len()];
         let pieces = match kind {
             CompKind::Faces => self.faces(rule, span)?,
+            CompKind::Solid => self.solid_pieces(),
             _ => {
                 let taken = masks.iter().fold(0u8, |a, m| a | m);
                 self.pieces(rule, kind, args, taken, span)?
@@ -528,6 +543,42 @@ impl<'g, M: Mode> Interp<'g, M> {
             }
         }
         Ok(faces)
+    }
+
+    /// The faces of the solid the roof or taper before the split built (in
+    /// the polygon scope's frame, absolute units), each a polygon scope in
+    /// its own plane: x along its eaves or base, y up it, z out of the
+    /// solid (see [`crate::solid_faces`]). Classes: a slope by the side it
+    /// faces (as `comp(e)` names the edges), a level top `top`, a vertical
+    /// face `side` ([`PIECE_REST`]), a face looking down `bottom`.
+    fn solid_pieces(&mut self) -> Vec<Piece> {
+        let Some(mesh) = self.st.solid.take() else { return Vec::new() };
+        let (frame, tagged) = (self.cur.frame, self.cur.tagged);
+        let mut out = Vec::new();
+        for f in crate::solid_faces::planar_faces(&mesh) {
+            let n = f.normal;
+            let (x, y) = crate::solid_faces::face_axes(n);
+            let flat: Vec<DVec2> = f.outline.iter().map(|p| DVec2::new(p.dot(x), p.dot(y))).collect();
+            let Some((lo, hi)) = bbox(&flat) else { continue };
+            let (c, size) = ((lo + hi) * 0.5, hi - lo);
+            if size.x <= 0.0 || size.y <= 0.0 {
+                continue;
+            }
+            let class = if n.z < -1e-9 {
+                FACE_BOTTOM
+            } else if n.z.abs() <= 1e-9 {
+                PIECE_REST
+            } else if n.z >= 1.0 - 1e-12 {
+                FACE_TOP
+            } else {
+                super::pieces::edge_class(DVec2::new(x.x, x.y))
+            };
+            let centre = x * c.x + y * c.y + n * n.dot(f.outline[0]);
+            let f3 = frame * DAffine3::from_mat3_translation(DMat3::from_cols(x, y, n), centre);
+            let scope = ScopeState { frame: f3, size: DVec3::new(size.x, size.y, 0.0), tagged, geom: NO_GEOM };
+            out.push((class, scope, PieceGeom::Polygon(flat.iter().map(|q| (*q - c) / size).collect())));
+        }
+        out
     }
 
     /// The next face of `arm` at or after `from`.

@@ -116,7 +116,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         let dirs: Vec<DVec2> = (0..k).map(|i| (corners[(i + 1) % k] - corners[i]).normalize()).collect();
         let mut out = Vec::new();
         match kind {
-            CompKind::Faces => unreachable!("comp(f) has its own pieces"),
+            CompKind::Faces | CompKind::Solid => unreachable!("comp(f) and a solid's faces have their own pieces"),
             CompKind::Edges => {
                 for i in 0..k {
                     let (a, b, d) = (corners[i], corners[(i + 1) % k], dirs[i]);
