@@ -165,8 +165,9 @@ impl CompKind {
             CompKind::Edges => ("comp(e)", 0),
             CompKind::Offset => ("offset", 1),
             // The distance, then the front, back, left and right edges'
-            // (the parser fills in the distance where a side is not named).
-            CompKind::Setback => ("setback", 5),
+            // (the parser fills in the distance where a side is not named),
+            // then how many per-edge distances follow (`edges = […]`).
+            CompKind::Setback => ("setback", 6),
             CompKind::ShapeL => ("shapeL", 2),
             CompKind::ShapeU => ("shapeU", 3),
             CompKind::ShapeO => ("shapeO", 4),

@@ -718,6 +718,9 @@ impl<'a> Parser<'a> {
         // `setback(d, front = …, back = …, left = …, right = …)`: the
         // distance of each side's edges, `d` where not given.
         let mut sides: [Option<ExprSrc>; 4] = [None, None, None, None];
+        // `setback(d, edges = [d0, d1, …])`: a distance per edge (CGA's
+        // `setbackPerEdge`).
+        let mut per_edge: Option<(Vec<ExprSrc>, Span)> = None;
         for a in args.unwrap_or_default() {
             match a {
                 Arg::Expr(e) => exprs.push(e),
@@ -725,10 +728,28 @@ impl<'a> Parser<'a> {
                     let d = Diagnostic::error(span, format!("`{}` takes numbers, not a string", target.name));
                     return Err(self.error(d));
                 }
+                Arg::Named { name, span, value, list } if kind == CompKind::Setback && name == "edges" => {
+                    let all: Option<Vec<ExprSrc>> = value
+                        .into_iter()
+                        .map(|v| match v {
+                            Arg::Expr(e) => Some(e),
+                            _ => None,
+                        })
+                        .collect();
+                    match all {
+                        Some(v) if list && !v.is_empty() && per_edge.is_none() => per_edge = Some((v, span)),
+                        _ => {
+                            let d = Diagnostic::error(span, "`edges` takes a list of distances, one per edge")
+                                .with_hint("write `setback(0, edges = [3, 0, 1, 0]) { … }` (edge i runs from corner i to i + 1)");
+                            return Err(self.error(d));
+                        }
+                    }
+                }
                 Arg::Named { name, span, mut value, list } if kind == CompKind::Setback => {
                     let Some(k) = ["front", "back", "left", "right"].iter().position(|s| *s == name) else {
                         let d = Diagnostic::error(span, format!("`setback` has no argument `{name}`")).with_hint(
-                            "its named arguments are the sides' distances: `front`, `back`, `left`, `right`",
+                            "its named arguments are the sides' distances `front`, `back`, `left`, `right`, \
+                             and `edges = [d0, d1, …]`, one per edge",
                         );
                         return Err(self.error(d));
                     };
@@ -762,6 +783,11 @@ impl<'a> Parser<'a> {
             }
             let d = exprs[0].clone();
             exprs.extend(sides.into_iter().map(|s| s.unwrap_or_else(|| d.clone())));
+            // The list's length, then the list.
+            let (list, at) = per_edge.unwrap_or((Vec::new(), target.span));
+            let (ast, _) = parse_prefix(&list.len().to_string()).map_err(|d| self.error(d))?;
+            exprs.push(ExprSrc { ast, offset: at.start as usize, bare: None });
+            exprs.extend(list);
         }
         self.comp_block(target.span, kind, exprs)
     }

@@ -433,6 +433,54 @@ fn setbacks_by_side_cut_their_corners_from_corner_to_corner() {
 }
 
 #[test]
+fn setbacks_per_edge_index_take_one_distance_per_written_edge() {
+    // `lot(w, d)` lists front, right, back, left: the same 10 × 8 lot set
+    // back as the test above by edge index gives the same pieces.
+    let src = "A { lot(10, 8); setback(0, edges = [3, 1, 2, 1]) { front: { tag(\"f\"); shape; } \
+               | back: { tag(\"b\"); shape; } | side: { tag(\"s\"); shape; } | remainder: { tag(\"r\"); shape; } } }";
+    let near = |got: Vec<f32>, want: &[f32]| {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-4), "{got:?} vs {want:?}");
+    };
+    near(tagged_areas(src, "r"), &[24.0]);
+    near(tagged_areas(src, "f"), &[27.0]);
+    near(tagged_areas(src, "s"), &[5.5, 5.5]);
+    // A 3 × 2 lot written counter-clockwise in (x, z) with a straight
+    // corner at (2, 0): indices follow the writing (edge 2 is x = 3), and
+    // a strip beside edges of no depth runs to their lines (1 × 2).
+    let lot = "lot(0, 0, 2, 0, 3, 0, 3, 2, 0, 2)";
+    let one = format!(
+        "A {{ {lot}; setback(0, edges = [0, 0, 1, 0, 0]) {{ all: {{ tag(\"s\"); shape; }} | remainder: {{ tag(\"r\"); shape; }} }} }}"
+    );
+    near(tagged_areas(&one, "s"), &[2.0]);
+    near(tagged_areas(&one, "r"), &[4.0]);
+    let s = scene(&one);
+    let strip = s.polygons.iter().find(|p| (area(&p.points) - 2.0).abs() < 1e-4).unwrap();
+    assert!(
+        strip.points.iter().all(|q| q.x > 0.5 - 1e-4),
+        "the strip lies at x = 3 (centred: 1.5): {:?}",
+        strip.points
+    );
+    // Roof edge indices follow the writing too: edge 0 of this pentagon
+    // runs along x (stored reversed, its edge 0 would be the sloping
+    // (5, 9)–(0, 6)), so the ridge does.
+    let s = scene("A { lot(0, 0, 10, 0, 10, 6, 5, 9, 0, 6); roof_gable(40, ridge = 0); }");
+    let p = world_points(&s, 0);
+    let top = p.iter().map(|q| q.y).fold(f32::MIN, f32::max);
+    let ridge: Vec<_> = p.iter().filter(|q| q.y > top - 1e-4).collect();
+    assert!(ridge.iter().all(|q| (q.z - ridge[0].z).abs() < 1e-4), "{ridge:?}");
+    assert!(ridge.iter().any(|q| (q.x - ridge[0].x).abs() > 1.0), "{ridge:?}");
+    // A list of the wrong length, or a bad distance, says so.
+    for (src, want) in [
+        ("A { lot(2, 2); setback(0, edges = [1, 1, 1]) { all: shape } }", "lists 3 distances, the polygon has 4 edges"),
+        ("A { lot(2, 2); setback(0, edges = [1, -1, 1, 1]) { all: shape } }", "must be ≥ 0"),
+    ] {
+        let e = try_scene(src).unwrap_err().to_string();
+        assert!(e.contains(want) && e.contains("t.sg:1:"), "{src}: {e}");
+    }
+}
+
+#[test]
 fn split_area_cuts_by_area_not_length() {
     let near = |got: Vec<f32>, want: &[f32]| {
         assert_eq!(got.len(), want.len(), "{got:?}");

@@ -791,7 +791,9 @@ impl<'a> SymbolCx<'a> {
                     self.solid_faces = false;
                 }
                 let (name, want) = kind.name();
-                if args.len() != want {
+                // A setback's per-edge distances follow its fixed arguments.
+                let fits = if *kind == CompKind::Setback { args.len() >= want } else { args.len() == want };
+                if !fits {
                     let form = match kind {
                         CompKind::Offset => "offset(distance)",
                         CompKind::Setback => "setback(distance)",

@@ -55,7 +55,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         let start = self.st.pts.len() as u32;
         self.st.pts.extend_from_slice(pts);
-        self.st.geoms.push(Geom { kind, start, len: pts.len() as u32 });
+        self.st.geoms.push(Geom { kind, start, len: pts.len() as u32, reversed: false });
         Ok((self.st.geoms.len() - 1) as u32)
     }
 
@@ -120,7 +120,8 @@ impl<'g, M: Mode> Interp<'g, M> {
                 None => ExpressError::Eval(format!("the footprint: {msg}")).into(),
             });
         }
-        if area2(&p) < 0.0 {
+        let reversed = area2(&p) < 0.0;
+        if reversed {
             p.reverse();
         }
         let (lo, hi) = bbox(&p).unwrap_or_default();
@@ -130,6 +131,7 @@ impl<'g, M: Mode> Interp<'g, M> {
         self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(c.x, 0.0, -c.y));
         self.cur.size = DVec3::new(size.x, size.y, 0.0);
         self.cur.geom = self.add_geom(GeomKind::Polygon, &unit)?;
+        self.st.geoms[self.cur.geom as usize].reversed = reversed;
         Ok(())
     }
 
@@ -290,7 +292,11 @@ impl<'g, M: Mode> Interp<'g, M> {
         if reversed {
             foot.reverse();
         }
-        let edge = |i: usize| if reversed { (2 * m - 2 - i) % m } else { i };
+        // Written edge → stored edge → edge of the counter-clockwise foot.
+        let edge = |i: usize| {
+            let i = g.stored_edge(i);
+            if reversed { (2 * m - 2 - i) % m } else { i }
+        };
         let mut per_edge = vec![overhang; m];
         if n > 0 {
             if n as usize != m {

@@ -77,6 +77,57 @@ impl<'g, M: Mode> Interp<'g, M> {
         Some((class, scope, PieceGeom::Polygon(unit)))
     }
 
+    /// `setback(d, edges = [d0, d1, …])`: the distance of each of
+    /// `corners`' edges (the scope's polygon cleaned of straight corners),
+    /// read from the `n` expressions after the fixed arguments, where edge
+    /// `j` of the list runs from the polygon's corner `j` to `j + 1` as
+    /// written; `None` without a list.
+    fn edge_distances(
+        &mut self,
+        rule: &'g RuleCode,
+        args: u32,
+        n: f64,
+        g: super::scope_geom::Geom,
+        at: genform_core::Span,
+        corners: &[DVec2],
+    ) -> Result<Option<Vec<f64>>, Stop> {
+        if n <= 0.0 {
+            return Ok(None);
+        }
+        let s = self.cur.size;
+        let orig: Vec<DVec2> = self.points(g).iter().map(|q| DVec2::new(q.x * s.x, q.y * s.y)).collect();
+        if n as usize != orig.len() {
+            return Err(self
+                .fail_at(at, format!("`setback`: `edges` lists {n} distances, the polygon has {} edges", orig.len())));
+        }
+        let mut d = vec![0.0; orig.len()];
+        for j in 0..orig.len() {
+            let x = self.num(rule, args + 6 + j as u32, "an edge's setback distance")?;
+            if x.is_nan() || x < 0.0 {
+                return Err(self.fail_at(at, format!("`setback`: the distance must be ≥ 0, found {x}")));
+            }
+            d[g.stored_edge(j)] = x;
+        }
+        // Each cleaned edge takes the distance of the written edge its
+        // middle lies on.
+        let k = corners.len();
+        Ok(Some(
+            (0..k)
+                .map(|i| {
+                    let mid = (corners[i] + corners[(i + 1) % k]) * 0.5;
+                    let on = |j: usize| {
+                        let (a, b) = (orig[j], orig[(j + 1) % orig.len()]);
+                        let e = b - a;
+                        let t = ((mid - a).dot(e) / e.length_squared().max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+                        (a + e * t).distance(mid)
+                    };
+                    let j = (0..orig.len()).min_by(|&a, &b| on(a).total_cmp(&on(b))).unwrap_or(0);
+                    d[j]
+                })
+                .collect(),
+        ))
+    }
+
     /// The pieces of `comp(e)`, `offset`, `setback` and `shapeL/U/O` on the
     /// current polygon scope; `taken` is every class some arm selects.
     pub(super) fn pieces(
@@ -208,12 +259,15 @@ impl<'g, M: Mode> Interp<'g, M> {
                 if let Some(d) = v.iter().find(|d| d.is_nan() || **d < 0.0) {
                     return Err(self.fail_at(at, format!("`setback`: the distance must be ≥ 0, found {d}")));
                 }
-                // Each edge's distance by its side (all `v[0]` unless named).
-                let dist = |i: usize| match edge_class(dirs[i]) {
-                    FACE_FRONT => v[1],
-                    FACE_BACK => v[2],
-                    FACE_LEFT => v[3],
-                    _ => v[4],
+                let per_edge = self.edge_distances(rule, args, v[5], g, at, &corners)?;
+                // Each edge's distance: from `edges = […]`, or by its side
+                // (all `v[0]` unless named).
+                let dist = |i: usize| match (&per_edge, edge_class(dirs[i])) {
+                    (Some(d), _) => d[i],
+                    (None, FACE_FRONT) => v[1],
+                    (None, FACE_BACK) => v[2],
+                    (None, FACE_LEFT) => v[3],
+                    (None, _) => v[4],
                 };
                 // The selected edges, one per line (collinear edges share a strip).
                 let line = |i: usize| (dirs[i].perp(), dirs[i].perp().dot(corners[i]));
@@ -245,7 +299,9 @@ impl<'g, M: Mode> Interp<'g, M> {
                         let (m, e) = line(j);
                         let bias = if sj < si { -eps } else { eps };
                         let dj = dist(j);
-                        strip = if dj == d || d == 0.0 || dj == 0.0 {
+                        // Equal depths cut along the bisector; a neighbour
+                        // with no strip (depth 0) leaves this one whole.
+                        strip = if dj == d {
                             clip(&strip, n - m, c - e + bias)
                         } else {
                             clip(&strip, n * dj - m * d, c * dj - e * d + bias * d.max(dj))

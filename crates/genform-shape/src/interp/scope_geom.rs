@@ -17,4 +17,17 @@ pub(super) struct Geom {
     pub(super) kind: GeomKind,
     pub(super) start: u32,
     pub(super) len: u32,
+    /// A lot stored in the reverse of the order its corners were written
+    /// in (to turn counter-clockwise): the written edge `j` is the stored
+    /// edge `len − 2 − j` (mod `len`), so edge indices (`ridge = i`,
+    /// `overhang = […]`, `setback(…, edges = […])`) follow the writing.
+    pub(super) reversed: bool,
+}
+
+impl Geom {
+    /// The stored edge of the written edge `j`.
+    pub(super) fn stored_edge(&self, j: usize) -> usize {
+        let m = self.len as usize;
+        if self.reversed && m > 0 { (2 * m - 2 - j % m) % m } else { j }
+    }
 }
