@@ -150,7 +150,8 @@ pub(crate) struct Stacks {
     /// Faces of open `comp`s: arm and scope.
     faces: Vec<(u32, ScopeState)>,
     /// The solid a roof or taper built for the face split that follows it.
-    solid: Option<genform_core::scene::Mesh>,
+    /// (The roof apart from its flush walls, and those walls.)
+    solid: Option<(genform_core::scene::Mesh, genform_core::scene::Mesh)>,
     /// What the run has placed, for occlusion queries (only kept when the
     /// grammar asks them).
     placed: Vec<occlusion::Placed>,

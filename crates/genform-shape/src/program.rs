@@ -98,9 +98,9 @@ pub(crate) const FACE_TOP: u8 = 16;
 pub(crate) const FACE_BOTTOM: u8 = 32;
 
 /// The pieces other than faces and edges: `inside` of `offset`,
-/// `remainder` of `setback` and `shapeL/U/O`, a roof's vertical faces.
+/// `remainder` of `setback` and `shapeL/U/O`, a roof's flush walls.
 pub(crate) const PIECE_REST: u8 = 64;
-/// The `shape` of `shapeL/U/O`.
+/// The `shape` of `shapeL/U/O`, a roof's other vertical faces (`verge`).
 pub(crate) const PIECE_SHAPE: u8 = 128;
 /// Every wall or edge class.
 pub(crate) const SIDE: u8 = FACE_FRONT | FACE_BACK | FACE_LEFT | FACE_RIGHT;
@@ -136,12 +136,14 @@ pub(crate) fn selector(kind: CompKind, name: &str) -> Result<u8, &'static str> {
         CompKind::Solid => (
             match name {
                 "top" => Some(FACE_TOP | SIDE),
-                "side" | "vertical" => Some(PIECE_REST),
+                "side" => Some(PIECE_REST),
+                "verge" => Some(PIECE_SHAPE),
+                "vertical" => Some(PIECE_REST | PIECE_SHAPE),
                 "bottom" => Some(FACE_BOTTOM),
                 "all" => Some(u8::MAX),
                 _ => edge_side(name),
             },
-            "top (every face that looks up: slopes and flat tops), side (vertical gable walls), bottom, all, and front, back, left, right (the slopes that face that way)",
+            "top (every face that looks up: slopes and flat tops), side (gable walls flush with the façade), verge (other vertical faces: gable ends beyond the wall, ends of overhanging eaves), vertical (side and verge), bottom, all, and front, back, left, right (the slopes that face that way)",
         ),
         CompKind::ShapeL | CompKind::ShapeU | CompKind::ShapeO => (
             match name {

@@ -130,10 +130,12 @@ pub(crate) fn planar_faces(mesh: &Mesh) -> Vec<PlanarFace> {
             }
         }
         let (x, y) = face_axes(n);
+        // No outline is longer than the face's boundary.
+        let most = next.len();
         for s in starts {
             let Some(mut b) = next.remove(&s) else { continue };
             let mut ring = vec![s];
-            while b != s && ring.len() <= next.len() + 2 {
+            while b != s && ring.len() <= most {
                 ring.push(b);
                 match next.remove(&b) {
                     Some(c) => b = c,
@@ -208,6 +210,8 @@ mod tests {
         let faces = planar_faces(&mesh);
         assert_eq!(count(&faces, |n| n.z > 1e-6), 6, "{faces:?}");
         assert_eq!(count(&faces, |n| n.z < -0.999), 1);
+        let bottom = faces.iter().find(|f| f.normal.z < -0.999).unwrap();
+        assert_eq!(bottom.outline.len(), 6, "the L's six corners: {bottom:?}");
         // Each outline lies in its plane and turns counter-clockwise seen
         // from outside.
         for f in &faces {

@@ -781,6 +781,29 @@ fn a_roofs_faces_are_scopes_for_comp_arms() {
 }
 
 #[test]
+fn gable_faces_end_at_the_walls_corners_under_overhanging_eaves() {
+    // Eaves 0.5 out over the street and the back, none at the gable ends:
+    // each gable face is the 6 m wall's width; the overhang's ends are
+    // `verge` faces of their own.
+    let s = scene(
+        "A { lot(10, 6); roof_gable(45, 0.5, ridge = front, ends = 0) { side: { tag(\"gable\"); shape; } \
+         | verge: { tag(\"verge\"); shape; } } }",
+    );
+    let tag = |name: &str| s.tags.iter().position(|t| t == name).unwrap() as u32;
+    let gables: Vec<_> = s.polygons.iter().filter(|p| p.tag == tag("gable")).collect();
+    assert_eq!(gables.len(), 2);
+    for p in &gables {
+        let (lo, hi) = p.points.iter().fold((f32::MAX, f32::MIN), |(a, b), q| (a.min(q.z), b.max(q.z)));
+        assert!((lo + 3.0).abs() < 1e-4 && (hi - 3.0).abs() < 1e-4, "{:?}", p.points);
+        // A pentagon: 0.5 tan 45° high at the façades, 3.5 at the ridge.
+        assert!((area(&p.points) - (6.0 * 0.5 + 6.0 * 3.0 / 2.0)).abs() < 1e-3, "{} {:?}", area(&p.points), p.points);
+    }
+    let verges: Vec<_> = s.polygons.iter().filter(|p| p.tag == tag("verge")).collect();
+    assert_eq!(verges.len(), 4, "a small triangle at each end of each eave");
+    assert!(verges.iter().all(|p| (area(&p.points) - 0.125).abs() < 1e-4));
+}
+
+#[test]
 fn a_roof_slope_is_selected_by_the_side_it_faces_and_split_like_a_wall() {
     // Dormer windows on the street-side slope only: x along the eaves,
     // y up the slope.

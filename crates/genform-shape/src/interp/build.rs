@@ -16,7 +16,7 @@ use super::*;
 use crate::ast::CompKind;
 use crate::geom::{self, RoofKind};
 use crate::polygon::{area2, bbox};
-use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP, PIECE_REST};
+use crate::program::{FACE_BACK, FACE_BOTTOM, FACE_FRONT, FACE_LEFT, FACE_RIGHT, FACE_TOP, PIECE_REST, PIECE_SHAPE};
 use crate::scope::{LIFT, NO_GEOM};
 use genform_core::scene::Mesh;
 use glam::{DAffine3, DMat3, DVec2};
@@ -237,7 +237,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                 ));
             }
         };
-        let (mesh, walls) = if ridge == 0 && !ends && n == 0 && gables == u32::MAX {
+        let (mesh, walls) = if ridge == 0 && !ends && n == 0 && gables == u32::MAX && !faces {
             let mesh =
                 geom::roof_mesh(&self.absolute_foot(g), kind, angle, overhang).map_err(|m| self.fail_at(at, m))?;
             (mesh, Mesh::default())
@@ -248,12 +248,9 @@ impl<'g, M: Mode> Interp<'g, M> {
             self.note_at(at, &format!("`{}`: the polygon has no area here, so there is no roof", kind.name()));
         }
         if faces {
-            // The gable walls are faces of the solid like the slopes.
-            let mut solid = mesh;
-            let base = solid.positions.len() as u32;
-            solid.positions.extend(walls.positions);
-            solid.triangles.extend(walls.triangles.iter().map(|t| t.map(|i| i + base)));
-            self.st.solid = Some(solid);
+            // The walls flush with the façade apart from the rest of the
+            // roof, so a gable face ends at the wall's corners.
+            self.st.solid = Some((mesh, walls));
             return Ok(());
         }
         self.emit_on_polygon(mesh)?;
@@ -332,7 +329,9 @@ impl<'g, M: Mode> Interp<'g, M> {
             return Err(self.fail_at(at, format!("`{}`: the polygon has no `{name}` edge for the ridge", kind.name())));
         }
         let ends = if ends { Some(self.num(rule, args + 3, "a gable-end overhang")?) } else { None };
-        let opts = geom::RoofOpts { overhang: per_edge, ridge: ridge_edge, ends, gables: gables != u32::MAX };
+        let Op::Roof { faces, .. } = op else { return Ok(Default::default()) };
+        let apart = gables != u32::MAX || faces;
+        let opts = geom::RoofOpts { overhang: per_edge, ridge: ridge_edge, ends, gables: apart };
         geom::roof_meshes(&foot, kind, angle, &opts).map_err(|m| self.fail_at(at, m))
     }
 
@@ -354,7 +353,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             geom::frustum_mesh(&self.absolute_foot(g), h, top)
         };
         if faces {
-            self.st.solid = Some(mesh);
+            self.st.solid = Some((mesh, Mesh::default()));
             return Ok(());
         }
         self.emit_on_polygon(mesh)
@@ -556,12 +555,16 @@ impl<'g, M: Mode> Interp<'g, M> {
     /// its own plane: x along its eaves or base, y up it, z out of the
     /// solid (see [`crate::solid_faces`]). Classes: a slope by the side it
     /// faces (as `comp(e)` names the edges), a level top `top`, a vertical
-    /// face `side` ([`PIECE_REST`]), a face looking down `bottom`.
+    /// face in the polygon's edges (a gable wall flush with the façade)
+    /// `side` ([`PIECE_REST`]), any other vertical face (a gable end out
+    /// beyond the wall, the end of an overhanging eave) `verge`
+    /// ([`PIECE_SHAPE`]), a face looking down `bottom`.
     fn solid_pieces(&mut self) -> Vec<Piece> {
-        let Some(mesh) = self.st.solid.take() else { return Vec::new() };
+        let Some((roof, walls)) = self.st.solid.take() else { return Vec::new() };
         let (frame, tagged) = (self.cur.frame, self.cur.tagged);
         let mut out = Vec::new();
-        for f in crate::solid_faces::planar_faces(&mesh) {
+        let walls = crate::solid_faces::planar_faces(&walls).into_iter().map(|f| (f, true));
+        for (f, flush) in crate::solid_faces::planar_faces(&roof).into_iter().map(|f| (f, false)).chain(walls) {
             let n = f.normal;
             let (x, y) = crate::solid_faces::face_axes(n);
             let flat: Vec<DVec2> = f.outline.iter().map(|p| DVec2::new(p.dot(x), p.dot(y))).collect();
@@ -573,7 +576,7 @@ impl<'g, M: Mode> Interp<'g, M> {
             let class = if n.z < -1e-9 {
                 FACE_BOTTOM
             } else if n.z.abs() <= 1e-9 {
-                PIECE_REST
+                if flush { PIECE_REST } else { PIECE_SHAPE }
             } else if n.z >= 1.0 - 1e-12 {
                 FACE_TOP
             } else {
