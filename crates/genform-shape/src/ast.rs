@@ -195,6 +195,9 @@ impl CompKind {
 pub(crate) struct CompArm {
     /// The face classes it takes (bits of `FACE_*` in `program`).
     pub mask: u8,
+    /// The pieces it takes by index (bit `i`: piece `i` of the split's
+    /// list), besides those of its classes.
+    pub indices: u64,
     pub body: Vec<Stmt>,
 }
 

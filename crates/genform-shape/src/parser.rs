@@ -797,8 +797,27 @@ impl<'a> Parser<'a> {
         let name = kind.name().0;
         let what = if kind == CompKind::Faces { "a face selector" } else { "a selector" };
         loop {
-            let mut mask = 0u8;
+            let (mut mask, mut indices) = (0u8, 0u64);
             loop {
+                // `0: A`: the piece of that index (CGA's index selector).
+                if let Tok::Num(v) = self.tok.kind {
+                    let at = self.bump().span;
+                    if v.fract() != 0.0 || !(0.0..64.0).contains(&v) {
+                        let d = Diagnostic::error(
+                            at,
+                            format!("an index selector is a whole number from 0 to 63, found {v}"),
+                        )
+                        .with_hint(
+                            "index selectors name the pieces in the order the split lists them: `0: A | 1: B | all: C`",
+                        );
+                        return Err(self.error(d));
+                    }
+                    indices |= 1u64 << v as u32;
+                    if !self.eat(&Tok::Comma) {
+                        break;
+                    }
+                    continue;
+                }
                 let (sel, sspan) = self.ident(what, &format!("in `{name}`"))?;
                 match selector(kind, &sel) {
                     Ok(m) => mask |= m,
@@ -822,7 +841,7 @@ impl<'a> Parser<'a> {
                 self.eat(&Tok::Semi);
                 vec![Stmt::Call { target, args }]
             };
-            arms.push(CompArm { mask, body });
+            arms.push(CompArm { mask, indices, body });
             if !self.eat(&Tok::Pipe) {
                 return Ok(());
             }

@@ -357,8 +357,8 @@ pub(crate) struct RuleCode {
     pub tables: Vec<Vec<u32>>,
     /// `(size expression, kind)` of split pieces.
     pub pieces: Vec<(u32, SizeKind)>,
-    /// Face-class masks of `comp` arms.
-    pub comps: Vec<u8>,
+    /// Face-class masks and piece-index bits of `comp` arms.
+    pub comps: Vec<(u8, u64)>,
     /// Where operations that can fail at run time are written.
     pub spans: Vec<Span>,
     /// Initial env: built-ins, constants and the template index filled in.

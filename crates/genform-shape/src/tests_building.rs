@@ -834,3 +834,29 @@ fn a_taper_has_faces_too() {
     let up = s.polygons.iter().filter(|p| normal(&p.points).y > 0.0).count();
     assert_eq!(up, 5);
 }
+
+#[test]
+fn index_selectors_take_pieces_by_their_place_in_the_list() {
+    // A box's faces: walls in the footprint's order (front first), then
+    // top and bottom. `0` takes the front wall, `4` the top, `all` the rest.
+    let s = scene(
+        "A { lot(4, 2); extrude(3); comp(f) { 0: { tag(\"a\"); shape; } | 4: { tag(\"t\"); shape; } \
+         | all: { tag(\"b\"); shape; } } }",
+    );
+    let tag = |name: &str| s.tags.iter().position(|t| t == name).unwrap() as u32;
+    let by = |t: u32| s.polygons.iter().filter(|p| p.tag == t).collect::<Vec<_>>();
+    let (a, t, b) = (by(tag("a")), by(tag("t")), by(tag("b")));
+    assert_eq!((a.len(), t.len(), b.len()), (1, 1, 4), "{:?}", s.polygons.len());
+    assert!(normal(&a[0].points).z > 0.99, "the front wall faces the street (+z)");
+    assert!(normal(&t[0].points).y > 0.99);
+    // Several indices in one arm, on a polygon's edges.
+    let e = scene("A { lot(4, 2); comp(e) { 1, 3: { tag(\"s\"); box; } } }");
+    assert_eq!(e.instances.len(), 2);
+    // Out of range or not whole: an error at the selector.
+    for src in ["A { lot(4, 2); comp(e) { 64: box } }", "A { lot(4, 2); comp(e) { 1.5: box } }"] {
+        let file = SourceFile::new("t.sg", src);
+        let Err(e) = compile(&file, &NoAssets) else { panic!("{src}: no error") };
+        let e = e.short();
+        assert!(e.contains("index selector is a whole number from 0 to 63"), "{e}");
+    }
+}

@@ -429,7 +429,7 @@ pub(crate) struct SymbolCx<'a> {
     exprs: Vec<Expr>,
     tables: Vec<Vec<u32>>,
     pieces: Vec<(u32, SizeKind)>,
-    comps: Vec<u8>,
+    comps: Vec<(u8, u64)>,
     spans: Vec<Span>,
     emits: bool,
     /// Compiling the roof or taper of a [`CompKind::Solid`] split.
@@ -808,7 +808,7 @@ impl<'a> SymbolCx<'a> {
                 let exprs: Vec<u32> = args.iter().map(|a| self.expr(a)).collect();
                 let args = exprs.first().copied().unwrap_or(0);
                 let first = self.comps.len() as u32;
-                self.comps.extend(arms.iter().map(|a| a.mask));
+                self.comps.extend(arms.iter().map(|a| (a.mask, a.indices)));
                 let at = self.span_index(*span);
                 self.code.push(Op::CompBegin { kind: *kind as u8, args, first, n: arms.len() as u32, span: at });
                 for (k, arm) in arms.iter().enumerate() {

@@ -452,19 +452,25 @@ impl<'g, M: Mode> Interp<'g, M> {
             CompKind::Faces => self.faces(rule, span)?,
             CompKind::Solid => self.solid_pieces(),
             _ => {
-                let taken = masks.iter().fold(0u8, |a, m| a | m);
+                // An index selector may take a piece of any class.
+                let by_index = masks.iter().any(|m| m.1 != 0);
+                let taken = masks.iter().fold(if by_index { u8::MAX } else { 0 }, |a, m| a | m.0);
                 self.pieces(rule, kind, args, taken, span)?
             }
         };
-        let arm_of = |class: u8| masks.iter().position(|m| m & class != 0).map(|a| a as u32);
+        // The first arm that names the piece's index or its class.
+        let arm_of = |i: usize, class: u8| {
+            let named = |m: &(u8, u64)| (i < 64 && m.1 & (1u64 << i) != 0) || m.0 & class != 0;
+            masks.iter().position(named).map(|a| a as u32)
+        };
         let start = self.st.faces.len();
         let square = if pieces.iter().any(|f| matches!(f.2, PieceGeom::Square)) {
             self.add_geom(GeomKind::Polygon, &SQUARE)?
         } else {
             NO_GEOM
         };
-        for (class, mut scope, pts) in pieces {
-            let Some(arm) = arm_of(class) else { continue };
+        for (i, (class, mut scope, pts)) in pieces.into_iter().enumerate() {
+            let Some(arm) = arm_of(i, class) else { continue };
             scope.geom = match pts {
                 PieceGeom::Polygon(p) => self.add_geom(GeomKind::Polygon, &p)?,
                 PieceGeom::Square => square,
