@@ -3,7 +3,8 @@
 //! `crates/genform-app/tests/data/bubenec/README.md`) read as RFC 7946
 //! longitude/latitude, as UTM metres and as EPSG:3857 builds centred on a
 //! local origin and at the same size; lots the grammar cannot stand on
-//! are skipped with a warning; the grammar reads each lot's properties.
+//! are skipped with a warning; the grammar reads each lot's properties;
+//! the original GeoPackage builds its `buildings` and `plots` layers.
 
 mod common;
 
@@ -161,4 +162,53 @@ fn hip_roofs_stand_on_every_lot_of_the_district_with_and_without_an_overhang() {
         let top = vertices(&tmp.path().join("d.obj")).iter().map(|v| v[1]).fold(f64::MIN, f64::max);
         assert!(top > 6.0 && top < 6.0 + 90.0, "overhang {overhang}: roof top {top}");
     }
+}
+
+#[test]
+fn a_geopackage_layer_builds_hip_roofs_and_its_plots_are_the_geojson_plots() {
+    // momepy's own GeoPackage, unchanged: layers `tessellation`,
+    // `buildings` and `plots` (polygons), `streets` (lines), `dtm` (tiles).
+    let tmp = tempfile::tempdir().unwrap();
+    let data = root().join("crates/genform-app/tests/data/bubenec");
+    let gpkg = data.join("bubenec.gpkg").display().to_string().replace('\\', "/");
+    // The grammar names the layer: every one of the 144 buildings gets its roof.
+    let grammar = format!(
+        "grammar \"hips\";\naxiom Lot;\nfootprints \"{gpkg}#buildings\";\nLot {{ extrude(6); shape; comp(f) {{ top: {{ roof_hip(30, 0.3); }} }} }}\n"
+    );
+    std::fs::write(tmp.path().join("hips.sg"), grammar).unwrap();
+    let run = ok(tmp.path(), &["sample", "hips.sg", "--out", "b.obj"]);
+    assert!(run.stderr().contains("144 footprints") && run.stderr().contains("288 primitives"), "{}", run.show());
+    assert!(!run.stderr().contains("skipped"), "{}", run.show());
+    assert!(run.stderr().contains("origin at") && run.stderr().contains("(read from EPSG:3857)"), "{}", run.show());
+    let top = vertices(&tmp.path().join("b.obj")).iter().map(|v| v[1]).fold(f64::MIN, f64::max);
+    assert!(top > 6.0 && top < 60.0, "roof top {top}");
+    // `--footprints FILE#LAYER` overrides it: the plots, as many and as
+    // large as the GeoJSON made from them.
+    let mut sizes = Vec::new();
+    for (lots, out) in
+        [(format!("{gpkg}#plots"), "p.obj"), (data.join("plots_3857.geojson").display().to_string(), "j.obj")]
+    {
+        let run = ok(tmp.path(), &["sample", "hips.sg", "--footprints", &lots, "--out", out]);
+        assert!(run.stderr().contains("407 footprints") && run.stderr().contains("814 primitives"), "{}", run.show());
+        sizes.push(size(&vertices(&tmp.path().join(out))));
+    }
+    for i in 0..3 {
+        assert!((sizes[0][i] - sizes[1][i]).abs() < 0.05, "axis {i}: {:?}", sizes);
+    }
+    // No layer named, in a file of three polygon layers; a layer it lacks;
+    // a layer of lines; a file that is no GeoPackage.
+    let fail = genform(tmp.path(), &["sample", "hips.sg", "--footprints", &gpkg]).fails();
+    assert!(
+        fail.stderr().contains("holds 3 polygon layers (`tessellation`, `buildings`, `plots`): name one after a `#`"),
+        "{}",
+        fail.show()
+    );
+    let fail = genform(tmp.path(), &["sample", "hips.sg", "--footprints", &format!("{gpkg}#roads")]).fails();
+    assert!(fail.stderr().contains("has no feature layer `roads`; its polygon layers are"), "{}", fail.show());
+    let fail = genform(tmp.path(), &["sample", "hips.sg", "--footprints", &format!("{gpkg}#streets")]).fails();
+    assert!(fail.stderr().contains("holds LINESTRING geometries, not polygons"), "{}", fail.show());
+    std::fs::write(tmp.path().join("fake.gpkg"), "PK\u{3}\u{4} a zip, not a database").unwrap();
+    let fail = genform(tmp.path(), &["sample", "hips.sg", "--footprints", "fake.gpkg#plots"]).fails();
+    assert!(fail.stderr().contains("fake.gpkg is not a GeoPackage"), "{}", fail.show());
+    assert!(!fail.stderr().contains("panicked"), "{}", fail.show());
 }

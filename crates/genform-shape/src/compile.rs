@@ -106,7 +106,9 @@ pub(crate) fn compile(
                 match assets.load_footprint_set(&path) {
                     Ok(set) if set.lots.is_empty() && set.skipped.is_empty() => errors.push(
                         Diagnostic::error(pspan, format!("\"{path}\" holds no footprint"))
-                            .with_hint("a GeoJSON file of Polygon or MultiPolygon features, or an OBJ file of faces facing up (+y)"),
+                            .with_hint(
+                                "a GeoJSON file or GeoPackage layer (`lots.gpkg#LAYER`) of Polygon or MultiPolygon features, or an OBJ file of faces facing up (+y)",
+                            ),
                     ),
                     Ok(set) => {
                         let mut skipped = set.skipped;

@@ -265,12 +265,14 @@ pub static SAMPLE_OPTIONS: &[SampleOption] = &[
     SampleOption {
         name: "footprints",
         short: None,
-        value_name: "LOTS.geojson|LOTS.obj",
+        value_name: "LOTS.geojson|LOTS.gpkg[#LAYER]|LOTS.obj",
         kind: ValueKind::InputFile,
         default: None,
         help: "Shape grammars (.sg): derive once per lot of this GeoJSON file (Polygon and MultiPolygon features; \
-               longitude/latitude per RFC 7946, EPSG:3857 or metres, built around a local origin) or OBJ file \
-               (faces facing up), lot k with seed SEED + k, instead of the `footprints` the grammar declares.",
+               longitude/latitude per RFC 7946, EPSG:3857 or metres, built around a local origin), GeoPackage \
+               layer (`FILE.gpkg#LAYER`; the file's only polygon layer without `#LAYER`; its CRS read the same \
+               way) or OBJ file (faces facing up), lot k with seed SEED + k, instead of the `footprints` the \
+               grammar declares.",
         studio: true,
         set: |r, v| r.footprints = Some(v.path()),
     },
@@ -351,7 +353,16 @@ impl SampleOption {
                 _ => return Err(bad("text")),
             },
             ValueKind::InputFile | ValueKind::OutputFile => match value {
-                Value::String(s) => Parsed::Path(resolve(s)?),
+                // A GeoPackage layer (`lots.gpkg#buildings`) is no part of
+                // the file's name: the door resolves the file alone.
+                Value::String(s) => match crate::footprints::split_layer(std::path::Path::new(s)) {
+                    (file, Some(layer)) => {
+                        let mut path = resolve(&file.to_string_lossy())?.into_os_string();
+                        path.push(format!("#{layer}"));
+                        Parsed::Path(path.into())
+                    }
+                    (_, None) => Parsed::Path(resolve(s)?),
+                },
                 _ => return Err(bad("a file name")),
             },
             ValueKind::Flag => match value {
@@ -413,7 +424,7 @@ pub struct SampleRequest {
     /// `--smooth`: Catmull–Clark steps on the final surface (HEMLS).
     pub smooth: Option<u32>,
     /// `--footprints`: lots to derive a shape grammar on, one derivation
-    /// each (GeoJSON).
+    /// each (GeoJSON, GeoPackage — `lots.gpkg#LAYER` — or OBJ).
     pub footprints: Option<PathBuf>,
 }
 
@@ -469,7 +480,7 @@ impl SampleRequest {
         let named = [("environment", &self.env), ("footprints", &self.footprints), ("world", &self.world)];
         for (what, path) in named {
             if let Some(p) = path {
-                crate::gate::admit_read(p, what)?;
+                crate::gate::admit_read(&crate::footprints::split_layer(p).0, what)?;
             }
         }
         Ok(())
@@ -537,5 +548,14 @@ mod tests {
         assert_eq!(e, "`/etc/x.toml` is outside the roots");
         r.set("env", &Value::from("e.toml"), &|s: &str| Ok(PathBuf::from("/root").join(s))).unwrap();
         assert_eq!(r.env, Some(PathBuf::from("/root/e.toml")));
+        // A GeoPackage layer is no part of the file the resolver sees.
+        let seen = std::cell::RefCell::new(Vec::new());
+        let root = |s: &str| {
+            seen.borrow_mut().push(s.to_string());
+            Ok(PathBuf::from("/root").join(s))
+        };
+        r.set("footprints", &Value::from("lots.gpkg#buildings"), &root).unwrap();
+        assert_eq!(r.footprints, Some(PathBuf::from("/root/lots.gpkg#buildings")));
+        assert_eq!(*seen.borrow(), ["lots.gpkg"]);
     }
 }

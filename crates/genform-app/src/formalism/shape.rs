@@ -90,7 +90,7 @@ fn on_lots(g: &ShapeGrammar, request: &SampleRequest) -> Result<Lots> {
                         anyhow::bail!("{} holds no usable footprint ({} skipped; {why})", path.display(), skipped.len())
                     }
                     None => anyhow::bail!(
-                        "{} holds no footprint (a GeoJSON Polygon or MultiPolygon, or an OBJ face facing up)",
+                        "{} holds no footprint (a GeoJSON or GeoPackage Polygon or MultiPolygon, or an OBJ face facing up)",
                         path.display()
                     ),
                 }
