@@ -104,8 +104,10 @@ class Module:
     def __init__(self, name, *args):
         if isinstance(name, Module):
             name, args = name.name, tuple(name.args) + args
-        self.name = CANONICAL.get(name, name)
-        self.args = list(args[0]) if len(args) == 1 and isinstance(args[0], _ArgList) else list(args)
+        # The slots' own setters: `__setattr__` below is Python code, and
+        # a derivation makes a module per produced symbol.
+        _SET_NAME(self, CANONICAL.get(name, name))
+        _SET_ARGS(self, list(args[0]) if len(args) == 1 and isinstance(args[0], _ArgList) else list(args))
 
     def __len__(self):
         return len(self.args)
@@ -178,6 +180,19 @@ class Module:
 
 
 ParamModule = Module
+_SET_NAME = Module.name.__set__
+_SET_ARGS = Module.args.__set__
+_NEW = object.__new__
+
+
+def _new_module(name, args):
+    """``Module(name, *args)`` for a plain name and a tuple of parameters,
+    without the call's checks (the successor of every rewrite is built
+    this way)."""
+    m = _NEW(Module)
+    _SET_NAME(m, CANONICAL.get(name, name))
+    _SET_ARGS(m, list(args[0]) if len(args) == 1 and type(args[0]) is _ArgList else list(args))
+    return m
 
 
 class _ArgList(list):
@@ -579,12 +594,17 @@ def _parse_lstring_value(text, namespace=None, names=None):
 
 
 def _item_module(x):
-    if isinstance(x, Module):
+    if type(x) is Module or isinstance(x, Module):
         return x
     name, args = x
-    if name in ("*", "any", "new", "newmodule") and args:
+    if args and name in _NEW_NAMES:
         return Module(args[0], *args[1:])
+    if type(name) is str:
+        return _new_module(name, args)
     return Module(name, *args)
+
+
+_NEW_NAMES = frozenset(("*", "any", "new", "newmodule"))
 
 
 # ------------------------------------------------------------------ patterns
