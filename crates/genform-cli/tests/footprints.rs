@@ -212,3 +212,27 @@ fn a_geopackage_layer_builds_hip_roofs_and_its_plots_are_the_geojson_plots() {
     assert!(fail.stderr().contains("fake.gpkg is not a GeoPackage"), "{}", fail.show());
     assert!(!fail.stderr().contains("panicked"), "{}", fail.show());
 }
+
+#[test]
+fn plots_read_with_their_streets_know_which_edge_faces_one() {
+    // `#plots,streets`: the street lines of momepy's own street layer; a
+    // plot facing one (within 60 m of an edge, along its normal) reads its
+    // edge and distance, and its `front` is that edge.
+    let tmp = tempfile::tempdir().unwrap();
+    let gpkg =
+        root().join("crates/genform-app/tests/data/bubenec/bubenec.gpkg").display().to_string().replace('\\', "/");
+    let grammar = "grammar \"fronts\";\naxiom Lot;\n\
+                   Lot { if (lot.street_edge >= 0 && lot.street > 0) { setback(2) { front: { extrude(3); shape; } } } }\n";
+    std::fs::write(tmp.path().join("fronts.sg"), grammar).unwrap();
+    let lots = format!("{gpkg}#plots,streets");
+    let run = ok(tmp.path(), &["sample", "fronts.sg", "--footprints", &lots, "--out", "f.obj"]);
+    assert!(run.stderr().contains("407 footprints"), "{}", run.show());
+    // 376 of the 407 plots face a street: at least one front strip each
+    // (more where several edges face the street's way).
+    let n: usize = run.stderr().split(" primitives").next().unwrap().rsplit(' ').next().unwrap().parse().unwrap();
+    assert!(n >= 376, "{n} front strips: {}", run.show());
+    // Without the streets, no plot has one, so nothing is built.
+    let bare = format!("{gpkg}#plots");
+    let run = genform(tmp.path(), &["sample", "fronts.sg", "--footprints", &bare, "--out", "g.obj"]).fails();
+    assert!(run.stderr().contains("the scene is empty"), "{}", run.show());
+}

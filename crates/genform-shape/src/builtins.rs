@@ -10,5 +10,18 @@ pub(crate) const ENV_COUNT: usize = 5;
 /// The first of the `lot.*` values ([`crate::LotProps`], in its order).
 pub(crate) const ENV_LOT: usize = 6;
 /// Names of the built-in variables, in env order.
-pub(crate) const BUILTINS: [&str; 11] =
-    ["sx", "sy", "sz", "depth", "index", "count", "lot.height", "lot.min_height", "lot.levels", "lot.use", "lot.index"];
+pub(crate) const BUILTINS: [&str; 13] = [
+    "sx",
+    "sy",
+    "sz",
+    "depth",
+    "index",
+    "count",
+    "lot.height",
+    "lot.min_height",
+    "lot.levels",
+    "lot.use",
+    "lot.index",
+    "lot.street",
+    "lot.street_edge",
+];

@@ -200,7 +200,7 @@ pub(crate) fn run<M: Mode>(g: &ShapeGrammar, limits: &Limits, mode: M, stacks: &
     // A grammar set on a footprint starts on it, as if its axiom began
     // with `lot` of the footprint's corners.
     let res = match &g.start_lot {
-        Some(lot) => it.set_lot(lot.to_vec(), None).and_then(|()| it.run()),
+        Some(lot) => it.start_on(lot.to_vec(), g.start_props.street_edge).and_then(|()| it.run()),
         None => it.run(),
     };
     *stacks = it.st;
@@ -678,7 +678,8 @@ fn enter<'g>(
     st.env[env + ENV_DEPTH] = depth as f64;
     st.env[env + ENV_INDEX] = 0.0;
     st.env[env + ENV_COUNT] = 1.0;
-    st.env[env + ENV_LOT..env + ENV_LOT + 5].copy_from_slice(&g.start_props.to_array());
+    let lot = g.start_props.to_array();
+    st.env[env + ENV_LOT..env + ENV_LOT + lot.len()].copy_from_slice(&lot);
     let counters = st.counters.len();
     st.counters.extend(std::iter::repeat_n(0, rule.slots.len()));
     (Frame { sym, gene, pc: 0, depth, env, counters }, rule)

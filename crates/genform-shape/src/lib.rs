@@ -39,6 +39,7 @@ mod program;
 mod sample;
 mod scope;
 mod scratch;
+mod setback;
 mod skeleton;
 mod solid_faces;
 

@@ -3,9 +3,11 @@
 //! footprint reader makes them).
 
 /// What a footprint file says of one lot, read in a grammar as `lot.height`,
-/// `lot.min_height`, `lot.levels`, `lot.use` and `lot.index` (0 where the
-/// file says nothing, and in runs on no footprint).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// `lot.min_height`, `lot.levels`, `lot.use`, `lot.index`, `lot.street` and
+/// `lot.street_edge` (0 where the file says nothing, and in runs on no
+/// footprint; the street values −1 where no street was given or none is
+/// near).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LotProps {
     /// Height in metres (OSM `height`).
     pub height: f64,
@@ -18,11 +20,32 @@ pub struct LotProps {
     pub use_class: f64,
     /// The lot's number in its file (features from 0).
     pub index: f64,
+    /// How far (metres) the street its street edge faces lies, along that
+    /// edge's outward normal from its middle; −1 when none is known.
+    pub street: f64,
+    /// The edge that faces the street (edge `i` from corner `i` to `i + 1`
+    /// as the file lists them), −1 when none: a lot started on it turns so
+    /// that this edge is its `front`.
+    pub street_edge: f64,
 }
 
 impl LotProps {
     /// The values in the env order of the `lot.*` built-ins.
-    pub(crate) fn to_array(self) -> [f64; 5] {
-        [self.height, self.min_height, self.levels, self.use_class, self.index]
+    pub(crate) fn to_array(self) -> [f64; 7] {
+        [self.height, self.min_height, self.levels, self.use_class, self.index, self.street, self.street_edge]
+    }
+}
+
+impl Default for LotProps {
+    fn default() -> Self {
+        LotProps {
+            height: 0.0,
+            min_height: 0.0,
+            levels: 0.0,
+            use_class: 0.0,
+            index: 0.0,
+            street: -1.0,
+            street_edge: -1.0,
+        }
     }
 }

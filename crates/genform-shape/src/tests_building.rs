@@ -860,3 +860,68 @@ fn index_selectors_take_pieces_by_their_place_in_the_list() {
         assert!(e.contains("index selector is a whole number from 0 to 63"), "{e}");
     }
 }
+
+#[test]
+fn a_footprint_turns_so_that_its_street_edge_is_its_front() {
+    // A 10 × 6 lot turned 30°, its short edge 1 facing the street: that
+    // edge, and only it, is `front`, and `lot.street` reads the distance.
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let corners: Vec<[f64; 2]> = [[0.0, 0.0], [10.0, 0.0], [10.0, 6.0], [0.0, 6.0]]
+        .iter()
+        .map(|&[x, z]| [x * c - z * s, x * s + z * c])
+        .collect();
+    let g = grammar("A { comp(e) { front: { tag(\"f\"); size(sx, 0.1, lot.street); box; } } }");
+    let props = LotProps { street_edge: 1.0, street: 4.0, ..LotProps::default() };
+    for (edge, want) in [(1usize, 6.0f32), (0, 10.0), (3, 6.0)] {
+        let g = g.on_footprint_with(&corners, LotProps { street_edge: edge as f64, ..props }).unwrap();
+        let limits = g.limits();
+        let sample = g.sample(&mut Rng::from_seed(1), &limits).unwrap();
+        let mut scene = Scene::new();
+        g.express(&sample.genome, &limits, &mut scene).unwrap();
+        assert_eq!(scene.instances.len(), 1, "edge {edge}: one front edge");
+        let t = scene.instances[0].transform;
+        let mid = {
+            let (a, b) = (corners[edge], corners[(edge + 1) % 4]);
+            Vec3::new(((a[0] + b[0]) / 2.0) as f32, 0.0, ((a[1] + b[1]) / 2.0) as f32)
+        };
+        assert!((t.translation.x - mid.x).abs() < 1e-4 && (t.translation.z - mid.z).abs() < 1e-4, "edge {edge}: {t:?}");
+        // The box: as long as the edge, `lot.street` (4) deep.
+        assert!((t.matrix3.x_axis.length() - want).abs() < 1e-4, "edge {edge}: {t:?}");
+        assert!((t.matrix3.z_axis.length() - 4.0).abs() < 1e-4, "edge {edge}: {t:?}");
+    }
+}
+
+#[test]
+fn lot_street_values_are_minus_one_off_a_street() {
+    // Run on no footprint (or one with no street near), both read −1.
+    let s = scene("A { size(lot.street + 2, lot.street_edge + 3, 1); box; }");
+    let t = s.instances[0].transform;
+    assert!((t.matrix3.x_axis.length() - 1.0).abs() < 1e-6 && (t.matrix3.y_axis.length() - 2.0).abs() < 1e-6);
+}
+
+#[test]
+fn setbacks_on_concave_lots_partition_them_and_keep_to_their_edges() {
+    // An L (area 8.5) and a U (area 20): strips and remainder tile the lot,
+    // and a strip never takes in an arm beyond its edge's reach.
+    for (lot, total) in [
+        ("lot(0, 0, 4, 0, 4, 1.5, 1, 1.5, 1, 4, 0, 4)", 8.5f32),
+        ("lot(0, 0, 6, 0, 6, 4, 4, 4, 4, 2, 2, 2, 2, 4, 0, 4)", 20.0),
+    ] {
+        for arms in ["front", "all", "back, left"] {
+            let src = format!(
+                "A {{ {lot}; setback(0.5) {{ {arms}: {{ tag(\"s\"); shape; }} | remainder: {{ tag(\"r\"); shape; }} }} }}"
+            );
+            let (s, r) = (tagged_areas(&src, "s"), tagged_areas(&src, "r"));
+            assert!((sum(&s) + sum(&r) - total).abs() < 1e-3, "{lot} {arms}: {s:?} + {r:?}");
+            // Every strip is a band at most 0.5 deep: its area at most its
+            // outline's half-perimeter × 0.5 (a far arm would break this).
+            let scene = scene(&src);
+            let tag = scene.tags.iter().position(|t| t == "s").unwrap() as u32;
+            for p in scene.polygons.iter().filter(|p| p.tag == tag) {
+                let perim: f32 =
+                    (0..p.points.len()).map(|i| (p.points[(i + 1) % p.points.len()] - p.points[i]).length()).sum();
+                assert!(area(&p.points) <= 0.5 * perim / 2.0 + 1e-4, "{lot} {arms}: {:?}", p.points);
+            }
+        }
+    }
+}

@@ -7,13 +7,16 @@ use genform_shape::{FootprintSet as Footprints, LotProps};
 use serde_json::Value;
 use std::path::Path;
 
-/// The lots of the GeoJSON file at `path` in local metres.
+/// The lots of the GeoJSON file at `path` in local metres; its LineString
+/// and MultiLineString features are streets, which each lot's
+/// `street_edge` faces ([`face_streets`]).
 pub fn read_geojson(path: &Path) -> Result<Footprints> {
     let text = crate::text::read_text(path, "footprints")?;
     let value: Value = serde_json::from_str(&text).with_context(|| format!("{} is not JSON", path.display()))?;
     let mut raw = Vec::new();
     let mut skipped = Vec::new();
-    collect(&value, None, &mut raw, &mut skipped)
+    let mut streets = Vec::new();
+    collect(&value, None, &mut Found { lots: &mut raw, streets: &mut streets, skipped: &mut skipped })
         .with_context(|| format!("{} is not GeoJSON genform can read", path.display()))?;
     if raw.len() > MAX_FOOTPRINTS {
         bail!("{} holds {} footprints; at most {MAX_FOOTPRINTS} are derived in one run", path.display(), raw.len());
@@ -23,6 +26,7 @@ pub fn read_geojson(path: &Path) -> Result<Footprints> {
     }
     let crs = crs_name(&value);
     let frame = frame_of(crs.as_deref(), &raw);
+    face_streets(&mut raw, &streets, frame);
     let (lots, origin) = place(raw, frame, crs.as_deref(), &mut skipped)?;
     if lots.is_empty() && !skipped.is_empty() {
         bail!("{} holds no usable footprint: {}", path.display(), skipped[0]);
@@ -56,7 +60,14 @@ pub(super) fn feature_label(k: usize, f: &Value) -> String {
 /// The feature a geometry belongs to: its label and properties.
 pub(super) type Owner<'a> = Option<(&'a str, LotProps)>;
 
-pub(super) fn collect(v: &Value, owner: Owner, out: &mut Vec<RawLot>, skipped: &mut Vec<String>) -> Result<()> {
+/// What [`collect`] finds: lots, street lines and what it skipped.
+pub(super) struct Found<'a> {
+    lots: &'a mut Vec<RawLot>,
+    streets: &'a mut Vec<Vec<[f64; 2]>>,
+    skipped: &'a mut Vec<String>,
+}
+
+pub(super) fn collect(v: &Value, owner: Owner, found: &mut Found) -> Result<()> {
     let kind = v.get("type").and_then(Value::as_str).context("an object without a \"type\"")?;
     let label = |n: usize| -> (String, LotProps) {
         match owner {
@@ -71,10 +82,10 @@ pub(super) fn collect(v: &Value, owner: Owner, out: &mut Vec<RawLot>, skipped: &
             for (k, f) in feats.iter().enumerate() {
                 let name = feature_label(k, f);
                 if f.get("type").and_then(Value::as_str) != Some("Feature") {
-                    skipped.push(format!("{name} is not a Feature"));
+                    found.skipped.push(format!("{name} is not a Feature"));
                     continue;
                 }
-                collect(f, Some((&name, props_of(f.get("properties"), k))), out, skipped)?;
+                collect(f, Some((&name, props_of(f.get("properties"), k))), found)?;
             }
         }
         // A feature without geometry (`null`) has no lot.
@@ -83,42 +94,56 @@ pub(super) fn collect(v: &Value, owner: Owner, out: &mut Vec<RawLot>, skipped: &
             let owner = owner.or(Some((&name, props_of(v.get("properties"), 0))));
             match v.get("geometry") {
                 Some(Value::Null) | None => {}
-                Some(g) => collect(g, owner, out, skipped)?,
+                Some(g) => collect(g, owner, found)?,
             }
         }
         "GeometryCollection" => {
             for g in
                 v.get("geometries").and_then(Value::as_array).context("a GeometryCollection without \"geometries\"")?
             {
-                collect(g, owner, out, skipped)?;
+                collect(g, owner, found)?;
             }
         }
         "Polygon" => {
-            let (name, props) = label(out.len());
+            let (name, props) = label(found.lots.len());
             match v.get("coordinates").context("a Polygon without \"coordinates\"").and_then(outer_ring) {
-                Ok(xy) => out.push(RawLot { xy, label: name, props }),
-                Err(e) => skipped.push(format!("{name}: {e}")),
+                Ok(xy) => found.lots.push(RawLot { xy, label: name, props }),
+                Err(e) => found.skipped.push(format!("{name}: {e}")),
             }
         }
         "MultiPolygon" => {
-            let (name, props) = label(out.len());
+            let (name, props) = label(found.lots.len());
             let Some(polys) = v.get("coordinates").and_then(Value::as_array) else {
-                skipped.push(format!("{name}: a MultiPolygon without coordinates"));
+                found.skipped.push(format!("{name}: a MultiPolygon without coordinates"));
                 return Ok(());
             };
             for (i, p) in polys.iter().enumerate() {
                 let name = format!("{name}, polygon {}", i + 1);
                 match outer_ring(p) {
-                    Ok(xy) => out.push(RawLot { xy, label: name, props }),
-                    Err(e) => skipped.push(format!("{name}: {e}")),
+                    Ok(xy) => found.lots.push(RawLot { xy, label: name, props }),
+                    Err(e) => found.skipped.push(format!("{name}: {e}")),
                 }
             }
         }
-        // Points and lines are not lots.
-        "Point" | "MultiPoint" | "LineString" | "MultiLineString" => {}
+        // Lines are streets (positions that are no numbers left out: a
+        // street missing only leaves a lot without its street).
+        "LineString" => found.streets.push(line(v.get("coordinates"))),
+        "MultiLineString" => {
+            for l in v.get("coordinates").and_then(Value::as_array).into_iter().flatten() {
+                found.streets.push(line(Some(l)));
+            }
+        }
+        // Points are not lots.
+        "Point" | "MultiPoint" => {}
         other => bail!("unknown GeoJSON type \"{other}\""),
     }
     Ok(())
+}
+
+/// A LineString's `[x, y]` positions (those that are numbers).
+fn line(coords: Option<&Value>) -> Vec<[f64; 2]> {
+    let pts = coords.and_then(Value::as_array).into_iter().flatten();
+    pts.filter_map(|p| Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?])).collect()
 }
 
 /// The outer ring of a Polygon's coordinates as `[x, y]` positions,

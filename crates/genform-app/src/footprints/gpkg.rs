@@ -29,6 +29,15 @@ impl Layer {
         matches!(self.kind.to_ascii_uppercase().as_str(), "POLYGON" | "MULTIPOLYGON")
     }
 
+    /// A layer that may hold street lines (`LINESTRING`,
+    /// `MULTILINESTRING`, or any geometry).
+    fn may_hold_lines(&self) -> bool {
+        matches!(
+            self.kind.to_ascii_uppercase().as_str(),
+            "LINESTRING" | "MULTILINESTRING" | "GEOMETRY" | "GEOMETRYCOLLECTION"
+        )
+    }
+
     /// A layer that may hold polygons (`GEOMETRY`, a collection, a
     /// surface): read when the path names it; points and lines never.
     fn may_hold_polygons(&self) -> bool {
@@ -83,10 +92,27 @@ pub fn read_gpkg(path: &Path, layer: Option<&str>) -> Result<Footprints> {
         }
     }
     let layers = feature_layers(&db).map_err(read)?;
-    let chosen = choose_layer(&layers, layer, path)?;
+    // `#plots,streets`: the lots' layer, then layers of street lines.
+    let mut names = layer.map(|l| l.split(',').map(str::trim));
+    let lot_layer = names.as_mut().and_then(|n| n.next()).filter(|n| !n.is_empty());
+    let street_layers: Vec<&str> = names.map(|n| n.collect()).unwrap_or_default();
+    let chosen = choose_layer(&layers, lot_layer, path)?;
     let (frame, crs) = gpkg_frame(&db, chosen.srs_id)
         .with_context(|| format!("layer `{}` of {shown} has an unsupported CRS", chosen.table))?;
-    let (raw, mut skipped) = gpkg_rows(&db, chosen).map_err(read)?;
+    let (mut raw, mut skipped) = gpkg_rows(&db, chosen).map_err(read)?;
+    let mut streets = Vec::new();
+    for name in street_layers {
+        let Some(l) = layers.iter().find(|l| l.table == name) else {
+            bail!("{shown} has no feature layer `{name}` for the streets");
+        };
+        if !l.may_hold_lines() {
+            bail!("layer `{name}` of {shown} holds {} geometries, not street lines", l.kind);
+        }
+        if l.srs_id != chosen.srs_id {
+            bail!("layer `{name}` of {shown} (srs_id {}) is not in the lots' CRS (srs_id {})", l.srs_id, chosen.srs_id);
+        }
+        streets.extend(gpkg_lines(&db, l).map_err(read)?);
+    }
     let at = format!("{shown}#{}", chosen.table);
     if raw.len() > MAX_FOOTPRINTS {
         bail!("{at} holds more than {MAX_FOOTPRINTS} footprints; at most that many are derived in one run");
@@ -95,6 +121,7 @@ pub fn read_gpkg(path: &Path, layer: Option<&str>) -> Result<Footprints> {
         return Err(no_usable(Path::new(&at), &skipped));
     }
     let frame = frame.unwrap_or_else(|| frame_of(None, &raw));
+    face_streets(&mut raw, &streets, frame);
     let (lots, origin) = place(raw, frame, crs.as_deref(), &mut skipped)?;
     if lots.is_empty() && !skipped.is_empty() {
         bail!("{at} holds no usable footprint: {}", skipped[0]);
@@ -323,14 +350,52 @@ fn gpkg_rows(db: &rusqlite::Connection, layer: &Layer) -> rusqlite::Result<(Vec<
     Ok((raw, skipped))
 }
 
+/// The lines of a layer of streets (the parts of each LineString or
+/// MultiLineString, other geometries and unreadable rows left out: a
+/// street missing only leaves a lot without its street).
+fn gpkg_lines(db: &rusqlite::Connection, layer: &Layer) -> rusqlite::Result<Vec<Vec<[f64; 2]>>> {
+    let mut q = db.prepare(&format!("SELECT {} FROM {}", quoted(&layer.column), quoted(&layer.table)))?;
+    let mut rows = q.query([])?;
+    let mut out = Vec::new();
+    while let Some(r) = rows.next()? {
+        if let rusqlite::types::ValueRef::Blob(blob) = r.get_ref(0)?
+            && let Some(wkb) = gpkg_wkb(blob).ok().and_then(|b| wkb::reader::read_wkb(b).ok())
+        {
+            wkb_lines(&wkb, &mut out);
+        }
+    }
+    Ok(out)
+}
+
+/// The lines of `g` (LineStrings, the parts of MultiLineStrings and
+/// collections), appended to `out`.
+fn wkb_lines(g: &wkb::reader::Wkb<'_>, out: &mut Vec<Vec<[f64; 2]>>) {
+    use geo_traits::{
+        CoordTrait as _, GeometryCollectionTrait as _, GeometryTrait as _, GeometryType, LineStringTrait as _,
+        MultiLineStringTrait as _,
+    };
+    let line = |l: &wkb::reader::LineString<'_>| -> Vec<[f64; 2]> {
+        l.coords().map(|c| [c.x(), c.y()]).filter(|p| p.iter().all(|v| v.is_finite())).collect()
+    };
+    match g.as_type() {
+        GeometryType::LineString(l) => out.push(line(l)),
+        GeometryType::MultiLineString(m) => out.extend(m.line_strings().map(line)),
+        GeometryType::GeometryCollection(c) => {
+            for g in c.geometries() {
+                wkb_lines(g, out);
+            }
+        }
+        _ => {}
+    }
+}
+
 /// An SQLite string literal.
 fn quoted_text(text: &str) -> String {
     format!("'{}'", text.replace('\'', "''"))
 }
 
-/// The outer rings of the polygons of a GeoPackage geometry blob (one per
-/// polygon: a polygon's own error in its place), or why it has none.
-fn gpkg_polygons(blob: &[u8]) -> Result<Vec<Result<Vec<[f64; 2]>>>, String> {
+/// The WKB of a GeoPackage geometry blob, after its header.
+fn gpkg_wkb(blob: &[u8]) -> Result<&[u8], String> {
     // The header: "GP", version, flags, srs_id (4 bytes), then an envelope
     // of 0, 32, 48, 48 or 64 bytes (flags bits 1–3). Flags bit 4: empty;
     // bit 5: an extended geometry (not standard WKB); bit 0 orders only the
@@ -352,7 +417,13 @@ fn gpkg_polygons(blob: &[u8]) -> Result<Vec<Result<Vec<[f64; 2]>>>, String> {
     if flags & 0x10 != 0 {
         return Err("an empty geometry".into());
     }
-    let body = blob.get(8 + envelope..).filter(|b| !b.is_empty()).ok_or("a geometry cut short")?;
+    blob.get(8 + envelope..).filter(|b| !b.is_empty()).ok_or_else(|| "a geometry cut short".to_string())
+}
+
+/// The outer rings of the polygons of a GeoPackage geometry blob (one per
+/// polygon: a polygon's own error in its place), or why it has none.
+fn gpkg_polygons(blob: &[u8]) -> Result<Vec<Result<Vec<[f64; 2]>>>, String> {
+    let body = gpkg_wkb(blob)?;
     let wkb = wkb::reader::read_wkb(body).map_err(|e| format!("a geometry that is not WKB genform reads ({e})"))?;
     let mut out = Vec::new();
     wkb_polygons(&wkb, &mut out)?;
@@ -809,5 +880,32 @@ mod tests {
             let e = format!("{:#}", read_lots(Path::new(&format!("{}#plots", path.display()))).unwrap_err());
             assert!(e.contains(name) && !e.contains("panicked"), "{e}");
         }
+    }
+
+    #[test]
+    fn plots_face_the_streets_of_the_street_layer() {
+        // momepy's plots and streets: nearly every plot has a street within
+        // reach, a few metres off its frontage (streets are centre lines).
+        let set = read_lots(&bubenec("bubenec.gpkg#plots,streets")).unwrap();
+        let d: Vec<f64> = set.lots.iter().filter(|l| l.props.street_edge >= 0.0).map(|l| l.props.street).collect();
+        let mut sorted = d.clone();
+        sorted.sort_by(f64::total_cmp);
+        let median = sorted[sorted.len() / 2];
+        eprintln!(
+            "{} of {} plots face a street; distance median {median:.2}, max {:.2}",
+            d.len(),
+            set.lots.len(),
+            sorted[sorted.len() - 1]
+        );
+        assert!(d.len() * 10 >= set.lots.len() * 9, "{} of {}", d.len(), set.lots.len());
+        assert!(median > 1.0 && median < 20.0, "{median}");
+        // Without the street layer, no lot has a street.
+        let bare = read_lots(&bubenec("bubenec.gpkg#plots")).unwrap();
+        assert!(bare.lots.iter().all(|l| l.props.street_edge == -1.0 && l.props.street == -1.0));
+        // A street layer that is none, or not lines, says so.
+        let e = format!("{:#}", read_lots(&bubenec("bubenec.gpkg#plots,roads")).unwrap_err());
+        assert!(e.contains("no feature layer `roads` for the streets"), "{e}");
+        let e = format!("{:#}", read_lots(&bubenec("bubenec.gpkg#plots,buildings")).unwrap_err());
+        assert!(e.contains("not street lines"), "{e}");
     }
 }

@@ -277,4 +277,30 @@ mod tests {
         assert_eq!(use_class("garage"), 5.0);
         assert_eq!(use_class("yes"), 0.0);
     }
+
+    #[test]
+    fn line_features_are_streets_a_lot_faces() {
+        let lot = r#"{"type": "Feature", "properties": {}, "geometry": {"type": "Polygon",
+            "coordinates": [[[0, 0], [10, 0], [10, 10], [0, 10], [0, 0]]]}}"#;
+        let south = r#"{"type": "Feature", "properties": {"highway": "residential"}, "geometry":
+            {"type": "LineString", "coordinates": [[-20, -5], [30, -5]]}}"#;
+        let east = r#"{"type": "Feature", "properties": {}, "geometry":
+            {"type": "MultiLineString", "coordinates": [[[13, -20], [13, 30]]]}}"#;
+        let fc = |parts: &[&str]| format!(r#"{{"type": "FeatureCollection", "features": [{}]}}"#, parts.join(","));
+        // Metres (a `crs` that is no geographic one).
+        let metres =
+            |t: String| t.replacen('{', r#"{"crs": {"type": "name", "properties": {"name": "EPSG:32633"}},"#, 1);
+        let one = read(&metres(fc(&[lot, south]))).unwrap();
+        assert_eq!(one.lots.len(), 1, "the street is no lot");
+        let p = one.lots[0].props;
+        assert_eq!((p.street_edge, p.street), (0.0, 5.0));
+        // The nearer street wins: the east one, 3 m off edge 1.
+        let two = read(&metres(fc(&[lot, south, east]))).unwrap();
+        let p = two.lots[0].props;
+        assert_eq!((p.street_edge, p.street), (1.0, 3.0));
+        // No street within reach: none.
+        let far = south.replace("-5]", "-500]");
+        let p = read(&metres(fc(&[lot, &far]))).unwrap().lots[0].props;
+        assert_eq!((p.street_edge, p.street), (-1.0, -1.0));
+    }
 }

@@ -109,10 +109,39 @@ impl<'g, M: Mode> Interp<'g, M> {
         self.set_lot(p, Some(at))
     }
 
+    /// Starts the run on a footprint's polygon `p` (as [`Self::set_lot`]),
+    /// turned so that edge `street_edge` (from corner `i` to `i + 1` as
+    /// given; negative: none) faces the scope's −y, its `front`.
+    pub(super) fn start_on(&mut self, p: Vec<DVec2>, street_edge: f64) -> Result<(), Stop> {
+        let n = p.len();
+        if !(street_edge >= 0.0 && (street_edge as usize) < n) || n < 3 {
+            return self.set_lot(p, None);
+        }
+        let k = street_edge as usize;
+        let d = (p[(k + 1) % n] - p[k]).normalize_or_zero();
+        // Outward: right of the edge on a counter-clockwise outline.
+        let out = if area2(&p) > 0.0 { DVec2::new(d.y, -d.x) } else { DVec2::new(-d.y, d.x) };
+        if out == DVec2::ZERO {
+            return self.set_lot(p, None);
+        }
+        // Turn by the angle that takes `out` to −y.
+        let a = -std::f64::consts::FRAC_PI_2 - out.y.atan2(out.x);
+        let (sin, cos) = a.sin_cos();
+        let turned: Vec<DVec2> = p.iter().map(|q| DVec2::new(q.x * cos - q.y * sin, q.x * sin + q.y * cos)).collect();
+        self.set_lot_turned(turned, None, a)
+    }
+
     /// Makes the scope the polygon `p` (points in the scope's xz plane
     /// relative to its centre, as `(x, −z)`), for `lot` at `at` or for a
     /// footprint the run starts on.
-    pub(super) fn set_lot(&mut self, mut p: Vec<DVec2>, at: Option<genform_core::Span>) -> Result<(), Stop> {
+    pub(super) fn set_lot(&mut self, p: Vec<DVec2>, at: Option<genform_core::Span>) -> Result<(), Stop> {
+        self.set_lot_turned(p, at, 0.0)
+    }
+
+    /// [`Self::set_lot`] for a polygon given turned by `a` (radians,
+    /// counter-clockwise in the `(x, −z)` plane) from the scope's axes: the
+    /// scope's x and y run along the turned axes.
+    fn set_lot_turned(&mut self, mut p: Vec<DVec2>, at: Option<genform_core::Span>, a: f64) -> Result<(), Stop> {
         if !crate::footprint::is_valid_outline(&p) {
             let msg = "the lot's outline crosses itself, repeats a corner or has no area".to_string();
             return Err(match at {
@@ -127,8 +156,20 @@ impl<'g, M: Mode> Interp<'g, M> {
         let (lo, hi) = bbox(&p).unwrap_or_default();
         let (c, size) = ((lo + hi) * 0.5, hi - lo);
         let unit: Vec<DVec2> = p.iter().map(|q| (*q - c) / size).collect();
-        let m = DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y);
-        self.cur.frame *= DAffine3::from_mat3_translation(m, DVec3::new(c.x, 0.0, -c.y));
+        // The turned axes in the scope: x′ = (cos a, −sin a) and
+        // y′ = (sin a, cos a) in `(x, −z)`, i.e. (cos a, 0, sin a) and
+        // (sin a, 0, −cos a); the centre turned back likewise.
+        let (m, centre) = if a == 0.0 {
+            (DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y), DVec3::new(c.x, 0.0, -c.y))
+        } else {
+            let (sin, cos) = a.sin_cos();
+            let back = DVec2::new(c.x * cos + c.y * sin, -c.x * sin + c.y * cos);
+            (
+                DMat3::from_cols(DVec3::new(cos, 0.0, sin), DVec3::new(sin, 0.0, -cos), DVec3::Y),
+                DVec3::new(back.x, 0.0, -back.y),
+            )
+        };
+        self.cur.frame *= DAffine3::from_mat3_translation(m, centre);
         self.cur.size = DVec3::new(size.x, size.y, 0.0);
         self.cur.geom = self.add_geom(GeomKind::Polygon, &unit)?;
         self.st.geoms[self.cur.geom as usize].reversed = reversed;

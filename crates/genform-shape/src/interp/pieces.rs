@@ -282,6 +282,52 @@ impl<'g, M: Mode> Interp<'g, M> {
                         sel.push(i);
                     }
                 }
+                if !geom::is_convex(&corners) {
+                    // Each strip in its edge's convex band: up to the depth,
+                    // not past a reflex corner at either end, cut from an
+                    // adjacent selected edge's strip as below.
+                    let big = 4.0 * (hi - lo).length() + 1.0;
+                    let around = rect(lo - DVec2::splat(big), hi + DVec2::splat(big));
+                    let turn = |a: usize, b: usize| dirs[a].perp_dot(dirs[b]);
+                    let bands: Vec<Vec<DVec2>> = sel
+                        .iter()
+                        .map(|&i| {
+                            let (n, c) = line(i);
+                            let d = dist(i);
+                            let (prev, next) = ((i + k - 1) % k, (i + 1) % k);
+                            let mut band = clip(&clip(&around, n, c + d), -n, -c);
+                            if turn(prev, i) < 0.0 {
+                                band = clip(&band, -dirs[i], -dirs[i].dot(corners[i]));
+                            }
+                            if turn(i, next) < 0.0 {
+                                band = clip(&band, dirs[i], dirs[i].dot(corners[next]));
+                            }
+                            for j in [prev, next] {
+                                let dj = dist(j);
+                                if j == i || !sel.contains(&j) || dj == 0.0 {
+                                    continue;
+                                }
+                                let (m, e) = line(j);
+                                band = if dj == d {
+                                    clip(&band, n - m, c - e)
+                                } else {
+                                    clip(&band, n * dj - m * d, c * dj - e * d)
+                                };
+                            }
+                            band
+                        })
+                        .collect();
+                    let (strips, rest) = crate::setback::cut(&corners, &bands);
+                    for (&i, pieces) in sel.iter().zip(strips) {
+                        for p in pieces {
+                            out.extend(self.piece(edge_class(dirs[i]), &p, dirs[i]));
+                        }
+                    }
+                    for p in rest {
+                        out.extend(self.piece(PIECE_REST, &p, DVec2::X));
+                    }
+                    return Ok(out);
+                }
                 for (si, &i) in sel.iter().enumerate() {
                     let (n, c) = line(i);
                     let d = dist(i);
