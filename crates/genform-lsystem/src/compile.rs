@@ -471,16 +471,42 @@ impl Compiler {
         self.sym(&p.name, p.formals.len(), p.span)
     }
 
-    fn rule(&mut self, p: &syntax::Production, section: Section) -> Option<Rule> {
-        if section != Section::Production && !(p.left.is_empty() && p.right.is_empty()) {
+    /// Checks a strict predecessor of several modules (`first` then
+    /// `rest`): decomposition rules have none, and it holds no brackets.
+    fn several(&mut self, p: &syntax::Production, section: Section, first: Sym, rest: &[Sym]) {
+        let whole = Span::new(p.strict[0].span.start as usize, p.strict[p.strict.len() - 1].span.end as usize);
+        if section == Section::Decomposition {
             self.errors.push(
-                Diagnostic::error(p.span, "decomposition and interpretation rules are context-free")
-                    .with_hint("move the context to a production, or drop it"),
+                Diagnostic::error(
+                    whole,
+                    format!("a decomposition rule rewrites one module, this predecessor has {}", p.strict.len()),
+                )
+                .with_hint("rewrite the sequence in a production (`A B -> C`), or write one rule per module"),
+            );
+        }
+        let syms = std::iter::once(&first).chain(rest);
+        if let Some(m) = syms.zip(&p.strict).find(|(s, _)| self.is_bracket(**s)).map(|(_, m)| m) {
+            self.errors.push(
+                Diagnostic::error(m.span, "a predecessor of several modules cannot hold a bracket")
+                    .with_hint("match a branch with a right context instead: `A > [B] -> …`"),
+            );
+        }
+    }
+
+    fn rule(&mut self, p: &syntax::Production, section: Section) -> Option<Rule> {
+        if section == Section::Decomposition && !(p.left.is_empty() && p.right.is_empty()) {
+            self.errors.push(
+                Diagnostic::error(p.span, "decomposition rules are context-free")
+                    .with_hint("move the context to a production or an interpretation rule, or drop it"),
             );
         }
         let mut formals = Vec::new();
         let left: Vec<Sym> = p.left.iter().map(|m| self.pattern(m, &mut formals)).collect();
-        let strict = self.pattern(&p.strict, &mut formals);
+        let strict = self.pattern(&p.strict[0], &mut formals);
+        let rest: Vec<Sym> = p.strict[1..].iter().map(|m| self.pattern(m, &mut formals)).collect();
+        if !rest.is_empty() {
+            self.several(p, section, strict, &rest);
+        }
         let right: Vec<Sym> = p.right.iter().map(|m| self.pattern(m, &mut formals)).collect();
         // ABOP §1.8 (and cpfg): the left context is a path towards the root,
         // so it has no branches; the right context is an axial tree.
@@ -550,6 +576,7 @@ impl Compiler {
         let succ_args = progs.into_iter().map(Arg::of).collect();
         Some(Rule {
             strict,
+            rest,
             left,
             right,
             env: formals.len(),
@@ -761,8 +788,9 @@ impl Compiler {
         }
         for t in std::iter::once(productions).chain(others) {
             for r in &t.rules {
-                if !reachable[r.strict as usize] {
-                    let info = &self.alphabet.symbols[r.strict as usize];
+                let unreachable = std::iter::once(&r.strict).chain(&r.rest).find(|&&s| !reachable[s as usize]);
+                if let Some(&s) = unreachable {
+                    let info = &self.alphabet.symbols[s as usize];
                     let others: Vec<String> = self
                         .alphabet
                         .named(&info.name)
@@ -861,7 +889,8 @@ impl LSystem {
         self.hooks.iter().any(|h| !h.is_empty())
     }
 
-    /// Whether some production has a left or right context.
+    /// Whether some production has a left or right context or a
+    /// predecessor of several modules.
     pub fn is_context_sensitive(&self) -> bool {
         self.productions.context
     }

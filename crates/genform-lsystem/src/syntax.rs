@@ -46,8 +46,9 @@ pub struct Pattern {
 pub struct Production {
     /// Left context, in string order.
     pub left: Vec<Pattern>,
-    /// The strict predecessor.
-    pub strict: Pattern,
+    /// The strict predecessor: one module, or several that match
+    /// consecutive modules of the string (L-Py's `A B --> …`).
+    pub strict: Vec<Pattern>,
     /// Right context, in string order.
     pub right: Vec<Pattern>,
     /// Condition after `:`.
@@ -750,23 +751,20 @@ impl Parser {
             None => (pattern_text.len(), pattern_text.len()),
         };
         let left = self.patterns(&pattern_text[..l_end], at);
-        let mut strict = self.patterns(&pattern_text[s_start..s_end], at + s_start);
+        let strict = self.patterns(&pattern_text[s_start..s_end], at + s_start);
         let right = self.patterns(&pattern_text[r_start..], at + r_start);
-        if strict.len() != 1 {
+        if strict.is_empty() {
             let (t, tat) = trimmed(&pattern_text[s_start..s_end], at + s_start);
             self.errors.push(
-                Diagnostic::error(
-                    span(tat, t.len().max(1)),
-                    format!("the strict predecessor must be one module, found {}", strict.len()),
-                )
-                .with_hint("contexts go around it: `A B < C > D -> …` rewrites C"),
+                Diagnostic::error(span(tat, t.len().max(1)), "the strict predecessor has no module")
+                    .with_hint("name the module(s) to rewrite between the contexts: `A < B > C -> …` rewrites B"),
             );
             return None;
         }
         // `-> {` alone opens a body of statements on the lines below.
         let body = (succ_text.trim() == "{").then(Vec::new);
         let successor = if body.is_some() { Vec::new() } else { self.calls(succ_text, at + arrow.end) };
-        Some(Production { left, strict: strict.remove(0), right, cond, weight, successor, body, span: whole })
+        Some(Production { left, strict, right, cond, weight, successor, body, span: whole })
     }
 }
 
@@ -921,13 +919,13 @@ mod tests {
         let p = &f.productions[0].1;
         assert_eq!(p.left.len(), 2);
         assert_eq!(p.left[1].formals[0].0, "y");
-        assert_eq!(p.strict.name, "C");
+        assert_eq!(p.strict[0].name, "C");
         assert_eq!(p.right.len(), 1);
         assert!(p.cond.is_some() && p.weight.is_some());
         assert_eq!(p.successor.len(), 4);
         assert_eq!(p.successor[2].args.len(), 1);
         let q = &f.productions[1].1;
-        assert_eq!(q.strict.name, "-");
+        assert_eq!(q.strict[0].name, "-");
         assert!(q.weight.is_none());
     }
 
