@@ -255,6 +255,26 @@ impl LSystem {
         cap: usize,
         sc: &mut Scratch,
     ) -> Result<(), Stop> {
+        // Tables without predecessors of several modules keep a loop with
+        // no passing over.
+        if table.several {
+            self.rewrite_with::<true>(table, cur, out, rng, cap, sc)
+        } else {
+            self.rewrite_with::<false>(table, cur, out, rng, cap, sc)
+        }
+    }
+
+    /// [`LSystem::rewrite`]; `SEVERAL`: some rule's predecessor has several
+    /// modules.
+    fn rewrite_with<const SEVERAL: bool>(
+        &self,
+        table: &Table,
+        cur: &ModuleString,
+        out: &mut ModuleString,
+        rng: &mut Rng,
+        cap: usize,
+        sc: &mut Scratch,
+    ) -> Result<(), Stop> {
         out.syms.clear();
         out.params.clear();
         let mut partners = std::mem::take(&mut sc.partners);
@@ -272,7 +292,7 @@ impl LSystem {
             let n = self.alphabet.arity(sym);
             let params = &cur.params[off..off + n];
             off += n;
-            if skip > 0 {
+            if SEVERAL && skip > 0 {
                 skip -= 1;
                 continue;
             }
@@ -280,7 +300,9 @@ impl LSystem {
             match self.choose(table, &site, rng, sc) {
                 Some(r) => {
                     let rule = &table.rules[r as usize];
-                    skip = rule.rest.len();
+                    if SEVERAL {
+                        skip = rule.rest.len();
+                    }
                     if let Err(v) = emit(rule, &self.alphabet, sc, out, rng) {
                         done = Err(Stop::NonFinite(r, v));
                         break;
@@ -427,13 +449,16 @@ impl LSystem {
     /// `sc.env` with the formal parameters.
     fn bind(&self, rule: &Rule, site: &Site, sc: &mut Scratch) -> bool {
         sc.env.clear();
-        if rule.needs_view() {
+        if rule.view {
             let Some((i, view, offsets, all)) = site.ctx else { return false };
             // L-Py matches the strict predecessor module after module, with
             // no module (ignored or bracket) in between.
-            let last = i + rule.rest.len();
-            if !rule.rest.is_empty() && view.syms.get(i + 1..=last) != Some(&rule.rest[..]) {
-                return false;
+            let mut last = i;
+            if !rule.rest.is_empty() {
+                last += rule.rest.len();
+                if view.syms.get(i + 1..=last) != Some(&rule.rest[..]) {
+                    return false;
+                }
             }
             let ctx_params = |pos: usize, env: &mut Vec<f64>| {
                 let o = offsets[pos] as usize;
@@ -447,8 +472,10 @@ impl LSystem {
                 ctx_params(pos, &mut sc.env);
             }
             sc.env.extend_from_slice(site.params);
-            for pos in i + 1..=last {
-                ctx_params(pos, &mut sc.env);
+            if last > i {
+                for pos in i + 1..=last {
+                    ctx_params(pos, &mut sc.env);
+                }
             }
             sc.found.clear();
             if !view.right(last, &rule.right, &mut sc.found) {
@@ -460,8 +487,11 @@ impl LSystem {
         } else {
             sc.env.extend_from_slice(site.params);
         }
-        if rule.state {
-            sc.env.extend_from_slice(&sc.state);
+        if rule.tail {
+            sc.env.resize(sc.env.len() + rule.pad as usize, f64::NAN);
+            if rule.state {
+                sc.env.extend_from_slice(&sc.state);
+            }
         }
         true
     }

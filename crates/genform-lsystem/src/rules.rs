@@ -18,6 +18,14 @@ pub(crate) struct Rule {
     /// follow `strict` directly in the string, and the whole sequence is
     /// replaced.
     pub rest: Vec<Sym>,
+    /// Parameters bound to NaN after the matched ones: those of the other
+    /// alternatives of an `or(…)` pattern.
+    pub pad: u32,
+    /// [`Rule::needs_view`], kept for the rewriting loop.
+    pub view: bool,
+    /// `pad > 0 || state`: the environment goes on after the matched
+    /// parameters.
+    pub tail: bool,
     pub left: Vec<Sym>,
     pub right: Vec<Sym>,
     /// Formal parameters: left context's, the predecessor's (module after
@@ -72,12 +80,15 @@ pub(crate) struct Table {
     /// Some rule has a context or a predecessor of several modules: the
     /// rules see the string around the module.
     pub context: bool,
+    /// Some rule's predecessor has several modules.
+    pub several: bool,
 }
 
 impl Table {
     pub(crate) fn from_parts(rules: Vec<Rule>, by_sym: Vec<Vec<Entry>>, max_depth: u32) -> Table {
         let context = rules.iter().any(Rule::needs_view);
-        Table { rules, by_sym, max_depth, context }
+        let several = rules.iter().any(|r| !r.rest.is_empty());
+        Table { rules, by_sym, max_depth, context, several }
     }
 
     pub(crate) fn is_empty(&self) -> bool {

@@ -712,3 +712,27 @@ fn interpretation_rules_read_contexts_and_several_modules() {
     let p = m.modules(&s.alphabet).last().unwrap().1.to_vec();
     assert!((p[0] - 6.0).abs() < 1e-9 && p[1].abs() < 1e-9, "{p:?}");
 }
+
+#[test]
+fn or_patterns_bind_the_other_alternatives_to_nan() {
+    // The parameters of the alternatives that did not match are NaN (a
+    // module may not carry one: that is a derivation error); a name shared
+    // by two alternatives binds from whichever matched.
+    let text = "axiom: AB(1) AC(2) AD(3,4)\nproduction:\n\
+                A > or(B(x), C(x), D(y, z)) -> K(x == x ? x : 0, y == y ? y : 0)\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.display(&s.alphabet, true), "K(1,0)B(1)K(2,0)C(2)K(0,3)D(3,4)");
+    let s = system("axiom: AB(1)\nproduction:\nA > or(B(x), C(y)) -> K(y)\n");
+    assert!(s.derive(1, &mut Rng::from_seed(0)).is_err());
+    // Declared names are read first: `Color(…)` is no `or(…)`.
+    let (s, m) = derive("module: Color\naxiom: A Color(1)\nproduction:\nA > Color(c) -> B(c)\n", 1);
+    assert_eq!(m.display(&s.alphabet, true), "B(1)Color(1)");
+}
+
+#[test]
+fn or_patterns_warn_only_when_no_alternative_can_apply() {
+    let (_, w) = compile_text("axiom: A B\nproduction:\nor(A, Z) B -> C\n").unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    let (_, w) = compile_text("axiom: A B\nproduction:\nor(Y, Z) B -> C\n").unwrap();
+    assert_eq!(w.len(), 1, "{w:?}");
+}

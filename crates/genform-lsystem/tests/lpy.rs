@@ -110,6 +110,14 @@ fn interpretation_rules_with_contexts_and_several_modules() {
 }
 
 #[test]
+fn or_patterns_take_the_first_alternative_that_matches() {
+    // `A > or( B(x)C(y)D(z), E(i), F(j)G(k) ) : … produce H`: every A
+    // followed by one of the three becomes H.
+    let o = load("or.lpy");
+    assert_eq!(derive(&o).display(&o.alphabet, true), "HB(0)C(1)D(2)HE(4)HF(5)G(6)");
+}
+
+#[test]
 fn comments_and_parameters() {
     // `Axiom: A(1)#(3)`: `#` starts a comment; A(x) --> A(x+1), 5 steps.
     let c = load("comments.lpy");
@@ -498,7 +506,7 @@ fn corpus() {
              - **editor**: uses a curve, patch or function that L-Py's editor stores in the file's \\\n  \
              `__initialiseContext__` (genform reads only the editor's scalars);\n\
              - **L-Py feature**: no Python beyond the subset, but an L-system construct the `.ls` language lacks \\\n  \
-             (`<<`/`>>` contexts, `*`/`or(…)` patterns) or another error.\n\n",
+             (`<<`/`>>` contexts, `*`/`all(…)` patterns) or another error.\n\n",
         );
         md.push_str(&format!("Of {} files: ", files.len()));
         let parts: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();
