@@ -141,7 +141,7 @@ pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSyst
     };
     let mut rules: [Vec<(Rule, bool)>; 3] = Default::default();
     for (section, p) in &file.productions {
-        if let Some(rule) = c.rule(p, *section) {
+        for rule in c.rules_of(p, *section) {
             let weighted = p.weight.is_some();
             rules[*section as usize].push((rule, weighted));
         }
@@ -471,17 +471,104 @@ impl Compiler {
         self.sym(&p.name, p.formals.len(), p.span)
     }
 
-    fn rule(&mut self, p: &syntax::Production, section: Section) -> Option<Rule> {
-        if section != Section::Production && !(p.left.is_empty() && p.right.is_empty()) {
+    /// Checks a strict predecessor of several modules (`first` then
+    /// `rest`): decomposition rules have none, and it holds no brackets.
+    fn several(&mut self, p: &syntax::Production, section: Section, first: Sym, rest: &[Sym]) {
+        let whole = Span::new(p.strict[0].span.start as usize, p.strict[p.strict.len() - 1].span.end as usize);
+        if section == Section::Decomposition {
             self.errors.push(
-                Diagnostic::error(p.span, "decomposition and interpretation rules are context-free")
-                    .with_hint("move the context to a production, or drop it"),
+                Diagnostic::error(
+                    whole,
+                    format!("a decomposition rule rewrites one module, this predecessor has {}", p.strict.len()),
+                )
+                .with_hint("rewrite the sequence in a production (`A B -> C`), or write one rule per module"),
+            );
+        }
+        let syms = std::iter::once(&first).chain(rest);
+        if let Some(m) = syms.zip(&p.strict).find(|(s, _)| self.is_bracket(**s)).map(|(_, m)| m) {
+            self.errors.push(
+                Diagnostic::error(m.span, "a predecessor of several modules cannot hold a bracket")
+                    .with_hint("match a branch with a right context instead: `A > [B] -> …`"),
+            );
+        }
+    }
+
+    /// The rules of production `p`: one, or one per combination of the
+    /// alternatives of its `or(…)` patterns (in order: the first that
+    /// matches applies), each binding the parameters of the others to NaN
+    /// (L-Py's None).
+    fn rules_of(&mut self, p: &syntax::Production, section: Section) -> Vec<Rule> {
+        let has_or = |ps: &[Pattern]| ps.iter().any(|m| !m.alts.is_empty());
+        if !(has_or(&p.left) || has_or(&p.strict) || has_or(&p.right)) {
+            return self.rule(p, section, &[]).into_iter().collect();
+        }
+        if p.weight.is_some() {
+            self.errors.push(
+                Diagnostic::error(p.span, "a stochastic production cannot hold an `or(…)` pattern")
+                    .with_hint("write one weighted production per alternative"),
+            );
+            return Vec::new();
+        }
+        let (left, strict, right) = (alternatives(&p.left), alternatives(&p.strict), alternatives(&p.right));
+        let n = left.len() * strict.len() * right.len();
+        if n > MAX_ALTERNATIVES {
+            self.errors.push(
+                Diagnostic::error(p.span, format!("the `or(…)` patterns of this rule combine into {n} predecessors"))
+                    .with_hint(format!("at most {MAX_ALTERNATIVES}: split the rule into several")),
+            );
+            return Vec::new();
+        }
+        let mut names = Vec::new();
+        for m in p.left.iter().chain(&p.strict).chain(&p.right) {
+            formal_names(m, &mut names);
+        }
+        let mut out = Vec::new();
+        let seen = self.errors.len();
+        for l in &left {
+            for st in &strict {
+                for r in &right {
+                    let q = syntax::Production { left: l.clone(), strict: st.clone(), right: r.clone(), ..p.clone() };
+                    let mark = self.errors.len();
+                    let rule = self.rule(&q, section, &names);
+                    // Each combination repeats the errors of the parts they share.
+                    let new: Vec<Diagnostic> = self.errors.drain(mark..).collect();
+                    for d in new {
+                        if !self.errors[seen..].iter().any(|e| e.span == d.span && e.message == d.message) {
+                            self.errors.push(d);
+                        }
+                    }
+                    out.extend(rule);
+                }
+            }
+        }
+        out
+    }
+
+    /// Compiles one production; `extra` names parameters bound to NaN
+    /// after the predecessor's and contexts' own (those of the other
+    /// alternatives of an `or(…)`).
+    fn rule(&mut self, p: &syntax::Production, section: Section, extra: &[String]) -> Option<Rule> {
+        if section == Section::Decomposition && !(p.left.is_empty() && p.right.is_empty()) {
+            self.errors.push(
+                Diagnostic::error(p.span, "decomposition rules are context-free")
+                    .with_hint("move the context to a production or an interpretation rule, or drop it"),
             );
         }
         let mut formals = Vec::new();
         let left: Vec<Sym> = p.left.iter().map(|m| self.pattern(m, &mut formals)).collect();
-        let strict = self.pattern(&p.strict, &mut formals);
+        let strict = self.pattern(&p.strict[0], &mut formals);
+        let rest: Vec<Sym> = p.strict[1..].iter().map(|m| self.pattern(m, &mut formals)).collect();
+        if !rest.is_empty() {
+            self.several(p, section, strict, &rest);
+        }
         let right: Vec<Sym> = p.right.iter().map(|m| self.pattern(m, &mut formals)).collect();
+        let bound = formals.len();
+        for name in extra {
+            if !formals.contains(name) {
+                formals.push(name.clone());
+            }
+        }
+        let pad = (formals.len() - bound) as u32;
         // ABOP §1.8 (and cpfg): the left context is a path towards the root,
         // so it has no branches; the right context is an axial tree.
         if let Some(m) = left.iter().zip(&p.left).find(|(s, _)| self.is_bracket(**s)).map(|(_, m)| m) {
@@ -548,8 +635,13 @@ impl Compiler {
         let mut draws = cond.as_ref().map_or(0, Program::max_draws) + weight.as_ref().map_or(0, Program::max_draws);
         draws += progs.iter().map(Program::max_draws).sum::<usize>();
         let succ_args = progs.into_iter().map(Arg::of).collect();
+        let view = !(left.is_empty() && right.is_empty() && rest.is_empty());
         Some(Rule {
             strict,
+            rest,
+            pad,
+            view,
+            tail: pad > 0 || state,
             left,
             right,
             env: formals.len(),
@@ -759,10 +851,19 @@ impl Compiler {
                 }
             }
         }
+        let missing = |r: &Rule| std::iter::once(&r.strict).chain(&r.rest).find(|&&s| !reachable[s as usize]).copied();
         for t in std::iter::once(productions).chain(others) {
-            for r in &t.rules {
-                if !reachable[r.strict as usize] {
-                    let info = &self.alphabet.symbols[r.strict as usize];
+            for (k, r) in t.rules.iter().enumerate() {
+                // The rules of one production's `or(…)` share its span: warn
+                // once, when none of them can apply.
+                let same = |o: &Rule| o.span == r.span;
+                if t.rules[..k].iter().any(same)
+                    || t.rules[k..].iter().filter(|o| same(o)).any(|o| missing(o).is_none())
+                {
+                    continue;
+                }
+                if let Some(s) = missing(r) {
+                    let info = &self.alphabet.symbols[s as usize];
                     let others: Vec<String> = self
                         .alphabet
                         .named(&info.name)
@@ -785,6 +886,51 @@ impl Compiler {
                 }
             }
         }
+    }
+}
+
+/// Most predecessors the `or(…)` patterns of one rule may combine into.
+const MAX_ALTERNATIVES: usize = 64;
+
+/// The plain module sequences `patterns` can match, one per combination
+/// of the alternatives of its `or(…)`s, in order of preference.
+fn alternatives(patterns: &[Pattern]) -> Vec<Vec<Pattern>> {
+    let mut out = vec![Vec::new()];
+    for p in patterns {
+        if p.alts.is_empty() {
+            for o in &mut out {
+                o.push(p.clone());
+            }
+            continue;
+        }
+        let mut next = Vec::new();
+        for o in &out {
+            for alt in &p.alts {
+                for tail in alternatives(alt) {
+                    let mut v = o.clone();
+                    v.extend(tail);
+                    next.push(v);
+                }
+            }
+        }
+        out = next;
+        if out.len() > MAX_ALTERNATIVES {
+            break;
+        }
+    }
+    out
+}
+
+/// Appends the parameter names of `p` (and its alternatives) not yet in
+/// `names`, in text order.
+fn formal_names(p: &Pattern, names: &mut Vec<String>) {
+    for (f, _) in &p.formals {
+        if !names.contains(f) {
+            names.push(f.clone());
+        }
+    }
+    for m in p.alts.iter().flatten() {
+        formal_names(m, names);
     }
 }
 
@@ -861,7 +1007,8 @@ impl LSystem {
         self.hooks.iter().any(|h| !h.is_empty())
     }
 
-    /// Whether some production has a left or right context.
+    /// Whether some production has a left or right context or a
+    /// predecessor of several modules.
     pub fn is_context_sensitive(&self) -> bool {
         self.productions.context
     }

@@ -1,6 +1,7 @@
 //! Parallel rewriting: each step replaces every module by the successor of
-//! the first rule that matches it (identity when none does), then applies
-//! decomposition rules and cuts.
+//! the first rule that matches it (identity when none does) — a rule whose
+//! predecessor has several modules replaces them all, matches taken left to
+//! right without overlap — then applies decomposition rules and cuts.
 
 use crate::alphabet::{Command, Sym};
 use crate::arg::is_true;
@@ -254,36 +255,55 @@ impl LSystem {
         cap: usize,
         sc: &mut Scratch,
     ) -> Result<(), Stop> {
+        // Tables without predecessors of several modules keep a loop with
+        // no passing over.
+        if table.several {
+            self.rewrite_with::<true>(table, cur, out, rng, cap, sc)
+        } else {
+            self.rewrite_with::<false>(table, cur, out, rng, cap, sc)
+        }
+    }
+
+    /// [`LSystem::rewrite`]; `SEVERAL`: some rule's predecessor has several
+    /// modules.
+    fn rewrite_with<const SEVERAL: bool>(
+        &self,
+        table: &Table,
+        cur: &ModuleString,
+        out: &mut ModuleString,
+        rng: &mut Rng,
+        cap: usize,
+        sc: &mut Scratch,
+    ) -> Result<(), Stop> {
         out.syms.clear();
         out.params.clear();
         let mut partners = std::mem::take(&mut sc.partners);
         let mut offsets = std::mem::take(&mut sc.offsets);
         if table.context {
-            bracket_partners(&cur.syms, &self.alphabet, &mut partners);
-            offsets.clear();
-            let mut off = 0u32;
-            for &s in &cur.syms {
-                offsets.push(off);
-                off += self.alphabet.arity(s) as u32;
-            }
+            self.view_parts(&cur.syms, &mut partners, &mut offsets);
         }
-        let view = Context {
-            syms: &cur.syms,
-            partners: &partners,
-            ignored: &self.ignored,
-            push: &self.brackets[0],
-            pop: &self.brackets[1],
-        };
+        let view = self.view(&cur.syms, &partners);
         let mut off = 0usize;
         let mut done = Ok(());
+        // Modules still to pass over: the rest of a predecessor of several
+        // modules that was just replaced (matches do not overlap).
+        let mut skip = 0usize;
         for (i, &sym) in cur.syms.iter().enumerate() {
             let n = self.alphabet.arity(sym);
             let params = &cur.params[off..off + n];
             off += n;
+            if SEVERAL && skip > 0 {
+                skip -= 1;
+                continue;
+            }
             let site = Site { sym, params, ctx: table.context.then_some((i, &view, &offsets[..], &cur.params[..])) };
             match self.choose(table, &site, rng, sc) {
                 Some(r) => {
-                    if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, sc, out, rng) {
+                    let rule = &table.rules[r as usize];
+                    if SEVERAL {
+                        skip = rule.rest.len();
+                    }
+                    if let Err(v) = emit(rule, &self.alphabet, sc, out, rng) {
                         done = Err(Stop::NonFinite(r, v));
                         break;
                     }
@@ -301,6 +321,23 @@ impl LSystem {
         sc.partners = partners;
         sc.offsets = offsets;
         done
+    }
+
+    /// Fills the bracket partners and parameter offsets of `syms`, which
+    /// rules with a context or several predecessor modules read.
+    pub(crate) fn view_parts(&self, syms: &[Sym], partners: &mut Vec<u32>, offsets: &mut Vec<u32>) {
+        bracket_partners(syms, &self.alphabet, partners);
+        offsets.clear();
+        let mut off = 0u32;
+        for &s in syms {
+            offsets.push(off);
+            off += self.alphabet.arity(s) as u32;
+        }
+    }
+
+    /// The context view of `syms` with its bracket `partners`.
+    pub(crate) fn view<'a>(&'a self, syms: &'a [Sym], partners: &'a [u32]) -> Context<'a> {
+        Context { syms, partners, ignored: &self.ignored, push: &self.brackets[0], pop: &self.brackets[1] }
     }
 
     /// The error for rule `rule` having emitted the non-finite `value` at
@@ -408,11 +445,21 @@ impl LSystem {
         }
     }
 
-    /// Matches the contexts and fills `sc.env` with the formal parameters.
+    /// Matches the rest of the predecessor and the contexts, and fills
+    /// `sc.env` with the formal parameters.
     fn bind(&self, rule: &Rule, site: &Site, sc: &mut Scratch) -> bool {
         sc.env.clear();
-        if rule.has_context() {
+        if rule.view {
             let Some((i, view, offsets, all)) = site.ctx else { return false };
+            // L-Py matches the strict predecessor module after module, with
+            // no module (ignored or bracket) in between.
+            let mut last = i;
+            if !rule.rest.is_empty() {
+                last += rule.rest.len();
+                if view.syms.get(i + 1..=last) != Some(&rule.rest[..]) {
+                    return false;
+                }
+            }
             let ctx_params = |pos: usize, env: &mut Vec<f64>| {
                 let o = offsets[pos] as usize;
                 env.extend_from_slice(&all[o..o + self.alphabet.arity(view.syms[pos])]);
@@ -425,8 +472,13 @@ impl LSystem {
                 ctx_params(pos, &mut sc.env);
             }
             sc.env.extend_from_slice(site.params);
+            if last > i {
+                for pos in i + 1..=last {
+                    ctx_params(pos, &mut sc.env);
+                }
+            }
             sc.found.clear();
-            if !view.right(i, &rule.right, &mut sc.found) {
+            if !view.right(last, &rule.right, &mut sc.found) {
                 return false;
             }
             for &pos in &sc.found {
@@ -435,8 +487,11 @@ impl LSystem {
         } else {
             sc.env.extend_from_slice(site.params);
         }
-        if rule.state {
-            sc.env.extend_from_slice(&sc.state);
+        if rule.tail {
+            sc.env.resize(sc.env.len() + rule.pad as usize, f64::NAN);
+            if rule.state {
+                sc.env.extend_from_slice(&sc.state);
+            }
         }
         true
     }
@@ -482,6 +537,41 @@ impl LSystem {
         let Some(r) = rule else {
             return sink(sym, params);
         };
+        self.expand_rule(table, r, depth, draws, sc, sink)
+    }
+
+    /// [`LSystem::expand`] for a module of a string seen through `site`
+    /// (its context view), so that rules with a context or a predecessor of
+    /// several modules apply; they match only the string itself, not what
+    /// the rules produce from it. Returns how many modules after the site
+    /// the chosen rule's predecessor took as well (to pass over), and
+    /// whether `sink` asked to go on.
+    pub(crate) fn expand_site(
+        &self,
+        table: &Table,
+        site: &Site,
+        draws: &mut impl Draws,
+        sc: &mut Scratch,
+        sink: &mut impl FnMut(Sym, &[f64]) -> bool,
+    ) -> (usize, bool) {
+        let rule = if table.max_depth > 0 { self.choose(table, site, draws, sc) } else { None };
+        match rule {
+            None => (0, sink(site.sym, site.params)),
+            Some(r) => (table.rules[r as usize].rest.len(), self.expand_rule(table, r, 0, draws, sc, sink)),
+        }
+    }
+
+    /// Emits rule `r` (just chosen at `depth`) and expands what it produced
+    /// one level deeper.
+    fn expand_rule(
+        &self,
+        table: &Table,
+        r: u32,
+        depth: u32,
+        draws: &mut impl Draws,
+        sc: &mut Scratch,
+        sink: &mut impl FnMut(Sym, &[f64]) -> bool,
+    ) -> bool {
         let mut produced = ModuleString::default();
         if let Err(v) = emit(&table.rules[r as usize], &self.alphabet, sc, &mut produced, draws) {
             sc.non_finite.get_or_insert((r, v));

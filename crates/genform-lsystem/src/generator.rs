@@ -28,7 +28,7 @@ use std::sync::Arc;
 pub enum GeneratorError {
     /// Context-sensitive productions depend on neighbours, not on a tree.
     #[error(
-        "`{0}` has context-sensitive productions; evolutionary control needs a context-free L-system (a module's rewrite may depend only on the module)"
+        "`{0}` has context-sensitive productions (a context, or a predecessor of several modules); evolutionary control needs a context-free L-system (a module's rewrite may depend only on the module)"
     )]
     Context(String),
     /// Decomposition rewrites modules outside the derivation tree.

@@ -11,11 +11,25 @@ use genform_core::expr::Program;
 /// One production (or decomposition / interpretation rule).
 #[derive(Clone, Debug)]
 pub(crate) struct Rule {
+    /// The (first) module of the strict predecessor: the rule is tried for
+    /// it.
     pub strict: Sym,
+    /// The predecessor's further modules (L-Py's `A B --> …`): they must
+    /// follow `strict` directly in the string, and the whole sequence is
+    /// replaced.
+    pub rest: Vec<Sym>,
+    /// Parameters bound to NaN after the matched ones: those of the other
+    /// alternatives of an `or(…)` pattern.
+    pub pad: u32,
+    /// [`Rule::needs_view`], kept for the rewriting loop.
+    pub view: bool,
+    /// `pad > 0 || state`: the environment goes on after the matched
+    /// parameters.
+    pub tail: bool,
     pub left: Vec<Sym>,
     pub right: Vec<Sym>,
-    /// Formal parameters: left context's, the predecessor's, the right
-    /// context's, in string order.
+    /// Formal parameters: left context's, the predecessor's (module after
+    /// module), the right context's, in string order.
     pub env: usize,
     pub cond: Option<Program>,
     pub weight: Option<Program>,
@@ -38,6 +52,12 @@ impl Rule {
     pub(crate) fn has_context(&self) -> bool {
         !self.left.is_empty() || !self.right.is_empty()
     }
+
+    /// Whether matching looks at other modules than the rewritten one: a
+    /// context, or a predecessor of several modules.
+    pub(crate) fn needs_view(&self) -> bool {
+        self.has_context() || !self.rest.is_empty()
+    }
 }
 
 /// What is tried for a module, in order: a single rule, or a stochastic
@@ -57,14 +77,18 @@ pub(crate) struct Table {
     /// How often the rules re-apply to their own output (decomposition and
     /// interpretation).
     pub max_depth: u32,
-    /// Some rule has a context.
+    /// Some rule has a context or a predecessor of several modules: the
+    /// rules see the string around the module.
     pub context: bool,
+    /// Some rule's predecessor has several modules.
+    pub several: bool,
 }
 
 impl Table {
     pub(crate) fn from_parts(rules: Vec<Rule>, by_sym: Vec<Vec<Entry>>, max_depth: u32) -> Table {
-        let context = rules.iter().any(Rule::has_context);
-        Table { rules, by_sym, max_depth, context }
+        let context = rules.iter().any(Rule::needs_view);
+        let several = rules.iter().any(|r| !r.rest.is_empty());
+        Table { rules, by_sym, max_depth, context, several }
     }
 
     pub(crate) fn is_empty(&self) -> bool {
@@ -79,7 +103,7 @@ impl Table {
             None => Some(None),
             Some(Entry::One(r)) => {
                 let r = &self.rules[*r as usize];
-                (r.cond.is_none() && !r.has_context() && r.succ_args.is_empty() && r.env == 0 && r.body.is_none())
+                (r.cond.is_none() && !r.needs_view() && r.succ_args.is_empty() && r.env == 0 && r.body.is_none())
                     .then_some(Some(r))
             }
             Some(Entry::Group(_)) => None,

@@ -39,6 +39,9 @@ pub struct Pattern {
     pub span: Span,
     /// Formal parameter names with their spans.
     pub formals: Vec<(String, Span)>,
+    /// L-Py's `or(P1, P2, …)` (name `or`): the alternative module
+    /// sequences, the first that matches counts; empty for a module.
+    pub alts: Vec<Vec<Pattern>>,
 }
 
 /// One production line.
@@ -46,8 +49,9 @@ pub struct Pattern {
 pub struct Production {
     /// Left context, in string order.
     pub left: Vec<Pattern>,
-    /// The strict predecessor.
-    pub strict: Pattern,
+    /// The strict predecessor: one module, or several that match
+    /// consecutive modules of the string (L-Py's `A B --> …`).
+    pub strict: Vec<Pattern>,
     /// Right context, in string order.
     pub right: Vec<Pattern>,
     /// Condition after `:`.
@@ -687,26 +691,76 @@ impl Parser {
             .collect()
     }
 
+    /// The patterns of `text`; `or(P1, P2, …)` holds alternatives (as in
+    /// L-Py, where `or` is a module name of its own, so an undeclared
+    /// `For(…)` is `F` and `or(…)`).
     fn patterns(&mut self, text: &str, at: usize) -> Vec<Pattern> {
         let raw = self.modules(text, at);
-        raw.into_iter()
-            .map(|m| {
-                let mut formals = Vec::new();
-                if let Some((inner, iat)) = m.args {
-                    for (piece, pat) in split_top(inner, iat, ',') {
+        let mut out = Vec::with_capacity(raw.len());
+        let mut k = 0;
+        while k < raw.len() {
+            let m = &raw[k];
+            let or = (m.name == "o" && m.args.is_none())
+                .then(|| raw.get(k + 1))
+                .flatten()
+                .filter(|r| r.name == "r" && r.span.start == m.span.end)
+                .and_then(|r| r.args.map(|a| (r.span, a)));
+            if let Some((r_span, (inner, iat))) = or {
+                let mut alts = Vec::new();
+                for (piece, pat) in split_top(inner, iat, ',') {
+                    let alt = self.patterns(piece, pat);
+                    if alt.is_empty() {
                         let (t, tat) = trimmed(piece, pat);
-                        match leading_word(t) {
-                            Some((w, "")) => formals.push((w.to_string(), span(tat, w.len()))),
-                            _ => self.errors.push(
-                                Diagnostic::error(span(tat, t.len().max(1)), "a predecessor's parameters are names")
-                                    .with_hint("write `A(x, y) : x > y -> …`; put tests in the condition"),
-                            ),
-                        }
+                        self.errors.push(
+                            Diagnostic::error(span(tat, t.len().max(1)), "an alternative of `or(…)` has no module")
+                                .with_hint("write the module sequences it may match: `A > or(B C, D) -> …`"),
+                        );
+                    }
+                    alts.push(alt);
+                }
+                let whole = Span::new(m.span.start as usize, r_span.end as usize);
+                out.push(Pattern { name: "or".to_string(), span: whole, formals: Vec::new(), alts });
+                k += 2;
+                continue;
+            }
+            // L-Py's repetition `all(…)` (or `x(…)`): matches of varying length.
+            let all = k + 2 < raw.len()
+                && m.name == "a"
+                && raw[k + 1].name == "l"
+                && raw[k + 2].name == "l"
+                && raw[k + 2].args.is_some()
+                && raw[k + 1].span.start == m.span.end
+                && raw[k + 2].span.start == raw[k + 1].span.end;
+            if all {
+                self.errors.push(
+                    Diagnostic::error(
+                        Span::new(m.span.start as usize, raw[k + 2].span.end as usize),
+                        "L-Py's repetition pattern `all(…)` is not read by genform",
+                    )
+                    .with_hint(
+                        "a predecessor or context matches a fixed number of modules; `or(…)` chooses among sequences",
+                    ),
+                );
+                k += 3;
+                continue;
+            }
+            let mut formals = Vec::new();
+            if let Some((inner, iat)) = m.args {
+                for (piece, pat) in split_top(inner, iat, ',') {
+                    let (t, tat) = trimmed(piece, pat);
+                    match leading_word(t) {
+                        Some((w, "")) => formals.push((w.to_string(), span(tat, w.len()))),
+                        _ => self.errors.push(
+                            Diagnostic::error(span(tat, t.len().max(1)), "a predecessor's parameters are names")
+                                .with_hint("write `A(x, y) : x > y -> …`; put tests in the condition"),
+                        ),
                     }
                 }
-                Pattern { name: m.name.to_string(), span: m.span, formals }
-            })
-            .collect()
+            }
+            out.push(Pattern { name: m.name.to_string(), span: m.span, formals, alts: Vec::new() });
+            k += 1;
+        }
+        out
     }
 
     fn production(&mut self, line: &str, at: usize) -> Option<Production> {
@@ -750,23 +804,20 @@ impl Parser {
             None => (pattern_text.len(), pattern_text.len()),
         };
         let left = self.patterns(&pattern_text[..l_end], at);
-        let mut strict = self.patterns(&pattern_text[s_start..s_end], at + s_start);
+        let strict = self.patterns(&pattern_text[s_start..s_end], at + s_start);
         let right = self.patterns(&pattern_text[r_start..], at + r_start);
-        if strict.len() != 1 {
+        if strict.is_empty() {
             let (t, tat) = trimmed(&pattern_text[s_start..s_end], at + s_start);
             self.errors.push(
-                Diagnostic::error(
-                    span(tat, t.len().max(1)),
-                    format!("the strict predecessor must be one module, found {}", strict.len()),
-                )
-                .with_hint("contexts go around it: `A B < C > D -> …` rewrites C"),
+                Diagnostic::error(span(tat, t.len().max(1)), "the strict predecessor has no module")
+                    .with_hint("name the module(s) to rewrite between the contexts: `A < B > C -> …` rewrites B"),
             );
             return None;
         }
         // `-> {` alone opens a body of statements on the lines below.
         let body = (succ_text.trim() == "{").then(Vec::new);
         let successor = if body.is_some() { Vec::new() } else { self.calls(succ_text, at + arrow.end) };
-        Some(Production { left, strict: strict.remove(0), right, cond, weight, successor, body, span: whole })
+        Some(Production { left, strict, right, cond, weight, successor, body, span: whole })
     }
 }
 
@@ -921,13 +972,13 @@ mod tests {
         let p = &f.productions[0].1;
         assert_eq!(p.left.len(), 2);
         assert_eq!(p.left[1].formals[0].0, "y");
-        assert_eq!(p.strict.name, "C");
+        assert_eq!(p.strict[0].name, "C");
         assert_eq!(p.right.len(), 1);
         assert!(p.cond.is_some() && p.weight.is_some());
         assert_eq!(p.successor.len(), 4);
         assert_eq!(p.successor[2].args.len(), 1);
         let q = &f.productions[1].1;
-        assert_eq!(q.strict.name, "-");
+        assert_eq!(q.strict[0].name, "-");
         assert!(q.weight.is_none());
     }
 

@@ -669,3 +669,70 @@ fn display_pieces_add_up_to_the_text() {
         assert_eq!((stopped, taken), (Err("full"), 2));
     }
 }
+
+#[test]
+fn several_module_predecessors_replace_the_whole_sequence() {
+    // Left to right without overlap: A A A A A → B B A.
+    let (s, m) = derive("axiom: AAAAA\nproduction:\nA A -> B\n", 1);
+    assert_eq!(m.display(&s.alphabet, true), "BBA");
+    // Every predecessor module binds its parameters, a condition reads them
+    // all, and a failed match leaves the first module to the next rule.
+    let text = "axiom: A(1)B(2)A(3)B(1)\nproduction:\nA(x) B(y) : x < y -> C(x, y)\nA(x) -> D(x)\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.display(&s.alphabet, true), "C(1,2)D(3)B(1)");
+    // A stochastic group of two-module rules: either way the pair goes.
+    let text = "axiom: ABABAB\nproduction:\nA B -(1)-> X\nA B -(1)-> Y\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.len(), 3);
+    assert_eq!(m.count(&s.alphabet, "X") + m.count(&s.alphabet, "Y"), 3);
+    // The right context starts after the last predecessor module; the
+    // string ends right there, so nothing matches.
+    let (s, m) = derive("axiom: ABAB\nproduction:\nA B > A -> C\n", 1);
+    assert_eq!(m.display(&s.alphabet, true), "CAB");
+    // Evolutionary control needs a module's rewrite to depend on it alone.
+    let s = system("axiom: AB\nproduction:\nA B -> C\n");
+    assert!(crate::LsGenerator::new(std::sync::Arc::new(s)).is_err());
+}
+
+#[test]
+fn interpretation_rules_read_contexts_and_several_modules() {
+    // L-Py's lsystem1.lpy (paper 2012): an internode after another draws
+    // without a width change. Here a left context and a two-module
+    // predecessor choose how many segments each module draws.
+    let text = "axiom: A A A P Q A\ninterpretation:\nA < A -> F F\nA -> F\nP Q -> F F F\n";
+    let s = system(text);
+    let mut scene = Scene::new();
+    let end = s.interpret(&s.axiom, &mut Rng::from_seed(0), usize::MAX, &mut scene).unwrap();
+    // A: 1, A A: 2 each, P Q: 3, the last A (after Q) 1.
+    assert_eq!(end.segments, 1 + 2 + 2 + 3 + 1);
+    // Queries see the same rules (the position after the segments).
+    let text = "heading: +x\naxiom: A A P Q ?P(0,0,0)\nproduction:\nA -> A\ninterpretation:\nA < A -> F F\nP Q -> F F F\nA -> F\n";
+    let s = system(text);
+    let m = s.derive(1, &mut Rng::from_seed(0)).unwrap();
+    let p = m.modules(&s.alphabet).last().unwrap().1.to_vec();
+    assert!((p[0] - 6.0).abs() < 1e-9 && p[1].abs() < 1e-9, "{p:?}");
+}
+
+#[test]
+fn or_patterns_bind_the_other_alternatives_to_nan() {
+    // The parameters of the alternatives that did not match are NaN (a
+    // module may not carry one: that is a derivation error); a name shared
+    // by two alternatives binds from whichever matched.
+    let text = "axiom: AB(1) AC(2) AD(3,4)\nproduction:\n\
+                A > or(B(x), C(x), D(y, z)) -> K(x == x ? x : 0, y == y ? y : 0)\n";
+    let (s, m) = derive(text, 1);
+    assert_eq!(m.display(&s.alphabet, true), "K(1,0)B(1)K(2,0)C(2)K(0,3)D(3,4)");
+    let s = system("axiom: AB(1)\nproduction:\nA > or(B(x), C(y)) -> K(y)\n");
+    assert!(s.derive(1, &mut Rng::from_seed(0)).is_err());
+    // Declared names are read first: `Color(…)` is no `or(…)`.
+    let (s, m) = derive("module: Color\naxiom: A Color(1)\nproduction:\nA > Color(c) -> B(c)\n", 1);
+    assert_eq!(m.display(&s.alphabet, true), "B(1)Color(1)");
+}
+
+#[test]
+fn or_patterns_warn_only_when_no_alternative_can_apply() {
+    let (_, w) = compile_text("axiom: A B\nproduction:\nor(A, Z) B -> C\n").unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    let (_, w) = compile_text("axiom: A B\nproduction:\nor(Y, Z) B -> C\n").unwrap();
+    assert_eq!(w.len(), 1, "{w:?}");
+}

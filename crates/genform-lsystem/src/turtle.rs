@@ -19,7 +19,7 @@ mod state;
 
 use crate::alphabet::{Command, Sym};
 use crate::compile::LSystem;
-use crate::derive::Scratch;
+use crate::derive::{Scratch, Site};
 use crate::settings::{Settings, View};
 use crate::string::ModuleString;
 use cylinder::Cylinder;
@@ -85,6 +85,34 @@ impl LSystem {
             if t.over {
                 return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
             }
+        } else if self.interpretation.context {
+            // Interpretation rules with a context or several predecessor
+            // modules see the derived string around each module.
+            let (mut partners, mut offsets) = (Vec::new(), Vec::new());
+            self.view_parts(&s.syms, &mut partners, &mut offsets);
+            let view = self.view(&s.syms, &partners);
+            let mut st = t.state;
+            let (mut off, mut skip) = (0, 0);
+            for (i, &sym) in s.syms.iter().enumerate() {
+                let n = self.alphabet.arity(sym);
+                let params = &s.params[off..off + n];
+                off += n;
+                if skip > 0 {
+                    skip -= 1;
+                    continue;
+                }
+                let site = Site { sym, params, ctx: Some((i, &view, &offsets[..], &s.params[..])) };
+                skip = self
+                    .expand_site(&self.interpretation, &site, rng, &mut sc, &mut |s, p| {
+                        t.apply(&mut st, s, p);
+                        !t.over
+                    })
+                    .0;
+                if t.over {
+                    return Err(TurtleError::TooManyPrimitives { limit: max_primitives });
+                }
+            }
+            t.state = st;
         } else {
             let mut st = t.state;
             for (sym, params) in s.modules(&self.alphabet) {

@@ -74,6 +74,50 @@ fn contexts_with_ignore_match_lpy() {
 }
 
 #[test]
+fn subdivision_circle_rewrites_three_module_predecessors() {
+    // `F(x)+(a)F(y) : … produce F(x*rl)+(a/2)F(v1)F(v1)+(a/2)F(y*rl)`: each
+    // corner of the square (F + F, matched left to right without overlap)
+    // becomes two, 10 times over: 4·2^10 turns of 90/2^10 degrees.
+    let c = load("02b-subdivision-circle.lpy");
+    let s = derive(&c);
+    assert_eq!((count(&c, &s, "F"), count(&c, &s, "+")), (8 * 1024, 4 * 1024));
+    let turns = values(&c, &s, "+");
+    assert!(turns.iter().all(|&a| a == 90.0 / 1024.0), "{:?}", &turns[..4]);
+    // The polygon still closes on itself.
+    let mut scene = genform_core::Scene::new();
+    let end = c.interpret(&s, &mut Rng::from_seed(1), usize::MAX, &mut scene).unwrap();
+    assert!(end.position.length() < 1e-9, "{}", end.position);
+}
+
+#[test]
+fn interpretation_rules_with_contexts_and_several_modules() {
+    // `Pt1(x,y,z)` is three modules in L-Py (`P`, `t`, `1(x,y,z)`: names
+    // not declared are one character), so its interpretation rules have a
+    // three-module predecessor; each draws two spheres.
+    let m = load("MoveToBug.lpy");
+    let s = derive(&m);
+    assert_eq!(s.len(), 6);
+    let mut scene = genform_core::Scene::new();
+    m.interpret(&s, &mut Rng::from_seed(1), usize::MAX, &mut scene).unwrap();
+    assert_eq!(scene.instances.len(), 4);
+    // L-Py's paper example: `Internode(lp,rp) < Internode(l,r) --> F(l,r)`
+    // under `interpretation:`; 15 internodes after 4 steps, one segment each.
+    let p = load("paper12-lsystem1.lpy");
+    let s = derive(&p);
+    assert_eq!(count(&p, &s, "Internode"), 15);
+    let end = p.interpret(&s, &mut Rng::from_seed(1), usize::MAX, &mut genform_core::Scene::new()).unwrap();
+    assert_eq!(end.segments, 15);
+}
+
+#[test]
+fn or_patterns_take_the_first_alternative_that_matches() {
+    // `A > or( B(x)C(y)D(z), E(i), F(j)G(k) ) : … produce H`: every A
+    // followed by one of the three becomes H.
+    let o = load("or.lpy");
+    assert_eq!(derive(&o).display(&o.alphabet, true), "HB(0)C(1)D(2)HE(4)HF(5)G(6)");
+}
+
+#[test]
 fn comments_and_parameters() {
     // `Axiom: A(1)#(3)`: `#` starts a comment; A(x) --> A(x+1), 5 steps.
     let c = load("comments.lpy");
@@ -462,7 +506,7 @@ fn corpus() {
              - **editor**: uses a curve, patch or function that L-Py's editor stores in the file's \\\n  \
              `__initialiseContext__` (genform reads only the editor's scalars);\n\
              - **L-Py feature**: no Python beyond the subset, but an L-system construct the `.ls` language lacks \\\n  \
-             (several modules as the strict predecessor, `<<`/`>>` contexts, `*`/`or(…)` patterns) or another error.\n\n",
+             (`<<`/`>>` contexts, `*`/`all(…)` patterns) or another error.\n\n",
         );
         md.push_str(&format!("Of {} files: ", files.len()));
         let parts: Vec<String> = counts.iter().map(|(k, n)| format!("{n} {k}")).collect();

@@ -7,7 +7,7 @@
 
 use super::state::Turtle;
 use crate::compile::LSystem;
-use crate::derive::Scratch;
+use crate::derive::{Scratch, Site};
 use crate::string::ModuleString;
 use genform_core::{Rng, Scene};
 use glam::DVec3;
@@ -56,7 +56,16 @@ impl LSystem {
         let mut t = Turtle::new(self, &mut scene, usize::MAX, true);
         let mut sc = Scratch::with_state(state);
         let mut rng = Rng::from_seed(seed);
+        // Interpretation rules with a context or several predecessor modules
+        // see the string as it was before the queries were filled.
+        let before = if self.interpretation.context { s.clone() } else { ModuleString::default() };
+        let (mut partners, mut offsets) = (Vec::new(), Vec::new());
+        if self.interpretation.context {
+            self.view_parts(&before.syms, &mut partners, &mut offsets);
+        }
+        let view = self.view(&before.syms, &partners);
         let mut off = 0;
+        let mut skip = 0;
         for i in 0..s.syms.len() {
             let sym = s.syms[i];
             let n = self.alphabet.arity(sym);
@@ -74,8 +83,18 @@ impl LSystem {
             }
             let params = &s.params[off..off + n];
             let mut st = t.state;
-            if self.interpretation.is_empty() {
+            if skip > 0 {
+                skip -= 1;
+            } else if self.interpretation.is_empty() {
                 t.apply(&mut st, sym, params);
+            } else if self.interpretation.context {
+                let site = Site { sym, params, ctx: Some((i, &view, &offsets[..], &before.params[..])) };
+                skip = self
+                    .expand_site(&self.interpretation, &site, &mut rng, &mut sc, &mut |s, p| {
+                        t.apply(&mut st, s, p);
+                        true
+                    })
+                    .0;
             } else {
                 self.expand(&self.interpretation, (sym, params), 0, &mut rng, &mut sc, &mut |s, p| {
                     t.apply(&mut st, s, p);
