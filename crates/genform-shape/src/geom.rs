@@ -461,13 +461,32 @@ fn shed_roof(f: &[DVec2], foot: &[DVec2], t: f64, up: DVec2, apart: bool) -> (Me
         })
         .collect();
     let cap = ear_clip_all(f, eps);
+    lifted_solid(&pos, f, &top, &cap, &cap, (foot, apart, scale))
+}
+
+/// The closed solid between a ring at the eaves (corners `0..n` of `pos`,
+/// `ring`'s points, ear-clipped into `cap`) and a top over it (`top_tris`,
+/// whose corners `top` maps into `pos`): the ring's cap facing down, the
+/// top, and a vertical wall down each edge of the ring where the top stands
+/// above it. `(foot, apart, scale)`: with `apart`, the walls in `foot`'s
+/// edges (within 10⁻⁷ `scale`) are the second mesh.
+fn lifted_solid(
+    pos: &[DVec3],
+    ring: &[DVec2],
+    top: &[usize],
+    cap: &[[usize; 3]],
+    top_tris: &[[usize; 3]],
+    (foot, apart, scale): (&[DVec2], bool, f64),
+) -> (Mesh, Mesh) {
+    let n = ring.len();
     let mut tris: Vec<[u32; 3]> = cap.iter().map(|c| [c[2], c[1], c[0]].map(|i| i as u32)).collect();
-    tris.extend(cap.iter().map(|c| c.map(|i| top[i] as u32)));
+    tris.extend(top_tris.iter().map(|c| c.map(|i| top[i] as u32)));
     let mut walls: Vec<[u32; 3]> = Vec::new();
     for a in 0..n {
         let b = (a + 1) % n;
         let (ta, tb) = (top[a], top[b]);
-        let out = if apart && on_outline(foot, (f[a] + f[b]) * 0.5, 1e-7 * scale) { &mut walls } else { &mut tris };
+        let out =
+            if apart && on_outline(foot, (ring[a] + ring[b]) * 0.5, 1e-7 * scale) { &mut walls } else { &mut tris };
         if tb != b {
             out.push([a as u32, b as u32, tb as u32]);
         }
@@ -476,9 +495,9 @@ fn shed_roof(f: &[DVec2], foot: &[DVec2], t: f64, up: DVec2, apart: bool) -> (Me
         }
     }
     if walls.is_empty() {
-        return (to_mesh("roof", &pos, tris), Mesh { name: "gable".into(), ..Mesh::default() });
+        return (compact_mesh("roof", pos, &tris), Mesh { name: "gable".into(), ..Mesh::default() });
     }
-    (compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls))
+    (compact_mesh("roof", pos, &tris), compact_mesh("gable", pos, &walls))
 }
 
 /// The ridge roof over any simple counter-clockwise footprint `f` (the
@@ -567,25 +586,7 @@ fn ridge_roof(f: &[DVec2], foot: &[DVec2], t: f64, r: DVec2, apart: bool) -> (Me
             top.push(pos.len() - 1);
         }
     }
-    let mut tris: Vec<[u32; 3]> = cap.iter().map(|c| [c[2], c[1], c[0]].map(|i| i as u32)).collect();
-    tris.extend(top_tris.iter().map(|c| c.map(|i| top[i] as u32)));
-    let mut walls: Vec<[u32; 3]> = Vec::new();
-    for a in 0..n {
-        let b = (a + 1) % n;
-        let (ta, tb) = (top[a], top[b]);
-        let out =
-            if apart && on_outline(foot, (ring[a] + ring[b]) * 0.5, 1e-7 * scale) { &mut walls } else { &mut tris };
-        if tb != b {
-            out.push([a as u32, b as u32, tb as u32]);
-        }
-        if ta != a {
-            out.push([a as u32, tb as u32, ta as u32]);
-        }
-    }
-    if walls.is_empty() {
-        return (compact_mesh("roof", &pos, &tris), Mesh { name: "gable".into(), ..Mesh::default() });
-    }
-    (compact_mesh("roof", &pos, &tris), compact_mesh("gable", &pos, &walls))
+    lifted_solid(&pos, &ring, &top, &cap, &top_tris, (foot, apart, scale))
 }
 
 /// The pyramid roof over a concave counter-clockwise footprint that its
