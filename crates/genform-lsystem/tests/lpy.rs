@@ -125,6 +125,25 @@ fn comments_and_parameters() {
 }
 
 #[test]
+fn module_declarations_with_parameters_declare_only_the_modules() {
+    // `module Apex(age), Internode(length, radius)`: two modules; before,
+    // the comma inside the parentheses made `radius)` a third name.
+    let t = genform_lsystem::lpy::translate(
+        "module Apex(age), Internode(length,radius)\nAxiom: Apex(1)\nderivation length: 1\nproduction:\n\
+         Apex(a) --> Internode(1, 0.1) Apex(a+1)\nendlsystem\n",
+    )
+    .unwrap();
+    let decl = t.text.lines().find(|l| l.starts_with("module:")).unwrap();
+    assert_eq!(decl.split_whitespace().collect::<Vec<_>>(), ["module:", "Apex", "Internode"], "{}", t.text);
+    let s = compile_text(
+        "module Apex(age), Internode(length,radius)\nAxiom: Apex(1)\nderivation length: 1\nproduction:\n\
+         Apex(a) --> Internode(1, 0.1) Apex(a+1)\nendlsystem\n",
+    )
+    .unwrap();
+    assert_eq!(derive(&s).display(&s.alphabet, true), "Internode(1,0.1)Apex(2)");
+}
+
+#[test]
 fn long_names_are_one_module() {
     let f = load("Frame.lpy");
     assert_eq!(f.axiom.len(), 1);

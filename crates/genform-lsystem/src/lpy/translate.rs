@@ -542,6 +542,25 @@ fn header<'a>(code: &'a str, words: &[&str]) -> Option<(usize, &'a str)> {
     })
 }
 
+/// The items of a comma-separated list, not split inside parentheses:
+/// `Apex(age), Internode(length, radius)` is two items.
+fn top_level_items(list: &str) -> Vec<&str> {
+    let (mut out, mut depth, mut start) = (Vec::new(), 0i32, 0);
+    for (i, c) in list.char_indices() {
+        match c {
+            '(' | '[' => depth += 1,
+            ')' | ']' => depth -= 1,
+            ',' if depth <= 0 => {
+                out.push(&list[start..i]);
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    out.push(&list[start..]);
+    out
+}
+
 impl Tr<'_> {
     /// `module A, B` declarations and the predefined long names the file
     /// mentions, declared first so the whole file reads them.
@@ -558,7 +577,7 @@ impl Tr<'_> {
             // `: scale = n` (multiscale) and `: base = M` are not read.
             let rest = &rest[..rest.find(':').unwrap_or(rest.len())];
             let mut pos = 0;
-            for item in rest.split(',') {
+            for item in top_level_items(rest) {
                 let lead = item.len() - item.trim_start().len();
                 let name = leading_name(item.trim_start());
                 let nat = line.offset(base + pos + lead);
