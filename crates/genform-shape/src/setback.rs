@@ -32,12 +32,18 @@ fn outlines(shapes: Vec<Vec<Vec<[f64; 2]>>>, least: f64) -> Vec<Vec<DVec2>> {
 
 /// The strips of `poly` (counter-clockwise) in the convex `bands` (one per
 /// selected edge, in order: each strip is what its band holds of the
-/// polygon and no earlier strip took), and the remainder: the polygon
-/// less every strip. Each may come out in several pieces.
-pub(crate) fn cut(poly: &[DVec2], bands: &[Vec<DVec2>]) -> (Vec<Vec<Vec<DVec2>>>, Vec<Vec<DVec2>>) {
+/// polygon and no earlier strip, nor `exclude`, took), and the remainder:
+/// the polygon less every strip (and `exclude`). Each may come out in
+/// several pieces. (`offset(d > 0)` cuts its border from the grown outline
+/// with the original polygon excluded.)
+pub(crate) fn cut(
+    poly: &[DVec2],
+    bands: &[Vec<DVec2>],
+    exclude: Option<&[DVec2]>,
+) -> (Vec<Vec<Vec<DVec2>>>, Vec<Vec<DVec2>>) {
     let subject: Vec<[f64; 2]> = poly.iter().map(|p| p.to_array()).collect();
     let least = crate::polygon::bbox(poly).map_or(0.0, |(lo, hi)| 1e-7 * (hi - lo).length_squared());
-    let mut taken: Vec<Vec<[f64; 2]>> = Vec::new();
+    let mut taken: Vec<Vec<[f64; 2]>> = exclude.map(|e| e.iter().map(|p| p.to_array()).collect()).into_iter().collect();
     let mut strips = Vec::with_capacity(bands.len());
     for band in bands {
         let band: Vec<[f64; 2]> = band.iter().map(|p| p.to_array()).collect();
@@ -76,7 +82,7 @@ mod tests {
             .map(|&(x, y)| DVec2::new(x, y))
             .collect();
         let band = vec![DVec2::new(-10.0, 0.0), DVec2::new(10.0, 0.0), DVec2::new(10.0, 1.0), DVec2::new(-10.0, 1.0)];
-        let (strips, rest) = cut(&l, &[band]);
+        let (strips, rest) = cut(&l, &[band], None);
         let a = |p: &Vec<DVec2>| area2(p) / 2.0;
         assert_eq!(strips[0].len(), 1);
         assert!((a(&strips[0][0]) - 4.0).abs() < 1e-6);

@@ -229,28 +229,59 @@ impl<'g, M: Mode> Interp<'g, M> {
                     out.extend(self.piece(PIECE_REST, &corners, DVec2::X));
                     if d > 0.0 && taken & SIDE != 0 {
                         let grown = geom::offset_miter(&corners, d);
-                        if grown.len() != k || !geom::is_simple(&grown) {
-                            return Err(self.fail_at(
-                                at,
-                                format!(
-                                    "`offset({d})` makes this polygon's outline cross itself; use a smaller distance"
-                                ),
-                            ));
-                        }
-                        for i in 0..k {
-                            let j = (i + 1) % k;
-                            let band = [corners[i], grown[i], grown[j], corners[j]];
-                            // Past a concave corner's reach the bands fold over.
-                            if area2(&band) <= 0.0 || !geom::is_simple(&band) {
-                                return Err(self.fail_at(
-                                    at,
-                                    format!(
-                                        "`offset({d})`: the border folds over at this polygon's concave corners; use a \
-                                         smaller distance, or select only `inside`"
-                                    ),
-                                ));
+                        let quads: Option<Vec<[DVec2; 4]>> = (grown.len() == k && geom::is_simple(&grown))
+                            .then(|| {
+                                (0..k)
+                                    .map(|i| [corners[i], grown[i], grown[(i + 1) % k], corners[(i + 1) % k]])
+                                    .collect()
+                            })
+                            .filter(|q: &Vec<[DVec2; 4]>| q.iter().all(|b| area2(b) > 0.0 && geom::is_simple(b)));
+                        match quads {
+                            Some(quads) => {
+                                for (i, band) in quads.iter().enumerate() {
+                                    out.extend(self.piece(edge_class(dirs[i]), band, dirs[i]));
+                                }
                             }
-                            out.extend(self.piece(edge_class(dirs[i]), &band, dirs[i]));
+                            // Mitred corners would make the outline cross
+                            // itself or the bands fold over (a notch
+                            // narrower than 2d): grow by the outside
+                            // wavefront, which closes the notch, and cut
+                            // each edge's band from the grown outline.
+                            None => {
+                                let grown = skeleton::grow(&corners, &vec![d; k])
+                                    .ok()
+                                    .flatten()
+                                    .filter(|f| f.len() >= 3 && geom::is_simple(f))
+                                    .ok_or_else(|| {
+                                        self.fail_at(
+                                            at,
+                                            format!("`offset({d})`: the grown outline could not be laid out"),
+                                        )
+                                    })?;
+                                let (glo, ghi) = bbox(&grown).unwrap_or((lo, hi));
+                                let big = 4.0 * (ghi - glo).length() + 1.0;
+                                let around = rect(glo - DVec2::splat(big), ghi + DVec2::splat(big));
+                                let line = |i: usize| (dirs[i].perp(), dirs[i].perp().dot(corners[i]));
+                                let bands: Vec<Vec<DVec2>> = (0..k)
+                                    .map(|i| {
+                                        // Up to d outside the edge's line and d
+                                        // past its ends (a corner's square goes
+                                        // to the earlier edge; in a closed
+                                        // notch the walls' bands overlap, and
+                                        // the earlier takes it).
+                                        let (n, c) = line(i);
+                                        let (u, a, b) = (dirs[i], corners[i], corners[(i + 1) % k]);
+                                        let band = clip(&clip(&around, -n, d - c), n, c);
+                                        clip(&clip(&band, -u, d - u.dot(a)), u, u.dot(b) + d)
+                                    })
+                                    .collect();
+                                let (strips, _) = crate::setback::cut(&grown, &bands, Some(&corners));
+                                for (i, pieces) in strips.into_iter().enumerate() {
+                                    for p in pieces {
+                                        out.extend(self.piece(edge_class(dirs[i]), &p, dirs[i]));
+                                    }
+                                }
+                            }
                         }
                     }
                 }
@@ -317,7 +348,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                             band
                         })
                         .collect();
-                    let (strips, rest) = crate::setback::cut(&corners, &bands);
+                    let (strips, rest) = crate::setback::cut(&corners, &bands, None);
                     for (&i, pieces) in sel.iter().zip(strips) {
                         for p in pieces {
                             out.extend(self.piece(edge_class(dirs[i]), &p, dirs[i]));
