@@ -1468,61 +1468,49 @@ class Lsystem:
         if not rules:
             return mods, False
         star = rules.get("*", [])
+        forward = self._forward
         n = len(mods)
         matched = False
-        if self._forward:
-            out = []
-            i = 0
-            while i < n:
-                m = mods[i]
-                if m.name == "%":
-                    i = _end_bracket(mods, i)
-                    continue
-                cands = rules.get(m.name, ())
-                if star:
-                    cands = sorted(list(cands) + star, key=self._rules.index) if cands else star
-                done = False
-                for r in cands:
-                    args = []
-                    end = self._match(r, mods, i, out, args)
-                    if end is None:
-                        continue
-                    self._cur = (mods, i, end, r.filter)
-                    res = self._apply(r, args)
-                    if res is not None:
-                        out.extend(res)
-                        i = end
-                        done = matched = True
-                        break
-                if not done:
-                    out.append(m)
-                    i += 1
-            return out, matched
-        out_rev = []  # the produced string, reversed
-        i = n - 1
-        while i >= 0:
+        # Forward: `out` is the produced string; backward: it is the
+        # produced string reversed (turned round at the end).
+        out = []
+        i = 0 if forward else n - 1
+        while 0 <= i < n:
             m = mods[i]
+            if forward and m.name == "%":
+                i = _end_bracket(mods, i)
+                continue
             cands = rules.get(m.name, ())
             if star:
                 cands = sorted(list(cands) + star, key=self._rules.index) if cands else star
-            done = False
-            for r in cands:
-                args = []
-                start = self._match_back(r, mods, i, out_rev, args)
-                if start is None:
-                    continue
-                self._cur = (mods, start, i + 1, r.filter)
-                res = self._apply(r, args)
-                if res is not None:
-                    out_rev.extend(reversed(res))
-                    i = start - 1
-                    done = matched = True
-                    break
-            if not done:
-                out_rev.append(m)
-                i -= 1
-        out_rev.reverse()
-        return out_rev, matched
+            done = self._rewrite_at(cands, mods, i, out, forward) if cands else None
+            if done is None:
+                out.append(m)
+                i += 1 if forward else -1
+                continue
+            res, i = done
+            out.extend(res if forward else reversed(res))
+            matched = True
+        if not forward:
+            out.reverse()
+        return out, matched
+
+    def _rewrite_at(self, cands, mods, i, out, forward):
+        """The successor of the first of `cands` that matches at module `i`
+        and produces, and where the scan goes on; None when none does."""
+        for r in cands:
+            args = []
+            # Going backward the predecessor ends at `i`.
+            start = i if forward else i - len(r.pred) + 1
+            if not self._match(r, mods, start, out, forward, args):
+                continue
+            end = start + len(r.pred)
+            after = end if forward else start - 1
+            self._cur = (mods, start, end, r.filter)
+            res = self._apply(r, args)
+            if res is not None:
+                return res, after
+        return None
 
     def _in_context(self, left, pattern, params=None):
         """L-Py's ``InLeftContext(pattern, params)``: whether `pattern`
@@ -1564,58 +1552,40 @@ class Lsystem:
             raise
         return self._collect(res)
 
-    def _match(self, r, mods, i, out, args):
-        """Forward matching of rule r at i; returns the index after the
-        predecessor, binding parameters in L-Py's order."""
+    def _match(self, r, mods, start, out, forward, args):
+        """Whether rule r matches with its predecessor from `mods[start]`,
+        binding parameters in string order (L-Py's): left context, a new
+        left context (`<<`, forward), predecessor, a new right context
+        (`>>`, backward), right context. `out` is the string produced so
+        far: to the left going forward; reversed, to the right, going
+        backward."""
         k = len(r.pred)
-        if i + k > len(mods):
-            return None
-        pred_args = []
-        for j, p in enumerate(r.pred):
-            if not p.match(mods[i + j], pred_args):
-                return None
-        left_args = []
-        if r.left and not _left_match(mods, i - 1, r.left, r.filter, left_args):
-            return None
-        nleft_args = []
-        if r.nleft and not _left_match(out, len(out) - 1, r.nleft, r.filter, nleft_args):
-            return None
-        right_args = []
-        if r.right and _right_match(mods, i + k, r.right, r.filter, right_args) is None:
-            return None
-        args.extend(left_args)
-        args.extend(nleft_args)
-        args.extend(pred_args)
-        args.extend(right_args)
-        return i + k
-
-    def _match_back(self, r, mods, i, out_rev, args):
-        """Backward matching: the predecessor ends at i; `>>` matches the
-        string produced so far (to the right)."""
-        k = len(r.pred)
-        start = i - k + 1
-        if start < 0:
-            return None
+        if start < 0 or start + k > len(mods):
+            return False
         pred_args = []
         for j, p in enumerate(r.pred):
             if not p.match(mods[start + j], pred_args):
-                return None
+                return False
         left_args = []
         if r.left and not _left_match(mods, start - 1, r.left, r.filter, left_args):
-            return None
-        nright_args = []
-        if r.nright:
-            produced = out_rev[::-1]
-            if _right_match(produced, 0, r.nright, r.filter, nright_args) is None:
-                return None
+            return False
+        new_args = []
+        if forward:
+            if r.nleft and not _left_match(out, len(out) - 1, r.nleft, r.filter, new_args):
+                return False
+        elif r.nright and _right_match(out[::-1], 0, r.nright, r.filter, new_args) is None:
+            return False
         right_args = []
-        if r.right and _right_match(mods, i + 1, r.right, r.filter, right_args) is None:
-            return None
+        if r.right and _right_match(mods, start + k, r.right, r.filter, right_args) is None:
+            return False
         args.extend(left_args)
+        if forward:
+            args.extend(new_args)
         args.extend(pred_args)
-        args.extend(nright_args)
+        if not forward:
+            args.extend(new_args)
         args.extend(right_args)
-        return start
+        return True
 
     def _checked(self, mods):
         # The `.ls` kernel's limit: a runaway file stops with an error

@@ -472,10 +472,8 @@ impl LSystem {
                 ctx_params(pos, &mut sc.env);
             }
             sc.env.extend_from_slice(site.params);
-            if last > i {
-                for pos in i + 1..=last {
-                    ctx_params(pos, &mut sc.env);
-                }
+            for pos in i + 1..=last {
+                ctx_params(pos, &mut sc.env);
             }
             sc.found.clear();
             if !view.right(last, &rule.right, &mut sc.found) {

@@ -532,47 +532,30 @@ fn ridge_roof(f: &[DVec2], foot: &[DVec2], t: f64, r: DVec2, apart: bool) -> (Me
     // shared by the two triangles on that edge.
     let mut cuts: std::collections::HashMap<(usize, usize), usize> = std::collections::HashMap::new();
     let mut top_tris: Vec<[usize; 3]> = Vec::new();
+    let opposite = |p: f64, q: f64| (p > eps && q < -eps) || (p < -eps && q > eps);
     for c in &cap {
-        let side: Vec<f64> = c.iter().map(|&i| m.dot(flat[i]) - mid).collect();
-        let lone = (0..3).find(|&k| {
-            let (p, q) = (side[(k + 1) % 3], side[(k + 2) % 3]);
-            (side[k] > eps && p < -eps && q < -eps) || (side[k] < -eps && p > eps && q > eps)
-        });
-        let Some(k) = lone else {
-            // Not crossed, or crossed only through a corner.
-            let s = (0..3).find(|&k| {
-                let (p, q) = (side[(k + 1) % 3], side[(k + 2) % 3]);
-                side[k].abs() <= eps && ((p > eps && q < -eps) || (p < -eps && q > eps))
-            });
-            match s {
-                Some(k) => {
-                    let (a, b, c2) = (c[k], c[(k + 1) % 3], c[(k + 2) % 3]);
-                    let (sb, sc) = (side[(k + 1) % 3], side[(k + 2) % 3]);
-                    let key = (b.min(c2), b.max(c2));
-                    let x = *cuts.entry(key).or_insert_with(|| {
-                        flat.push(flat[b] + (flat[c2] - flat[b]) * (sb / (sb - sc)));
-                        flat.len() - 1
-                    });
-                    top_tris.push([a, b, x]);
-                    top_tris.push([a, x, c2]);
-                }
-                None => top_tris.push(*c),
-            }
-            continue;
+        let side = c.map(|i| m.dot(flat[i]) - mid);
+        // Corner `k` of the triangle, the next two, and their sides.
+        let at = |k: usize| {
+            let (b, c2) = ((k + 1) % 3, (k + 2) % 3);
+            ([c[k], c[b], c[c2]], [side[k], side[b], side[c2]])
         };
-        let (a, b, c2) = (c[k], c[(k + 1) % 3], c[(k + 2) % 3]);
-        let mut cut = |u: usize, v: usize, su: f64, sv: f64| {
-            *cuts.entry((u.min(v), u.max(v))).or_insert_with(|| {
-                flat.push(flat[u] + (flat[v] - flat[u]) * (su / (su - sv)));
-                flat.len() - 1
-            })
-        };
-        let (sa, sb, sc) = (side[k], side[(k + 1) % 3], side[(k + 2) % 3]);
-        let xb = cut(a, b, sa, sb);
-        let xc = cut(c2, a, sc, sa);
-        top_tris.push([a, xb, xc]);
-        top_tris.push([xb, b, c2]);
-        top_tris.push([xb, c2, xc]);
+        if let Some(k) = (0..3).find(|&k| opposite(side[k], side[(k + 1) % 3]) && opposite(side[k], side[(k + 2) % 3]))
+        {
+            // A corner alone on its side: both its edges are cut.
+            let ([a, b, c2], [sa, sb, sc]) = at(k);
+            let xb = cut_point(&mut flat, &mut cuts, a, b, sa, sb);
+            let xc = cut_point(&mut flat, &mut cuts, c2, a, sc, sa);
+            top_tris.extend([[a, xb, xc], [xb, b, c2], [xb, c2, xc]]);
+        } else if let Some(k) = (0..3).find(|&k| side[k].abs() <= eps && opposite(side[(k + 1) % 3], side[(k + 2) % 3]))
+        {
+            // Crossed through a corner: the opposite edge is cut.
+            let ([a, b, c2], [_, sb, sc]) = at(k);
+            let x = cut_point(&mut flat, &mut cuts, b, c2, sb, sc);
+            top_tris.extend([[a, b, x], [a, x, c2]]);
+        } else {
+            top_tris.push(*c);
+        }
     }
     // Corners: the outline at the eaves (0..n), then the lifted ones.
     let mut pos: Vec<DVec3> = ring.iter().map(|p| DVec3::new(p.x, p.y, 0.0)).collect();
@@ -587,6 +570,23 @@ fn ridge_roof(f: &[DVec2], foot: &[DVec2], t: f64, r: DVec2, apart: bool) -> (Me
         }
     }
     lifted_solid(&pos, &ring, &top, &cap, &top_tris, (foot, apart, scale))
+}
+
+/// Where the segment `u`–`v` of `flat` crosses a line (`su`, `sv`: the
+/// ends' signed distances from it): a new point the first time, the same
+/// one for the triangle on the segment's other side.
+fn cut_point(
+    flat: &mut Vec<DVec2>,
+    cuts: &mut std::collections::HashMap<(usize, usize), usize>,
+    u: usize,
+    v: usize,
+    su: f64,
+    sv: f64,
+) -> usize {
+    *cuts.entry((u.min(v), u.max(v))).or_insert_with(|| {
+        flat.push(flat[u] + (flat[v] - flat[u]) * (su / (su - sv)));
+        flat.len() - 1
+    })
 }
 
 /// The pyramid roof over a concave counter-clockwise footprint that its

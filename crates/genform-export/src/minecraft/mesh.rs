@@ -286,20 +286,18 @@ fn prop<'a>(state: &'a BlockState, key: &str) -> Option<&'a str> {
 /// heights `y0..y1` (16ths).
 fn side_panel((dx, dz): (f32, f32), t: f32, y0: f32, y1: f32) -> [Vec3; 2] {
     let (t, y0, y1) = (t / 16.0, y0 / 16.0, y1 / 16.0);
-    let (x0, x1) = if dx > 0.0 {
-        (1.0 - t, 1.0)
-    } else if dx < 0.0 {
-        (0.0, t)
-    } else {
-        (0.0, 1.0)
+    // Along one axis: the `t` next to the side the direction points to, or
+    // the whole cell.
+    let span = |d: f32| {
+        if d > 0.0 {
+            (1.0 - t, 1.0)
+        } else if d < 0.0 {
+            (0.0, t)
+        } else {
+            (0.0, 1.0)
+        }
     };
-    let (z0, z1) = if dz > 0.0 {
-        (1.0 - t, 1.0)
-    } else if dz < 0.0 {
-        (0.0, t)
-    } else {
-        (0.0, 1.0)
-    };
+    let ((x0, x1), (z0, z1)) = (span(dx), span(dz));
     [Vec3::new(x0, y0, z0), Vec3::new(x1, y1, z1)]
 }
 

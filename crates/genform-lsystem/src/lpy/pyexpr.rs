@@ -183,21 +183,20 @@ impl<'a> Parser<'a> {
     }
 
     fn or(&mut self) -> R<Py> {
-        let mut a = self.and()?;
-        while self.is("or") {
-            let at = self.here();
-            self.pos += 1;
-            a = Py::Bin("or", at, Box::new(a), Box::new(self.and()?));
-        }
-        Ok(a)
+        self.left_assoc("or", Self::and)
     }
 
     fn and(&mut self) -> R<Py> {
-        let mut a = self.not()?;
-        while self.is("and") {
+        self.left_assoc("and", Self::not)
+    }
+
+    /// `a op b op c …` as `(a op b) op c`, each operand read by `operand`.
+    fn left_assoc(&mut self, op: &'static str, operand: fn(&mut Self) -> R<Py>) -> R<Py> {
+        let mut a = operand(self)?;
+        while self.is(op) {
             let at = self.here();
             self.pos += 1;
-            a = Py::Bin("and", at, Box::new(a), Box::new(self.not()?));
+            a = Py::Bin(op, at, Box::new(a), Box::new(operand(self)?));
         }
         Ok(a)
     }

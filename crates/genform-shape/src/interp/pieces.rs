@@ -43,6 +43,13 @@ pub(super) fn edge_class(d: DVec2) -> u8 {
     }
 }
 
+/// A rectangle far around the box `[lo, hi]`, which half-planes cut into
+/// the convex band of an edge.
+fn enclosing(lo: DVec2, hi: DVec2) -> Vec<DVec2> {
+    let big = 4.0 * (hi - lo).length() + 1.0;
+    rect(lo - DVec2::splat(big), hi + DVec2::splat(big))
+}
+
 /// A rectangle `[lo, hi]` counter-clockwise.
 fn rect(lo: DVec2, hi: DVec2) -> Vec<DVec2> {
     vec![lo, DVec2::new(hi.x, lo.y), hi, DVec2::new(lo.x, hi.y)]
@@ -259,8 +266,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                                         )
                                     })?;
                                 let (glo, ghi) = bbox(&grown).unwrap_or((lo, hi));
-                                let big = 4.0 * (ghi - glo).length() + 1.0;
-                                let around = rect(glo - DVec2::splat(big), ghi + DVec2::splat(big));
+                                let around = enclosing(glo, ghi);
                                 let line = |i: usize| (dirs[i].perp(), dirs[i].perp().dot(corners[i]));
                                 let bands: Vec<Vec<DVec2>> = (0..k)
                                     .map(|i| {
@@ -317,8 +323,7 @@ impl<'g, M: Mode> Interp<'g, M> {
                     // Each strip in its edge's convex band: up to the depth,
                     // not past a reflex corner at either end, cut from an
                     // adjacent selected edge's strip as below.
-                    let big = 4.0 * (hi - lo).length() + 1.0;
-                    let around = rect(lo - DVec2::splat(big), hi + DVec2::splat(big));
+                    let around = enclosing(lo, hi);
                     let turn = |a: usize, b: usize| dirs[a].perp_dot(dirs[b]);
                     let bands: Vec<Vec<DVec2>> = sel
                         .iter()
