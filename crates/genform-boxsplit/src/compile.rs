@@ -4,11 +4,11 @@
 use crate::derive::MAX_VOLUME;
 use crate::formula::Formulas;
 use crate::grammar::{
-    AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId, Side, Support,
+    AIR, Alternative, BoxGrammar, DeriveLimits, Guard, Material, Op, OpId, Paint, Rule, RuleId, Side, Site, Support,
 };
 use crate::known_blocks::{self, BlockCheck, Known};
 use crate::observe::{BlockType, TypeTable};
-use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn};
+use crate::syntax::{self, AltSyn, Ident, Item, OpSyn, RuleSyn, SiteValue};
 use genform_core::diag::{Diagnostic, SourceFile, Span};
 use genform_core::expr::did_you_mean;
 use genform_core::{BlockState, Diagnostics};
@@ -41,6 +41,8 @@ pub fn compile(file: &SourceFile) -> Result<(BoxGrammar, Diagnostics), Diagnosti
         ops: Vec::new(),
         used: Vec::new(),
         supports: Vec::new(),
+        site: None,
+        site_span: None,
     };
     c.block_ids.insert(BlockState::air(), AIR);
     let grammar = c.run(&items);
@@ -73,6 +75,9 @@ struct Compiler<'f> {
     /// Rules each rule invokes, for reachability.
     used: Vec<Vec<RuleId>>,
     supports: Vec<Support>,
+    site: Option<Site>,
+    /// Where `site` was first declared, valid or not.
+    site_span: Option<Span>,
 }
 
 const LIMIT_KEYS: &[&str] = &["applications", "backtracks", "depth"];
@@ -157,6 +162,7 @@ impl Compiler<'_> {
                 }
                 Item::Material(n, entries) => self.material(n, entries),
                 Item::Support(side, members) => self.support(side, members),
+                Item::Site(entries, span) => self.site(entries, *span),
                 Item::Let(n, e) => self.formulas.define(n, e, &mut self.types, &mut self.out),
                 Item::Rule(_) => {}
             }
@@ -205,6 +211,7 @@ impl Compiler<'_> {
             default_box: default_box.and_then(|b| b.0),
             default_world: default_world.map(|w| w.0.clone()),
             supports: std::mem::take(&mut self.supports),
+            site: self.site.take(),
         })
     }
 
@@ -329,6 +336,54 @@ impl Compiler<'_> {
             }
         }
         self.supports.push(Support { side, ty });
+    }
+
+    /// `site foundation = B, yard = N;`: `foundation` is required, `yard`
+    /// is 0 unless given.
+    fn site(&mut self, entries: &[(Ident, SiteValue)], span: Span) {
+        if let Some(prev) = self.site_span {
+            self.out.push(Diagnostic::error(span, "the site is given twice").with_label(prev, "first here"));
+            return;
+        }
+        self.site_span = Some(span);
+        let (mut foundation, mut yard) = (None, 0);
+        for (key, value) in entries {
+            match (key.name.as_str(), value) {
+                ("foundation", SiteValue::Block(b)) => foundation = self.paint(b),
+                ("yard", SiteValue::Number(v, vs)) => {
+                    if v.fract() != 0.0 || !(0.0..=64.0).contains(v) {
+                        self.out.push(
+                            Diagnostic::error(*vs, "`yard` needs a whole number of columns from 0 to 64")
+                                .with_hint("`yard = 1` keeps one column around the building clear and paved"),
+                        );
+                    }
+                    yard = v.clamp(0.0, 64.0) as i32;
+                }
+                ("foundation", SiteValue::Number(_, vs)) => self.out.push(
+                    Diagnostic::error(*vs, "`foundation` needs a block or a material")
+                        .with_hint("e.g. `site foundation = cobblestone, yard = 1;`"),
+                ),
+                ("yard", SiteValue::Block(b)) => self.out.push(
+                    Diagnostic::error(b.span, "`yard` needs a whole number of columns")
+                        .with_hint("e.g. `site foundation = cobblestone, yard = 1;`"),
+                ),
+                (other, _) => {
+                    let d = Diagnostic::error(key.span, format!("unknown site setting `{other}`"));
+                    self.out.push(match did_you_mean(other, ["foundation", "yard"]) {
+                        Some(s) => d.with_hint(format!("did you mean `{s}`?")),
+                        None => d.with_hint("a site takes `foundation = BLOCK` and `yard = N`"),
+                    });
+                }
+            }
+        }
+        match foundation {
+            Some(foundation) => self.site = Some(Site { foundation, yard }),
+            None if !entries.iter().any(|(k, _)| k.name == "foundation") => self.out.push(
+                Diagnostic::error(span, "the site has no foundation")
+                    .with_hint("name what it is built of: `site foundation = cobblestone;`"),
+            ),
+            None => {}
+        }
     }
 
     fn block(&mut self, b: BlockState) -> u32 {

@@ -57,6 +57,23 @@ pub struct DeriveStats {
     pub unsupported: u64,
 }
 
+/// What a `site` did on a world (see the `site` declaration).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SiteReport {
+    /// The floor's world y.
+    pub floor: i32,
+    /// Cells of foundation laid, under the floor and paving the yard.
+    pub foundation: u64,
+    /// Cells cleared above the floor (terrain the building cut back).
+    pub cleared: u64,
+    /// Foundation cells at the box's bottom with no ground under them: the
+    /// box did not reach down to the ground there.
+    pub foundation_hanging: u64,
+    /// Log blocks just outside the box joined to a tree the building cut:
+    /// the part of the tree outside the box stays, without its trunk.
+    pub cut_wood: Vec<[i32; 3]>,
+}
+
 /// A successful derivation.
 #[derive(Clone, Debug)]
 pub struct Derivation {
@@ -67,6 +84,8 @@ pub struct Derivation {
     pub trace: Option<Trace>,
     /// Counts.
     pub stats: DeriveStats,
+    /// With a `site` on a world: where the floor went and what was laid.
+    pub site: Option<SiteReport>,
 }
 
 /// Why a derivation ended without a result.
@@ -251,13 +270,30 @@ impl BoxGrammar {
                 stats: DeriveStats::default(),
             });
         }
+        // A site derives the axiom in its plot, found from the world.
+        let plot = match (&self.site, world) {
+            (Some(site), Some(w)) => match crate::site::plot(site, w, min, size) {
+                Ok(p) => Some(p),
+                Err(message) => {
+                    return Err(DeriveFailure {
+                        kind: FailureKind::InvalidBox,
+                        message,
+                        failed: None,
+                        trace: Trace::default(),
+                        stats: DeriveStats::default(),
+                    });
+                }
+            },
+            _ => None,
+        };
+        let (dmin, dsize) = plot.map_or((min, size), |p| (p.min, p.size));
         let mut e = Engine {
             g: self,
-            world: World::new(world, min, size, self.types.len()),
+            world: World::new(world, dmin, dsize, self.types.len()),
             choices,
             limits: options.limits.unwrap_or(self.limits),
-            box_min: min,
-            box_size: size,
+            box_min: dmin,
+            box_size: dsize,
             env: vec![0.0; FIXED + self.slots.len()],
             apps: Vec::new(),
             work: Vec::new(),
@@ -271,10 +307,31 @@ impl BoxGrammar {
             trace: options.trace.then(Vec::new),
             last_failure: None,
         };
-        let root = Scope { min, size, axes: [0, 1, 2] };
+        let root = Scope { min: dmin, size: dsize, axes: [0, 1, 2] };
         e.work.push(Task { scope: root, op: self.start, owner: self.axiom, parent: NONE, depth: 0 });
         e.run()?;
         let mut blocks = e.paint();
+        let mut report = None;
+        if let (Some(plot), Some(site), Some(w)) = (plot, &self.site, world) {
+            let choices = &mut *e.choices;
+            let mut draw = || match site.foundation {
+                Paint::Block(b) => self.blocks[b as usize].clone(),
+                Paint::Material(m) => {
+                    let mat = &self.materials[m as usize];
+                    let k = if mat.blocks.len() == 1 { 0 } else { choices.choose(&mat.weights) };
+                    self.blocks[mat.blocks[k.min(mat.blocks.len() - 1)] as usize].clone()
+                }
+            };
+            let (whole, laid) = crate::site::lay(&plot, w, min, size, &blocks, &mut draw);
+            blocks = whole;
+            report = Some(SiteReport {
+                floor: plot.floor,
+                foundation: laid.foundation,
+                cleared: laid.cleared,
+                foundation_hanging: laid.hanging,
+                cut_wood: laid.cut_wood.iter().map(|p| p.to_array()).collect(),
+            });
+        }
         if !self.supports.is_empty() {
             e.stats.unsupported = crate::support::settle(&self.supports, world, &mut blocks);
         }
@@ -286,7 +343,7 @@ impl BoxGrammar {
             events.push(TraceEvent::Done { applications: stats.applications, backtracks: stats.backtracks });
             Trace { events }
         });
-        Ok(Derivation { blocks, trace, stats })
+        Ok(Derivation { blocks, trace, stats, site: report })
     }
 }
 

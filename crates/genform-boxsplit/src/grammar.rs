@@ -102,6 +102,16 @@ pub(crate) struct Support {
     pub ty: BlockType,
 }
 
+/// `site foundation = B, yard = N;`: a building set on the ground of a
+/// world (see `site.rs`).
+#[derive(Clone, Debug)]
+pub(crate) struct Site {
+    /// What the foundation and the yard's paving are made of.
+    pub foundation: Paint,
+    /// Columns of yard on every side of the plot.
+    pub yard: i32,
+}
+
 /// Bounds on one derivation; reaching one ends it with an error.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct DeriveLimits {
@@ -141,6 +151,8 @@ pub struct BoxGrammar {
     pub(crate) default_world: Option<String>,
     /// `support …;` declarations, in source order.
     pub(crate) supports: Vec<Support>,
+    /// `site …;`: set on the ground of a world.
+    pub(crate) site: Option<Site>,
 }
 
 impl BoxGrammar {

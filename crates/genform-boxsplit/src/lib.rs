@@ -40,13 +40,16 @@ mod grammar;
 mod known_blocks;
 mod lex;
 mod observe;
+mod site;
 pub mod split;
 mod support;
 mod syntax;
 mod trace;
 
 pub use compile::compile;
-pub use derive::{Derivation, DeriveFailure, DeriveOptions, DeriveStats, FailureKind, FailurePoint, MAX_VOLUME};
+pub use derive::{
+    Derivation, DeriveFailure, DeriveOptions, DeriveStats, FailureKind, FailurePoint, MAX_VOLUME, SiteReport,
+};
 pub use grammar::{BoxGrammar, DeriveLimits};
 pub use split::Round;
 pub use trace::{Trace, TraceEvent, TraceScope};

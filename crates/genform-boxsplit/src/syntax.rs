@@ -40,8 +40,17 @@ pub(crate) enum Item {
     Material(Ident, Vec<MixEntry>),
     /// `support above|below|beside|rooted members;`: the side and the members.
     Support(Ident, Vec<Ident>),
+    /// `site foundation = B, yard = N;`: the settings and the keyword's span.
+    Site(Vec<(Ident, SiteValue)>, Span),
     Let(Ident, Ast),
     Rule(RuleSyn),
+}
+
+/// A value in `site …;`: a block or material, or a number.
+#[derive(Clone, Debug)]
+pub(crate) enum SiteValue {
+    Block(Ident),
+    Number(f64, Span),
 }
 
 /// `Name { alternatives }`.
@@ -90,8 +99,19 @@ pub(crate) enum OpSyn {
     Call(Ident),
 }
 
-const DECLARATIONS: &[&str] =
-    &["grammar", "axiom", "limits", "box", "world", "allow_unknown_blocks", "group", "material", "support", "let"];
+const DECLARATIONS: &[&str] = &[
+    "grammar",
+    "axiom",
+    "limits",
+    "box",
+    "world",
+    "allow_unknown_blocks",
+    "group",
+    "material",
+    "support",
+    "site",
+    "let",
+];
 
 /// The sides a `support` declaration names.
 pub(crate) const SUPPORT_SIDES: &[&str] = &["above", "below", "beside", "rooted"];
@@ -235,7 +255,7 @@ impl<'a> Parser<'a> {
         if self.tok.tok != Tok::Ident {
             return Err(self
                 .error_here("a declaration or a rule")
-                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `allow_unknown_blocks`, `group`, `material`, `support` or `let`; a rule is `Name { … }`"));
+                .with_hint("declarations start with `grammar`, `axiom`, `limits`, `box`, `world`, `allow_unknown_blocks`, `group`, `material`, `support`, `site` or `let`; a rule is `Name { … }`"));
         }
         let word = self.text(self.tok.span);
         Ok(Some(match word {
@@ -337,6 +357,26 @@ impl<'a> Parser<'a> {
                 }
                 self.end_declaration("the supported blocks");
                 Item::Support(side, members)
+            }
+            "site" => {
+                let start = self.bump().span;
+                let mut entries = Vec::new();
+                loop {
+                    let key = self.ident("`foundation` or `yard`")?;
+                    self.expect(Tok::Assign, &format!("`=` after `{}`", key.name))?;
+                    let value = if let Tok::Num(v) = self.tok.tok {
+                        SiteValue::Number(v, self.bump().span)
+                    } else {
+                        SiteValue::Block(self.block("a block or a material")?)
+                    };
+                    entries.push((key, value));
+                    if self.tok.tok != Tok::Comma {
+                        break;
+                    }
+                    self.bump();
+                }
+                self.end_declaration("the site's settings");
+                Item::Site(entries, start)
             }
             "let" => {
                 self.bump();

@@ -138,3 +138,23 @@ fn a_flat_box_is_drawn_as_tiles() {
     assert_eq!(px(ox + tile / 2, oy + tile / 2), px(ox + 47 * tile + tile / 2, oy + 20 * tile));
     assert_ne!(px(ox + tile / 2, oy + tile / 2), px(ox + 24 * tile, oy + 24 * tile));
 }
+
+#[test]
+fn a_site_refuses_a_box_in_the_ground_and_warns_of_a_foundation_that_hangs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let house = bsg("house");
+    let world = prismarine();
+    // The house's own box (y 0..12) lies deep in the ground of a world.
+    let err = genform(tmp.path(), &["sample", s(&house), "--world", s(&world), "--out", "h.schem"]).fails().stderr();
+    assert!(err.contains("no floor") && err.contains("give a box whose top is above the ground"), "{err}");
+    // A box whose bottom is above the river's bed in the west of the map:
+    // the foundation reaches the box's bottom in water and says so.
+    let run = genform(
+        tmp.path(),
+        &["sample", s(&house), "--world", s(&world), "--box", "14,58,14,29,80,25", "--out", "h.schem"],
+    )
+    .ok();
+    let said = run.stderr();
+    assert!(said.contains("site: floor at y 63"), "{said}");
+    assert!(said.contains("foundation stands on nothing below the box") && said.contains("y 57 or below"), "{said}");
+}

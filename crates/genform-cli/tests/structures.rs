@@ -42,6 +42,10 @@ use genform_export::minecraft::{RegionFile, read_terrain};
 use glam::IVec3;
 use std::path::PathBuf;
 use std::time::Instant;
+use walls::{Cell, Walls};
+
+#[path = "../../genform-boxsplit/tests/walls/mod.rs"]
+mod walls;
 
 struct Case {
     grammar: &'static str,
@@ -81,6 +85,12 @@ const CASES: &[Case] = &[
     // deeper inlet (bed 57-61) between banks at 62-63.
     Case { grammar: "footpath", region: RIVER, corners: Some([65, 59, 6, 88, 63, 7]) },
     Case { grammar: "footpath", region: RIVER, corners: Some([30, 56, 2, 40, 63, 3]) },
+    // Every terrain example on every shipped region: a bridge over the
+    // 1.19.4 island's pond and over the river region's stream, a footpath
+    // across the snowy hollow.
+    Case { grammar: "bridge", region: FASTANVIL, corners: Some([26, 52, 41, 64, 66, 43]) },
+    Case { grammar: "bridge", region: RIVER, corners: Some([64, 56, 5, 90, 66, 7]) },
+    Case { grammar: "footpath", region: SNOWY, corners: Some([0, 62, 6, 28, 66, 7]) },
 ];
 
 #[derive(Debug, Default)]
@@ -283,40 +293,13 @@ fn shipped_structures_hang_stand_and_lean_on_something() {
     let tmp = tempfile::tempdir().unwrap();
     let mut problems = Vec::new();
     for case in CASES {
-        let world = root().join("examples/terrain").join(case.region).join("r.0.0.mca");
-        let grammar = examples.join(format!("{}.bsg", case.grammar));
-        let mut args = vec!["sample".to_string(), s(&grammar).to_string(), "--world".into(), s(&world).to_string()];
-        let corners = case.corners.unwrap_or_else(|| declared_box(&grammar));
-        if case.corners.is_some() {
-            args.extend(["--box".into(), corners.map(|v| v.to_string()).join(",")]);
-        }
-        args.extend(["--out".into(), "r.0.0.mca".into()]);
-        let started = Instant::now();
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
-        let run = genform(tmp.path(), &args).ok();
-        let elapsed = started.elapsed();
-        let a = IVec3::new(corners[0], corners[1], corners[2]);
-        let b = IVec3::new(corners[3], corners[4], corners[5]);
-        let (min, max) = (a.min(b), a.max(b) + IVec3::ONE);
-        let original = RegionFile { x: 0, z: 0, bytes: std::fs::read(&world).unwrap() };
-        let copy = RegionFile { x: 0, z: 0, bytes: std::fs::read(tmp.path().join("r.0.0.mca")).unwrap() };
-        let (rmin, rmax) = (min - IVec3::ONE, max + IVec3::ONE);
-        let before = read_terrain(std::slice::from_ref(&original), rmin, rmax).unwrap();
-        let after = read_terrain(std::slice::from_ref(&copy), rmin, rmax).unwrap();
-        let mut c = measure(case.grammar, &before, &after, min, max);
-        // Trees reach well beyond the box: read more of the region for them.
-        let (tmin, tmax) = (min - IVec3::new(8, 8, 8), max + IVec3::new(8, 16, 8));
-        let wide_before = read_terrain(std::slice::from_ref(&original), tmin, tmax).unwrap();
-        let wide_after = read_terrain(std::slice::from_ref(&copy), tmin, tmax).unwrap();
-        c.floating_trees_before = floating_trees(&wide_before, &wide_before, tmin, tmax);
-        c.floating_trees_after = floating_trees(&wide_after, &wide_before, tmin, tmax);
+        let placed = place(case, &examples, tmp.path(), IVec3::ONE);
+        let (before, after, min, max, corners) =
+            (&placed.before, &placed.after, placed.min, placed.max, placed.corners);
+        let mut c = measure(case.grammar, before, after, min, max);
+        (c.floating_trees_before, c.floating_trees_after) = placed.floating_trees();
         let label = format!("{} on {} box {:?}", case.grammar, case.region, corners);
-        eprintln!(
-            "{label}: {c:?} ({:.0} ms, {} {})",
-            elapsed.as_secs_f64() * 1000.0,
-            run.stdout().trim(),
-            run.stderr().trim()
-        );
+        eprintln!("{label}: {c:?} ({})", placed.run);
         let mut bad = |cond: bool, what: &str| {
             if cond {
                 problems.push(format!("{label}: {what} ({c:?})"));
@@ -333,9 +316,10 @@ fn shipped_structures_hang_stand_and_lean_on_something() {
             bad(c.posts_to_bed == 0, "no post goes down through the water to the bed");
         }
         // On the regions found for issue #43 the counts must not pass by
-        // being empty: the tunnels hang lanterns, the footpaths cross water.
+        // being empty: the tunnels hang lanterns, the footpaths cross the
+        // river (the snowy region has no water).
         let found = [SNOWY, RIVER].contains(&case.region);
-        if case.grammar == "footpath" && found {
+        if case.grammar == "footpath" && case.region == RIVER {
             bad(c.water_columns == 0, "the footpath crosses no water");
         }
         if case.grammar == "tunnel" && (case.corners.is_none() || found) {
@@ -344,6 +328,197 @@ fn shipped_structures_hang_stand_and_lean_on_something() {
     }
     if !measuring {
         assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+}
+
+/// The buildings, written for an empty box, set into every shipped region
+/// on uneven ground: boxes from below the ground to above it.
+const BUILDINGS: &[Case] = &[
+    Case { grammar: "house", region: PRISMARINE, corners: Some([44, 60, 30, 59, 90, 41]) },
+    Case { grammar: "house", region: FASTANVIL, corners: Some([20, 55, 20, 35, 90, 31]) },
+    Case { grammar: "house", region: SNOWY, corners: Some([14, 60, 8, 29, 90, 19]) },
+    Case { grammar: "house", region: RIVER, corners: Some([60, 55, 60, 75, 95, 71]) },
+    Case { grammar: "house", region: RIVER, corners: Some([100, 55, 150, 115, 95, 161]) },
+    Case { grammar: "temple", region: PRISMARINE, corners: Some([22, 50, 10, 62, 95, 40]) },
+    Case { grammar: "temple", region: FASTANVIL, corners: Some([10, 48, 10, 50, 95, 40]) },
+    Case { grammar: "temple", region: SNOWY, corners: Some([12, 58, 10, 52, 95, 40]) },
+    Case { grammar: "temple", region: RIVER, corners: Some([60, 48, 60, 100, 95, 90]) },
+    Case { grammar: "castle", region: PRISMARINE, corners: Some([28, 58, 28, 63, 90, 63]) },
+    Case { grammar: "castle", region: FASTANVIL, corners: Some([0, 40, 20, 39, 85, 59]) },
+    Case { grammar: "castle", region: SNOWY, corners: Some([16, 58, 16, 51, 90, 51]) },
+    Case { grammar: "castle", region: RIVER, corners: Some([90, 55, 60, 150, 90, 120]) },
+    Case { grammar: "mosaic", region: PRISMARINE, corners: Some([32, 50, 0, 63, 90, 31]) },
+    Case { grammar: "mosaic", region: FASTANVIL, corners: Some([0, 30, 0, 47, 90, 47]) },
+    Case { grammar: "mosaic", region: SNOWY, corners: Some([0, 58, 16, 47, 90, 63]) },
+    Case { grammar: "mosaic", region: RIVER, corners: Some([60, 55, 100, 107, 95, 147]) },
+];
+
+/// The top solid block that is not a tree's in each column of the box
+/// (`None`: no ground in the column's read).
+fn ground_heights(g: &BlockGrid, min: IVec3, max: IVec3) -> Vec<i32> {
+    let mut out = Vec::new();
+    for z in min.z..max.z {
+        for x in min.x..max.x {
+            let top = (g.origin.y..max.y).rev().find(|&y| {
+                let b = at(g, IVec3::new(x, y, z));
+                solid(&b) && !tree(&b)
+            });
+            out.extend(top);
+        }
+    }
+    out.sort_unstable();
+    out
+}
+
+/// What a building on terrain got wrong.
+#[derive(Debug, Default)]
+struct Standing {
+    /// Placed solid blocks joined (through faces, over placed solid blocks)
+    /// to no ground: solid blocks the structure left as they were.
+    floating: usize,
+    /// Columns whose lowest placed solid block has air, water or a plant
+    /// below it.
+    hollow_under: usize,
+    /// Sealed air the building made or bounds, in cells, and indoor places
+    /// to stand nobody reaches on foot from the ground around.
+    sealed_cells: usize,
+    unreachable: usize,
+}
+
+/// `floor`: the floor the site reported; rooms and pockets below it (caves
+/// under the foundation) are the ground's, not the building's.
+fn standing(before: &BlockGrid, after: &BlockGrid, min: IVec3, max: IVec3, floor: i32) -> Standing {
+    let mut st = Standing::default();
+    let changed = |p: IVec3| at(before, p) != at(after, p);
+    let in_box = |p: IVec3| p.cmpge(min).all() && p.cmplt(max).all();
+    let placed_solid = |p: IVec3| in_box(p) && changed(p) && solid(&at(after, p));
+    let ground = |p: IVec3| !changed(p) && solid(&at(after, p)) && !tree(&at(after, p));
+    let faces = [IVec3::X, IVec3::NEG_X, IVec3::Y, IVec3::NEG_Y, IVec3::Z, IVec3::NEG_Z];
+    let cells: Vec<IVec3> = (min.y..max.y)
+        .flat_map(|y| (min.z..max.z).flat_map(move |z| (min.x..max.x).map(move |x| IVec3::new(x, y, z))))
+        .collect();
+    let mut joined = std::collections::HashSet::new();
+    let mut stack: Vec<IVec3> =
+        cells.iter().copied().filter(|&p| placed_solid(p) && faces.iter().any(|&d| ground(p + d))).collect();
+    joined.extend(stack.iter().copied());
+    while let Some(p) = stack.pop() {
+        for d in faces {
+            if placed_solid(p + d) && joined.insert(p + d) {
+                stack.push(p + d);
+            }
+        }
+    }
+    st.floating = cells.iter().filter(|&&p| placed_solid(p) && !joined.contains(&p)).count();
+    for z in min.z..max.z {
+        for x in min.x..max.x {
+            if let Some(y) = (min.y..max.y).find(|&y| placed_solid(IVec3::new(x, y, z))) {
+                let below = at(after, IVec3::new(x, y - 1, z));
+                st.hollow_under += usize::from(!solid(&below));
+            }
+        }
+    }
+    let window = (before.origin, before.size.as_ivec3());
+    let walls = Walls::new(window.0, window.1, |p| Cell::of(Some(&at(after, p))));
+    let near_placed =
+        |p: IVec3| in_box(p) && p.y >= floor && (changed(p) || faces.iter().any(|&d| placed_solid(p + d)));
+    st.sealed_cells = walls.sealed_pockets(near_placed).iter().sum();
+    st.unreachable = walls.unreachable_rooms(placed_solid).iter().filter(|p| p.y > floor).count();
+    st
+}
+
+#[test]
+fn buildings_stand_on_the_ground_and_can_be_entered() {
+    let examples =
+        std::env::var("GENFORM_STRUCTURES_EXAMPLES").map(PathBuf::from).unwrap_or(root().join("examples/boxsplit"));
+    let measuring = std::env::var_os("GENFORM_STRUCTURES_EXAMPLES").is_some();
+    let tmp = tempfile::tempdir().unwrap();
+    let mut problems = Vec::new();
+    for case in BUILDINGS {
+        // The ground around the box decides where one can walk in from.
+        let placed = place(case, &examples, tmp.path(), IVec3::new(3, 1, 3));
+        let (before, after, min, max) = (&placed.before, &placed.after, placed.min, placed.max);
+        let heights = ground_heights(before, min, max);
+        let mut c = measure(case.grammar, before, after, min, max);
+        (c.floating_trees_before, c.floating_trees_after) = placed.floating_trees();
+        let floor = placed.run.split("floor at y ").nth(1).and_then(|r| r.split(',').next()?.parse().ok());
+        let st = standing(before, after, min, max, floor.unwrap_or(min.y));
+        let label = format!("{} on {} box {:?}", case.grammar, case.region, placed.corners);
+        eprintln!(
+            "{label}: ground {}..{} (median {}); {st:?}; {c:?} ({})",
+            heights.first().unwrap_or(&0),
+            heights.last().unwrap_or(&0),
+            heights.get(heights.len() / 2).unwrap_or(&0),
+            placed.run
+        );
+        let mut bad = |cond: bool, what: &str| {
+            if cond {
+                problems.push(format!("{label}: {what} ({st:?}; {c:?})"));
+            }
+        };
+        bad(st.floating > 0, "blocks joined to no ground");
+        bad(st.hollow_under > 0, "columns with nothing under their lowest block");
+        bad(st.sealed_cells > 0, "sealed rooms");
+        bad(st.unreachable > 0, "rooms nobody walks into");
+        bad(c.unattached_hanging > 0 || c.unsupported_standing > 0, "lanterns or torches without hold");
+        bad(c.floating_loose > 0, "snow or plants floating over a dug cell");
+        bad(c.floating_trees_after > c.floating_trees_before, "trees left floating");
+        bad(c.fence_sides_unjoined > 0, "fences not joined");
+    }
+    if !measuring {
+        assert!(problems.is_empty(), "{}", problems.join("\n"));
+    }
+}
+
+/// A grammar sampled by the real binary into a copy of its case's region,
+/// read back around the box.
+struct Placed {
+    /// The region as it was and as written, read over the box and `margin`
+    /// more cells on every side.
+    before: BlockGrid,
+    after: BlockGrid,
+    /// The box, `max` exclusive, and as the case gives it (inclusive).
+    min: IVec3,
+    max: IVec3,
+    corners: [i32; 6],
+    original: RegionFile,
+    copy: RegionFile,
+    /// What the run printed, and how long it took.
+    run: String,
+}
+
+fn place(case: &Case, examples: &std::path::Path, dir: &std::path::Path, margin: IVec3) -> Placed {
+    let world = root().join("examples/terrain").join(case.region).join("r.0.0.mca");
+    let grammar = examples.join(format!("{}.bsg", case.grammar));
+    let mut args = vec!["sample".to_string(), s(&grammar).to_string(), "--world".into(), s(&world).to_string()];
+    let corners = case.corners.unwrap_or_else(|| declared_box(&grammar));
+    if case.corners.is_some() {
+        args.extend(["--box".into(), corners.map(|v| v.to_string()).join(",")]);
+    }
+    args.extend(["--out".into(), "r.0.0.mca".into()]);
+    let started = Instant::now();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let run = genform(dir, &args).ok();
+    let elapsed = started.elapsed();
+    let run = format!("{:.0} ms, {} {}", elapsed.as_secs_f64() * 1000.0, run.stdout().trim(), run.stderr().trim());
+    let a = IVec3::new(corners[0], corners[1], corners[2]);
+    let b = IVec3::new(corners[3], corners[4], corners[5]);
+    let (min, max) = (a.min(b), a.max(b) + IVec3::ONE);
+    let original = RegionFile { x: 0, z: 0, bytes: std::fs::read(&world).unwrap() };
+    let copy = RegionFile { x: 0, z: 0, bytes: std::fs::read(dir.join("r.0.0.mca")).unwrap() };
+    let (rmin, rmax) = (min - margin, max + margin);
+    let before = read_terrain(std::slice::from_ref(&original), rmin, rmax).unwrap();
+    let after = read_terrain(std::slice::from_ref(&copy), rmin, rmax).unwrap();
+    Placed { before, after, min, max, corners, original, copy, run }
+}
+
+impl Placed {
+    /// Floating tree blocks before and after, read well beyond the box
+    /// (trees reach out of it).
+    fn floating_trees(&self) -> (usize, usize) {
+        let (tmin, tmax) = (self.min - IVec3::new(8, 8, 8), self.max + IVec3::new(8, 16, 8));
+        let wide_before = read_terrain(std::slice::from_ref(&self.original), tmin, tmax).unwrap();
+        let wide_after = read_terrain(std::slice::from_ref(&self.copy), tmin, tmax).unwrap();
+        (floating_trees(&wide_before, &wide_before, tmin, tmax), floating_trees(&wide_after, &wide_before, tmin, tmax))
     }
 }
 

@@ -241,6 +241,31 @@ impl LoadedGrammar for BoxFile {
                 "{summary} ({n} cells changed by `support`: blocks with nothing to hang from, stand on or lean against)"
             ),
         };
+        let summary = match &d.site {
+            None => summary,
+            Some(site) => format!(
+                "{summary}; site: floor at y {}, {} foundation blocks, {} cells cleared",
+                site.floor, site.foundation, site.cleared
+            ),
+        };
+        if let Some(site) = &d.site {
+            if site.foundation_hanging > 0 {
+                crate::notes::warn(&format!(
+                    "warning: the site's foundation stands on nothing below the box in {} columns: start the box \
+                     lower (at y {} or below), down in the ground",
+                    site.foundation_hanging,
+                    min.y - 1
+                ));
+            }
+            if let Some([x, y, z]) = site.cut_wood.first() {
+                crate::notes::warn(&format!(
+                    "warning: the building cut a tree that reaches out of the box: {} of its log blocks outside \
+                     the box (e.g. at {x}, {y}, {z}) stay without their trunk; widen the box to take the tree in, \
+                     or move it",
+                    site.cut_wood.len()
+                ));
+            }
+        }
         let mut scene = Scene::new();
         scene.blocks.push(d.blocks);
         let schem_version = if request.schem_version == 3 { SchemVersion::V3 } else { SchemVersion::V2 };
