@@ -235,6 +235,19 @@ struct Engine<'g, 'w, 'c, C: Draws + ?Sized> {
     last_failure: Option<FailurePoint>,
 }
 
+impl DeriveFailure {
+    /// A box no derivation can run in, and why.
+    fn invalid_box(message: String) -> DeriveFailure {
+        DeriveFailure {
+            kind: FailureKind::InvalidBox,
+            message,
+            failed: None,
+            trace: Trace::default(),
+            stats: DeriveStats::default(),
+        }
+    }
+}
+
 impl BoxGrammar {
     /// Derives the axiom in the box `min..max_exclusive`, observing `world`
     /// (cells it does not cover, or leaves unset, count as air; `None`: all
@@ -262,28 +275,11 @@ impl BoxGrammar {
             } else {
                 format!("the derivation box {min}..{max_exclusive} is empty")
             };
-            return Err(DeriveFailure {
-                kind: FailureKind::InvalidBox,
-                message,
-                failed: None,
-                trace: Trace::default(),
-                stats: DeriveStats::default(),
-            });
+            return Err(DeriveFailure::invalid_box(message));
         }
         // A site derives the axiom in its plot, found from the world.
         let plot = match (&self.site, world) {
-            (Some(site), Some(w)) => match crate::site::plot(site, w, min, size) {
-                Ok(p) => Some(p),
-                Err(message) => {
-                    return Err(DeriveFailure {
-                        kind: FailureKind::InvalidBox,
-                        message,
-                        failed: None,
-                        trace: Trace::default(),
-                        stats: DeriveStats::default(),
-                    });
-                }
-            },
+            (Some(site), Some(w)) => Some(crate::site::plot(site, w, min, size).map_err(DeriveFailure::invalid_box)?),
             _ => None,
         };
         let (dmin, dsize) = plot.map_or((min, size), |p| (p.min, p.size));
