@@ -174,3 +174,112 @@ fn the_random_grammar_generator_makes_varied_grammars() {
     }
     assert!(ok > 20 && failed > 20 && backtracked > 5, "ok {ok} failed {failed} backtracked {backtracked}");
 }
+
+/// A building with a site, on random terrain: columns of ground (dirt)
+/// at random heights or none, water over some, a cave under some, a trunk
+/// on some.
+const SITED: &str = "site foundation = cobblestone, yard = 1;\n\
+    A { split y [1, -1] { fill stone_bricks, B } }\n\
+    B { split x [1, -1, 1] { fill oak_planks, skip, fill oak_planks } }\n";
+
+/// The world over the box and one cell around it.
+fn sited_world(seed: u64, min: IVec3, size: IVec3) -> BlockGrid {
+    let mut r = Rng::from_seed(seed);
+    let (lo, hi) = (min - IVec3::ONE, min + size + IVec3::ONE);
+    let mut g = BlockGrid::new(lo, (hi - lo).as_uvec3());
+    let [dirt, water, log, air] = ["dirt", "water", "oak_log", "air"].map(|b| BlockState::parse(b).unwrap());
+    for z in lo.z..hi.z {
+        for x in lo.x..hi.x {
+            // Ground from below the box up to a random height in it (or none).
+            let top = (r.index(5) > 0).then(|| lo.y + r.index((size.y + 1) as usize) as i32);
+            if let Some(top) = top {
+                for y in lo.y..=top {
+                    g.set(IVec3::new(x, y, z), &dirt);
+                }
+                if top > lo.y + 2 && r.index(4) == 0 {
+                    g.set(IVec3::new(x, top - 2, z), &air);
+                }
+            }
+            let surface = top.unwrap_or(lo.y - 1);
+            match r.index(6) {
+                0 => {
+                    for y in surface + 1..(surface + 3).min(hi.y) {
+                        g.set(IVec3::new(x, y, z), &water);
+                    }
+                }
+                // Trunks stand inside the box, two columns from the ring
+                // around it and under its top, so none reaches out of it
+                // (those are left standing).
+                1 if x > min.x && z > min.z && x < min.x + size.x - 2 && z < min.z + size.z - 2 => {
+                    for y in (surface + 1).max(min.y)..(surface + 4).min(min.y + size.y) {
+                        g.set(IVec3::new(x, y, z), &log);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    g
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    /// Whatever the terrain, a site's building stands: every footprint
+    /// column is solid from under the floor down to its ground, the yard
+    /// is open above the floor (but for trees reaching out of the box),
+    /// nothing under a column's ground changes (caves stay), and a column
+    /// with no ground under the box is counted.
+    #[test]
+    fn a_site_stands_on_its_ground(seed in any::<u64>(), sx in 5i32..12, sy in 4i32..14, sz in 5i32..12) {
+        let (g, _) = compile(&SourceFile::new("sited.bsg", SITED)).unwrap();
+        let (min, size) = (IVec3::new(3, 60, -4), IVec3::new(sx, sy, sz));
+        let world = sited_world(seed, min, size);
+        let result = g.derive(Some(&world), min, min + size, &mut Rng::from_seed(seed), &DeriveOptions::default());
+        let d = match result {
+            Ok(d) => d,
+            Err(e) => {
+                // Only a box that is ground up to its top has no floor.
+                prop_assert_eq!(e.kind, FailureKind::InvalidBox, "{}", e.message);
+                prop_assert!(e.message.contains("no floor") || e.message.contains("no room"), "{}", e.message);
+                return Ok(());
+            }
+        };
+        let site = d.site.clone().expect("a world was given");
+        let at = |p: IVec3| d.blocks.get(p).cloned().unwrap_or_else(|| world.get(p).cloned().unwrap_or_else(BlockState::air));
+        let ground = |b: &BlockState| b.kind() == genform_core::BlockKind::Solid && b.id() != "oak_log";
+        let mut hanging = 0;
+        for z in min.z..min.z + size.z {
+            for x in min.x..min.x + size.x {
+                let yard = x == min.x || z == min.z || x == min.x + size.x - 1 || z == min.z + size.z - 1;
+                // Solid from the floor (the yard) or just under it down to the ground.
+                let from = if yard { site.floor } else { site.floor - 1 };
+                let mut y = from;
+                while y >= min.y && !ground(&world.get(IVec3::new(x, y, z)).cloned().unwrap_or_else(BlockState::air)) {
+                    prop_assert_eq!(at(IVec3::new(x, y, z)).kind(), genform_core::BlockKind::Solid, "({}, {}, {})", x, y, z);
+                    y -= 1;
+                }
+                if y < min.y && !world.get(IVec3::new(x, min.y - 1, z)).is_some_and(&ground) && from >= min.y {
+                    hanging += 1;
+                }
+                // Under the ground nothing changes.
+                for y in min.y..=y.min(min.y + size.y - 1) {
+                    let p = IVec3::new(x, y, z);
+                    if y < site.floor {
+                        prop_assert!(d.blocks.get(p).is_none(), "({}, {}, {}) changed under the ground", x, y, z);
+                    }
+                }
+                // The yard is open above the floor, but for trees that reach
+                // out of the box, left standing.
+                if yard {
+                    for y in site.floor + 1..min.y + size.y {
+                        let p = IVec3::new(x, y, z);
+                        let spared = d.blocks.get(p).is_none() && world.get(p).is_some_and(|b| b.id() == "oak_log");
+                        prop_assert!(at(p).id() == "air" || spared, "({}, {}, {}): {}", x, y, z, at(p));
+                    }
+                }
+            }
+        }
+        prop_assert_eq!(site.foundation_hanging, hanging);
+    }
+}
