@@ -179,7 +179,7 @@ fn the_random_grammar_generator_makes_varied_grammars() {
 /// at random heights or none, water over some, a cave under some, a trunk
 /// on some.
 const SITED: &str = "site foundation = cobblestone, yard = 1;\n\
-    A { split y [1, -1] { fill stone_bricks, B } }\n\
+    A { when Y >= 2 { split y [1, -1] { fill stone_bricks, B } } else { fill stone_bricks } }\n\
     B { split x [1, -1, 1] { fill oak_planks, skip, fill oak_planks } }\n";
 
 /// The world over the box and one cell around it.
