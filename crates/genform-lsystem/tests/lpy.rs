@@ -415,6 +415,30 @@ fn editor_scalars_and_empty_axioms() {
 }
 
 #[test]
+fn editor_scalars_with_ranges_become_ranged_constants() {
+    let text = "Axiom: A(N)\nderivation length: 1\nproduction:\nA(x) --> A(x + angle)\nendlsystem\n\
+                def __initialiseContext__(context):\n\tscalars = [('N', 'Integer', 5, 0, 9), ('angle', 'Float', 30.0, 0.0, 90.0, 2), \
+                ('B', 'Bool', True), ('X', 18, -100, 100), ('bad', 'Integer', 12, 0, 9), ('C', 'Category')]\n";
+    let t = genform_lsystem::lpy::translate(text).unwrap();
+    for line in [
+        "define N = 5 in 0..9\n",
+        "define angle = 30 in [0, 90]\n",
+        "define B = 1 in 0..1\n",
+        "define X = 18 in -100..100\n",
+    ] {
+        assert!(t.text.contains(line), "{line:?} in\n{}", t.text);
+    }
+    // A value outside its slider is a plain constant, with a warning.
+    assert!(t.text.contains("define bad = 12\n"), "{}", t.text);
+    assert!(t.warnings.iter().any(|w| w.message.contains("range of the scalar `bad` is not used")));
+    let s = compile_text(text).unwrap();
+    let names: Vec<&str> = s.ranged_constants().iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["N", "angle", "B", "X"]);
+    assert_eq!(genform_lsystem::lpy::translate(text).map(|t| t.text.matches("define").count()).unwrap(), 5);
+    assert_eq!(run(text), "A(35)");
+}
+
+#[test]
 fn no_prefix_of_a_file_panics() {
     // Every prefix of the copied files (cut at every 3rd character)
     // compiles or fails with located errors.
