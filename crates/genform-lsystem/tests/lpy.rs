@@ -504,7 +504,17 @@ fn corpus() {
         let text = String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
         let (kind, detail) = match compile_lpy(&SourceFile::new(rel.clone(), text.clone())) {
             Ok((system, _)) => match system.derive(system.settings.derivation, &mut Rng::from_seed(1)) {
-                Ok(s) => ("read", format!("{} steps, {} modules", system.settings.derivation, s.len())),
+                Ok(s) => {
+                    let mut detail = format!("{} steps, {} modules", system.settings.derivation, s.len());
+                    // Scalars with slider ranges are genes when the file is a generator.
+                    let genes: Vec<&str> = system.ranged_constants().iter().map(|c| c.name.as_str()).collect();
+                    if !genes.is_empty() {
+                        let generator = genform_lsystem::LsGenerator::new(std::sync::Arc::new(system.clone()));
+                        let what = if generator.is_ok() { "genes" } else { "ranged, not a generator" };
+                        detail.push_str(&format!("; scalars {what}: {}", genes.join(", ")));
+                    }
+                    ("read", detail)
+                }
                 Err(e) => ("derivation error", e.to_string()),
             },
             Err(d) => {
@@ -548,6 +558,9 @@ fn corpus() {
              - **Python**: needs Python outside the subset (the first such construct; L-Py, the Python package, runs it);\n\
              - **editor**: uses a curve, patch or function that L-Py's editor stores in the file's \\\n  \
              `__initialiseContext__` (genform reads only the editor's scalars);\n\
+             - a read file's scalars with slider ranges are ranged constants: *scalars genes* when the file is \\\n  \
+             a generator (context-free, no bodies or hooks), so `genform evolve` steers them; *ranged, not a \\\n  \
+             generator* otherwise (docs/lsystem.md, *Evolutionary control*);\n\
              - **L-Py feature**: no Python beyond the subset, but an L-system construct the `.ls` language lacks \\\n  \
              (`<<`/`>>` contexts, `*`/`all(…)` patterns) or another error.\n\n",
         );

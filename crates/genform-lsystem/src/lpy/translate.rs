@@ -166,6 +166,16 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
     for d in &defs {
         if d.name == "__initialiseContext__" {
             let l = &lines[d.line];
+            // Only the scalars (read above): nothing is left out.
+            let scalars_only = lines[d.lo..d.hi].iter().all(|b| {
+                let c = b.code.replace(' ', "");
+                c.starts_with("scalars=")
+                    || c == "context[\"__scalars__\"]=scalars"
+                    || c == "context['__scalars__']=scalars"
+            });
+            if scalars_only && d.lo < d.hi {
+                continue;
+            }
             tr.warnings.push(
                 Diagnostic::warning(Span::new(l.at, l.at + l.code.len()), "L-Py's `__initialiseContext__` is not read")
                     .with_hint(
