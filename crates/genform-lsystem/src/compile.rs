@@ -145,11 +145,12 @@ pub(crate) fn compile_with(
                 None => {
                     let what = format!("the range of `{name}`");
                     let bounds = (c.constant(&r.min, &what), c.constant(&r.max, &what));
-                    let checked = ranged::check(d, r, value, bounds, &mut c.errors);
-                    checked.map(|rc| {
+                    if let Some(rc) = ranged::check(d, r, value, bounds, &mut c.errors) {
                         ranged.push(rc);
-                        value.unwrap_or(f64::NAN)
-                    })
+                    }
+                    // A bad range is reported once: readers of the
+                    // constant still see its written value.
+                    value
                 }
             };
             k += 1;

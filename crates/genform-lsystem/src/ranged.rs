@@ -107,12 +107,11 @@ pub(crate) fn check(
         );
     }
     if v < min || v > max {
+        let range = if r.integer { format!("{min}..{max}") } else { format!("[{min}, {max}]") };
         return fail(
             value_span,
-            format!("`{name}` = {v} is outside its range"),
-            format!(
-                "the value must lie in the range ({min} to {max}, both included); widen the range or change the value"
-            ),
+            format!("`{name}` = {v} is outside its range {range} (bounds included)"),
+            "widen the range or change the value".into(),
         );
     }
     Some(RangedConstant { name: name.clone(), integer: r.integer, value: v, min, max })

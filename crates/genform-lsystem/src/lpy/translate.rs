@@ -495,7 +495,7 @@ impl Scalar {
         let v = self.value;
         let finite = v.is_finite() && min.is_finite() && max.is_finite();
         let whole = !integer || (v.fract() == 0.0 && min.fract() == 0.0 && max.fract() == 0.0);
-        if !finite || !whole || !(min <= v && v <= max) {
+        if !(finite && whole && min <= v && v <= max) {
             return None;
         }
         Some(if integer { format!(" in {min}..{max}") } else { format!(" in [{min}, {max}]") })
