@@ -39,6 +39,7 @@ mod entry;
 mod generator;
 pub mod lpy;
 mod ranged;
+mod recompile;
 mod rules;
 mod settings;
 mod string;
