@@ -159,6 +159,12 @@ fn constants(genome: &serde_json::Value) -> serde_json::Map<String, serde_json::
 fn lpy_scalars_are_genes_that_replay_and_change_the_geometry() {
     let tmp = tempfile::tempdir().unwrap();
     let tree = scalar_tree();
+    let info = genform(tmp.path(), &["info", s(&tree)]).ok();
+    assert!(
+        info.stdout().contains("ANGLE = 35 in 10..90, DIV = 137 in 60..180, DECAY = 0.75 in [0.5, 1]"),
+        "{}",
+        info.show()
+    );
     genform(tmp.path(), &["sample", s(&tree), "--seed", "4", "--genome-out", "g.json", "--out", "a.glb"]).ok();
     genform(tmp.path(), &["derive", s(&tree), "--genome", "g.json", "--out", "b.glb"]).ok();
     assert!(read(&tmp, "a.glb") == read(&tmp, "b.glb"), "derive replays the sampled genome");

@@ -965,11 +965,13 @@ fn find_top(s: &str, c: char) -> Option<usize> {
 }
 
 /// Byte index of the keyword `in` standing alone (spaces before it, no
-/// name character after it) outside parentheses and brackets.
+/// name character after it) after the first `=` (so a constant may still
+/// be named `in`), outside parentheses and brackets.
 fn find_in(s: &str) -> Option<usize> {
     let b = s.as_bytes();
     let mut depth = 0i32;
-    for (i, &c) in b.iter().enumerate() {
+    let start = s.find('=')? + 1;
+    for (i, &c) in b.iter().enumerate().skip(start) {
         match c {
             b'(' | b'[' => depth += 1,
             b')' | b']' => depth -= 1,
