@@ -143,3 +143,77 @@ fn declared_surfaces_load_meshes_beside_the_file() {
     let run = genform(tmp.path(), &["sample", s(&missing), "--out", "m.obj"]).fails();
     assert!(run.stderr().contains("missing.ls:1:"), "{}", run.stderr());
 }
+
+/// The L-Py tree whose editor scalars are ranged constants.
+fn scalar_tree() -> PathBuf {
+    root().join("examples/lsystem/lpy_scalar_tree.lpy")
+}
+
+/// The root gene's values (the ranged constants) in a genome file.
+fn constants(genome: &serde_json::Value) -> serde_json::Map<String, serde_json::Value> {
+    assert_eq!(genome["genes"][0]["symbol"], "axiom", "{genome}");
+    genome["genes"][0]["params"].as_object().unwrap().clone()
+}
+
+#[test]
+fn lpy_scalars_are_genes_that_replay_and_change_the_geometry() {
+    let tmp = tempfile::tempdir().unwrap();
+    let tree = scalar_tree();
+    let info = genform(tmp.path(), &["info", s(&tree)]).ok();
+    assert!(
+        info.stdout().contains("ANGLE = 35 in 10..90, DIV = 137 in 60..180, DECAY = 0.75 in [0.5, 1]"),
+        "{}",
+        info.show()
+    );
+    genform(tmp.path(), &["sample", s(&tree), "--seed", "4", "--genome-out", "g.json", "--out", "a.glb"]).ok();
+    genform(tmp.path(), &["derive", s(&tree), "--genome", "g.json", "--out", "b.glb"]).ok();
+    assert!(read(&tmp, "a.glb") == read(&tmp, "b.glb"), "derive replays the sampled genome");
+    let mut genome: serde_json::Value = serde_json::from_slice(&read(&tmp, "g.json")).unwrap();
+    // Drawn from the prior: inside the sliders' ranges, whole where Integer or Bool.
+    let c = constants(&genome);
+    let names: Vec<&str> = c.keys().map(String::as_str).collect();
+    assert_eq!(names, ["ANGLE", "DECAY", "DIV", "LEAFY", "TRUNK"]);
+    let v = |k: &str| c[k].as_f64().unwrap();
+    assert!((10.0..=90.0).contains(&v("ANGLE")) && v("ANGLE").fract() == 0.0, "{c:?}");
+    assert!((60.0..=180.0).contains(&v("DIV")) && v("DIV").fract() == 0.0, "{c:?}");
+    assert!((0.5..=1.0).contains(&v("DECAY")) && (0.2..=2.5).contains(&v("TRUNK")), "{c:?}");
+    assert!(v("LEAFY") == 0.0 || v("LEAFY") == 1.0, "{c:?}");
+    // Another angle or trunk length draws another tree.
+    for (key, value) in [("ANGLE", 50.0), ("TRUNK", 2.0)] {
+        let mut other = genome.clone();
+        other["genes"][0]["params"][key] = value.into();
+        std::fs::write(tmp.path().join("o.json"), serde_json::to_vec(&other).unwrap()).unwrap();
+        genform(tmp.path(), &["derive", s(&tree), "--genome", "o.json", "--out", "o.glb"]).ok();
+        assert!(read(&tmp, "o.glb") != read(&tmp, "b.glb"), "{key} = {value} draws the same tree");
+    }
+    // The written values through the genome give what a plain sample
+    // (which reads the written values) draws.
+    for (key, value) in [("ANGLE", 35.0), ("DIV", 137.0), ("DECAY", 0.75), ("TRUNK", 1.2), ("LEAFY", 1.0)] {
+        genome["genes"][0]["params"][key] = value.into();
+    }
+    std::fs::write(tmp.path().join("w.json"), serde_json::to_vec(&genome).unwrap()).unwrap();
+    genform(tmp.path(), &["derive", s(&tree), "--genome", "w.json", "--out", "w.glb"]).ok();
+    genform(tmp.path(), &["sample", s(&tree), "--out", "p.glb"]).ok();
+    assert!(read(&tmp, "w.glb") == read(&tmp, "p.glb"), "the written values differ from a plain sample");
+    // A hand-edited value outside its slider is refused.
+    genome["genes"][0]["params"]["ANGLE"] = 120.0.into();
+    std::fs::write(tmp.path().join("bad.json"), serde_json::to_vec(&genome).unwrap()).unwrap();
+    let run = genform(tmp.path(), &["derive", s(&tree), "--genome", "bad.json", "--out", "x.glb"]).fails();
+    assert!(run.stderr().contains("`ANGLE` = 120 is outside"), "{}", run.show());
+}
+
+#[test]
+fn evolving_the_lpy_scalars_is_the_same_at_any_thread_count() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = root().join("examples/scenes/lpy_scalar_tree_volume.toml");
+    for (out, threads) in [("one", "1"), ("three", "3")] {
+        let args = ["evolve", s(&scene), "--generations", "3", "--seed", "5", "--threads", threads, "--out", out, "-q"];
+        genform(tmp.path(), &args).ok();
+    }
+    assert_eq!(read(&tmp, "one/best-genome.json"), read(&tmp, "three/best-genome.json"));
+    assert!(read(&tmp, "one/best.glb") == read(&tmp, "three/best.glb"), "best.glb differs");
+    let best: serde_json::Value = serde_json::from_slice(&read(&tmp, "one/best-genome.json")).unwrap();
+    assert_eq!(constants(&best).len(), 5);
+    let run: serde_json::Value = serde_json::from_slice(&read(&tmp, "one/run.json")).unwrap();
+    assert!(run["best_fitness"].as_f64().unwrap() > 0.0, "{run}");
+}

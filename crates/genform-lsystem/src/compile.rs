@@ -4,6 +4,7 @@
 use crate::alphabet::{self, Alphabet, Command, Sym};
 use crate::arg::Arg;
 use crate::body::{Body, Op};
+use crate::ranged::{self, RangedConstant, Recipe};
 use crate::rules::{Entry, Rule, Table};
 use crate::settings::{Heading, Settings, View};
 use crate::string::ModuleString;
@@ -45,6 +46,19 @@ pub struct LSystem {
     pub(crate) surface_of: Vec<Option<u32>>,
     /// The meshes of the built-in and declared surfaces.
     pub(crate) surfaces: Vec<Arc<Mesh>>,
+    /// The ranged constants (genes of a generator), in file order.
+    pub(crate) ranged: Vec<RangedConstant>,
+    /// How to recompile with other values of the ranged constants (only
+    /// kept when there are some).
+    pub(crate) recipe: Option<Arc<Recipe>>,
+}
+
+/// Where a compilation takes its surface meshes from.
+pub(crate) enum Meshes<'a> {
+    /// Loads declared surfaces through a resolver.
+    Load(&'a dyn SurfaceAssets),
+    /// Reuses the surfaces an earlier compilation of the same file loaded.
+    Reuse(&'a [(String, Arc<Mesh>)]),
 }
 
 /// The name of the global-state slot holding the derivation step (L-Py's
@@ -99,6 +113,17 @@ struct Compiler {
 /// Compiles a parsed file, loading its surfaces through `assets`. Returns
 /// the system and warnings, or every error.
 pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
+    compile_with(file, Meshes::Load(assets), None)
+}
+
+/// [`compile`] with the surfaces from `meshes` and, when `overrides` is
+/// given, the ranged constants set to its values (one per ranged `define`,
+/// in file order, already checked against their ranges).
+pub(crate) fn compile_with(
+    file: &syntax::File,
+    meshes: Meshes,
+    overrides: Option<&[f64]>,
+) -> Result<(LSystem, Vec<Diagnostic>), Vec<Diagnostic>> {
     let mut c = Compiler {
         alphabet: Alphabet::default(),
         defines: HashMap::new(),
@@ -109,17 +134,40 @@ pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSyst
         warnings: Vec::new(),
         unsupported: HashMap::new(),
     };
-    for (name, span, e) in &file.defines {
-        if let Some(v) = c.constant(e, &format!("`define {name}`")) {
+    let mut ranged = Vec::new();
+    let mut k = 0;
+    for d in &file.defines {
+        let (name, span) = (&d.name, d.span);
+        let mut value = c.constant(&d.expr, &format!("`define {name}`"));
+        if let Some(r) = &d.range {
+            value = match overrides {
+                Some(values) => values.get(k).copied(),
+                None => {
+                    let what = format!("the range of `{name}`");
+                    let bounds = (c.constant(&r.min, &what), c.constant(&r.max, &what));
+                    if let Some(rc) = ranged::check(d, r, value, bounds, &mut c.errors) {
+                        ranged.push(rc);
+                    }
+                    // A bad range is reported once: readers of the
+                    // constant still see its written value.
+                    value
+                }
+            };
+            k += 1;
+        }
+        if let Some(v) = value {
             if c.defines.insert(name.clone(), v).is_some() {
-                c.warnings.push(Diagnostic::warning(*span, format!("`{name}` is defined again; the later value wins")));
+                c.warnings.push(Diagnostic::warning(span, format!("`{name}` is defined again; the later value wins")));
             }
         } else {
             // Keep later formulas from reporting it as unknown.
             c.defines.insert(name.clone(), f64::NAN);
         }
     }
-    c.surfaces(file, assets);
+    match meshes {
+        Meshes::Load(assets) => c.surfaces(file, assets),
+        Meshes::Reuse(loaded) => c.surfaces = loaded.to_vec(),
+    }
     let initial_state = c.globals(file);
     let hooks = std::array::from_fn(|k| c.statements(&file.hooks[k], &[], &mut Vec::new(), false));
     let settings = c.settings(file);
@@ -165,6 +213,10 @@ pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSyst
         })
         .collect();
     if c.errors.is_empty() {
+        // Recompiling with a genome's constants starts from the parsed file
+        // and the loaded meshes (only kept when some constant is a gene).
+        let recipe = (overrides.is_none() && !ranged.is_empty())
+            .then(|| Arc::new(Recipe { file: file.clone(), surfaces: c.surfaces.clone() }));
         let is = |cmd: Command| c.alphabet.symbols.iter().map(|s| s.command == cmd).collect::<Vec<bool>>();
         let brackets = [is(Command::Push), is(Command::Pop)];
         let system = LSystem {
@@ -182,6 +234,8 @@ pub fn compile(file: &syntax::File, assets: &dyn SurfaceAssets) -> Result<(LSyst
             hooks,
             surface_of,
             surfaces: c.surfaces.into_iter().map(|(_, m)| m).collect(),
+            ranged,
+            recipe,
         };
         Ok((system, c.warnings))
     } else {

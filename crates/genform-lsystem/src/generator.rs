@@ -11,16 +11,23 @@
 //! production's slots are read. An empty link leaves the module as it is
 //! (it stops growing), so a genome is a derivation that optimizers can prune
 //! and regrow; the depth limit is the derivation length.
+//!
+//! The root gene holds one value per ranged constant (`define a = 30 in
+//! [0, 90]`, `define n = 3 in 1..5`): a uniform real, or a uniform whole
+//! number. A genome's derivation recompiles the system with those values,
+//! so the optimizers steer the constants like any other parameter.
 
 use crate::alphabet::Sym;
 use crate::compile::LSystem;
 use crate::derive::{Scratch, Site, emit};
+use crate::ranged::RangedConstant;
 use crate::rules::{Entry, Stored};
 use crate::string::ModuleString;
 use crate::turtle::TurtleError;
 use genform_core::genome::{GenePos, Link};
 use genform_core::graph::{Distribution, ParamSpec, SlotSpec, SymbolId, SymbolSpec};
 use genform_core::{ExpressError, Generator, GeneratorGraph, Genome, LimitKind, Limits, Rng, Sampled, Scene};
+use std::borrow::Cow;
 use std::sync::Arc;
 
 /// Why an L-system cannot be a generator.
@@ -139,8 +146,9 @@ impl LsGenerator {
                 table.rules[r].succ_syms.iter().any(|&s| system.alphabet.command(s) == crate::alphabet::Command::Draw)
             })
         };
+        let root_params = system.ranged_constants().iter().map(constant_param).collect();
         let mut symbols =
-            vec![SymbolSpec { name: "axiom".into(), params: Vec::new(), slots: root_slots, emits_geometry: false }];
+            vec![SymbolSpec { name: "axiom".into(), params: root_params, slots: root_slots, emits_geometry: false }];
         let mut genes = vec![GeneSymbol { roulette: false, links: vec![root_links] }];
         let unit = || vec![Distribution::Uniform { min: 0.0, max: 1.0 }];
         for s in 0..n {
@@ -189,23 +197,57 @@ impl LsGenerator {
 
     /// The module string a genome derives.
     pub fn derive(&self, genome: &Genome, limits: &Limits) -> Result<ModuleString, ExpressError> {
+        let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
+        let system = self.system_for(genome.gene(root).params())?;
+        self.derive_with(&system, genome, root, limits)
+    }
+
+    fn derive_with(
+        &self,
+        system: &LSystem,
+        genome: &Genome,
+        root: GenePos,
+        limits: &Limits,
+    ) -> Result<ModuleString, ExpressError> {
         let mut walk = Walk {
             owner: self,
+            system,
             genome: GenomeAccess::Read(genome),
             limits,
             out: ModuleString::default(),
-            sc: Scratch::with_state(&self.system.initial_state),
+            sc: Scratch::with_state(&system.initial_state),
             values: Vec::new(),
         };
-        let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
         walk.axiom(root)?;
         // The state a derivation of that many steps ends with (no hook
         // changes it in a generator).
         let mut out = walk.out;
-        out.state.clone_from(&self.system.initial_state);
+        out.state.clone_from(&system.initial_state);
         out.state[0] = limits.max_depth as f64;
         Ok(out)
     }
+
+    /// The system with the root gene's constant values (the compiled
+    /// system itself when there are no ranged constants).
+    fn system_for(&self, values: impl Iterator<Item = f64>) -> Result<Cow<'_, LSystem>, ExpressError> {
+        if self.system.ranged_constants().is_empty() {
+            return Ok(Cow::Borrowed(&self.system));
+        }
+        let values: Vec<f64> = values.collect();
+        self.system.with_constants(&values).map(Cow::Owned).map_err(ExpressError::Eval)
+    }
+}
+
+/// The root parameter of a ranged constant: a uniform real, or a uniform
+/// whole number (an L-Py `Bool` is `0..1`).
+fn constant_param(c: &RangedConstant) -> ParamSpec {
+    let d = if c.integer {
+        // `check` admitted only whole, finite bounds.
+        Distribution::IntRange { min: c.min as i64, max: c.max as i64 }
+    } else {
+        Distribution::Uniform { min: c.min, max: c.max }
+    };
+    ParamSpec { name: c.name.clone(), components: vec![d] }
 }
 
 enum GenomeAccess<'a> {
@@ -215,6 +257,8 @@ enum GenomeAccess<'a> {
 
 struct Walk<'a> {
     owner: &'a LsGenerator,
+    /// The system with the genome's constants.
+    system: &'a LSystem,
     genome: GenomeAccess<'a>,
     limits: &'a Limits,
     out: ModuleString,
@@ -261,7 +305,7 @@ impl Walk<'_> {
                 }
             }
             GenomeAccess::Grow { genome, rng, truncated, params } => {
-                if !rng.bernoulli(self.owner.system.settings.growth) {
+                if !rng.bernoulli(self.system.settings.growth) {
                     return Ok(None);
                 }
                 if depth > self.limits.max_depth.min(MAX_GENERATOR_DEPTH) {
@@ -282,7 +326,7 @@ impl Walk<'_> {
     fn push(&mut self, sym: Sym, params: &[f64]) -> Result<(), ExpressError> {
         self.out.syms.push(sym);
         self.out.params.extend_from_slice(params);
-        let cap = self.owner.system.settings.max_modules;
+        let cap = self.system.settings.max_modules;
         if !crate::derive::within(&self.out, cap) {
             return Err(ExpressError::Eval(format!(
                 "the derived string has more than {cap} modules; raise `max_modules:` or shorten the derivation"
@@ -292,7 +336,7 @@ impl Walk<'_> {
     }
 
     fn axiom(&mut self, root: GenePos) -> Result<(), ExpressError> {
-        let sys = &self.owner.system;
+        let sys = self.system;
         let links = &self.owner.genes[ROOT as usize].links[0];
         for ((sym, params), link) in sys.axiom.modules(&sys.alphabet).zip(links) {
             match link {
@@ -309,7 +353,7 @@ impl Walk<'_> {
     /// Rewrites module (`sym`, `params`) as the gene at `pos` says.
     fn rewrite(&mut self, pos: GenePos, sym: Sym, params: &[f64], depth: usize) -> Result<(), ExpressError> {
         let owner = self.owner;
-        let sys = &owner.system;
+        let sys = self.system;
         let gene_sym = &owner.genes[owner.symbol_of[sym as usize].expect("rewritable") as usize];
         // The gene's values are needed only until the successor is emitted,
         // so one buffer serves every gene.
@@ -359,10 +403,12 @@ impl Generator for LsGenerator {
         if genome.len() > limits.max_genes {
             return Err(ExpressError::Limit { kind: LimitKind::Genes, limit: limits.max_genes });
         }
-        let s = self.derive(genome, limits)?;
+        let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
+        let system = self.system_for(genome.gene(root).params())?;
+        let s = self.derive_with(&system, genome, root, limits)?;
         // Interpretation rules draw from a fixed stream, so a genome always
         // gives the same drawing.
-        self.system.interpret(&s, &mut Rng::from_seed(0), limits.max_primitives, scene).map_err(|e| match e {
+        system.interpret(&s, &mut Rng::from_seed(0), limits.max_primitives, scene).map_err(|e| match e {
             TurtleError::TooManyPrimitives { limit } => ExpressError::Limit { kind: LimitKind::Primitives, limit },
         })?;
         Ok(())
@@ -370,14 +416,22 @@ impl Generator for LsGenerator {
 
     /// Grows a derivation from the root: each module the derivation reaches
     /// is rewritten with probability `growth`, up to the derivation length.
+    /// The root's constants are drawn first (uniformly in their ranges).
     fn sample(&self, rng: &mut Rng, limits: &Limits) -> Result<Sampled, ExpressError> {
-        let mut genome = Genome::with_root(&self.graph, ROOT, &[]);
+        let mut constants = Vec::new();
+        // No draw without ranged constants, so such systems sample as before.
+        if !self.system.ranged_constants().is_empty() {
+            self.graph.draw_params(ROOT, rng, &mut constants);
+        }
+        let mut genome = Genome::with_root(&self.graph, ROOT, &constants);
+        let system = self.system_for(constants.iter().copied())?;
         let mut walk = Walk {
             owner: self,
+            system: &system,
             genome: GenomeAccess::Grow { genome: &mut genome, rng, truncated: None, params: Vec::new() },
             limits,
             out: ModuleString::default(),
-            sc: Scratch::with_state(&self.system.initial_state),
+            sc: Scratch::with_state(&system.initial_state),
             values: Vec::new(),
         };
         walk.axiom(GenePos(0))?;

@@ -17,7 +17,9 @@
 //! - [`LsGenerator`] makes each module rewrite a gene (production choice and
 //!   random draws) with the successor's rewritable modules as its child
 //!   slots, so the optimizers can steer a context-free stochastic or
-//!   parametric L-system.
+//!   parametric L-system; ranged constants (`define a = 30 in [0, 90]`,
+//!   `define n = 3 in 1..5`, an L-Py file's editor scalars) are genes of
+//!   its root ([`LSystem::with_constants`]).
 //!
 //! The language is documented in `docs/lsystem.md`.
 //!
@@ -38,6 +40,8 @@ mod derive;
 mod entry;
 mod generator;
 pub mod lpy;
+mod ranged;
+mod recompile;
 mod rules;
 mod settings;
 mod string;
@@ -54,6 +58,7 @@ pub use derive::DeriveError;
 pub use entry::{compile, compile_with_assets};
 pub use generator::{GeneratorError, LsGenerator};
 pub use lpy::{compile_lpy, compile_lpy_with_assets};
+pub use ranged::RangedConstant;
 pub use settings::{Heading, Settings, View};
 pub use string::ModuleString;
 pub use surface::{NoSurfaceAssets, SurfaceAssets};

@@ -136,13 +136,41 @@ pub struct Setting {
     pub at: usize,
 }
 
+/// A constant: `define name = formula`, and with a range (`in [min, max]`
+/// or `in min..max`) a gene of the generator.
+#[derive(Clone, Debug)]
+pub struct Define {
+    /// The constant's name.
+    pub name: String,
+    /// Where the name is.
+    pub span: Span,
+    /// The written value.
+    pub expr: Expr,
+    /// The range that makes it a gene, if any.
+    pub range: Option<Range>,
+}
+
+/// The range of a ranged constant: real (`[min, max]`) or whole numbers
+/// (`min..max`), bounds included.
+#[derive(Clone, Debug)]
+pub struct Range {
+    /// Whole numbers only (`min..max`).
+    pub integer: bool,
+    /// The lower bound.
+    pub min: Expr,
+    /// The upper bound.
+    pub max: Expr,
+    /// Where the range is written (after `in`).
+    pub span: Span,
+}
+
 /// A whole `.ls` file.
 #[derive(Clone, Debug, Default)]
 pub struct File {
     /// Settings in file order (`axiom`, `define` and sections excluded).
     pub settings: Vec<Setting>,
-    /// `define name = expr`, in file order.
-    pub defines: Vec<(String, Span, Expr)>,
+    /// `define name = expr` (optionally `in` a range), in file order.
+    pub defines: Vec<Define>,
     /// Declared multi-character module names.
     pub modules: Vec<(String, Span)>,
     /// The axiom.
@@ -433,9 +461,54 @@ impl Parser {
     }
 
     fn define(&mut self, rest: &str, at: usize, whole: Span) {
-        if let Some((name, span, e)) = self.named_formula(rest, at, whole, "define") {
-            self.file.defines.push((name, span, e));
+        // `define name = formula in RANGE`: the formula is what comes
+        // before a free-standing `in`.
+        let (formula, range) = match find_in(rest) {
+            Some(k) => (&rest[..k], Some((&rest[k + 2..], at + k + 2))),
+            None => (rest, None),
+        };
+        let Some((name, span, expr)) = self.named_formula(formula, at, whole, "define") else { return };
+        let range = match range {
+            Some((text, rat)) => match self.range(text, rat, whole) {
+                Some(r) => Some(r),
+                None => return,
+            },
+            None => None,
+        };
+        self.file.defines.push(Define { name, span, expr, range });
+    }
+
+    /// The range after `in`: `[min, max]` (real) or `min..max` (whole
+    /// numbers).
+    fn range(&mut self, text: &str, at: usize, whole: Span) -> Option<Range> {
+        let (t, tat) = trimmed(text, at);
+        let here = if t.is_empty() { whole } else { span(tat, t.len()) };
+        let hint = "write `in [0, 90]` for a real range or `in 0..9` for whole numbers (bounds included)";
+        let bounds: Vec<(&str, usize)>;
+        let integer;
+        if let Some(inner) = t.strip_prefix('[') {
+            let Some(inner) = inner.strip_suffix(']') else {
+                self.errors.push(Diagnostic::error(here, "expected `]` closing the range").with_hint(hint));
+                return None;
+            };
+            bounds = split_top(inner, tat + 1, ',');
+            integer = false;
+        } else if let Some(k) = t.find("..") {
+            bounds = vec![(&t[..k], tat), (&t[k + 2..], tat + k + 2)];
+            integer = true;
+        } else {
+            self.errors.push(Diagnostic::error(here, "expected a range after `in`").with_hint(hint));
+            return None;
         }
+        if bounds.len() != 2 {
+            self.errors.push(Diagnostic::error(here, "a range has two bounds, min and max").with_hint(hint));
+            return None;
+        }
+        let (a, aat) = trimmed(bounds[0].0, bounds[0].1);
+        let (b, bat) = trimmed(bounds[1].0, bounds[1].1);
+        let min = self.expr(a, aat, here);
+        let max = self.expr(b, bat, here);
+        Some(Range { integer, min: min?, max: max?, span: here })
     }
 
     /// `name = formula` after the keyword `what` (`define`, `global`).
@@ -885,6 +958,29 @@ fn find_top(s: &str, c: char) -> Option<usize> {
             '(' => depth += 1,
             ')' => depth -= 1,
             _ if ch == c && depth == 0 => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Byte index of the keyword `in` standing alone (spaces before it, no
+/// name character after it) after the first `=` (so a constant may still
+/// be named `in`), outside parentheses and brackets.
+fn find_in(s: &str) -> Option<usize> {
+    let b = s.as_bytes();
+    let mut depth = 0i32;
+    let start = s.find('=')? + 1;
+    for (i, &c) in b.iter().enumerate().skip(start) {
+        match c {
+            b'(' | b'[' => depth += 1,
+            b')' | b']' => depth -= 1,
+            b'i' if depth == 0 && i > 0 && b[i - 1].is_ascii_whitespace() && b[i..].starts_with(b"in") => {
+                let after = b.get(i + 2).copied();
+                if !after.is_some_and(|a| a.is_ascii_alphanumeric() || a == b'_' || a == b'.') {
+                    return Some(i);
+                }
+            }
             _ => {}
         }
     }

@@ -415,6 +415,30 @@ fn editor_scalars_and_empty_axioms() {
 }
 
 #[test]
+fn editor_scalars_with_ranges_become_ranged_constants() {
+    let text = "Axiom: A(N)\nderivation length: 1\nproduction:\nA(x) --> A(x + angle)\nendlsystem\n\
+                def __initialiseContext__(context):\n\tscalars = [('N', 'Integer', 5, 0, 9), ('angle', 'Float', 30.0, 0.0, 90.0, 2), \
+                ('B', 'Bool', True), ('X', 18, -100, 100), ('bad', 'Integer', 12, 0, 9), ('C', 'Category')]\n";
+    let t = genform_lsystem::lpy::translate(text).unwrap();
+    for line in [
+        "define N = 5 in 0..9\n",
+        "define angle = 30 in [0, 90]\n",
+        "define B = 1 in 0..1\n",
+        "define X = 18 in -100..100\n",
+    ] {
+        assert!(t.text.contains(line), "{line:?} in\n{}", t.text);
+    }
+    // A value outside its slider is a plain constant, with a warning.
+    assert!(t.text.contains("define bad = 12\n"), "{}", t.text);
+    assert!(t.warnings.iter().any(|w| w.message.contains("range of the scalar `bad` is not used")));
+    let s = compile_text(text).unwrap();
+    let names: Vec<&str> = s.ranged_constants().iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["N", "angle", "B", "X"]);
+    assert_eq!(genform_lsystem::lpy::translate(text).map(|t| t.text.matches("define").count()).unwrap(), 5);
+    assert_eq!(run(text), "A(35)");
+}
+
+#[test]
 fn no_prefix_of_a_file_panics() {
     // Every prefix of the copied files (cut at every 3rd character)
     // compiles or fails with located errors.
@@ -480,7 +504,17 @@ fn corpus() {
         let text = String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
         let (kind, detail) = match compile_lpy(&SourceFile::new(rel.clone(), text.clone())) {
             Ok((system, _)) => match system.derive(system.settings.derivation, &mut Rng::from_seed(1)) {
-                Ok(s) => ("read", format!("{} steps, {} modules", system.settings.derivation, s.len())),
+                Ok(s) => {
+                    let mut detail = format!("{} steps, {} modules", system.settings.derivation, s.len());
+                    // Scalars with slider ranges are genes when the file is a generator.
+                    let genes: Vec<&str> = system.ranged_constants().iter().map(|c| c.name.as_str()).collect();
+                    if !genes.is_empty() {
+                        let generator = genform_lsystem::LsGenerator::new(std::sync::Arc::new(system.clone()));
+                        let what = if generator.is_ok() { "genes" } else { "ranged, not a generator" };
+                        detail.push_str(&format!("; scalars {what}: {}", genes.join(", ")));
+                    }
+                    ("read", detail)
+                }
                 Err(e) => ("derivation error", e.to_string()),
             },
             Err(d) => {
@@ -524,6 +558,9 @@ fn corpus() {
              - **Python**: needs Python outside the subset (the first such construct; L-Py, the Python package, runs it);\n\
              - **editor**: uses a curve, patch or function that L-Py's editor stores in the file's \\\n  \
              `__initialiseContext__` (genform reads only the editor's scalars);\n\
+             - a read file's scalars with slider ranges are ranged constants: *scalars genes* when the file is \\\n  \
+             a generator (context-free, no bodies or hooks), so `genform evolve` steers them; *ranged, not a \\\n  \
+             generator* otherwise (docs/lsystem.md, *Evolutionary control*);\n\
              - **L-Py feature**: no Python beyond the subset, but an L-system construct the `.ls` language lacks \\\n  \
              (`<<`/`>>` contexts, `*`/`all(…)` patterns) or another error.\n\n",
         );

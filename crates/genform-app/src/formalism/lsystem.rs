@@ -160,6 +160,14 @@ impl LoadedGrammar for LsFile {
             system.axiom.display(&system.alphabet, true),
             system.axiom.len()
         ));
+        let ranged: Vec<String> = system
+            .ranged_constants()
+            .iter()
+            .map(|c| format!("{} = {} in {}", c.name, c.value, c.range_text()))
+            .collect();
+        if !ranged.is_empty() {
+            out.push_str(&format!("ranged constants (genes of the root): {}\n", ranged.join(", ")));
+        }
         let [p, d, i] = system.rule_counts();
         out.push_str(&format!(
             "rules: {p} production{}{}, {d} decomposition, {i} interpretation\n",

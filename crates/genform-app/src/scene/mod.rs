@@ -613,9 +613,11 @@ mod tests {
         e.replace(&dir.path().display().to_string(), "DIR")
     }
 
-    /// `DIR/s.toml:LINE:COL` of the first `needle` on the line holding `on`.
+    /// `DIR/s.toml:LINE:COL` of the first `needle` on the line starting with `on`.
     fn at(text: &str, on: &str, needle: &str) -> String {
-        let (n, line) = text.lines().enumerate().find(|(_, l)| l.contains(on)).unwrap();
+        // `starts_with`, not `contains`: the grammar line holds a path, which
+        // may contain a key (a checkout under `/work/lpygenes` holds `genes`).
+        let (n, line) = text.lines().enumerate().find(|(_, l)| l.starts_with(on)).unwrap();
         let col = line[..line.find(needle).unwrap()].chars().count() + 1;
         format!("DIR/s.toml:{}:{col}: ", n + 1)
     }

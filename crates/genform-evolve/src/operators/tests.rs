@@ -393,3 +393,66 @@ mod drift_and_reference {
         assert!(picked[..3].iter().all(|&n| n > 30), "the others about equally often: {picked:?}");
     }
 }
+
+/// Root parameters — what an L-system's ranged constants become (a real in
+/// `[0, 90]`, whole numbers in `1..5`, a flag in `0..1`) — stay inside
+/// their ranges, and whole ones whole, through any chain of mutations and
+/// crossovers.
+mod root_parameters {
+    use super::*;
+    use genform_core::graph::Distribution;
+
+    fn graph_with_root_parameters() -> GeneratorGraph {
+        let mut graph = ship();
+        graph.symbols[S as usize].params = vec![
+            genform_core::ParamSpec {
+                name: "angle".into(),
+                components: vec![Distribution::Uniform { min: 0.0, max: 90.0 }],
+            },
+            genform_core::ParamSpec { name: "n".into(), components: vec![Distribution::IntRange { min: 1, max: 5 }] },
+            genform_core::ParamSpec {
+                name: "leafy".into(),
+                components: vec![Distribution::IntRange { min: 0, max: 1 }],
+            },
+        ];
+        graph
+    }
+
+    fn root_in_range(graph: &GeneratorGraph, g: &Genome) -> Result<(), TestCaseError> {
+        let root = g.root().unwrap();
+        let values: Vec<f64> = g.gene(root).params().collect();
+        prop_assert_eq!(values.len(), 3);
+        for (d, v) in graph.symbol(graph.root).components().zip(&values) {
+            prop_assert!(d.contains(*v), "{} outside {:?}", v, d);
+            if matches!(d, Distribution::IntRange { .. }) {
+                prop_assert_eq!(v.fract(), 0.0);
+            }
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+        #[test]
+        fn stay_in_range_through_mutation_and_crossover(seed in any::<u64>(), steps in 1usize..40) {
+            let graph = graph_with_root_parameters();
+            let mut rng = Rng::from_seed(seed);
+            let mut a = initial(&graph, &LIMITS, [3, 20], &mut rng);
+            let mut b = initial(&graph, &LIMITS, [3, 20], &mut rng);
+            let bounds = LengthBounds { min: 1, max: LIMITS.max_genes + 1 };
+            // Drift-heavy, so the reals are reflected at their bounds often.
+            let mix = MutationMix { drift: 60.0, drift_scale: 0.5, ..MutationMix::default() };
+            for _ in 0..steps {
+                mutate(&mut a, &graph, &LIMITS, &mix, &mut rng);
+                if let Some(Crossed { children: [c1, c2], .. }) =
+                    crossover([&a, &b], &graph, &LIMITS, &bounds, 3, &mut rng).crossed
+                {
+                    (a, b) = (c1, c2);
+                }
+                a.validate(&graph).unwrap();
+                root_in_range(&graph, &a)?;
+                root_in_range(&graph, &b)?;
+            }
+        }
+    }
+}

@@ -132,15 +132,30 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
         i = end.max(i + 1);
     }
     // The editor's scalars (`scalars = [('N', 'Integer', 5, 0, 9)]` in
-    // `__initialiseContext__`) are constants.
+    // `__initialiseContext__`) are constants; with their slider's range
+    // they are ranged constants, genes of the generator.
     let mut scalars: Vec<(String, f64)> = Vec::new();
     for d in defs.iter().filter(|d| d.name == "__initialiseContext__") {
         for l in &lines[d.lo..d.hi] {
             if let Some(list) = l.code.strip_prefix("scalars").map(str::trim_start).and_then(|r| r.strip_prefix('=')) {
-                for (name, value) in editor_scalars(list) {
+                for sc in editor_scalars(list) {
                     let at = l.at;
-                    tr.out.push(&format!("define {name} = {value}\n"), at);
-                    scalars.push((name, value));
+                    let range = sc.range_text();
+                    if sc.range.is_some() && range.is_none() {
+                        tr.warnings.push(
+                            Diagnostic::warning(
+                                Span::new(at, at + l.code.len()),
+                                format!("the editor's range of the scalar `{}` is not used", sc.name),
+                            )
+                            .with_hint(format!(
+                                "its value must lie inside a finite range (whole numbers for an Integer); \
+                                 `{}` is read as a plain constant, not a gene",
+                                sc.name
+                            )),
+                        );
+                    }
+                    tr.out.push(&format!("define {} = {}{}\n", sc.name, sc.value, range.unwrap_or_default()), at);
+                    scalars.push((sc.name, sc.value));
                 }
             }
         }
@@ -151,6 +166,16 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
     for d in &defs {
         if d.name == "__initialiseContext__" {
             let l = &lines[d.line];
+            // Only the scalars (read above): nothing is left out.
+            let scalars_only = lines[d.lo..d.hi].iter().all(|b| {
+                let c = b.code.replace(' ', "");
+                c.starts_with("scalars=")
+                    || c == "context[\"__scalars__\"]=scalars"
+                    || c == "context['__scalars__']=scalars"
+            });
+            if scalars_only && d.lo < d.hi {
+                continue;
+            }
             tr.warnings.push(
                 Diagnostic::warning(Span::new(l.at, l.at + l.code.len()), "L-Py's `__initialiseContext__` is not read")
                     .with_hint(
@@ -453,29 +478,61 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
     }
 }
 
-/// The (name, value) pairs of the editor's scalar list `[('N', 'Integer',
-/// 5, 0, 9), ('B', 'Bool', True), ('X', 18, -100, 100), ('C', 'Category')]`.
-fn editor_scalars(list: &str) -> Vec<(String, f64)> {
+/// One of the editor's scalars: its name, value and, for a slider, its
+/// range and whether it is whole numbers.
+struct Scalar {
+    name: String,
+    value: f64,
+    /// `(min, max, integer)`.
+    range: Option<(f64, f64, bool)>,
+}
+
+impl Scalar {
+    /// ` in min..max` or ` in [min, max]` when the range is usable (finite,
+    /// holding the value, whole for an Integer); `None` otherwise.
+    fn range_text(&self) -> Option<String> {
+        let (min, max, integer) = self.range?;
+        let v = self.value;
+        let finite = v.is_finite() && min.is_finite() && max.is_finite();
+        let whole = !integer || (v.fract() == 0.0 && min.fract() == 0.0 && max.fract() == 0.0);
+        if !(finite && whole && min <= v && v <= max) {
+            return None;
+        }
+        Some(if integer { format!(" in {min}..{max}") } else { format!(" in [{min}, {max}]") })
+    }
+}
+
+/// The editor's scalar list `[('N', 'Integer', 5, 0, 9), ('B', 'Bool',
+/// True), ('X', 18, -100, 100), ('A', 'Float', 30.0, 0.0, 90.0, 2), ('C',
+/// 'Category')]`: an untyped scalar is an Integer, a Bool ranges over 0..1,
+/// a Float's number of decimals (the slider's precision) is not read.
+fn editor_scalars(list: &str) -> Vec<Scalar> {
     let mut out = Vec::new();
     for item in list.split('(').skip(1) {
         let fields: Vec<&str> = item.split(')').next().unwrap_or("").split(',').map(str::trim).collect();
         let quoted = |f: &str| f.strip_prefix('\'').and_then(|f| f.strip_suffix('\'')).map(str::to_string);
         let Some(name) = fields.first().and_then(|f| quoted(f)) else { continue };
-        let value = match fields.get(1) {
-            Some(f) if quoted(f).is_some() => fields.get(2),
-            other => other,
+        let (kind, rest) = match fields.get(1).and_then(|f| quoted(f)) {
+            Some(kind) => (kind, &fields[2.min(fields.len())..]),
+            None => ("Integer".to_string(), &fields[1.min(fields.len())..]),
         };
-        let value = match value.copied() {
-            Some("True") => 1.0,
-            Some("False") => 0.0,
-            Some(v) => match v.parse::<f64>() {
-                Ok(x) => x,
-                Err(_) => continue,
+        let number = |f: Option<&&str>| match f.copied() {
+            Some("True") => Some(1.0),
+            Some("False") => Some(0.0),
+            Some(v) => v.parse::<f64>().ok(),
+            None => None,
+        };
+        let Some(value) = number(rest.first()) else { continue };
+        let range = match kind.as_str() {
+            "Bool" => Some((0.0, 1.0, true)),
+            "Integer" | "Float" => match (number(rest.get(1)), number(rest.get(2))) {
+                (Some(min), Some(max)) => Some((min, max, kind == "Integer")),
+                _ => None,
             },
-            None => continue,
+            _ => None,
         };
         if leading_name(&name) == name && !name.is_empty() {
-            out.push((name, value));
+            out.push(Scalar { name, value, range });
         }
     }
     out
