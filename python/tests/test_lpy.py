@@ -5,10 +5,12 @@ from)."""
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
 
+import genform.lpy
 from genform.lpy import LpyError, LpyUnsupported, Lstring, Lsystem, Module, PlantGLUnavailable
 
 DATA = Path(__file__).parent / "data" / "lpy"
@@ -19,6 +21,14 @@ LPYTEST = sorted((DATA / "lpytest").glob("*.lpy"))
 def _in_tmp_dir(monkeypatch, tmp_path):
     # Some files write beside themselves (import_with_module_in_name.lpy).
     monkeypatch.chdir(tmp_path)
+
+
+@pytest.fixture(autouse=True, params=["rust", "python"])
+def engine(request, monkeypatch):
+    """Every test runs with both engines: the scan and matching in Rust
+    (the default) and the Python reference (GENFORM_LPY_ENGINE=python)."""
+    monkeypatch.setattr(genform.lpy, "_RUST_ENGINE", request.param == "rust")
+    return request.param
 
 
 def lsys(code: str) -> Lsystem:
@@ -370,3 +380,35 @@ def test_module_attribute():
     import genform
 
     assert genform.lpy.Lsystem is Lsystem
+
+
+# ------------------------------------------------ the two engines agree
+
+REPO = Path(__file__).resolve().parents[2]
+PARITY = sorted(
+    [*DATA.glob("*.lpy"), *LPYTEST, *(REPO / "crates/genform-lsystem/tests/lpy").glob("*.lpy"), *(REPO / "examples/lsystem").glob("*.lpy")]
+)
+
+
+_ADDR = re.compile(r"0x[0-9a-f]+")
+
+
+def _derived(path, rust, monkeypatch):
+    monkeypatch.setattr(genform.lpy, "_RUST_ENGINE", rust)
+    try:
+        l = Lsystem(path, seed=1)
+        s = l.derive()
+        # Objects print with their addresses, which differ from run to run.
+        return "ok", _ADDR.sub("0x", str(s)), _ADDR.sub("0x", str(l.interpret(s)))
+    except Exception as e:  # noqa: BLE001 — both engines must fail alike (a file's own NameError included)
+        return "error", type(e).__name__, _ADDR.sub("0x", str(e))
+
+
+# `engine` parametrized here replaces the autouse fixture: one run with both engines.
+@pytest.mark.parametrize("engine", ["both"])
+@pytest.mark.parametrize("path", PARITY, ids=[f"{p.parent.name}/{p.name}" for p in PARITY])
+@pytest.mark.filterwarnings("ignore:File generated but cannot be imported")
+def test_engines_derive_the_same_string(path, engine, monkeypatch):
+    # The Rust step must give exactly the Python reference's string (and
+    # interpreted string), or the same error.
+    assert _derived(path, True, monkeypatch) == _derived(path, False, monkeypatch)
