@@ -36,6 +36,7 @@ import tempfile
 import time
 import types
 
+from . import _genform as _native
 from . import _lpy_pgl
 
 __all__ = [
@@ -93,6 +94,10 @@ CANONICAL = {alias: name for name, alias in _SAME}
 # Modules matched as patterns but that genform's path does not run.
 _PATTERN_ONLY = {"x", "repexp", "all", "or", "||", "?I", "GetIterator", "=]"}
 _QUERIES = {"?P", "?H", "?U", "?L", "?R", "?F"}
+
+# Which engine rewrites: the scan and the matching in Rust (the default),
+# or `python`, the reference engine (`Lsystem._step_py`).
+_RUST_ENGINE = os.environ.get("GENFORM_LPY_ENGINE", "rust").strip().lower() != "python"
 
 
 class Module:
@@ -1195,6 +1200,8 @@ class Lsystem:
         self._stop = False
         self._nprod: list = []
         self._rules: list[_Rule] = []
+        # (kind, group, forward) → (active rules, their genform._genform.LpyRules).
+        self._native_rules: dict = {}
         self._queries = False
         self._ctx_cache: dict = {}
         #: The longest string a derivation may make (as `.ls`'s max_modules).
@@ -1243,6 +1250,7 @@ class Lsystem:
             except LpyError as e:
                 raise type(e)(f"{fname}: {e}") from None
         self._rules = rules
+        self._native_rules = {}
         # L-Py fills the turtle queries (?P, ?H, …) before each step whose
         # rules read them.
         self._queries = any(
@@ -1449,21 +1457,56 @@ class Lsystem:
 
     # -- derivation
 
-    def _ruleset(self, kind):
+    def _active(self, kind):
+        """The rules a step of `kind` tries: the active group's, then group
+        0's, file order in each."""
         forward = self._forward
         active = [r for r in self._rules if r.kind == kind and r.group == self._group]
         if self._group != 0:
             if not any(r.group == self._group for r in self._rules):
                 active = []
             active += [r for r in self._rules if r.kind == kind and r.group == 0]
-        active = [r for r in active if (not r.nleft or forward) and (not r.nright or not forward)]
+        return [r for r in active if (not r.nleft or forward) and (not r.nright or not forward)]
+
+    def _ruleset(self, kind):
+        """`_active(kind)` by the name of the predecessor's first module."""
         by_name = {}
-        for r in active:
+        for r in self._active(kind):
             by_name.setdefault(r.pred[0].name, []).append(r)
         return by_name
 
     def _step(self, mods, kind):
-        """One parallel rewriting step; returns (new modules, matched)."""
+        """One parallel rewriting step; returns (new modules, matched).
+        The scan and the matching run in Rust (`genform._genform.lpy_step`),
+        calling back into Python for bodies, value checks and constants;
+        `GENFORM_LPY_ENGINE=python` runs `_step_py`, the reference."""
+        if not _RUST_ENGINE:
+            return self._step_py(mods, kind)
+        key = (kind, self._group, self._forward)
+        entry = self._native_rules.get(key)
+        if entry is None:
+            # Built once per kind, group and direction: the rules do not
+            # change between steps (`setCode` empties the cache).
+            active = self._active(kind)
+            native = None
+            if active:
+                native = _native.LpyRules(
+                    [(self._rules.index(r), r.left, r.nleft, r.pred, r.nright, r.right, r.filter) for r in active]
+                )
+            entry = self._native_rules[key] = (active, native)
+        active, native = entry
+        if native is None:
+            return mods, False
+
+        def apply(ri, args, start, end):
+            r = active[ri]
+            self._cur = (mods, start, end, r.filter)
+            return self._apply(r, args)
+
+        return _native.lpy_step(native, mods, self._forward, apply)
+
+    def _step_py(self, mods, kind):
+        """One parallel rewriting step in Python: the reference engine."""
         rules = self._ruleset(kind)
         if not rules:
             return mods, False

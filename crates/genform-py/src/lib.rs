@@ -6,6 +6,7 @@
 mod errors;
 mod evolve;
 mod grammar;
+mod lpy;
 mod mesh;
 mod optimizer;
 mod scene;
@@ -26,11 +27,13 @@ fn _genform(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Scene>()?;
     m.add_class::<optimizer::Optimizer>()?;
     m.add_class::<evolve::RunResult>()?;
+    m.add_class::<lpy::LpyRules>()?;
     m.add_function(wrap_pyfunction!(grammar::load, m)?)?;
     m.add_function(wrap_pyfunction!(grammar::formalisms, m)?)?;
     m.add_function(wrap_pyfunction!(grammar::tag_color, m)?)?;
     m.add_function(wrap_pyfunction!(grammar::derive_with_limits, m)?)?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(evolve::evolve, m)?)?;
+    m.add_function(wrap_pyfunction!(lpy::lpy_step, m)?)?;
     Ok(())
 }
