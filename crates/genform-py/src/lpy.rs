@@ -167,7 +167,9 @@ impl LpyRules {
 /// (its address: module names are a few shared strings).
 struct Names<'a, 'py> {
     ids: &'a HashMap<String, u32>,
-    seen: HashMap<usize, u32>,
+    /// Runs of one name are common (`F F F`, `[ [`): the last name asked.
+    last: (usize, u32),
+    seen: rustc_hash::FxHashMap<usize, u32>,
     /// Keeps the names in `seen` alive, so that no address is reused.
     keep: Vec<Bound<'py, PyAny>>,
 }
@@ -176,7 +178,11 @@ impl<'py> Names<'_, 'py> {
     fn id(&mut self, module: &Bound<'py, PyAny>) -> PyResult<u32> {
         let name = module.getattr(pyo3::intern!(module.py(), "name"))?;
         let key = name.as_ptr() as usize;
+        if key == self.last.0 {
+            return Ok(self.last.1);
+        }
         if let Some(&id) = self.seen.get(&key) {
+            self.last = (key, id);
             return Ok(id);
         }
         let id = match name.cast::<PyString>() {
@@ -185,6 +191,7 @@ impl<'py> Names<'_, 'py> {
         };
         self.seen.insert(key, id);
         self.keep.push(name);
+        self.last = (key, id);
         Ok(id)
     }
 }
@@ -466,7 +473,7 @@ pub fn lpy_step<'py>(
     let py = mods.py();
     let rs = rules.get();
     let mods: Vec<Bound<'py, PyAny>> = mods.try_iter()?.collect::<PyResult<_>>()?;
-    let mut names = Names { ids: &rs.ids, seen: HashMap::new(), keep: Vec::new() };
+    let mut names = Names { ids: &rs.ids, last: (0, UNKNOWN), seen: Default::default(), keep: Vec::new() };
     let ids: Vec<u32> = mods.iter().map(|m| names.id(m)).collect::<PyResult<_>>()?;
     let string = Fwd { mods: &mods, ids: &ids };
     let n = mods.len();
