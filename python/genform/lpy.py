@@ -1499,9 +1499,7 @@ class Lsystem:
             return mods, False
 
         def apply(ri, args, start, end):
-            r = active[ri]
-            self._cur = (mods, start, end, r.filter)
-            return self._apply(r, args)
+            return self._fire(active[ri], mods, start, end, args)
 
         return _native.lpy_step(native, mods, self._forward, apply)
 
@@ -1549,8 +1547,7 @@ class Lsystem:
                 continue
             end = start + len(r.pred)
             after = end if forward else start - 1
-            self._cur = (mods, start, end, r.filter)
-            res = self._apply(r, args)
+            res = self._fire(r, mods, start, end, args)
             if res is not None:
                 return res, after
         return None
@@ -1583,6 +1580,12 @@ class Lsystem:
             names = [v for p in pats for v in p.variables()]
             params.update(zip(names, vals))
         return bool(ok)
+
+    def _fire(self, r, mods, start, end, args):
+        """Rule r's body on the predecessor `mods[start:end]` (where
+        InLeftContext/InRightContext look from) and its arguments."""
+        self._cur = (mods, start, end, r.filter)
+        return self._apply(r, args)
 
     def _apply(self, r, args):
         self._nprod = []

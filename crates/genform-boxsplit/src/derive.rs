@@ -314,8 +314,7 @@ impl BoxGrammar {
                 Paint::Block(b) => self.blocks[b as usize].clone(),
                 Paint::Material(m) => {
                     let mat = &self.materials[m as usize];
-                    let k = if mat.blocks.len() == 1 { 0 } else { choices.choose(&mat.weights) };
-                    self.blocks[mat.blocks[k.min(mat.blocks.len() - 1)] as usize].clone()
+                    self.blocks[mat.blocks[mat.pick(choices)] as usize].clone()
                 }
             };
             let (whole, laid) = crate::site::lay(&plot, w, min, size, &blocks, &mut draw);
@@ -719,8 +718,7 @@ impl<C: Draws + ?Sized> Engine<'_, '_, '_, C> {
                         for z in 0..nz {
                             let row = ((l.y as usize + y) * sz + l.z as usize + z) * sx + l.x as usize;
                             for cell in &mut grid.cells[row..row + nx] {
-                                let k = if mix.len() == 1 { 0 } else { self.choices.choose(&mat.weights) };
-                                *cell = mix[k.min(mix.len() - 1)];
+                                *cell = mix[mat.pick(self.choices)];
                             }
                         }
                     }

@@ -78,6 +78,14 @@ pub(crate) struct Material {
     pub weights: Vec<f64>,
 }
 
+impl Material {
+    /// The position in `blocks` of one draw by weight (a mix of one block
+    /// draws nothing).
+    pub fn pick<C: genform_core::Draws + ?Sized>(&self, choices: &mut C) -> usize {
+        if self.blocks.len() == 1 { 0 } else { choices.choose(&self.weights).min(self.blocks.len() - 1) }
+    }
+}
+
 /// Which neighbour a `support` declaration asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Side {

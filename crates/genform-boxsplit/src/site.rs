@@ -157,9 +157,18 @@ pub(crate) fn lay(
     derived: &BlockGrid,
     foundation: &mut dyn FnMut() -> BlockState,
 ) -> (BlockGrid, Laid) {
+    // The plot's cells, their states taken into the palette in the order
+    // they are met (as `BlockGrid::set` would, without its search per cell).
     let mut out = BlockGrid::new(min, size.as_uvec3());
+    let mut remap = vec![BlockGrid::UNSET; derived.palette.len()];
     for (p, c) in derived.iter_set() {
-        out.set(p, &derived.palette[c as usize]);
+        let slot = &mut remap[c as usize];
+        if *slot == BlockGrid::UNSET {
+            out.palette.push(derived.palette[c as usize].clone());
+            *slot = (out.palette.len() - 1) as u32;
+        }
+        let i = out.index(p).expect("the plot lies in the box");
+        out.cells[i] = *slot;
     }
     let mut laid = Laid::default();
     let air = BlockState::air();

@@ -689,12 +689,11 @@ impl Compiler {
         let mut draws = cond.as_ref().map_or(0, Program::max_draws) + weight.as_ref().map_or(0, Program::max_draws);
         draws += progs.iter().map(Program::max_draws).sum::<usize>();
         let succ_args = progs.into_iter().map(Arg::of).collect();
-        let view = !(left.is_empty() && right.is_empty() && rest.is_empty());
-        Some(Rule {
+        let mut rule = Rule {
             strict,
             rest,
             pad,
-            view,
+            view: false,
             tail: pad > 0 || state,
             left,
             right,
@@ -707,7 +706,9 @@ impl Compiler {
             span: p.span,
             body,
             state,
-        })
+        };
+        rule.view = rule.needs_view();
+        Some(rule)
     }
 
     /// The built-in surfaces, then the declared ones (a declaration may

@@ -527,15 +527,7 @@ impl LSystem {
         sc: &mut Scratch,
         sink: &mut impl FnMut(Sym, &[f64]) -> bool,
     ) -> bool {
-        let rule = if depth < table.max_depth {
-            self.choose(table, &Site { sym, params, ctx: None }, draws, sc)
-        } else {
-            None
-        };
-        let Some(r) = rule else {
-            return sink(sym, params);
-        };
-        self.expand_rule(table, r, depth, draws, sc, sink)
+        self.expand_at(table, &Site { sym, params, ctx: None }, depth, draws, sc, sink).1
     }
 
     /// [`LSystem::expand`] for a module of a string seen through `site`
@@ -552,10 +544,23 @@ impl LSystem {
         sc: &mut Scratch,
         sink: &mut impl FnMut(Sym, &[f64]) -> bool,
     ) -> (usize, bool) {
-        let rule = if table.max_depth > 0 { self.choose(table, site, draws, sc) } else { None };
+        self.expand_at(table, site, 0, draws, sc, sink)
+    }
+
+    /// [`LSystem::expand_site`] at `depth` rewritings deep.
+    fn expand_at(
+        &self,
+        table: &Table,
+        site: &Site,
+        depth: u32,
+        draws: &mut impl Draws,
+        sc: &mut Scratch,
+        sink: &mut impl FnMut(Sym, &[f64]) -> bool,
+    ) -> (usize, bool) {
+        let rule = if depth < table.max_depth { self.choose(table, site, draws, sc) } else { None };
         match rule {
             None => (0, sink(site.sym, site.params)),
-            Some(r) => (table.rules[r as usize].rest.len(), self.expand_rule(table, r, 0, draws, sc, sink)),
+            Some(r) => (table.rules[r as usize].rest.len(), self.expand_rule(table, r, depth, draws, sc, sink)),
         }
     }
 

@@ -197,9 +197,15 @@ impl LsGenerator {
 
     /// The module string a genome derives.
     pub fn derive(&self, genome: &Genome, limits: &Limits) -> Result<ModuleString, ExpressError> {
+        Ok(self.derived(genome, limits)?.1)
+    }
+
+    /// The system with the genome's constants, and the string it derives.
+    fn derived(&self, genome: &Genome, limits: &Limits) -> Result<(Cow<'_, LSystem>, ModuleString), ExpressError> {
         let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
         let system = self.system_for(genome.gene(root).params())?;
-        self.derive_with(&system, genome, root, limits)
+        let s = self.derive_with(&system, genome, root, limits)?;
+        Ok((system, s))
     }
 
     fn derive_with(
@@ -403,9 +409,7 @@ impl Generator for LsGenerator {
         if genome.len() > limits.max_genes {
             return Err(ExpressError::Limit { kind: LimitKind::Genes, limit: limits.max_genes });
         }
-        let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
-        let system = self.system_for(genome.gene(root).params())?;
-        let s = self.derive_with(&system, genome, root, limits)?;
+        let (system, s) = self.derived(genome, limits)?;
         // Interpretation rules draw from a fixed stream, so a genome always
         // gives the same drawing.
         system.interpret(&s, &mut Rng::from_seed(0), limits.max_primitives, scene).map_err(|e| match e {

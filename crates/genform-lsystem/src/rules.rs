@@ -49,14 +49,10 @@ pub(crate) struct Rule {
 }
 
 impl Rule {
-    pub(crate) fn has_context(&self) -> bool {
-        !self.left.is_empty() || !self.right.is_empty()
-    }
-
     /// Whether matching looks at other modules than the rewritten one: a
     /// context, or a predecessor of several modules.
     pub(crate) fn needs_view(&self) -> bool {
-        self.has_context() || !self.rest.is_empty()
+        !self.left.is_empty() || !self.right.is_empty() || !self.rest.is_empty()
     }
 }
 

@@ -8,7 +8,7 @@
 //! `python/genform/lpy.py`'s `Lsystem._step_py` is the reference this
 //! must agree with exactly (`GENFORM_LPY_ENGINE=python` runs it).
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyList, PyString};
@@ -36,7 +36,9 @@ struct Pat {
 /// `ignore:` (skipped names) or `consider:` (only these names).
 struct Filter {
     ignore: bool,
-    names: HashSet<u32>,
+    /// Per name id: whether the filter names it (ids past the end, and
+    /// `UNKNOWN`, are names it does not).
+    names: Vec<bool>,
 }
 
 impl Filter {
@@ -44,7 +46,7 @@ impl Filter {
         if name == OPEN || name == CLOSE {
             return false;
         }
-        self.names.contains(&name) == self.ignore
+        self.names.get(name as usize).copied().unwrap_or(false) == self.ignore
     }
 }
 
@@ -121,10 +123,14 @@ impl LpyRules {
                 None
             } else {
                 let kind: String = f.getattr("kind")?.extract()?;
-                let mut names = HashSet::new();
+                let mut names = Vec::new();
                 // A set: iterated, not extracted as a sequence.
                 for n in f.getattr("names")?.try_iter()? {
-                    names.insert(intern(&mut ids, &n?.extract::<String>()?));
+                    let id = intern(&mut ids, &n?.extract::<String>()?) as usize;
+                    if names.len() <= id {
+                        names.resize(id + 1, false);
+                    }
+                    names[id] = true;
                 }
                 Some(Filter { ignore: kind == "ignore", names })
             };
@@ -150,10 +156,9 @@ impl LpyRules {
             // file order (a stable sort, so a module named `*` tries each
             // `*` rule twice, as there).
             for cands in by_name.iter_mut() {
-                if cands.is_empty() {
-                    cands.extend(&star);
-                } else {
-                    cands.extend(&star);
+                let own = !cands.is_empty();
+                cands.extend(&star);
+                if own {
                     cands.sort_by_key(|&k| order[k]);
                 }
             }

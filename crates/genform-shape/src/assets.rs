@@ -1,7 +1,7 @@
 //! Where a grammar's mesh, texture and footprint files come from: the door that
 //! compiles a grammar knows where its files lie, the compiler does not.
 
-use crate::footprint::{FootprintLot, FootprintSet, LotProps};
+use crate::footprint::{FootprintLot, FootprintSet};
 use genform_core::Mesh;
 
 /// Loads the mesh assets a grammar declares with `mesh name = "path";`.
@@ -35,11 +35,7 @@ pub trait AssetResolver {
             lots: lots
                 .into_iter()
                 .enumerate()
-                .map(|(k, corners)| FootprintLot {
-                    corners,
-                    label: format!("footprint {}", k + 1),
-                    props: LotProps { index: k as f64, ..LotProps::default() },
-                })
+                .map(|(k, corners)| FootprintLot::numbered(k, "footprint", corners))
                 .collect(),
             origin: None,
             skipped: Vec::new(),

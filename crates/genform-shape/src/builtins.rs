@@ -10,7 +10,7 @@ pub(crate) const ENV_COUNT: usize = 5;
 /// The first of the `lot.*` values ([`crate::LotProps`], in its order).
 pub(crate) const ENV_LOT: usize = 6;
 /// Names of the built-in variables, in env order.
-pub(crate) const BUILTINS: [&str; 13] = [
+pub(crate) const BUILTINS: [&str; ENV_LOT + crate::lot_props::LotProps::COUNT] = [
     "sx",
     "sy",
     "sz",

@@ -26,6 +26,18 @@ pub struct FootprintLot {
     pub props: LotProps,
 }
 
+impl FootprintLot {
+    /// The `k`-th (from 0) lot of a file that says nothing of its lots but
+    /// their corners: named `"{kind} {k + 1}"` in messages, `lot.index` k.
+    pub fn numbered(k: usize, kind: &str, corners: Vec<[f64; 2]>) -> FootprintLot {
+        FootprintLot {
+            corners,
+            label: format!("{kind} {}", k + 1),
+            props: LotProps { index: k as f64, ..LotProps::default() },
+        }
+    }
+}
+
 /// The lots of a footprint file.
 #[derive(Clone, Debug, Default)]
 pub struct FootprintSet {

@@ -30,8 +30,11 @@ pub struct LotProps {
 }
 
 impl LotProps {
+    /// How many `lot.*` built-ins there are.
+    pub(crate) const COUNT: usize = 7;
+
     /// The values in the env order of the `lot.*` built-ins.
-    pub(crate) fn to_array(self) -> [f64; 7] {
+    pub(crate) fn to_array(self) -> [f64; Self::COUNT] {
         [self.height, self.min_height, self.levels, self.use_class, self.index, self.street, self.street_edge]
     }
 }

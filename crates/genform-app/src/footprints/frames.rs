@@ -3,7 +3,7 @@
 //! feature's properties, a ring's corners (see the parent module).
 
 use anyhow::{Result, bail};
-use genform_shape::{FootprintLot, LotProps};
+use genform_shape::{FootprintLot, FootprintSet as Footprints, LotProps};
 use glam::DVec2;
 use serde_json::Value;
 use std::path::Path;
@@ -273,10 +273,6 @@ pub(super) fn ring_of(mut pts: Vec<[f64; 2]>) -> Result<Vec<[f64; 2]>> {
     Ok(pts)
 }
 
-// GeoPackage. The SQLite file is opened by `rusqlite` (SQLite bundled);
-// the geometry blobs are a small GeoPackage header (read here) over
-// standard WKB (read by georust's `wkb`: ISO and extended WKB, Z and M).
-
 /// How far (metres) from the middle of a lot's edge, along its outward
 /// normal, a street line is still the lot's street: a plot's frontage lies
 /// a few metres from the street's centre line, a building's a few more.
@@ -288,6 +284,24 @@ pub(super) const STREET_REACH: f64 = 60.0;
 /// its middle, meets a street nearest (within [`STREET_REACH`]); of two
 /// within a metre of each other, the longer. Edges under half a metre are
 /// left out (a jog in the outline faces nothing).
+/// The lots read from `at` (and the lots `skipped` there), their street
+/// edges found and placed in `frame`: what every reader ends with.
+pub(super) fn finish(
+    at: &Path,
+    mut raw: Vec<RawLot>,
+    mut skipped: Vec<String>,
+    streets: &[Vec<[f64; 2]>],
+    frame: Frame,
+    crs: Option<&str>,
+) -> Result<Footprints> {
+    face_streets(&mut raw, streets, frame);
+    let (lots, origin) = place(raw, frame, crs, &mut skipped)?;
+    if lots.is_empty() && !skipped.is_empty() {
+        bail!("{} holds no usable footprint: {}", at.display(), skipped[0]);
+    }
+    Ok(Footprints { lots, origin, skipped })
+}
+
 pub(super) fn face_streets(raw: &mut [RawLot], streets: &[Vec<[f64; 2]>], frame: Frame) {
     let Some((lo, hi)) = bounds(raw.iter().flat_map(|r| r.xy.iter().copied())) else { return };
     // Local metres about the lots' middle: the directions are what matter,

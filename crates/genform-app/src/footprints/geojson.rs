@@ -26,12 +26,7 @@ pub fn read_geojson(path: &Path) -> Result<Footprints> {
     }
     let crs = crs_name(&value);
     let frame = frame_of(crs.as_deref(), &raw);
-    face_streets(&mut raw, &streets, frame);
-    let (lots, origin) = place(raw, frame, crs.as_deref(), &mut skipped)?;
-    if lots.is_empty() && !skipped.is_empty() {
-        bail!("{} holds no usable footprint: {}", path.display(), skipped[0]);
-    }
-    Ok(Footprints { lots, origin, skipped })
+    finish(path, raw, skipped, &streets, frame, crs.as_deref())
 }
 
 /// The name the legacy `crs` member gives, if any.

@@ -1,7 +1,10 @@
 //! GeoPackage footprints (OGC 12-128: an SQLite file): one feature layer's
 //! polygons as lots, its columns their properties, its CRS read from
 //! `gpkg_spatial_ref_sys` and handed to the projection the GeoJSON reader
-//! uses (see the parent module's documentation).
+//! uses (see the parent module's documentation). The SQLite file is
+//! opened by `rusqlite` (SQLite bundled); the geometry blobs are a small
+//! GeoPackage header (read here) over standard WKB (read by georust's
+//! `wkb`: ISO and extended WKB, Z and M).
 
 use super::frames::*;
 use anyhow::{Context, Result, bail};
@@ -99,7 +102,7 @@ pub fn read_gpkg(path: &Path, layer: Option<&str>) -> Result<Footprints> {
     let chosen = choose_layer(&layers, lot_layer, path)?;
     let (frame, crs) = gpkg_frame(&db, chosen.srs_id)
         .with_context(|| format!("layer `{}` of {shown} has an unsupported CRS", chosen.table))?;
-    let (mut raw, mut skipped) = gpkg_rows(&db, chosen).map_err(read)?;
+    let (raw, skipped) = gpkg_rows(&db, chosen).map_err(read)?;
     let mut streets = Vec::new();
     for name in street_layers {
         let Some(l) = layers.iter().find(|l| l.table == name) else {
@@ -121,18 +124,15 @@ pub fn read_gpkg(path: &Path, layer: Option<&str>) -> Result<Footprints> {
         return Err(no_usable(Path::new(&at), &skipped));
     }
     let frame = frame.unwrap_or_else(|| frame_of(None, &raw));
-    face_streets(&mut raw, &streets, frame);
-    let (lots, origin) = place(raw, frame, crs.as_deref(), &mut skipped)?;
-    if lots.is_empty() && !skipped.is_empty() {
-        bail!("{at} holds no usable footprint: {}", skipped[0]);
-    }
+    let mut set = finish(Path::new(&at), raw, skipped, &streets, frame, crs.as_deref())?;
     // A geographic CRS other than WGS 84's is read as if it were: the
     // origin says which it was (the shapes agree to parts per million).
-    let origin = match (frame, &crs) {
-        (Frame::LonLat, Some(c)) if c != "EPSG:4326" => origin.map(|o| format!("{o} (read from {c})")),
-        _ => origin,
-    };
-    Ok(Footprints { lots, origin, skipped })
+    if let (Frame::LonLat, Some(c)) = (frame, &crs)
+        && c != "EPSG:4326"
+    {
+        set.origin = set.origin.map(|o| format!("{o} (read from {c})"));
+    }
+    Ok(set)
 }
 
 /// Quotes an SQLite identifier.

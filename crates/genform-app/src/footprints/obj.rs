@@ -2,28 +2,21 @@
 
 use super::frames::{MAX_FOOTPRINTS, recentre};
 use anyhow::{Context, Result, bail};
-use genform_shape::{FootprintLot, FootprintSet as Footprints, LotProps};
+use genform_shape::{FootprintLot, FootprintSet as Footprints};
 use std::path::Path;
 
 /// The up-facing faces of the OBJ file at `path` as lots, re-centred when
 /// they lie far from the origin.
 pub fn read_obj(path: &Path) -> Result<Footprints> {
     let faces = read_obj_faces(path)?;
-    let mut lots: Vec<FootprintLot> = faces
-        .into_iter()
-        .enumerate()
-        .map(|(k, corners)| FootprintLot {
-            corners,
-            label: format!("face {}", k + 1),
-            props: LotProps { index: k as f64, ..LotProps::default() },
-        })
-        .collect();
+    let mut lots: Vec<FootprintLot> =
+        faces.into_iter().enumerate().map(|(k, corners)| FootprintLot::numbered(k, "face", corners)).collect();
     let origin = recentre(&mut lots).map(|[x, z]| format!("({x}, 0, {z}) of the OBJ file"));
     Ok(Footprints { lots, origin, skipped: Vec::new() })
 }
 
 /// The up-facing faces of the OBJ file at `path` as lots.
-pub(super) fn read_obj_faces(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
+fn read_obj_faces(path: &Path) -> Result<Vec<Vec<[f64; 2]>>> {
     let text = crate::text::read_text(path, "footprints")?;
     let mut verts: Vec<[f64; 3]> = Vec::new();
     let mut lots = Vec::new();

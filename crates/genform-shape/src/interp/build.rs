@@ -126,8 +126,8 @@ impl<'g, M: Mode> Interp<'g, M> {
         }
         // Turn by the angle that takes `out` to −y.
         let a = -std::f64::consts::FRAC_PI_2 - out.y.atan2(out.x);
-        let (sin, cos) = a.sin_cos();
-        let turned: Vec<DVec2> = p.iter().map(|q| DVec2::new(q.x * cos - q.y * sin, q.x * sin + q.y * cos)).collect();
+        let turn = DVec2::from_angle(a);
+        let turned: Vec<DVec2> = p.iter().map(|&q| turn.rotate(q)).collect();
         self.set_lot_turned(turned, None, a)
     }
 
@@ -159,16 +159,11 @@ impl<'g, M: Mode> Interp<'g, M> {
         // The turned axes in the scope: x′ = (cos a, −sin a) and
         // y′ = (sin a, cos a) in `(x, −z)`, i.e. (cos a, 0, sin a) and
         // (sin a, 0, −cos a); the centre turned back likewise.
-        let (m, centre) = if a == 0.0 {
-            (DMat3::from_cols(DVec3::X, DVec3::NEG_Z, DVec3::Y), DVec3::new(c.x, 0.0, -c.y))
-        } else {
-            let (sin, cos) = a.sin_cos();
-            let back = DVec2::new(c.x * cos + c.y * sin, -c.x * sin + c.y * cos);
-            (
-                DMat3::from_cols(DVec3::new(cos, 0.0, sin), DVec3::new(sin, 0.0, -cos), DVec3::Y),
-                DVec3::new(back.x, 0.0, -back.y),
-            )
-        };
+        // (Unturned, a = 0, these are x, −z and the centre itself.)
+        let (sin, cos) = a.sin_cos();
+        let back = DVec2::new(cos, -sin).rotate(c);
+        let m = DMat3::from_cols(DVec3::new(cos, 0.0, sin), DVec3::new(sin, 0.0, -cos), DVec3::Y);
+        let centre = DVec3::new(back.x, 0.0, -back.y);
         self.cur.frame *= DAffine3::from_mat3_translation(m, centre);
         self.cur.size = DVec3::new(size.x, size.y, 0.0);
         self.cur.geom = self.add_geom(GeomKind::Polygon, &unit)?;
