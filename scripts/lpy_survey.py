@@ -64,6 +64,7 @@ try:
                         res.append((CANONICAL.get(n, n), tuple(vals)))
                     return res
                 out["rust"] = "same" if norm(rs) == norm(str(s)) else "differs"
+                out["rust_exact"] = rs == str(s).strip()
             else:
                 out["rust"] = "refused"
         except Exception as e:
@@ -172,10 +173,12 @@ def main() -> int:
     both = [r for r in runs if r.get("rust") in ("same", "differs")]
     if both:
         same = sum(r["rust"] == "same" for r in both)
+        exact = sum(bool(r.get("rust_exact")) for r in both)
         lines += [
             "",
             f"Of the {len(runs)} that run, {len(both)} also derive through the Rust `.lpy` reader "
-            f"(`genform sample --string-out`, seed 1): {same} give the same string (parameters to 6 decimals); "
+            f"(`genform sample --string-out`, seed 1): {same} give the same string (parameters to 6 decimals), "
+            f"{exact} of them character for character as L-Py prints it; "
             "the others draw random numbers (Python's `random` and genform's stream differ) or differ as listed.",
         ]
     lines += ["", "| file | result | modules | derive s | Rust reader |", "|---|---|---|---|---|"]
@@ -183,7 +186,7 @@ def main() -> int:
         res = "runs" if r["status"] == "runs" else r["reason"] + (f" ({r['where']})" if r.get("where") else "")
         mods = r.get("modules", "")
         sec = f"{r['derive_s']:.2f}" if "derive_s" in r else ""
-        lines.append(f"| `{r['path']}` | {res.replace('|', '/')} | {mods} | {sec} | {r.get('rust', '')} |")
+        lines.append(f"| `{r['path']}` | {res.replace('|', '/')} | {mods} | {sec} | {r.get('rust', '') + (' (exact)' if r.get('rust_exact') else '')} |")
     text = "\n".join(lines) + "\n"
     if args.out:
         with open(args.out, "w", encoding="utf-8") as f:

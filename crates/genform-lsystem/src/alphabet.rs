@@ -138,6 +138,36 @@ pub struct SymbolInfo {
     pub arity: u8,
     /// The turtle command.
     pub command: Command,
+    /// For a module of an L-Py file, how its parameters print as Python
+    /// prints them (`None`: genform's plain numbers).
+    pub python: Option<PyParams>,
+}
+
+/// Which parameters of a module hold Python floats and which booleans, so
+/// a derived string prints as L-Py prints it: `A(6.0)` and `B(True)`
+/// where genform's numbers are `6` and `1`. Any other parameter prints as
+/// a Python int when whole.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PyParams {
+    /// After 0, 1, … steps; the last entry holds for every later step.
+    pub steps: Vec<PyKinds>,
+}
+
+impl PyParams {
+    /// The kinds after `steps` steps.
+    pub fn at(&self, steps: usize) -> PyKinds {
+        self.steps.get(steps).or(self.steps.last()).copied().unwrap_or_default()
+    }
+}
+
+/// Parameters that always hold floats or booleans (bit `i`: parameter
+/// `i`, the first 64).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PyKinds {
+    /// Always floats.
+    pub floats: u64,
+    /// Always booleans.
+    pub bools: u64,
 }
 
 /// Every (name, parameter count) pair a grammar uses.
@@ -165,7 +195,12 @@ impl Alphabet {
         if self.symbols.len() >= Self::MAX || arity > u8::MAX as usize {
             return None;
         }
-        self.symbols.push(SymbolInfo { name: name.to_string(), arity: arity as u8, command: Command::of(name) });
+        self.symbols.push(SymbolInfo {
+            name: name.to_string(),
+            arity: arity as u8,
+            command: Command::of(name),
+            python: None,
+        });
         Some((self.symbols.len() - 1) as Sym)
     }
 

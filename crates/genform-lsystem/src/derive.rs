@@ -167,6 +167,9 @@ impl LSystem {
         let budget = (max_modules as u64).saturating_mul(WORK_FACTOR);
         let mut written = 0u64;
         for step in 1..=steps {
+            if has_cut && self.settings.lpy {
+                self.cut(&mut cur);
+            }
             // L-Py's getIterationNb(): steps done before this one.
             state[0] = f64::from(step - 1);
             self.hook(1, &mut state, rng, step, steps)?;
@@ -197,7 +200,7 @@ impl LSystem {
                     return Err(self.non_finite(&table.rules[r as usize], v, step, steps));
                 }
             }
-            if has_cut {
+            if has_cut && !self.settings.lpy {
                 self.cut(&mut next);
             }
             std::mem::swap(&mut cur, &mut next);
@@ -584,7 +587,7 @@ impl LSystem {
 
     /// Removes every `%` with the rest of its branch (up to, not including,
     /// the `]` that closes it).
-    fn cut(&self, s: &mut ModuleString) {
+    pub(crate) fn cut(&self, s: &mut ModuleString) {
         let mut out = ModuleString {
             syms: Vec::with_capacity(s.len()),
             params: Vec::with_capacity(s.params.len()),

@@ -33,6 +33,7 @@
 
 mod alphabet;
 mod arg;
+mod axes;
 mod body;
 mod compile;
 mod context;
@@ -52,7 +53,7 @@ mod turtle;
 #[cfg(test)]
 mod tests;
 
-pub use alphabet::{Alphabet, Command, Sym, SymbolInfo};
+pub use alphabet::{Alphabet, Command, PyKinds, PyParams, Sym, SymbolInfo};
 pub use compile::LSystem;
 pub use derive::DeriveError;
 pub use entry::{compile, compile_with_assets};

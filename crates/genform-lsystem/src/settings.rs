@@ -100,6 +100,11 @@ pub struct Settings {
     /// Where `max_modules:` sets it, so a door can name the setting when
     /// it refuses the value ([`crate::LSystem::location`]).
     pub max_modules_at: Option<genform_core::Span>,
+    /// L-Py's meaning where it differs (set for `.lpy` files): `%` cuts its
+    /// branch when the next step reads it, so the last step's cuts stay in
+    /// the string (otherwise, as in cpfg, at the end of the step that
+    /// writes it); queries (`?P`, `?H`, …) answer in L-Py's z-up axes.
+    pub lpy: bool,
 }
 
 impl Default for Settings {
@@ -120,6 +125,7 @@ impl Default for Settings {
             colors: Vec::new(),
             growth: 1.0,
             max_modules: 5_000_000,
+            lpy: false,
         }
     }
 }

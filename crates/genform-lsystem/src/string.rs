@@ -1,6 +1,6 @@
 //! The module string: symbols and their parameters in two flat arrays.
 
-use crate::alphabet::{Alphabet, Sym};
+use crate::alphabet::{Alphabet, PyKinds, Sym};
 use std::fmt::Write;
 
 /// The size of the pieces [`ModuleString::display_pieces`] hands over.
@@ -87,15 +87,23 @@ impl ModuleString {
             return Ok(());
         }
         let mut out = String::new();
+        // `iteration` after a derivation (none: the axiom).
+        let steps = self.state.first().map_or(0, |&steps| steps as usize);
         for (s, p) in self.modules(alphabet) {
             out.push_str(&names[s as usize].name);
             if with_params && !p.is_empty() {
                 out.push('(');
-                for (i, v) in p.iter().enumerate() {
+                let python = names[s as usize].python.as_ref().map(|p| p.at(steps));
+                for (i, &v) in p.iter().enumerate() {
                     if i > 0 {
                         out.push(',');
                     }
-                    let _ = write!(out, "{v}");
+                    match python {
+                        None => {
+                            let _ = write!(out, "{v}");
+                        }
+                        Some(py) => python_number(&mut out, v, py, i),
+                    }
                 }
                 out.push(')');
             }
@@ -105,5 +113,52 @@ impl ModuleString {
             }
         }
         if out.is_empty() { Ok(()) } else { take(&out) }
+    }
+}
+
+/// Writes parameter `i` of a module whose parameters print as Python's
+/// (see [`crate::PyParams`]): a boolean as `True`/`False`, a float always with
+/// its point or exponent (`6.0`, `1e-05`), any other whole number as an
+/// int, anything else as the float it must be.
+fn python_number(out: &mut String, v: f64, py: PyKinds, i: usize) {
+    let bit = if i < 64 { 1u64 << i } else { 0 };
+    if py.bools & bit != 0 && (v == 0.0 || v == 1.0) {
+        out.push_str(if v == 1.0 { "True" } else { "False" });
+    } else if py.floats & bit == 0 && v.fract() == 0.0 {
+        // `-0.0` is the int 0.
+        let _ = write!(out, "{}", v + 0.0);
+    } else {
+        python_float(out, v);
+    }
+}
+
+/// Python's `repr` of a float: the shortest digits that read back, in
+/// positional notation with a point when 1e-4 ≤ |v| < 1e16 (exactly where
+/// those digits' exponent is −4 to 15: the shortest digits of a double
+/// read back to it, so they lie on its side of a bound that is a double
+/// itself), else as `d.ddde±XX`.
+pub(crate) fn python_float(out: &mut String, v: f64) {
+    if v.is_nan() {
+        out.push_str("nan");
+    } else if v.is_infinite() {
+        out.push_str(if v > 0.0 { "inf" } else { "-inf" });
+    } else if v == 0.0 || (1e-4..1e16).contains(&v.abs()) {
+        let start = out.len();
+        positional(out, start, v);
+    } else {
+        let start = out.len();
+        let _ = write!(out, "{v:e}");
+        let e = start + out[start..].find('e').expect("`{:e}` writes an exponent");
+        let exp: i32 = out[e + 1..].parse().expect("`{:e}` writes a whole exponent");
+        out.truncate(e + 1);
+        let _ = write!(out, "{}{:02}", if exp < 0 { '-' } else { '+' }, exp.unsigned_abs());
+    }
+}
+
+/// `v` in positional notation from `start` of `out`, with a point.
+fn positional(out: &mut String, start: usize, v: f64) {
+    let _ = write!(out, "{v}");
+    if !out[start..].contains('.') {
+        out.push_str(".0");
     }
 }

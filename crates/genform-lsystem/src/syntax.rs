@@ -249,6 +249,26 @@ const RESERVED: &[char] = &['(', ')', '<', '>', ':', '=', '#'];
 /// the two-character `@X` rule).
 const LONG_COMMANDS: &[&str] = &["@Gc", "@Ge", "@Dd", "@Di", "@Ts", "@Tp", "@2D", "@3D"];
 
+/// The length of the module name `text` starts with (not empty, not
+/// starting with white space or a reserved character): the longest of the
+/// `declared` names, an L-Py command such as `@Gc`, `@O` or `?P`, a
+/// surface `~name`, or one character.
+pub(crate) fn module_name_len<'d>(text: &str, declared: impl Iterator<Item = &'d str>) -> usize {
+    let declared = declared.filter(|n| text.starts_with(n)).map(str::len).max();
+    // `@O`-style names (L-Py's sphere) and `?P`-style queries are
+    // one module; so are L-Py's three-character `@` commands.
+    let long = LONG_COMMANDS.iter().find(|n| text.starts_with(**n)).map(|n| n.len());
+    let c = text.chars().next().unwrap_or(' ');
+    let at_name = c == '@' && text[1..].starts_with(|n: char| n.is_ascii_alphabetic());
+    let query = c == '?' && text[1..].starts_with(|n: char| n.is_ascii_uppercase());
+    // `~name` is a predefined surface (cpfg/L-Py), one module.
+    let surface = (c == '~')
+        .then(|| text[1..].find(|n: char| !(n.is_ascii_alphanumeric() || n == '_')).unwrap_or(text.len() - 1))
+        .filter(|&n| n > 0)
+        .map(|n| n + 1);
+    declared.or(long).or(surface).unwrap_or(if at_name || query { 2 } else { c.len_utf8() })
+}
+
 /// Reads `text` into a [`File`], collecting every error.
 pub fn parse(text: &str) -> (File, Vec<Diagnostic>) {
     let mut p = Parser { file: File::default(), errors: Vec::new(), section: None, open_body: None };
@@ -707,21 +727,7 @@ impl Parser {
                 i += c.len_utf8();
                 continue;
             }
-            let declared =
-                self.file.modules.iter().filter(|(n, _)| text[i..].starts_with(n.as_str())).map(|(n, _)| n.len()).max();
-            // `@O`-style names (L-Py's sphere) and `?P`-style queries are
-            // one module; so are L-Py's three-character `@` commands.
-            let long = LONG_COMMANDS.iter().find(|n| text[i..].starts_with(**n)).map(|n| n.len());
-            let at_name = c == '@' && text[i + 1..].starts_with(|n: char| n.is_ascii_alphabetic());
-            let query = c == '?' && text[i + 1..].starts_with(|n: char| n.is_ascii_uppercase());
-            // `~name` is a predefined surface (cpfg/L-Py), one module.
-            let surface = (c == '~')
-                .then(|| {
-                    text[i + 1..].find(|n: char| !(n.is_ascii_alphanumeric() || n == '_')).unwrap_or(text.len() - i - 1)
-                })
-                .filter(|&n| n > 0)
-                .map(|n| n + 1);
-            let len = declared.or(long).or(surface).unwrap_or(if at_name || query { 2 } else { c.len_utf8() });
+            let len = module_name_len(&text[i..], self.file.modules.iter().map(|(n, _)| n.as_str()));
             let name = &text[i..i + len];
             let start = i;
             i += len;

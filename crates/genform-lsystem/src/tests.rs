@@ -736,3 +736,35 @@ fn or_patterns_warn_only_when_no_alternative_can_apply() {
     let (_, w) = compile_text("axiom: A B\nproduction:\nor(Y, Z) B -> C\n").unwrap();
     assert_eq!(w.len(), 1, "{w:?}");
 }
+
+#[test]
+fn floats_print_as_python_repr_prints_them() {
+    // Each pair as CPython 3's `repr(float)` writes it.
+    let cases = [
+        (0.0, "0.0"),
+        (-0.0, "-0.0"),
+        (1e-05, "1e-05"),
+        (1.5e-07, "1.5e-07"),
+        (123456789012345678.0, "1.2345678901234568e+17"),
+        (1e16, "1e+16"),
+        (9999999999999998.0, "9999999999999998.0"),
+        (0.1 + 0.2, "0.30000000000000004"),
+        (1e300, "1e+300"),
+        (5e-324, "5e-324"),
+        (0.0001, "0.0001"),
+        (-2.5e-05, "-2.5e-05"),
+        (1e15, "1000000000000000.0"),
+        (-3.0, "-3.0"),
+        // Either side of the bounds (math.nextafter).
+        (9.999999999999999e-05, "9.999999999999999e-05"),
+        (0.00010000000000000002, "0.00010000000000000002"),
+        (-9.999999999999999e-05, "-9.999999999999999e-05"),
+        (f64::INFINITY, "inf"),
+        (f64::NAN, "nan"),
+    ];
+    for (v, want) in cases {
+        let mut out = String::new();
+        crate::string::python_float(&mut out, v);
+        assert_eq!(out, want, "{v:e}");
+    }
+}

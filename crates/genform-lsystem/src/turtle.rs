@@ -14,7 +14,7 @@
 
 mod cylinder;
 mod flat;
-mod query;
+pub(crate) mod query;
 mod state;
 
 use crate::alphabet::{Command, Sym};
@@ -75,6 +75,19 @@ impl LSystem {
         scene: &mut Scene,
         flat: bool,
     ) -> Result<TurtleEnd, TurtleError> {
+        // PlantGL's turtle skips the rest of a branch after `%` (a cut that
+        // L-Py's last step wrote and no step read).
+        let cut;
+        let s = if self.alphabet.symbols.iter().any(|x| x.command == Command::Cut)
+            && s.syms.iter().any(|&x| self.alphabet.command(x) == Command::Cut)
+        {
+            let mut c = s.clone();
+            self.cut(&mut c);
+            cut = c;
+            &cut
+        } else {
+            s
+        };
         let mut t = Turtle::new(self, scene, max_primitives, false);
         // Interpretation rules read the global state the derivation ended
         // with, or the declared one for a string not derived.

@@ -154,16 +154,17 @@ fn long_names_are_one_module() {
     .unwrap();
     let d = derive(&s);
     assert_eq!(d.len(), 9);
-    for name in ["nF", "SetColor", "Sphere", "Leaf"] {
+    // `Sphere` is L-Py's other spelling of `@O`: one module, kept (and
+    // printed) as `@O`; `SetColor` is a module of its own.
+    for name in ["nF", "SetColor", "@O", "Leaf"] {
         assert_eq!(count(&s, &d, name), 2, "{name}");
     }
-    assert_eq!(
-        d.display(&s.alphabet, true),
-        "nF(2,0.5)SetColor(2)Sphere(0.3)LeafnF(2,0.5)SetColor(2)Sphere(0.3)LeafApex(3)"
-    );
-    // `Sphere` draws as `@O`.
-    let sphere = s.alphabet.named("Sphere").next().unwrap();
+    assert_eq!(d.display(&s.alphabet, true), "nF(2,0.5)SetColor(2)@O(0.3)LeafnF(2,0.5)SetColor(2)@O(0.3)LeafApex(3)");
+    let sphere = s.alphabet.named("@O").next().unwrap();
     assert_eq!(s.alphabet.command(sphere), genform_lsystem::Command::Sphere);
+    // So a rule for one spelling rewrites the other.
+    let s = compile_text("Axiom: Left(30) +(20)\nderivation length: 1\nproduction:\n+(a) --> Right(a)\n").unwrap();
+    assert_eq!(derive(&s).display(&s.alphabet, true), "-(30)-(20)");
 }
 
 #[test]
@@ -177,15 +178,12 @@ fn produce_star_and_empty_successors_erase() {
 
 #[test]
 fn plantgl_start_frame() {
-    // `?H` is filled with the turtle's heading: (0, 0, 1) in L-Py's axes,
+    // `?H` is filled with the turtle's heading, in L-Py's axes: (0, 0, 1),
     // and `+` turns it towards the left (0, −1, 0).
     let s = compile_text("Axiom: ?H(0,0,0) +(90) ?H(0,0,0) ?U(0,0,0) ?L(0,0,0)\nderivation length: 1\n").unwrap();
     let d = derive(&s);
-    let v: Vec<glam::DVec3> = d
-        .modules(&s.alphabet)
-        .filter(|(_, p)| p.len() == 3)
-        .map(|(_, p)| to_lpy_axes(glam::DVec3::new(p[0], p[1], p[2])))
-        .collect();
+    let v: Vec<glam::DVec3> =
+        d.modules(&s.alphabet).filter(|(_, p)| p.len() == 3).map(|(_, p)| glam::DVec3::new(p[0], p[1], p[2])).collect();
     let near = |a: glam::DVec3, b: [f64; 3]| (a - glam::DVec3::from(b)).length() < 1e-9;
     assert!(near(v[0], [0.0, 0.0, 1.0]), "start heading {:?}", v[0]);
     assert!(near(v[1], [0.0, -1.0, 0.0]), "heading after +(90) {:?}", v[1]);
@@ -335,10 +333,11 @@ fn run(text: &str) -> String {
 #[test]
 fn the_python_subset_keeps_python_meaning() {
     // Precedence, `//`, `%` (divisor's sign), `**`, chained comparisons,
-    // ternaries, True/False, n-ary max, int().
+    // ternaries, True/False, n-ary max, int(); a comparison and `not` are
+    // booleans, printed as L-Py prints them.
     let text = "x = 7\nAxiom: A(-7)\nderivation length: 1\nproduction:\n\
                 A(a) --> B(x // 2, a % 3, -2 ** 2, 1 < x <= 7, 3 if a > 0 else 4, not a < 0, max(1, x, 3), int(-2.5))\n";
-    assert_eq!(run(text), "B(3,2,-4,1,4,0,7,-2)");
+    assert_eq!(run(text), "B(3,2,-4,True,4,False,7,-2)");
     // Small functions are written out at each call, `if`/`return` included.
     let text = "def f(a, b):\n  c = a * b\n  if c > 10:\n    return c\n  return -c\n\
                 def g(t): return f(t, 2) + 1\nAxiom: A(3) A(6)\nderivation length: 1\nproduction:\nA(t) --> B(g(t))\n";
@@ -435,7 +434,8 @@ fn editor_scalars_with_ranges_become_ranged_constants() {
     let names: Vec<&str> = s.ranged_constants().iter().map(|c| c.name.as_str()).collect();
     assert_eq!(names, ["N", "angle", "B", "X"]);
     assert_eq!(genform_lsystem::lpy::translate(text).map(|t| t.text.matches("define").count()).unwrap(), 5);
-    assert_eq!(run(text), "A(35)");
+    // An Integer plus a Float is a Python float.
+    assert_eq!(run(text), "A(35.0)");
 }
 
 #[test]
@@ -596,4 +596,53 @@ fn show() {
         }
         Err(d) => println!("{}", d.render(false)),
     }
+}
+
+/// The string of an inline `.lpy` text after `steps` steps.
+fn run_steps(text: &str, steps: u32) -> String {
+    let s = compile_text(text).unwrap_or_else(|e| panic!("{e}"));
+    let m = s.derive(steps, &mut Rng::from_seed(1)).unwrap();
+    m.display(&s.alphabet, true)
+}
+
+#[test]
+fn the_string_prints_floats_and_booleans_as_python_does() {
+    // `/`, float literals and `math` functions give floats, which L-Py
+    // prints with their point even when whole; `//` of ints, `int`,
+    // `floor` and `round(x)` give ints; comparisons give booleans.
+    let text = "from math import *\nAxiom: A(4)\nderivation length: 1\nproduction:\n\
+                A(x) --> B(x / 2, x // 2, 2.0 * x, sqrt(x), floor(x / 3), round(x / 3), x > 1, x + 1)\n";
+    assert_eq!(run(text), "B(2.0,2,8.0,2.0,1,1,True,5)");
+    // Types follow the steps: the axiom's int is gone after one step, a
+    // float in a predecessor stays one through the steps that copy it.
+    let text = "Axiom: A(1)\nderivation length: 3\nproduction:\nA(x) --> A(x * 2.0) C(x / 2)\nC(y) --> C(y)\n";
+    assert_eq!(run(text), "A(8.0)C(2.0)C(1.0)C(0.5)");
+    assert_eq!(run_steps(text, 0), "A(1)");
+    assert_eq!(run_steps(text, 1), "A(2.0)C(0.5)");
+    // Python's exponent notation: below 1e-4 and from 1e16.
+    let text = "Axiom: A(1)\nderivation length: 1\nproduction:\nA(x) --> A(x / 100000) A(x * 1e16) A(x / 10000)\n";
+    assert_eq!(run(text), "A(1e-05)A(1e+16)A(0.0001)");
+    // A body's local and a module-level constant carry their type.
+    let text = "dl = 0.5\nAxiom: A(3)\nderivation length: 1\nproduction:\nA(x):\n  y = x + dl\n  z = x * 2\n  produce B(y, z)\n";
+    assert_eq!(run(text), "B(3.5,6)");
+    // A slot that holds ints and floats prints whole values as ints (L-Py
+    // would print a float's `.0`; genform keeps one number per parameter).
+    let text = "Axiom: A(1) A(0.5)\nderivation length: 1\nproduction:\nA(x) --> A(x * 2)\n";
+    assert_eq!(run(text), "A(2)A(1)");
+    // Interpretation rules write nothing into the string.
+    let text =
+        "Axiom: F(1)\nderivation length: 1\nproduction:\nF(x) --> F(x + 1)\ninterpretation:\nF(x) --> F(x / 2)\n";
+    assert_eq!(run(text), "F(2)");
+}
+
+#[test]
+fn a_cut_acts_when_the_next_step_reads_it() {
+    // L-Py cuts a branch while scanning the string, so the `%` the last
+    // step wrote stays in the string, and the turtle skips what follows it.
+    let s = compile_text("Axiom: A\nderivation length: 2\nproduction:\nA --> F[+X%F]A\n").unwrap();
+    let d = derive(&s);
+    assert_eq!(d.display(&s.alphabet, true), "F[+X]F[+X%F]A");
+    let mut scene = genform_core::Scene::new();
+    let end = s.interpret(&d, &mut Rng::from_seed(1), 1000, &mut scene).unwrap();
+    assert_eq!(end.segments, 2, "the F after `%` is not drawn");
 }

@@ -41,27 +41,18 @@
 mod block;
 mod names;
 mod pyexpr;
+mod pytypes;
 mod text;
 mod translate;
 
-use crate::alphabet::Command;
+use crate::alphabet::{Command, PyKinds, PyParams};
 use crate::compile::LSystem;
 use crate::surface::SurfaceAssets;
 use genform_core::{Diagnostic, Diagnostics, SourceFile};
-use glam::DVec3;
-use names::ALIASES;
+use names::{DRAWS_AS, canonical};
 pub use text::Translation;
 
-/// An L-Py vector (x, y, z) in genform's axes: (y, z, x). L-Py's up +z
-/// becomes genform's up +y.
-pub fn to_genform_axes(v: DVec3) -> DVec3 {
-    DVec3::new(v.y, v.z, v.x)
-}
-
-/// A genform vector in L-Py's axes (the inverse of [`to_genform_axes`]).
-pub fn to_lpy_axes(v: DVec3) -> DVec3 {
-    DVec3::new(v.z, v.x, v.y)
-}
+pub use crate::axes::{to_genform_axes, to_lpy_axes};
 
 /// Translates an L-Py file into `.ls` text, or says why it cannot.
 pub fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
@@ -102,13 +93,24 @@ pub fn compile_lpy_with_assets(
             map(warnings, &mut diags);
             let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
             system.settings.name = stem.unwrap_or_default();
+            system.settings.lpy = true;
             for sym in &mut system.alphabet.symbols {
-                if let Some((_, alias)) = ALIASES.iter().find(|(n, _)| *n == sym.name) {
-                    sym.command = Command::of(alias);
+                let typed = t.params.iter().find(|(n, a, _)| *n == sym.name && *a == sym.arity as usize);
+                let mut python = typed.map(|(_, _, p)| p.clone()).unwrap_or_default();
+                if crate::turtle::query::Query::of(&sym.name).is_some() {
+                    // The turtle fills a query's x, y, z with floats, from the
+                    // axiom on.
+                    let xyz = if sym.arity == 3 { 0b111 } else { 0 };
+                    python = PyParams { steps: vec![PyKinds { floats: xyz, bools: 0 }] };
+                }
+                sym.python = Some(python);
+                if let Some((_, short)) = DRAWS_AS.iter().find(|(n, _)| *n == sym.name) {
+                    sym.command = Command::of(short);
                 }
                 if let Some((_, target)) = t.aliases.iter().find(|(n, _)| *n == sym.name) {
-                    let long = ALIASES.iter().find(|(n, _)| n == target).map_or(target.as_str(), |(_, a)| a);
-                    sym.command = Command::of(long);
+                    let target = canonical(target);
+                    let short = DRAWS_AS.iter().find(|(n, _)| *n == target).map_or(target, |(_, a)| a);
+                    sym.command = Command::of(short);
                 }
             }
             if t.empty_axiom {

@@ -14,7 +14,7 @@ use super::text::{Out, outside};
 use genform_core::{Diagnostic, Span};
 
 /// Deepest nesting of brackets and function inlining read.
-const MAX_DEPTH: usize = 64;
+pub(super) const MAX_DEPTH: usize = 64;
 
 /// A Python expression.
 #[derive(Clone, Debug)]
@@ -305,7 +305,7 @@ impl<'a> Parser<'a> {
         let Some(t) = self.next() else {
             return Err(Diagnostic::error(Span::new(at, at + 1), "expected a Python expression"));
         };
-        let mut e = match t.kind {
+        let e = match t.kind {
             Kind::Num => Py::Num(t.text.replace('_', ""), t.at),
             Kind::Str => return Err(outside(t.at, t.text.len(), "a Python string")),
             Kind::Name => {
@@ -362,11 +362,6 @@ impl<'a> Parser<'a> {
         if self.is(".") {
             return Err(outside(self.here(), 1, "a Python attribute of a value"));
         }
-        if let Py::Name(n, _) = &e
-            && matches!(n.as_str(), "True" | "False")
-        {
-            e = Py::Num(if n == "True" { "1".into() } else { "0".into() }, at);
-        }
         Ok(e)
     }
 }
@@ -420,10 +415,13 @@ pub(super) struct Names {
     pub math: Vec<String>,
     /// Python names renamed in the `.ls` text (they clash with its words).
     pub renamed: Vec<(String, String)>,
+    /// Declared module names of more than one character, as the `.ls`
+    /// lexer reads them.
+    pub modules: Vec<String>,
 }
 
 /// `math` functions the expression language has, with its name.
-const MATH: &[(&str, &str)] = &[
+pub(super) const MATH: &[(&str, &str)] = &[
     ("sin", "sin"),
     ("cos", "cos"),
     ("tan", "tan"),
@@ -452,7 +450,7 @@ const BUILTIN: &[(&str, &str)] = &[("abs", "abs"), ("int", "trunc"), ("round", "
 impl Names {
     /// The function a (dotted) name calls, with its module prefix removed
     /// when it is `math` or `random`: (`"math"` | `"random"` | `""`, rest).
-    fn module_of<'n>(&self, name: &'n str) -> (&'static str, &'n str) {
+    pub(super) fn module_of<'n>(&self, name: &'n str) -> (&'static str, &'n str) {
         if let Some((pre, rest)) = name.rsplit_once('.') {
             if self.math.iter().any(|m| m == pre) {
                 return ("math", rest);
@@ -481,6 +479,8 @@ impl Names {
             Py::Name(n, at) => {
                 let (module, rest) = self.module_of(n);
                 match (module, rest) {
+                    ("", "True") => out.push("1", *at),
+                    ("", "False") => out.push("0", *at),
                     ("math" | "", "pi") => out.push("pi", *at),
                     ("math" | "", "e") => out.push("e", *at),
                     ("", _) => match self.renamed.iter().find(|(p, _)| p == n) {
@@ -642,6 +642,18 @@ impl Names {
     }
 }
 
+/// The value `name op= value` assigns (`value` for a plain `=`).
+pub(super) fn compound(name: &str, at: usize, op: Option<char>, value: Py) -> Py {
+    let op = match op {
+        None => return value,
+        Some('+') => "+",
+        Some('-') => "-",
+        Some('*') => "*",
+        Some(_) => "/",
+    };
+    Py::Bin(op, at, Box::new(Py::Name(name.to_string(), at)), Box::new(value))
+}
+
 /// The offset an expression starts at (about).
 pub(super) fn at_of(e: &Py) -> usize {
     match e {
@@ -678,6 +690,8 @@ pub(super) fn constant(e: &Py, consts: &[(String, f64)]) -> Option<f64> {
         Py::Num(n, _) => n.parse().ok()?,
         Py::Name(n, _) => match n.as_str() {
             "pi" | "math.pi" => std::f64::consts::PI,
+            "True" => 1.0,
+            "False" => 0.0,
             _ => consts.iter().rev().find(|(k, _)| k == n)?.1,
         },
         Py::Call(..) => return None,

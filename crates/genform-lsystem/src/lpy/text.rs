@@ -243,6 +243,9 @@ pub struct Translation {
     pub(super) empty_axiom: bool,
     /// `module A = F`: (A, F); A draws as F.
     pub(super) aliases: Vec<(String, String)>,
+    /// (module name, arity, which parameters are Python floats or
+    /// booleans) for every module written with parameters.
+    pub(super) params: Vec<(String, usize, crate::alphabet::PyParams)>,
 }
 
 impl Translation {

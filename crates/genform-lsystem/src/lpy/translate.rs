@@ -7,9 +7,11 @@
 //! the hooks.
 
 use super::block::{self, Kind, Reader, Stmt, Writer};
-use super::names::{ALIASES, EMPTY, GROUP, OTHER_NAMES, PRELUDE};
-use super::pyexpr::{self, Func, Names};
+use super::names::{EMPTY, GROUP, PRELUDE, canonical, long_names};
+use super::pyexpr::{self, Func, Names, Py};
+use super::pytypes::{Facts, Scope, Slot};
 use super::text::{Line, Out, Translation, assignment, construct, find_top, leading_name, logical_lines, outside};
+use crate::syntax::module_name_len;
 use genform_core::{Diagnostic, Span};
 
 /// L-Py's hooks that the `.ls` language has, with its section name.
@@ -95,6 +97,8 @@ struct Tr<'a> {
     empty_axiom: bool,
     /// `module A = F`: (A, F).
     aliases: Vec<(String, String)>,
+    /// What types the modules' parameters (floats print as `6.0`).
+    facts: Facts,
 }
 
 /// Translates an L-Py file into `.ls` text, or says why it cannot.
@@ -111,6 +115,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
         temps: Vec::new(),
         empty_axiom: false,
         aliases: Vec::new(),
+        facts: Facts::default(),
     };
     tr.out.push(PRELUDE, 0);
     tr.declare_modules(src);
@@ -155,6 +160,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
                         );
                     }
                     tr.out.push(&format!("define {} = {}{}\n", sc.name, sc.value, range.unwrap_or_default()), at);
+                    tr.facts.consts.push((sc.name.clone(), sc.python_value()));
                     scalars.push((sc.name, sc.value));
                 }
             }
@@ -215,6 +221,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
                 tr.errors.extend(reader.errors);
                 tr.warnings.extend(reader.warnings);
                 collect_globals(&stmts, &mut tr.globals);
+                collect_assignments(&stmts, &mut tr.facts.consts);
                 hooks.push((section, stmts));
             }
             None => {
@@ -278,7 +285,9 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
                     tr.out.push(EMPTY, at);
                     tr.empty_axiom = true;
                 } else {
-                    tr.modules(line, w, false);
+                    for (m, args) in write_modules(&tr.names, &mut tr.out, line, w, false, &mut tr.errors) {
+                        tr.facts.write(&m, args, None);
+                    }
                 }
             }
         } else if let Some((w, rest)) = header(code, &["derivation length:"]) {
@@ -332,7 +341,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
             if group != 0 && !tr.groups {
                 // Left out (warned at `group N:`).
             } else {
-                tr.rule(i, end, group);
+                tr.rule(i, end, group, section);
             }
         } else if let Some(pairs) = block::tuple_assignment(code).filter(|_| !code.starts_with("__")) {
             // `a, b = 1, 2`: one constant after the other.
@@ -344,6 +353,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
                 tr.out.push(" = ", at);
                 match pyexpr::parse(v, line.offset(vk)) {
                     Ok(e) => {
+                        tr.facts.consts.push((name.to_string(), e.clone()));
                         if let Some(x) = pyexpr::constant(&e, &values) {
                             values.push((name.to_string(), x));
                         }
@@ -371,16 +381,9 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
                 let lead = v.len() - v.trim_start().len();
                 let vat = line.offset(vk + lead);
                 match pyexpr::parse(v.trim(), vat) {
-                    Ok(mut e) => {
-                        if let Some(op) = op {
-                            let op = match op {
-                                '+' => "+",
-                                '-' => "-",
-                                '*' => "*",
-                                _ => "/",
-                            };
-                            e = pyexpr::Py::Bin(op, vat, Box::new(pyexpr::Py::Name(name.to_string(), at)), Box::new(e));
-                        }
+                    Ok(e) => {
+                        let e = pyexpr::compound(name, at, op, e);
+                        tr.facts.consts.push((name.to_string(), e.clone()));
                         if let Some(x) = pyexpr::constant(&e, &values) {
                             values.push((name.to_string(), x));
                         }
@@ -467,6 +470,7 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
     }
     if tr.errors.is_empty() {
         Ok(Translation {
+            params: tr.facts.solve(&tr.names),
             text: tr.out.text,
             map: tr.out.map,
             warnings: tr.warnings,
@@ -485,9 +489,20 @@ struct Scalar {
     value: f64,
     /// `(min, max, integer)`.
     range: Option<(f64, f64, bool)>,
+    /// `Integer`, `Float` or `Bool`.
+    kind: String,
 }
 
 impl Scalar {
+    /// The scalar as the Python value L-Py gives it (for typing).
+    fn python_value(&self) -> Py {
+        match self.kind.as_str() {
+            "Bool" => Py::Name("True".into(), 0),
+            "Float" => Py::Num("0.0".into(), 0),
+            _ => Py::Num("0".into(), 0),
+        }
+    }
+
     /// ` in min..max` or ` in [min, max]` when the range is usable (finite,
     /// holding the value, whole for an Integer); `None` otherwise.
     fn range_text(&self) -> Option<String> {
@@ -532,10 +547,28 @@ fn editor_scalars(list: &str) -> Vec<Scalar> {
             _ => None,
         };
         if leading_name(&name) == name && !name.is_empty() {
-            out.push(Scalar { name, value, range });
+            out.push(Scalar { name, value, range, kind });
         }
     }
     out
+}
+
+/// Every assignment of `stmts`, in any branch (`x += 1` as `x + 1`).
+fn collect_assignments(stmts: &[Stmt], out: &mut Vec<(String, Py)>) {
+    for s in stmts {
+        match s {
+            Stmt::Assign { name, at, op, value } => {
+                out.push((name.clone(), pyexpr::compound(name, *at, *op, value.clone())))
+            }
+            Stmt::If(arms) => {
+                for (_, b) in arms {
+                    collect_assignments(b, out);
+                }
+            }
+            Stmt::Seq(inner) => collect_assignments(inner, out),
+            _ => {}
+        }
+    }
 }
 
 /// Every name a hook assigns or declares `global`.
@@ -654,7 +687,7 @@ impl Tr<'_> {
                 pos += item.len() + 1;
             }
         }
-        for name in ALIASES.iter().map(|(n, _)| *n).chain(OTHER_NAMES.iter().copied()) {
+        for name in long_names() {
             if name.len() > 1 && mentions(src, name) && !names.iter().any(|(n, _)| n == name) {
                 names.push((name.to_string(), 0));
             }
@@ -665,6 +698,7 @@ impl Tr<'_> {
             names.push((EMPTY.to_string(), 0));
         }
         let long: Vec<&(String, usize)> = names.iter().filter(|(n, _)| n.chars().count() > 1).collect();
+        self.names.modules = long.iter().map(|(n, _)| n.clone()).collect();
         if !long.is_empty() {
             self.out.push("module:", 0);
             for (n, at) in long {
@@ -716,13 +750,16 @@ impl Tr<'_> {
         }
     }
 
-    /// Writes the module string `line.code[start..]`.
+    /// Writes the module string `line.code[start..]` (not written into the
+    /// derived string).
     fn modules(&mut self, line: &Line, start: usize, erase_star: bool) {
         write_modules(&self.names, &mut self.out, line, start, erase_star, &mut self.errors);
     }
 
     /// A production at line `i` (its block ends before `end`).
-    fn rule(&mut self, i: usize, end: usize, group: u32) {
+    fn rule(&mut self, i: usize, end: usize, group: u32, section: Option<&str>) {
+        // Interpretation rules write nothing into the derived string.
+        let writes = matches!(section, Some("production:" | "decomposition:"));
         let line = &self.lines[i];
         let code = line.code.as_str();
         let cond = if group != 0 { format!(" : {GROUP} == {group}") } else { String::new() };
@@ -737,7 +774,11 @@ impl Tr<'_> {
             self.out.push(" ->", line.offset(k));
             let mut s = k + len;
             s += code[s..].len() - code[s..].trim_start().len();
-            write_modules(&self.names, &mut self.out, line, s, true, &mut self.errors);
+            let uses = write_modules(&self.names, &mut self.out, line, s, true, &mut self.errors);
+            if writes {
+                self.record(&code[..k], section, Vec::new(), uses);
+            }
+            self.always_applies(&code[..k], group, section);
             return;
         }
         let Some(colon) = find_top(code, b':') else { return };
@@ -771,18 +812,30 @@ impl Tr<'_> {
             return;
         }
         self.pred(line, pred, &cond);
+        let mut locals = Vec::new();
+        if writes {
+            collect_assignments(&stmts, &mut locals);
+            // A body's assignment to a global (`global n`) is one of its values.
+            let globals = locals.iter().filter(|(n, _)| self.globals.contains(n));
+            self.facts.consts.extend(globals.cloned());
+        }
         // One `produce` is a plain successor.
         if let [Stmt::Produce { end: true, line: l, start }] = stmts.as_slice() {
             self.out.push(" ->", line.offset(colon));
             let l = &self.lines[*l];
-            write_modules(&self.names, &mut self.out, l, *start, true, &mut self.errors);
+            let uses = write_modules(&self.names, &mut self.out, l, *start, true, &mut self.errors);
+            if writes {
+                self.record(pred, section, locals, uses);
+            }
+            self.always_applies(pred, group, section);
             return;
         }
         self.out.push(" -> {", line.offset(colon));
         self.out.newline();
         let names = std::mem::take(&mut self.names);
+        let uses = std::cell::RefCell::new(Vec::new());
         let write = |out: &mut Out, l: &Line, s: usize, errors: &mut Vec<Diagnostic>| {
-            write_modules(&names, out, l, s, true, errors);
+            uses.borrow_mut().extend(write_modules(&names, out, l, s, true, errors));
         };
         let mut temps = std::mem::take(&mut self.temps);
         let mut w = Writer {
@@ -797,6 +850,31 @@ impl Tr<'_> {
         self.temps = temps;
         self.names = names;
         self.out.push("}", line.at);
+        if writes {
+            self.record(pred, section, locals, uses.into_inner());
+        }
+    }
+
+    /// Notes a production that always applies: one that always produces
+    /// (an arrow or one `produce`) in group 0, whose predecessor is one
+    /// module alone, rewrites that module wherever it stands.
+    fn always_applies(&mut self, pred: &str, group: u32, section: Option<&str>) {
+        if section == Some("production:")
+            && group == 0
+            && let Some((m, arity)) = lone_module(pred, &self.names)
+        {
+            self.facts.always_rewritten(&m, arity);
+        }
+    }
+
+    /// Records the modules a production with predecessor `pred` writes,
+    /// for typing their parameters.
+    fn record(&mut self, pred: &str, section: Option<&str>, locals: Vec<(String, Py)>, uses: Vec<(String, Vec<Py>)>) {
+        let decomposition = section == Some("decomposition:");
+        let scope = self.facts.scope(Scope { params: pred_params(pred, &self.names), locals, decomposition });
+        for (m, args) in uses {
+            self.facts.write(&m, args, Some(scope));
+        }
     }
 
     /// A predecessor (contexts included), with the group's condition
@@ -823,7 +901,8 @@ impl Tr<'_> {
                 b'(' => {
                     depth += 1;
                     if depth == 1 {
-                        self.out.push(&pred[from..=k], line.offset(from));
+                        self.out.push(&spelled(&pred[from..k], &self.names), line.offset(from));
+                        self.out.push("(", line.offset(k));
                         from = k + 1;
                     }
                     false
@@ -849,16 +928,91 @@ impl Tr<'_> {
                 from = k + 1;
             }
         }
-        self.out.push(pred[from..].trim_end(), line.offset(from));
+        self.out.push(&spelled(pred[from..].trim_end(), &self.names), line.offset(from));
         if !conds.is_empty() {
             self.out.push(&format!(" : {}", conds.join(" and ")), line.offset(pred.len()));
         }
     }
 }
 
+/// The module names of a module string without parameters (`F+A`: `F`,
+/// `+`, `A`) with their offsets, read as the `.ls` lexer reads names.
+fn module_names<'s>(chunk: &'s str, names: &Names) -> Vec<(usize, &'s str)> {
+    let (mut i, mut out) = (0, Vec::new());
+    while let Some(c) = chunk[i..].chars().next() {
+        if c.is_whitespace() || "()<>:=#".contains(c) {
+            i += c.len_utf8();
+            continue;
+        }
+        let len = module_name_len(&chunk[i..], names.modules.iter().map(String::as_str));
+        out.push((i, &chunk[i..i + len]));
+        i += len;
+    }
+    out
+}
+
+/// The last module name of a module string without parameters.
+fn last_module<'s>(chunk: &'s str, names: &Names) -> Option<&'s str> {
+    module_names(chunk, names).pop().map(|(_, n)| canonical(n))
+}
+
+/// A module string without parameters with L-Py's long spellings written
+/// as the names L-Py keeps (`Left` as `+`).
+fn spelled(chunk: &str, names: &Names) -> String {
+    let mut out = String::with_capacity(chunk.len());
+    let mut done = 0;
+    for (i, n) in module_names(chunk, names) {
+        out.push_str(&chunk[done..i]);
+        out.push_str(canonical(n));
+        done = i + n.len();
+    }
+    out.push_str(&chunk[done..]);
+    out
+}
+
+/// The module of a predecessor that is one module with distinct parameter
+/// names (`A(x, y)`, no context, no value to match), and its arity.
+fn lone_module(pred: &str, names: &Names) -> Option<(String, usize)> {
+    let pred = pred.trim();
+    let (head, args) = match find_top(pred, b'(') {
+        Some(open) => {
+            let inner = pred[open + 1..].strip_suffix(')')?;
+            (&pred[..open], top_level_items(inner).into_iter().map(str::trim).collect::<Vec<_>>())
+        }
+        None => (pred, Vec::new()),
+    };
+    let head = head.trim();
+    let named = |a: &&str| !a.is_empty() && leading_name(a) == *a && !a.as_bytes()[0].is_ascii_digit();
+    let distinct = args.iter().enumerate().all(|(i, a)| named(a) && !args[..i].contains(a));
+    let one = !head.is_empty() && module_name_len(head, names.modules.iter().map(String::as_str)) == head.len();
+    (one && distinct).then(|| (canonical(head).to_string(), args.len()))
+}
+
+/// The parameter names of a predecessor (contexts included) with their
+/// slots: `A(x) < B(y, z)` binds x to (A, 1, 0), y to (B, 2, 0), z to
+/// (B, 2, 1).
+fn pred_params(pred: &str, names: &Names) -> Vec<(String, Slot)> {
+    let mut out = Vec::new();
+    let mut rest = pred;
+    while let Some(open) = find_top(rest, b'(') {
+        let Some(close) = find_top(&rest[open + 1..], b')').map(|c| open + 1 + c) else { break };
+        if let Some(m) = last_module(&rest[..open], names) {
+            let args: Vec<&str> = top_level_items(&rest[open + 1..close]).into_iter().map(str::trim).collect();
+            for (i, a) in args.iter().enumerate() {
+                if !a.is_empty() && leading_name(a) == *a && !a.as_bytes()[0].is_ascii_digit() {
+                    out.push((a.to_string(), (m.to_string(), args.len(), i)));
+                }
+            }
+        }
+        rest = &rest[close + 1..];
+    }
+    out
+}
+
 /// Writes the L-Py module string `line.code[start..]` as `.ls` modules:
 /// parameters are Python formulas; with `erase_star`, `*` alone (L-Py's
-/// empty successor) writes nothing.
+/// empty successor) writes nothing. Returns the modules written with
+/// parameters, with their arguments.
 pub(super) fn write_modules(
     names: &Names,
     out: &mut Out,
@@ -866,10 +1020,11 @@ pub(super) fn write_modules(
     start: usize,
     erase_star: bool,
     errors: &mut Vec<Diagnostic>,
-) {
+) -> Vec<(String, Vec<Py>)> {
+    let mut uses = Vec::new();
     let s = line.code.get(start..).unwrap_or("");
     if erase_star && s.trim() == "*" {
-        return;
+        return uses;
     }
     if !s.is_empty() {
         out.push(" ", line.offset(start));
@@ -877,6 +1032,7 @@ pub(super) fn write_modules(
     let b = s.as_bytes();
     let (mut depth, mut from) = (0i32, 0);
     let mut quote = None;
+    let mut module = None;
     for i in 0..b.len() {
         match (quote, b[i]) {
             (Some(q), c) if c == q => quote = None,
@@ -886,7 +1042,11 @@ pub(super) fn write_modules(
                 if depth == 0 {
                     // `A()` has no parameters: `A`.
                     let empty = s[i + 1..].trim_start().starts_with(')');
-                    out.push(if empty { &s[from..i] } else { &s[from..=i] }, line.offset(start + from));
+                    module = last_module(&s[from..i], names);
+                    out.push(&spelled(&s[from..i], names), line.offset(start + from));
+                    if !empty {
+                        out.push("(", line.offset(start + i));
+                    }
                     from = i + 1;
                 }
                 depth += 1;
@@ -905,6 +1065,9 @@ pub(super) fn write_modules(
                                 }
                                 names.emit(a, out, errors);
                             }
+                            if let Some(m) = module.take() {
+                                uses.push((m.to_string(), args));
+                            }
                         }
                         Err(d) => errors.push(d),
                     }
@@ -914,5 +1077,6 @@ pub(super) fn write_modules(
             _ => {}
         }
     }
-    out.push(&s[from..], line.offset(start + from));
+    out.push(&spelled(&s[from..], names), line.offset(start + from));
+    uses
 }

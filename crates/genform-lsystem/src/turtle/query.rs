@@ -77,6 +77,7 @@ impl LSystem {
                     Query::Up => st.u,
                     Query::Left => st.l,
                 };
+                let v = if self.settings.lpy { crate::axes::to_lpy_axes(v) } else { v };
                 for (k, p) in s.params[off..off + n.min(3)].iter_mut().enumerate() {
                     *p = v[k];
                 }
