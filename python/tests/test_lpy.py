@@ -577,3 +577,66 @@ def test_rust_reader_prints_the_string_python_derives(path, engine, cli, tmp_pat
     except Exception as e:  # noqa: BLE001 — a file only the Rust reader runs
         pytest.skip(f"the Python package does not run it: {type(e).__name__}")
     assert out.read_text(encoding="utf-8").strip() == want.strip()
+
+
+_ARG = re.compile(r"\(([^()]*)\)")
+
+
+def _random_lpy(rng) -> str:
+    """A small random L-system whose parameters mix ints, floats and booleans."""
+
+    def expr(v):
+        forms = [
+            "{v}", "{v} + 1", "{v} / 2", "{v} // 2", "{v} * 0.5", "{v} * 2", "int({v})",
+            "({v} > 1)", "max({v}, 1)", "3", "1.5", "{v} + 0.25", "abs({v})", "2 ** 2",
+        ]
+        return rng.choice(forms).format(v=v)
+
+    def succ(v):
+        parts = []
+        for _ in range(rng.randint(1, 3)):
+            m = rng.choice("ABC")
+            parts.append(f"{m}({expr(v)})" if m != "C" else f"[C({expr(v)}, {expr(v)})]")
+        return " ".join(parts)
+
+    axiom = " ".join(rng.choice(["A(1)", "A(2.5)", "B(3)", "C(1, 0.5)", "B(True)"]) for _ in range(rng.randint(1, 3)))
+    lines = [f"Axiom: {axiom}", f"derivation length: {rng.randint(0, 4)}", "production:"]
+    for m, pred in [("A", "A(x)"), ("B", "B(x)"), ("C", "C(x, y)")]:
+        kind = rng.choice(["arrow", "body", "none"])
+        if kind == "arrow":
+            lines.append(f"{pred} --> {succ('x')}")
+        elif kind == "body":
+            lines += [f"{pred} :", f"  if x > {rng.choice([1, 2])}:", f"    produce {succ('x')}", "  else:",
+                      f"    produce {succ('x')}"]
+    return "\n".join(lines) + "\nendlsystem\n"
+
+
+@pytest.mark.parametrize("engine", ["both"])
+def test_rust_reader_never_prints_a_type_python_does_not(engine, cli, tmp_path):
+    # Random files against CPython's objects: the Rust reader's string must
+    # match, except that a whole float or a boolean may print as a number
+    # (a parameter holding ints and floats or booleans); never `.0` or
+    # `True` where Python has an int.
+    if cli is None:
+        pytest.skip("no genform binary")
+    import random
+    import subprocess
+
+    rng = random.Random(7)
+    exact = 0
+    for k in range(60):
+        text = _random_lpy(rng)
+        path = tmp_path / f"r{k}.lpy"
+        path.write_text(text)
+        out = tmp_path / f"r{k}.txt"
+        run = subprocess.run([cli, "sample", str(path), "--string-out", str(out)], capture_output=True, text=True)
+        assert run.returncode == 0, text + run.stderr
+        rust, want = out.read_text().strip(), str(Lsystem(str(path), seed=1).derive()).strip()
+        exact += rust == want
+        assert _ARG.sub("()", rust) == _ARG.sub("()", want), text
+        for r_args, p_args in zip(_ARG.findall(rust), _ARG.findall(want)):
+            for r, p in zip(r_args.split(","), p_args.split(",")):
+                if r != p:
+                    # Only a whole float or a boolean printed as a number.
+                    assert p in (r + ".0", {"1": "True", "0": "False"}.get(r)), f"{r} where Python prints {p}\n{text}"
+    assert exact >= 30, exact

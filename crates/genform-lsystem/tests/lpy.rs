@@ -629,6 +629,17 @@ fn the_string_prints_floats_and_booleans_as_python_does() {
     // would print a float's `.0`; genform keeps one number per parameter).
     let text = "Axiom: A(1) A(0.5)\nderivation length: 1\nproduction:\nA(x) --> A(x * 2)\n";
     assert_eq!(run(text), "A(2)A(1)");
+    // A constant read in its own assignment keeps its type; chained
+    // constants are typed once each (60 links: 2⁶⁰ reads if typed by
+    // recursion).
+    let text = "R = 2\nR *= R\nAxiom: A(R)\nderivation length: 0\n";
+    assert_eq!(run(text), "A(4)");
+    let mut text = String::from("a0 = 1.5\n");
+    for i in 1..60 {
+        text += &format!("a{i} = a{k} + a{k}\n", k = i - 1);
+    }
+    text += "Axiom: A(a59)\nderivation length: 0\n";
+    assert_eq!(run(&text), "A(8.646911284551352e+17)");
     // Interpretation rules write nothing into the string.
     let text =
         "Axiom: F(1)\nderivation length: 1\nproduction:\nF(x) --> F(x + 1)\ninterpretation:\nF(x) --> F(x / 2)\n";

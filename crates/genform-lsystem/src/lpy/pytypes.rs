@@ -7,8 +7,11 @@
 //! derived string (the axiom, productions and decomposition, not the
 //! interpretation) with its argument expressions and the names they see;
 //! [`Facts::solve`] types every parameter slot (module, arity, position)
-//! as the join over everything that writes it, to a fixed point, since a
-//! production reads its predecessor's slots. Python's rules: `/`, float
+//! step by step: step 0 is the axiom; each step joins what the
+//! productions write, reading their predecessors' slots as the step before
+//! left them, with the modules no rule always rewrites and what
+//! decomposition writes, until the types settle (beyond 16 steps, the
+//! fixed point over all writers). Python's rules: `/`, float
 //! literals, `math` functions and `random()` give floats; `+ - * // %`
 //! give a float when one side is; `floor`, `int`, `round(x)`, `randint`
 //! and `getIterationNb()` give ints; comparisons and `not` give booleans.
@@ -19,10 +22,10 @@
 use super::pyexpr::{MATH, MAX_DEPTH, Names, Py, substitute};
 use crate::alphabet::{PyKinds, PyParams};
 use crate::turtle::query::Query;
+use std::collections::HashMap;
 
 /// Steps typed one by one before the types must have settled.
 const MAX_STEPS: usize = 16;
-use std::collections::HashMap;
 
 /// The type of a Python value, as far as printing goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -108,16 +111,20 @@ impl Facts {
     /// The float and boolean parameters of every (module name, arity)
     /// written with parameters, step by step.
     pub fn solve(&self, names: &Names) -> Vec<(String, usize, PyParams)> {
+        let (no_slots, no_locals) = (HashMap::new(), HashMap::new());
+        let consts = assigned(&self.consts, |known, e| {
+            Typer { names, slots: &no_slots, params: &[], locals: &no_locals, consts: known }.ty(e, 0)
+        });
         let production = |u: &Use| u.scope.and_then(|s| self.scopes.get(s)).is_some_and(|s| !s.decomposition);
         let decomposition = |u: &Use| u.scope.and_then(|s| self.scopes.get(s)).is_some_and(|s| s.decomposition);
         // Step 0 is the axiom; every step then rewrites the modules that
         // were there, keeps the others unless a rule always rewrites them,
         // and decomposes.
         let decompose = |slots: &mut HashMap<Slot, Ty>| {
-            while self.join_uses(names, slots, decomposition) {}
+            while self.join_uses(names, &consts, slots, decomposition) {}
         };
         let mut first = HashMap::new();
-        self.join_uses(names, &mut first, |u| u.scope.is_none());
+        self.join_uses(names, &consts, &mut first, |u| u.scope.is_none());
         let mut steps = vec![first];
         let stable = loop {
             let prev = steps.last().expect("step 0");
@@ -126,7 +133,7 @@ impl Facts {
                 .filter(|((n, a, _), _)| !self.rewritten.iter().any(|(rn, ra)| rn == n && ra == a))
                 .map(|(k, t)| (k.clone(), *t))
                 .collect();
-            self.join_uses_with(names, prev, &mut next, production);
+            self.join_uses_with(names, &consts, prev, &mut next, production);
             decompose(&mut next);
             if next == *prev {
                 break true;
@@ -140,7 +147,7 @@ impl Facts {
             // No settling: every later step as one, the fixed point over all
             // writers (every step's types are in it).
             let mut all = steps[0].clone();
-            while self.join_uses(names, &mut all, |_| true) {}
+            while self.join_uses(names, &consts, &mut all, |_| true) {}
             steps.push(all);
         }
         let mut keys: Vec<&Slot> = steps.iter().flat_map(HashMap::keys).collect();
@@ -167,9 +174,15 @@ impl Facts {
 
     /// Joins the types the uses `keep` accepts write into `slots`, reading
     /// predecessors from `slots` itself; whether any slot changed.
-    fn join_uses(&self, names: &Names, slots: &mut HashMap<Slot, Ty>, keep: impl Fn(&Use) -> bool) -> bool {
+    fn join_uses(
+        &self,
+        names: &Names,
+        consts: &HashMap<String, Ty>,
+        slots: &mut HashMap<Slot, Ty>,
+        keep: impl Fn(&Use) -> bool,
+    ) -> bool {
         let read = slots.clone();
-        self.join_uses_with(names, &read, slots, keep)
+        self.join_uses_with(names, consts, &read, slots, keep)
     }
 
     /// Joins the types the uses `keep` accepts write into `slots`, reading
@@ -177,15 +190,29 @@ impl Facts {
     fn join_uses_with(
         &self,
         names: &Names,
+        consts: &HashMap<String, Ty>,
         read: &HashMap<Slot, Ty>,
         slots: &mut HashMap<Slot, Ty>,
         keep: impl Fn(&Use) -> bool,
     ) -> bool {
+        let none = HashMap::new();
+        let mut locals: HashMap<usize, HashMap<String, Ty>> = HashMap::new();
         let mut changed = false;
         for u in self.uses.iter().filter(|u| keep(u)) {
-            let scope = u.scope.and_then(|s| self.scopes.get(s));
+            let (params, local) = match u.scope.and_then(|id| Some((id, self.scopes.get(id)?))) {
+                Some((id, scope)) => {
+                    let local = locals.entry(id).or_insert_with(|| {
+                        assigned(&scope.locals, |known, e| {
+                            Typer { names, slots: read, params: &scope.params, locals: known, consts }.ty(e, 0)
+                        })
+                    });
+                    (&scope.params[..], &*local)
+                }
+                None => (&[][..], &none),
+            };
+            let typer = Typer { names, slots: read, params, locals: local, consts };
             for (i, a) in u.args.iter().enumerate() {
-                let t = Typer { facts: self, names, slots: read, scope, hidden: Vec::new() }.ty(a, 0);
+                let t = typer.ty(a, 0);
                 let slot = (u.name.clone(), u.args.len(), i);
                 let old = slots.get(&slot).copied().unwrap_or(Ty::Unset);
                 let new = old.join(t);
@@ -199,19 +226,43 @@ impl Facts {
     }
 }
 
+/// The types of the names `assigns` assigns, to a fixed point: each the
+/// join of what is assigned to it, where a name read in an assignment
+/// (its own, `x = x + 1`, included) is what is known of it so far.
+fn assigned(assigns: &[(String, Py)], ty: impl Fn(&HashMap<String, Ty>, &Py) -> Ty) -> HashMap<String, Ty> {
+    let mut types: HashMap<String, Ty> = assigns.iter().map(|(n, _)| (n.clone(), Ty::Unset)).collect();
+    // Names only rise (join), each at most three times.
+    loop {
+        let known = types.clone();
+        let mut changed = false;
+        for (n, e) in assigns {
+            let t = ty(&known, e);
+            if let Some(old) = types.get_mut(n) {
+                let new = old.join(t);
+                changed |= new != *old;
+                *old = new;
+            }
+        }
+        if !changed {
+            return types;
+        }
+    }
+}
+
 /// Types expressions in one scope against the slots known so far.
 struct Typer<'a> {
-    facts: &'a Facts,
     names: &'a Names,
     slots: &'a HashMap<Slot, Ty>,
-    scope: Option<&'a Scope>,
-    /// Names whose assignments are being typed: inside them the name means
-    /// what it meant before (`x = x + 1`).
-    hidden: Vec<(bool, String)>,
+    /// The predecessor's parameters (none at module level).
+    params: &'a [(String, Slot)],
+    /// The body's assigned names, as typed so far.
+    locals: &'a HashMap<String, Ty>,
+    /// The module-level names, as typed so far.
+    consts: &'a HashMap<String, Ty>,
 }
 
 impl Typer<'_> {
-    fn ty(&mut self, e: &Py, depth: usize) -> Ty {
+    fn ty(&self, e: &Py, depth: usize) -> Ty {
         if depth > MAX_DEPTH {
             return Ty::Any;
         }
@@ -223,7 +274,7 @@ impl Typer<'_> {
                     Ty::Int
                 }
             }
-            Py::Name(n, _) => self.name(n, depth),
+            Py::Name(n, _) => self.name(n),
             Py::Neg(_, x) => self.ty(x, depth + 1).number(),
             Py::Not(..) | Py::Cmp(..) => Ty::Bool,
             Py::Cond(_, a, b) => self.ty(a, depth + 1).join(self.ty(b, depth + 1)),
@@ -240,49 +291,24 @@ impl Typer<'_> {
         }
     }
 
-    fn name(&mut self, n: &str, depth: usize) -> Ty {
+    fn name(&self, n: &str) -> Ty {
         match n {
             "True" | "False" => return Ty::Bool,
             "pi" | "e" | "math.pi" | "math.e" => return Ty::Float,
             _ => {}
         }
-        let mut t = Ty::Unset;
-        let mut bound = false;
-        if let Some(scope) = self.scope {
-            if !self.hidden.contains(&(true, n.to_string())) {
-                let locals: Vec<&Py> = scope.locals.iter().filter(|(k, _)| k == n).map(|(_, v)| v).collect();
-                if !locals.is_empty() {
-                    bound = true;
-                    self.hidden.push((true, n.to_string()));
-                    for v in locals {
-                        t = t.join(self.ty(v, depth + 1));
-                    }
-                    self.hidden.pop();
-                }
-            }
-            // A parameter may keep its value past a conditional assignment.
-            if let Some((_, slot)) = scope.params.iter().find(|(k, _)| k == n) {
-                // The turtle fills a query's x, y, z with floats.
-                let query = Query::of(&slot.0).is_some() && slot.1 == 3;
-                let read = if query { Ty::Float } else { self.slots.get(slot).copied().unwrap_or(Ty::Unset) };
-                return t.join(read);
-            }
+        let local = self.locals.get(n).copied();
+        if let Some((_, slot)) = self.params.iter().find(|(k, _)| k == n) {
+            // The turtle fills a query's x, y, z with floats. A parameter
+            // may keep its value past a conditional assignment.
+            let query = Query::of(&slot.0).is_some() && slot.1 == 3;
+            let read = if query { Ty::Float } else { self.slots.get(slot).copied().unwrap_or(Ty::Unset) };
+            return local.unwrap_or(Ty::Unset).join(read);
         }
-        if !self.hidden.contains(&(false, n.to_string())) {
-            let consts: Vec<&Py> = self.facts.consts.iter().filter(|(k, _)| k == n).map(|(_, v)| v).collect();
-            if !consts.is_empty() {
-                bound = true;
-                self.hidden.push((false, n.to_string()));
-                for v in consts {
-                    t = t.join(self.ty(v, depth + 1));
-                }
-                self.hidden.pop();
-            }
-        }
-        if bound { t } else { Ty::Any }
+        local.or_else(|| self.consts.get(n).copied()).unwrap_or(Ty::Any)
     }
 
-    fn call(&mut self, name: &str, args: &[Py], depth: usize) -> Ty {
+    fn call(&self, name: &str, args: &[Py], depth: usize) -> Ty {
         let (module, f) = self.names.module_of(name);
         if module.is_empty()
             && let Some(func) = self.names.funcs.iter().find(|func| func.name == name)
@@ -294,7 +320,7 @@ impl Typer<'_> {
                 _ => Ty::Any,
             };
         }
-        let arg = |this: &mut Self, i: usize| args.get(i).map_or(Ty::Any, |a| this.ty(a, depth + 1));
+        let arg = |this: &Self, i: usize| args.get(i).map_or(Ty::Any, |a| this.ty(a, depth + 1));
         match (module, f) {
             ("", "getIterationNb" | "getGroup" | "int" | "len") | ("random" | "", "randint") => Ty::Int,
             ("math" | "", "floor" | "ceil" | "trunc") => Ty::Int,
