@@ -1,8 +1,11 @@
 //! L-system throughput on one core: modules written per second by
 //! deterministic rewriting (ABOP Fig. 1.24e, n = 9), parametric rewriting
 //! (row of trees, n = 12), context-sensitive rewriting (Hogeweg, n = 30),
-//! turtle interpretation into a Scene, and expressing a genome of the
-//! evolvable tree. Throughput counts every module written by every step.
+//! turtle interpretation into a Scene, expressing a genome of the evolvable
+//! tree, and printing a derived string (`--string-out`): a `.ls` one with
+//! genform's numbers and an L-Py file's with Python's (`6.0`, `1e-05`).
+//! Throughput counts every module written by every step, or the bytes
+//! printed.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use genform_core::{Generator, Rng, Scene, SourceFile};
@@ -77,5 +80,31 @@ fn express(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, rewriting, turtle, express);
+fn strings(c: &mut Criterion) {
+    let mut g = c.benchmark_group("string");
+    let lpy = {
+        let path = format!("{}/tests/lpy/02b-subdivision-circle.lpy", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).expect("L-Py file");
+        genform_lsystem::compile_lpy(&SourceFile::new("02b-subdivision-circle.lpy", text)).expect("reads").0
+    };
+    for (name, s, steps) in [("row_of_trees_n12_ls", load("row_of_trees"), 12), ("subdivision_circle_lpy_n10", lpy, 10)]
+    {
+        let m = s.derive_limited(steps, &mut Rng::from_seed(0), usize::MAX, |_, _| {}).unwrap();
+        g.throughput(Throughput::Bytes(m.display(&s.alphabet, true).len() as u64));
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let mut bytes = 0;
+                m.display_pieces(&s.alphabet, true, |piece| {
+                    bytes += piece.len();
+                    Ok::<(), ()>(())
+                })
+                .unwrap();
+                black_box(bytes)
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, rewriting, turtle, express, strings);
 criterion_main!(benches);

@@ -10,7 +10,7 @@
 //! …`). In a hook the hidden variable is a global.
 
 use super::pyexpr::{self, Names, Py};
-use super::text::{Line, Out, assignment, construct, find_top, leading_name, outside};
+use super::text::{Line, Out, assignment, construct, find_top, is_name, leading_name, outside};
 use genform_core::{Diagnostic, Span};
 
 /// Where a block stands: its statements may differ.
@@ -87,9 +87,8 @@ pub(super) fn tuple_assignment(code: &str) -> Option<Vec<(Piece<'_>, Piece<'_>)>
         (t.trim(), a + (t.len() - t.trim_start().len()))
     };
     let pairs: Vec<_> = names.into_iter().map(trim).zip(values.into_iter().map(trim)).collect();
-    let ok =
-        pairs.iter().all(|((n, _), _)| !n.is_empty() && leading_name(n) == *n && !n.as_bytes()[0].is_ascii_digit())
-            && pairs.iter().all(|(_, (v, _))| pairs.iter().all(|((n, _), _)| !mentions_name(v, n)));
+    let ok = pairs.iter().all(|((n, _), _)| is_name(n))
+        && pairs.iter().all(|(_, (v, _))| pairs.iter().all(|((n, _), _)| !mentions_name(v, n)));
     ok.then_some(pairs)
 }
 

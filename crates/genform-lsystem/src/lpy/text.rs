@@ -168,6 +168,11 @@ pub(super) fn leading_name(code: &str) -> &str {
     &code[..end]
 }
 
+/// Whether `s` is a Python name (`x`, `_a1`; not `1a`, not `a.b`).
+pub(super) fn is_name(s: &str) -> bool {
+    !s.is_empty() && leading_name(s) == s && !s.as_bytes()[0].is_ascii_digit()
+}
+
 /// What the Python statement `code` is, for messages.
 pub(super) fn construct(code: &str) -> String {
     let word = leading_name(code);

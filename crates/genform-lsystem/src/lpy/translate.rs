@@ -10,7 +10,9 @@ use super::block::{self, Kind, Reader, Stmt, Writer};
 use super::names::{EMPTY, GROUP, PRELUDE, canonical, long_names};
 use super::pyexpr::{self, Func, Names, Py};
 use super::pytypes::{Facts, Scope, Slot};
-use super::text::{Line, Out, Translation, assignment, construct, find_top, leading_name, logical_lines, outside};
+use super::text::{
+    Line, Out, Translation, assignment, construct, find_top, is_name, leading_name, logical_lines, outside,
+};
 use crate::syntax::module_name_len;
 use genform_core::{Diagnostic, Span};
 
@@ -982,8 +984,7 @@ fn lone_module(pred: &str, names: &Names) -> Option<(String, usize)> {
         None => (pred, Vec::new()),
     };
     let head = head.trim();
-    let named = |a: &&str| !a.is_empty() && leading_name(a) == *a && !a.as_bytes()[0].is_ascii_digit();
-    let distinct = args.iter().enumerate().all(|(i, a)| named(a) && !args[..i].contains(a));
+    let distinct = args.iter().enumerate().all(|(i, a)| is_name(a) && !args[..i].contains(a));
     let one = !head.is_empty() && module_name_len(head, names.modules.iter().map(String::as_str)) == head.len();
     (one && distinct).then(|| (canonical(head).to_string(), args.len()))
 }
@@ -999,7 +1000,7 @@ fn pred_params(pred: &str, names: &Names) -> Vec<(String, Slot)> {
         if let Some(m) = last_module(&rest[..open], names) {
             let args: Vec<&str> = top_level_items(&rest[open + 1..close]).into_iter().map(str::trim).collect();
             for (i, a) in args.iter().enumerate() {
-                if !a.is_empty() && leading_name(a) == *a && !a.as_bytes()[0].is_ascii_digit() {
+                if is_name(a) {
                     out.push((a.to_string(), (m.to_string(), args.len(), i)));
                 }
             }
