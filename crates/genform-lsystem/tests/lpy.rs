@@ -657,3 +657,111 @@ fn a_cut_acts_when_the_next_step_reads_it() {
     let end = s.interpret(&d, &mut Rng::from_seed(1), 1000, &mut scene).unwrap();
     assert_eq!(end.segments, 2, "the F after `%` is not drawn");
 }
+
+mod edited_files {
+    //! L-Py's files with random edits: the reader never panics, every
+    //! error has a place in the file, and what compiles derives and draws
+    //! within limits.
+    use super::{Path, Rng, SourceFile, compile_lpy};
+    use genform_core::fixtures::assert_located;
+    use proptest::prelude::{ProptestConfig, any, proptest};
+
+    /// The repository's L-Py files.
+    fn files() -> Vec<String> {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/lpy");
+        let mut names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "lpy"))
+            .collect();
+        names.sort();
+        names.iter().map(|p| std::fs::read_to_string(p).unwrap()).collect()
+    }
+
+    /// Pieces an edit inserts: L-Py's syntax, Python's, and non-ASCII.
+    const PIECES: &[&str] = &[
+        "(",
+        ")",
+        "[",
+        "]",
+        ":",
+        "=",
+        "-->",
+        "+",
+        "*",
+        "/",
+        "//",
+        "**",
+        ",",
+        ".",
+        "#",
+        "\n",
+        "\t",
+        "  ",
+        "'",
+        "\"",
+        "x",
+        "1",
+        "1.5",
+        "1e-5",
+        "if ",
+        "else:",
+        "produce ",
+        "A(",
+        "Sphere(",
+        "Left",
+        "%",
+        "?P(",
+        "True",
+        "é",
+        "→",
+        "def ",
+        "global ",
+        "Axiom:",
+        "production:",
+        "endlsystem",
+        "module ",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+        #[test]
+        fn an_edited_file_never_panics_and_locates_its_errors(
+            file in 0usize..64,
+            edits in proptest::collection::vec((any::<u16>(), 0usize..PIECES.len(), 0u8..3), 1..6),
+        ) {
+            let all = files();
+            let mut text = all[file % all.len()].clone();
+            for (at, piece, kind) in edits {
+                let mut at = at as usize % (text.len() + 1);
+                while !text.is_char_boundary(at) {
+                    at -= 1;
+                }
+                match kind {
+                    0 => text.insert_str(at, PIECES[piece]),
+                    1 => {
+                        let end = (at + PIECES[piece].len()).min(text.len());
+                        let end = (end..=text.len()).find(|&e| text.is_char_boundary(e)).unwrap_or(text.len());
+                        text.replace_range(at..end, "");
+                    }
+                    _ => {
+                        let end = (at..=text.len()).find(|&e| e > at + 8 && text.is_char_boundary(e)).unwrap_or(text.len());
+                        let copy = text[at..end].to_string();
+                        text.insert_str(at, &copy);
+                    }
+                }
+            }
+            let file = SourceFile::new("edited.lpy", text.clone());
+            match compile_lpy(&file) {
+                Ok((s, _)) => {
+                    let mut rng = Rng::from_seed(1);
+                    if let Ok(m) = s.derive_limited(3, &mut rng, 5000, |_, _| {}) {
+                        let _ = m.display(&s.alphabet, true);
+                        let _ = s.interpret(&m, &mut rng, 5000, &mut genform_core::Scene::new());
+                    }
+                }
+                Err(diags) => assert_located(&text, &diags),
+            }
+        }
+    }
+}
