@@ -405,6 +405,16 @@ fn editor_scalars_and_empty_axioms() {
                 def __initialiseContext__(context):\n\tscalars = [('N', 'Integer', 5, 0, 9), ('B', 'Bool', True)]\n\
                 \tcontext[\"__scalars__\"] = scalars\n";
     assert_eq!(run(text), "A(6)");
+    // With the loop L-Py's editor writes after them (old and new editor),
+    // the block holds only scalars: nothing left out, no warning.
+    for lp in [
+        "\tfor s in scalars:\n\t\tif not s[1] == \"Category\" : context[s[0]] = s[2]\n",
+        "\tfor n,v,mnv,mxv in scalars:\n\t\tcontext[n] = v\n",
+    ] {
+        let file = SourceFile::new("t.lpy", format!("{text}{lp}"));
+        let (_, warnings) = compile_lpy(&file).unwrap();
+        assert!(warnings.items.is_empty(), "{}", warnings.short());
+    }
     let s = compile_text("Axiom: \nderivation length: 2\nproduction:\nA --> B\n").unwrap();
     assert_eq!(s.axiom.len(), 0);
     assert_eq!(derive(&s).len(), 0);

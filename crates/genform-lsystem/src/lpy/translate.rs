@@ -174,12 +174,20 @@ pub(super) fn translate(src: &str) -> Result<Translation, Vec<Diagnostic>> {
     for d in &defs {
         if d.name == "__initialiseContext__" {
             let l = &lines[d.line];
-            // Only the scalars (read above): nothing is left out.
+            // Only the scalars (read above), with the loop L-Py's editor
+            // writes to set each one (the old editor's or the new's):
+            // nothing is left out.
             let scalars_only = lines[d.lo..d.hi].iter().all(|b| {
-                let c = b.code.replace(' ', "");
+                let c = b.code.replace([' ', '\''], "").replace('"', "");
                 c.starts_with("scalars=")
-                    || c == "context[\"__scalars__\"]=scalars"
-                    || c == "context['__scalars__']=scalars"
+                    || [
+                        "context[__scalars__]=scalars",
+                        "forsinscalars:",
+                        "ifnots[1]==Category:context[s[0]]=s[2]",
+                        "forn,v,mnv,mxvinscalars:",
+                        "context[n]=v",
+                    ]
+                    .contains(&c.as_str())
             });
             if scalars_only && d.lo < d.hi {
                 continue;
