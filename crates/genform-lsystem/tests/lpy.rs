@@ -733,6 +733,15 @@ mod edited_files {
         "module ",
     ];
 
+    #[test]
+    fn an_error_at_the_end_of_the_file_points_at_its_end() {
+        // Found by the proptest below: the missing value's span ran one
+        // byte past the file.
+        let text = "Axiom: A\nx =";
+        let diags = compile_lpy(&SourceFile::new("end.lpy", text)).unwrap_err();
+        assert_located(text, &diags);
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
         #[test]

@@ -70,11 +70,20 @@ pub fn compile_lpy_with_assets(
     assets: &dyn SurfaceAssets,
 ) -> Result<(LSystem, Diagnostics), Diagnostics> {
     let mut diags = Diagnostics::new(file.clone());
+    // An error at the end of the file (`x =`) points at the end, not past it.
+    let len = file.text.len() as u32;
+    let in_file = |mut d: Diagnostic| {
+        if let Some(span) = d.span.as_mut() {
+            span.end = span.end.min(len);
+            span.start = span.start.min(span.end);
+        }
+        d
+    };
     let t = match translate(&file.text) {
         Ok(t) => t,
         Err(errors) => {
             for e in errors {
-                diags.push(e);
+                diags.push(in_file(e));
             }
             return Err(diags);
         }
@@ -82,13 +91,13 @@ pub fn compile_lpy_with_assets(
     let ls = SourceFile::new(format!("{} (as .ls)", file.name), t.text.clone());
     let map = |d: Diagnostics, diags: &mut Diagnostics| {
         for item in d.items {
-            diags.push(t.map_diagnostic(item));
+            diags.push(in_file(t.map_diagnostic(item)));
         }
     };
     match crate::entry::compile_with_assets(&ls, assets) {
         Ok((mut system, warnings)) => {
             for w in t.warnings.iter().cloned() {
-                diags.push(w);
+                diags.push(in_file(w));
             }
             map(warnings, &mut diags);
             let stem = std::path::Path::new(&*file.name).file_stem().map(|s| s.to_string_lossy().into_owned());
