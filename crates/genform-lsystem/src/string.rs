@@ -145,13 +145,56 @@ pub(crate) fn python_float(out: &mut String, v: f64) {
     } else if v == 0.0 || (1e-4..1e16).contains(&v.abs()) {
         let start = out.len();
         positional(out, start, v);
+        even_tie(out, start, v);
     } else {
         let start = out.len();
         let _ = write!(out, "{v:e}");
+        even_tie(out, start, v);
         let e = start + out[start..].find('e').expect("`{:e}` writes an exponent");
         let exp: i32 = out[e + 1..].parse().expect("`{:e}` writes a whole exponent");
         out.truncate(e + 1);
         let _ = write!(out, "{}{:02}", if exp < 0 { '-' } else { '+' }, exp.unsigned_abs());
+    }
+}
+
+/// Where two shortest digit strings read back to `v` and `v` lies exactly
+/// halfway between them (`631496354690342.25` between `…342.2` and
+/// `…342.3`), Python's `repr` takes the even last digit; Rust's shortest
+/// formatting takes the upper one. Rewrites `out[start..]` (positional, or
+/// Rust's `{:e}`) to Python's.
+fn even_tie(out: &mut String, start: usize, v: f64) {
+    let text = &out[start..];
+    let (mantissa, exp) = match text.find('e') {
+        Some(e) => (&text[..e], text[e + 1..].parse::<i32>().unwrap_or(0)),
+        None => (text, 0),
+    };
+    let Some(&last) = mantissa.as_bytes().last().filter(|b| b.is_ascii_digit()) else { return };
+    if (last - b'0').is_multiple_of(2) {
+        return;
+    }
+    // The last digit stands for 10^place; a midpoint has a 5 at 10^(place-1),
+    // a double only when v·2^(1-place) is whole (most values stop here).
+    let fraction = mantissa.find('.').map_or(0, |d| mantissa.len() - d - 1) as i32;
+    let place = exp - fraction;
+    if place <= 0 && (v * 2f64.powi(1 - place)).fract() != 0.0 {
+        return;
+    }
+    let lower_mantissa = format!("{}{}", &mantissa[..mantissa.len() - 1], last - b'0' - 1);
+    let mid_mantissa = format!("{lower_mantissa}5");
+    let tail = &text[mantissa.len()..];
+    let (lower, mid) = (format!("{lower_mantissa}{tail}"), format!("{mid_mantissa}{tail}"));
+    if lower.parse::<f64>() != Ok(v) || mid.parse::<f64>() != Ok(v) {
+        return;
+    }
+    // `v` exactly, digit for digit (every double has a finite expansion),
+    // against the midpoint's digits.
+    let digits = |s: &str| -> String {
+        let d: String = s.chars().take_while(|&c| c != 'e').filter(char::is_ascii_digit).collect();
+        d.trim_start_matches('0').trim_end_matches('0').to_string()
+    };
+    if digits(&format!("{:.800e}", v.abs())) == digits(&mid_mantissa) {
+        out.truncate(start);
+        out.push_str(&lower);
     }
 }
 

@@ -475,6 +475,23 @@ mod properties {
     proptest! {
         #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
 
+        /// Python's float `repr` reads back to the same double and always
+        /// shows it is a float (a point or an exponent).
+        #[test]
+        fn python_floats_read_back(bits in proptest::prelude::any::<u64>()) {
+            let v = f64::from_bits(bits);
+            let mut out = String::new();
+            crate::string::python_float(&mut out, v);
+            if v.is_finite() {
+                prop_assert!(out.parse::<f64>().ok() == Some(v), "{v:e} printed {out}");
+                prop_assert!(out.contains(['.', 'e']), "{out}");
+                // Python's exponent has a sign and at least two digits.
+                if let Some((_, exp)) = out.split_once('e') {
+                    prop_assert!(exp.len() >= 3 && exp.starts_with(['+', '-']), "{out}");
+                }
+            }
+        }
+
         /// Any text compiles or fails with diagnostics; nothing panics.
         #[test]
         fn compiling_never_panics(text in "[A-Fa-f0-9+\\-\\[\\](){}<>:,.!'%&^/|$@O#= \n*]{0,160}") {
@@ -758,6 +775,9 @@ fn floats_print_as_python_repr_prints_them() {
         // Either side of the bounds (math.nextafter).
         (9.999999999999999e-05, "9.999999999999999e-05"),
         (0.00010000000000000002, "0.00010000000000000002"),
+        // A tie between two shortest strings goes to the even digit.
+        (631_496_354_690_342.0 + 0.25, "631496354690342.2"),
+        (-(100_052_969_090_562.0 + 0.125), "-100052969090562.12"),
         (-9.999999999999999e-05, "-9.999999999999999e-05"),
         (f64::INFINITY, "inf"),
         (f64::NAN, "nan"),
