@@ -172,11 +172,19 @@ fn even_tie(out: &mut String, start: usize, v: f64) {
     if (last - b'0').is_multiple_of(2) {
         return;
     }
-    // The last digit stands for 10^place; a midpoint has a 5 at 10^(place-1),
-    // a double only when v·2^(1-place) is whole (most values stop here).
-    let fraction = mantissa.find('.').map_or(0, |d| mantissa.len() - d - 1) as i32;
+    // The last digit stands for 10^place. Both neighbours read back only
+    // when one step of the last digit fits in v's rounding interval (one
+    // ulp wide), and a midpoint (a 5 at 10^(place-1)) is a double only when
+    // v·2^(1-place) is whole: most values stop here.
+    let fraction = mantissa.rfind('.').map_or(0, |d| mantissa.len() - d - 1) as i32;
     let place = exp - fraction;
-    if place <= 0 && (v * 2f64.powi(1 - place)).fract() != 0.0 {
+    // 2^(1-place), exactly, from its bits (a normal double up to 2^1023).
+    let dyadic = |k: i32| (0..=1023).contains(&k).then(|| f64::from_bits(((1023 + k) as u64) << 52));
+    if place <= 0 && dyadic(1 - place).is_some_and(|p| (v * p).fract() != 0.0) {
+        return;
+    }
+    let ulp = f64::from_bits(v.abs().to_bits() + 1) - v.abs();
+    if ulp < 0.5 * 10f64.powi(place) {
         return;
     }
     let lower_mantissa = format!("{}{}", &mantissa[..mantissa.len() - 1], last - b'0' - 1);
