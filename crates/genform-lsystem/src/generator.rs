@@ -204,20 +204,9 @@ impl LsGenerator {
     fn derived(&self, genome: &Genome, limits: &Limits) -> Result<(Cow<'_, LSystem>, ModuleString), ExpressError> {
         let root = genome.root().ok_or_else(|| ExpressError::Eval("the genome is empty".into()))?;
         let system = self.system_for(genome.gene(root).params())?;
-        let s = self.derive_with(&system, genome, root, limits)?;
-        Ok((system, s))
-    }
-
-    fn derive_with(
-        &self,
-        system: &LSystem,
-        genome: &Genome,
-        root: GenePos,
-        limits: &Limits,
-    ) -> Result<ModuleString, ExpressError> {
         let mut walk = Walk {
             owner: self,
-            system,
+            system: &system,
             genome: GenomeAccess::Read(genome),
             limits,
             out: ModuleString::default(),
@@ -230,7 +219,7 @@ impl LsGenerator {
         let mut out = walk.out;
         out.state.clone_from(&system.initial_state);
         out.state[0] = limits.max_depth as f64;
-        Ok(out)
+        Ok((system, out))
     }
 
     /// The system with the root gene's constant values (the compiled

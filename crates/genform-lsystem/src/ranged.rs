@@ -43,8 +43,13 @@ impl RangedConstant {
 
     /// The range as written: `[min, max]` or `min..max`.
     pub fn range_text(&self) -> String {
-        if self.integer { format!("{}..{}", self.min, self.max) } else { format!("[{}, {}]", self.min, self.max) }
+        range_text(self.integer, self.min, self.max)
     }
+}
+
+/// A range as `.ls` writes it: `min..max` (whole numbers) or `[min, max]`.
+pub(crate) fn range_text(integer: bool, min: f64, max: f64) -> String {
+    if integer { format!("{min}..{max}") } else { format!("[{min}, {max}]") }
 }
 
 /// What recompiling with other constant values needs: the parsed file and
@@ -81,11 +86,10 @@ pub(crate) fn check(
         );
     }
     if min > max {
-        let written = if r.integer { format!("{max}..{min}") } else { format!("[{max}, {min}]") };
         return fail(
             r.span,
             format!("the range of `{name}` is empty: its min {min} is above its max {max}"),
-            format!("write the smaller bound first: `in {written}`"),
+            format!("write the smaller bound first: `in {}`", range_text(r.integer, max, min)),
         );
     }
     if r.integer && (min.fract() != 0.0 || max.fract() != 0.0) {
@@ -106,10 +110,9 @@ pub(crate) fn check(
         );
     }
     if v < min || v > max {
-        let range = if r.integer { format!("{min}..{max}") } else { format!("[{min}, {max}]") };
         return fail(
             value_span,
-            format!("`{name}` = {v} is outside its range {range} (bounds included)"),
+            format!("`{name}` = {v} is outside its range {} (bounds included)", range_text(r.integer, min, max)),
             "widen the range or change the value".into(),
         );
     }

@@ -489,10 +489,10 @@ impl Parser {
         };
         let Some((name, span, expr)) = self.named_formula(formula, at, whole, "define") else { return };
         let range = match range {
-            Some((text, rat)) => match self.range(text, rat, whole) {
-                Some(r) => Some(r),
-                None => return,
-            },
+            Some((text, rat)) => {
+                let Some(r) = self.range(text, rat, whole) else { return };
+                Some(r)
+            }
             None => None,
         };
         self.file.defines.push(Define { name, span, expr, range });

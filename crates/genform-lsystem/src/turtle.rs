@@ -76,9 +76,10 @@ impl LSystem {
         flat: bool,
     ) -> Result<TurtleEnd, TurtleError> {
         // PlantGL's turtle skips the rest of a branch after `%` (a cut that
-        // L-Py's last step wrote and no step read).
+        // L-Py's last step wrote and no step read; `.ls` steps leave none).
         let cut;
-        let s = if self.alphabet.symbols.iter().any(|x| x.command == Command::Cut)
+        let s = if self.settings.lpy
+            && self.alphabet.symbols.iter().any(|x| x.command == Command::Cut)
             && s.syms.iter().any(|&x| self.alphabet.command(x) == Command::Cut)
         {
             let mut c = s.clone();

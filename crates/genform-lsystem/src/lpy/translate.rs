@@ -523,7 +523,7 @@ impl Scalar {
         if !(finite && whole && min <= v && v <= max) {
             return None;
         }
-        Some(if integer { format!(" in {min}..{max}") } else { format!(" in [{min}, {max}]") })
+        Some(format!(" in {}", crate::ranged::range_text(integer, min, max)))
     }
 }
 
